@@ -1,0 +1,212 @@
+//! Dormand–Prince 5(4) with FSAL and Hairer's 4th-order dense output
+//! (Hairer, Nørsett & Wanner, *Solving ODEs I*, §II.5–6, code DOPRI5).
+
+use nalgebra::DVector;
+
+const C: [f64; 7] = [0.0, 1.0 / 5.0, 3.0 / 10.0, 4.0 / 5.0, 8.0 / 9.0, 1.0, 1.0];
+const A: [[f64; 6]; 7] = [
+    [0.0; 6],
+    [1.0 / 5.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+    [3.0 / 40.0, 9.0 / 40.0, 0.0, 0.0, 0.0, 0.0],
+    [44.0 / 45.0, -56.0 / 15.0, 32.0 / 9.0, 0.0, 0.0, 0.0],
+    [
+        19372.0 / 6561.0,
+        -25360.0 / 2187.0,
+        64448.0 / 6561.0,
+        -212.0 / 729.0,
+        0.0,
+        0.0,
+    ],
+    [
+        9017.0 / 3168.0,
+        -355.0 / 33.0,
+        46732.0 / 5247.0,
+        49.0 / 176.0,
+        -5103.0 / 18656.0,
+        0.0,
+    ],
+    [
+        35.0 / 384.0,
+        0.0,
+        500.0 / 1113.0,
+        125.0 / 192.0,
+        -2187.0 / 6784.0,
+        11.0 / 84.0,
+    ],
+];
+/// b − b̂ (error estimator).
+const E: [f64; 7] = [
+    71.0 / 57600.0,
+    0.0,
+    -71.0 / 16695.0,
+    71.0 / 1920.0,
+    -17253.0 / 339200.0,
+    22.0 / 525.0,
+    -1.0 / 40.0,
+];
+/// Dense output coefficients d₁…d₇.
+const D: [f64; 7] = [
+    -12715105075.0 / 11282082432.0,
+    0.0,
+    87487479700.0 / 32700410799.0,
+    -10690763975.0 / 1880347072.0,
+    701980252875.0 / 199316789632.0,
+    -1453857185.0 / 822651844.0,
+    69997945.0 / 29380423.0,
+];
+
+/// One attempted step with its dense output.
+#[derive(Clone, Debug)]
+pub struct Step {
+    pub t0: f64,
+    pub h: f64,
+    pub y0: DVector<f64>,
+    pub y1: DVector<f64>,
+    /// f(t0 + h, y1): the next step's first stage (FSAL).
+    pub f1: DVector<f64>,
+    /// Weighted RMS error estimate (≤ 1 accepts).
+    pub error: f64,
+    cont: [DVector<f64>; 3],
+}
+
+impl Step {
+    /// y(t0 + θh), 0 ≤ θ ≤ 1, written into `out`.
+    pub fn dense_into(&self, theta: f64, out: &mut DVector<f64>) {
+        let th1 = 1.0 - theta;
+        let [r3, r4, r5] = &self.cont;
+        for i in 0..out.len() {
+            let r2 = self.y1[i] - self.y0[i];
+            out[i] = self.y0[i] + theta * (r2 + th1 * (r3[i] + theta * (r4[i] + th1 * r5[i])));
+        }
+    }
+
+    pub fn dense(&self, t: f64) -> DVector<f64> {
+        let mut out = self.y0.clone();
+        let theta = if self.h == 0.0 {
+            0.0
+        } else {
+            ((t - self.t0) / self.h).clamp(0.0, 1.0)
+        };
+        self.dense_into(theta, &mut out);
+        out
+    }
+
+    pub fn t1(&self) -> f64 {
+        self.t0 + self.h
+    }
+}
+
+/// Take one DP5 step of size h from (t0, y0) with f0 = f(t0, y0). The error norm uses the first
+/// `n_err` components with weights atol + rtol·max(|y0|, |y1|).
+#[allow(clippy::too_many_arguments)]
+pub fn step<E>(
+    rhs: &mut dyn FnMut(f64, &DVector<f64>, &mut DVector<f64>) -> Result<(), E>,
+    t0: f64,
+    y0: &DVector<f64>,
+    f0: &DVector<f64>,
+    h: f64,
+    rtol: f64,
+    atol: f64,
+    n_err: usize,
+) -> Result<Step, E> {
+    let n = y0.len();
+    let mut k: [DVector<f64>; 7] = std::array::from_fn(|_| DVector::zeros(n));
+    k[0].copy_from(f0);
+    let mut y = y0.clone();
+    for s in 1..7 {
+        y.copy_from(y0);
+        for (j, kj) in k.iter().enumerate().take(s) {
+            let a = A[s][j];
+            if a != 0.0 {
+                y.axpy(h * a, kj, 1.0);
+            }
+        }
+        let (done, rest) = k.split_at_mut(s);
+        let _ = done;
+        rhs(t0 + C[s] * h, &y, &mut rest[0])?;
+    }
+    // y (stage 7 argument) is the 5th-order solution y1 (FSAL: k[6] = f(t1, y1)).
+    let y1 = y;
+    let mut err = 0.0;
+    for i in 0..n_err.min(n) {
+        let mut e = 0.0;
+        for (s, ks) in k.iter().enumerate() {
+            e += E[s] * ks[i];
+        }
+        let sc = atol + rtol * y0[i].abs().max(y1[i].abs());
+        let r = h * e / sc;
+        err += r * r;
+    }
+    let error = if n_err == 0 {
+        0.0
+    } else {
+        (err / n_err.min(n) as f64).sqrt()
+    };
+    let mut r3 = DVector::zeros(n);
+    let mut r4 = DVector::zeros(n);
+    let mut r5 = DVector::zeros(n);
+    for i in 0..n {
+        let r2 = y1[i] - y0[i];
+        r3[i] = h * k[0][i] - r2;
+        r4[i] = r2 - h * k[6][i] - r3[i];
+        let mut d = 0.0;
+        for (s, ks) in k.iter().enumerate() {
+            d += D[s] * ks[i];
+        }
+        r5[i] = h * d;
+    }
+    let f1 = std::mem::replace(&mut k[6], DVector::zeros(0));
+    Ok(Step {
+        t0,
+        h,
+        y0: y0.clone(),
+        y1,
+        f1,
+        error,
+        cont: [r3, r4, r5],
+    })
+}
+
+/// Step-size controller (PI, Hairer's DOPRI5 defaults): new h from the error of the last step.
+#[derive(Clone, Debug)]
+pub struct Controller {
+    prev_error: f64,
+}
+
+impl Default for Controller {
+    fn default() -> Self {
+        Self { prev_error: 1e-4 }
+    }
+}
+
+impl Controller {
+    pub fn next_h(&mut self, h: f64, error: f64, accepted: bool) -> f64 {
+        let (beta, alpha) = (0.04, 0.2 - 0.04 * 0.75);
+        let err = error.max(1e-10);
+        let mut fac = 0.9 * err.powf(-alpha);
+        if accepted {
+            fac *= self.prev_error.powf(beta);
+            self.prev_error = err.max(1e-4);
+            h * fac.clamp(0.2, 10.0)
+        } else {
+            h * fac.clamp(0.1, 1.0)
+        }
+    }
+}
+
+/// Initial step guess (Hairer's `hinit`, simplified).
+pub fn initial_h(y0: &DVector<f64>, f0: &DVector<f64>, rtol: f64, atol: f64, n_err: usize) -> f64 {
+    let mut d0 = 0.0;
+    let mut d1 = 0.0;
+    for i in 0..n_err.min(y0.len()) {
+        let sc = atol + rtol * y0[i].abs();
+        d0 += (y0[i] / sc).powi(2);
+        d1 += (f0[i] / sc).powi(2);
+    }
+    let (d0, d1) = (d0.sqrt(), d1.sqrt());
+    if d0 < 1e-5 || d1 < 1e-5 {
+        1e-6
+    } else {
+        0.01 * d0 / d1
+    }
+}

@@ -1,0 +1,1166 @@
+//! Event-driven nonsmooth integration (paper §3): DP5 between events, events located by root
+//! finding on the dense output, impacts by the velocity LCP (eq. 5), contact state changes by the
+//! acceleration LCP (eq. 8), closed constraints held at position and velocity level.
+
+use crate::contact::{Decision, solve_contact, solve_impact};
+use crate::dopri::{self, Controller};
+use crate::hysteresis::Hysteretic;
+use crate::lemke::LcpError;
+use crate::output::{
+    ContactSample, ContactState, EnergySample, EventKind, EventRecord, RunOutput, Sample,
+    SampleKind,
+};
+use crate::scene::{ContactKinematics, LEDGER_TERMS, PowerTerms, Scene, smooth_forces};
+use nalgebra::{DMatrix, DVector};
+use std::time::Instant;
+
+/// Why a run stopped early. Every variant names the time.
+#[derive(Debug, thiserror::Error)]
+pub enum SolverError {
+    #[error("t = {t:.9} s: {what} LCP failed: {source}")]
+    Lcp {
+        t: f64,
+        what: &'static str,
+        #[source]
+        source: LcpError,
+    },
+    #[error(
+        "t = {t:.9} s: Painlevé configuration at contact(s) {contacts}: {detail} (the contact LCP has no or several solutions)"
+    )]
+    Painleve {
+        t: f64,
+        contacts: String,
+        detail: String,
+    },
+    #[error(
+        "t = {t:.9} s: step collapse: {events} events of contact '{contact}' within {window:.3e} s (impact accumulation; enable solver.accumulation_rule)"
+    )]
+    StepCollapse {
+        t: f64,
+        contact: String,
+        events: usize,
+        window: f64,
+    },
+    #[error("t = {t:.9} s: step size {h:.3e} s fell below the minimum")]
+    StepTooSmall { t: f64, h: f64 },
+    #[error("t = {t:.9} s: more than {limit} events")]
+    TooManyEvents { t: f64, limit: usize },
+    #[error("t = {t:.9} s: more than {limit} steps")]
+    TooManySteps { t: f64, limit: usize },
+    #[error("initial penetration at contact '{contact}': g_N = {gap:.6e} m")]
+    InitialPenetration { contact: String, gap: f64 },
+    #[error("t = {t:.9} s: state became non-finite")]
+    NonFinite { t: f64 },
+    #[error("t = {t:.9} s: cancelled")]
+    Cancelled { t: f64 },
+}
+
+/// Receives results while a run goes on (for live charts); return false to cancel.
+pub trait Observer {
+    fn batch(&mut self, samples: &[Sample], events: &[EventRecord], t: f64) -> bool;
+}
+
+/// An observer that only lets the run go on.
+pub struct Silent;
+impl Observer for Silent {
+    fn batch(&mut self, _: &[Sample], _: &[EventRecord], _: f64) -> bool {
+        true
+    }
+}
+
+/// Constrained accelerations at one state (the mode's Lagrange multipliers).
+struct Dynamics {
+    qdd: DVector<f64>,
+    lam_n: Vec<f64>,
+    lam_t: Vec<f64>,
+    kin: Vec<ContactKinematics>,
+    power: PowerTerms,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum EventFn {
+    Gap(usize),
+    Release(usize),
+    StickSlip(usize),
+    SlideStop(usize),
+    Lower(usize),
+    Upper(usize),
+    Reversal(usize),
+}
+
+struct Engine<'a> {
+    scene: &'a Scene,
+    laws: Vec<Hysteretic>,
+    state: Vec<ContactState>,
+    minv: DVector<f64>,
+    n: usize,
+    t: f64,
+    y: DVector<f64>,
+    /// Impact energy changes (normal, tangential) accumulated: ΔT = Λᵀ(ġ⁺ + ġ⁻)/2.
+    impact_normal: f64,
+    impact_tangential: f64,
+    /// Work-free state corrections (projections) are part of the closure error.
+    e0: f64,
+    energy_scale: f64,
+    out: RunOutput,
+    last_impacts: Vec<Vec<f64>>,
+    burst: Vec<(f64, usize)>,
+    force_scale: f64,
+    jac: DVector<f64>,
+}
+
+fn sgn(x: f64) -> f64 {
+    if x >= 0.0 { 1.0 } else { -1.0 }
+}
+
+impl<'a> Engine<'a> {
+    fn q(&self) -> DVector<f64> {
+        self.y.rows(0, self.n).into_owned()
+    }
+    fn v(&self) -> DVector<f64> {
+        self.y.rows(self.n, self.n).into_owned()
+    }
+
+    /// Constrained dynamics in the current mode: M q̈ = h + Σ W λ with g̈_N = 0 (closed),
+    /// g̈_T = 0 (stick), λ_T = −μ s λ_N (slide).
+    fn dynamics(&mut self, t: f64, y: &DVector<f64>) -> Result<Dynamics, SolverError> {
+        let n = self.n;
+        let scene = self.scene;
+        let q = y.rows(0, n).into_owned();
+        let v = y.rows(n, n).into_owned();
+        let mut h = DVector::zeros(n);
+        let power = smooth_forces_laws(scene, &self.laws, t, &q, &v, &mut h, &mut self.jac);
+        let kin: Vec<ContactKinematics> = scene
+            .contacts
+            .iter()
+            .map(|c| scene.contact_kinematics(c, &q, &v))
+            .collect();
+        let nc = kin.len();
+        let mut lam_n = vec![0.0; nc];
+        let mut lam_t = vec![0.0; nc];
+        // force directions F and constraint rows C
+        let mut forces: Vec<DVector<f64>> = Vec::new();
+        let mut rows: Vec<(&DVector<f64>, f64)> = Vec::new();
+        let mut slots: Vec<(usize, bool)> = Vec::new();
+        for (i, st) in self.state.iter().enumerate() {
+            let c = &scene.contacts[i];
+            match *st {
+                ContactState::Open => {}
+                ContactState::Slide(s) => {
+                    let f = if c.mu > 0.0 && s != 0.0 {
+                        &kin[i].w_n - &kin[i].w_t * (c.mu * s)
+                    } else {
+                        kin[i].w_n.clone()
+                    };
+                    forces.push(f);
+                    rows.push((&kin[i].w_n, kin[i].bias_n));
+                    slots.push((i, false));
+                }
+                ContactState::Stick => {
+                    forces.push(kin[i].w_n.clone());
+                    rows.push((&kin[i].w_n, kin[i].bias_n));
+                    slots.push((i, false));
+                    forces.push(kin[i].w_t.clone());
+                    rows.push((&kin[i].w_t, kin[i].bias_t));
+                    slots.push((i, true));
+                }
+            }
+        }
+        let mut qdd = h.component_mul(&self.minv);
+        let k = forces.len();
+        if k > 0 {
+            let mut a = DMatrix::zeros(k, k);
+            let mut b = DVector::zeros(k);
+            for r in 0..k {
+                for c in 0..k {
+                    a[(r, c)] = rows[r]
+                        .0
+                        .iter()
+                        .zip(self.minv.iter())
+                        .zip(forces[c].iter())
+                        .map(|((x, m), f)| x * m * f)
+                        .sum();
+                }
+                b[r] = -(rows[r].0.dot(&qdd) + rows[r].1);
+            }
+            // Painlevé: a sliding contact whose normal Delassus entry is not positive.
+            for (r, &(i, tangential)) in slots.iter().enumerate() {
+                if !tangential
+                    && matches!(self.state[i], ContactState::Slide(s) if s != 0.0)
+                    && scene.contacts[i].mu > 0.0
+                {
+                    let g = rows[r]
+                        .0
+                        .iter()
+                        .zip(self.minv.iter())
+                        .map(|(x, m)| x * m * x)
+                        .sum::<f64>();
+                    if a[(r, r)] <= 1e-12 * g {
+                        return Err(SolverError::Painleve {
+                            t,
+                            contacts: scene.contacts[i].name.clone(),
+                            detail: format!(
+                                "W_Nᵀ M⁻¹ (W_N − μ s W_T) = {:.4e} ≤ 0 while sliding",
+                                a[(r, r)]
+                            ),
+                        });
+                    }
+                }
+            }
+            let lam = solve_small(a, b);
+            for (r, &(i, tangential)) in slots.iter().enumerate() {
+                qdd.axpy(lam[r], &forces[r].component_mul(&self.minv), 1.0);
+                if tangential {
+                    lam_t[i] = lam[r];
+                } else {
+                    lam_n[i] = lam[r];
+                    if let ContactState::Slide(s) = self.state[i] {
+                        lam_t[i] = -scene.contacts[i].mu * s * lam[r];
+                    }
+                }
+            }
+        }
+        Ok(Dynamics {
+            qdd,
+            lam_n,
+            lam_t,
+            kin,
+            power,
+        })
+    }
+
+    fn rhs(&mut self, t: f64, y: &DVector<f64>, out: &mut DVector<f64>) -> Result<(), SolverError> {
+        let n = self.n;
+        let d = self.dynamics(t, y)?;
+        for i in 0..n {
+            out[i] = y[n + i];
+            out[n + i] = d.qdd[i];
+        }
+        let mut contact_loss = 0.0;
+        for i in 0..d.kin.len() {
+            contact_loss -= d.lam_n[i] * d.kin[i].gap_rate + d.lam_t[i] * d.kin[i].slip_rate;
+        }
+        out[2 * n] = d.power.loads;
+        out[2 * n + 1] = d.power.supports;
+        out[2 * n + 2] = d.power.damping;
+        out[2 * n + 3] = d.power.hysteretic;
+        out[2 * n + 4] = contact_loss;
+        Ok(())
+    }
+
+    fn event_fns(&self) -> Vec<EventFn> {
+        let mut f = Vec::new();
+        for (i, st) in self.state.iter().enumerate() {
+            match st {
+                ContactState::Open => f.push(EventFn::Gap(i)),
+                ContactState::Stick => {
+                    f.push(EventFn::Release(i));
+                    f.push(EventFn::StickSlip(i));
+                }
+                ContactState::Slide(s) => {
+                    f.push(EventFn::Release(i));
+                    if *s != 0.0 && self.scene.contacts[i].mu > 0.0 {
+                        f.push(EventFn::SlideStop(i));
+                    }
+                }
+            }
+        }
+        for (j, law) in self.laws.iter().enumerate() {
+            let b = law.branch();
+            if b.lower.is_finite() {
+                f.push(EventFn::Lower(j));
+            }
+            if b.upper.is_finite() {
+                f.push(EventFn::Upper(j));
+            }
+            if b.ends_on_reversal {
+                f.push(EventFn::Reversal(j));
+            }
+        }
+        f
+    }
+
+    /// Values of the event functions (an event is a crossing from > 0 to ≤ 0) and their
+    /// "zero" thresholds.
+    fn event_values(
+        &mut self,
+        t: f64,
+        y: &DVector<f64>,
+        fns: &[EventFn],
+    ) -> Result<Vec<f64>, SolverError> {
+        let needs_forces = fns
+            .iter()
+            .any(|f| matches!(f, EventFn::Release(_) | EventFn::StickSlip(_)));
+        let n = self.n;
+        let scene = self.scene;
+        let q = y.rows(0, n).into_owned();
+        let v = y.rows(n, n).into_owned();
+        let dynamics = if needs_forces {
+            Some(self.dynamics(t, y)?)
+        } else {
+            None
+        };
+        let mut vals = Vec::with_capacity(fns.len());
+        for f in fns {
+            let val = match *f {
+                EventFn::Gap(i) => scene.contact_kinematics(&scene.contacts[i], &q, &v).gap,
+                EventFn::Release(i) => dynamics.as_ref().map_or(0.0, |d| d.lam_n[i]),
+                EventFn::StickSlip(i) => dynamics.as_ref().map_or(0.0, |d| {
+                    scene.contacts[i].mu * d.lam_n[i] - d.lam_t[i].abs()
+                }),
+                EventFn::SlideStop(i) => {
+                    let s = match self.state[i] {
+                        ContactState::Slide(s) => s,
+                        _ => 1.0,
+                    };
+                    s * scene.contact_kinematics(&scene.contacts[i], &q, &v).slip_rate
+                }
+                EventFn::Lower(j) | EventFn::Upper(j) | EventFn::Reversal(j) => {
+                    let el = &scene.hysteretic[j];
+                    let (e, ed, _) =
+                        scene.deformation(&el.attachment, el.support, t, &q, &v, &mut self.jac);
+                    let b = self.laws[j].branch();
+                    match *f {
+                        EventFn::Lower(_) => e - b.lower,
+                        EventFn::Upper(_) => b.upper - e,
+                        _ => b.direction * ed,
+                    }
+                }
+            };
+            vals.push(val);
+        }
+        Ok(vals)
+    }
+
+    fn threshold(&self, f: EventFn) -> f64 {
+        let s = &self.scene.settings;
+        match f {
+            EventFn::Gap(_) => 1e-3 * s.gap_tol,
+            EventFn::Release(_) | EventFn::StickSlip(_) => 1e-10 * self.force_scale,
+            EventFn::SlideStop(_) | EventFn::Reversal(_) => 1e-3 * s.velocity_tol,
+            EventFn::Lower(_) | EventFn::Upper(_) => 1e-13,
+        }
+    }
+
+    fn record_sample(&mut self, kind: SampleKind) -> Result<(), SolverError> {
+        let y = self.y.clone();
+        let d = self.dynamics(self.t, &y)?;
+        let q = self.q();
+        let v = self.v();
+        let scene = self.scene;
+        let contacts = (0..scene.contacts.len())
+            .map(|i| ContactSample {
+                gap: d.kin[i].gap,
+                gap_rate: d.kin[i].gap_rate,
+                slip_rate: d.kin[i].slip_rate,
+                normal_force: d.lam_n[i],
+                tangential_force: d.lam_t[i],
+                state: self.state[i],
+            })
+            .collect();
+        let elements = scene
+            .hysteretic
+            .iter()
+            .enumerate()
+            .map(|(j, el)| {
+                let (e, _, _) =
+                    scene.deformation(&el.attachment, el.support, self.t, &q, &v, &mut self.jac);
+                (e, self.laws[j].force(e))
+            })
+            .collect();
+        let energy = self.energy(&q, &v);
+        self.energy_scale = self.energy_scale.max(energy.scale());
+        let mut energy = energy;
+        energy.closure = energy.balance();
+        self.out.samples.push(Sample {
+            t: self.t,
+            kind,
+            q: q.as_slice().to_vec(),
+            v: v.as_slice().to_vec(),
+            contacts,
+            elements,
+            energy,
+        });
+        Ok(())
+    }
+
+    fn energy(&mut self, q: &DVector<f64>, v: &DVector<f64>) -> EnergySample {
+        let n = self.n;
+        EnergySample {
+            kinetic: self.scene.kinetic_energy(v),
+            elastic: self.scene.spring_energy(self.t, q, v),
+            loads: self.y[2 * n],
+            supports: self.y[2 * n + 1],
+            damping: self.y[2 * n + 2],
+            hysteretic: self.y[2 * n + 3],
+            friction: self.y[2 * n + 4],
+            impact_normal: -self.impact_normal,
+            impact_tangential: -self.impact_tangential,
+            initial: self.e0,
+            closure: 0.0,
+        }
+    }
+
+    fn log(&mut self, rec: EventRecord) -> Result<(), SolverError> {
+        if self.out.events.len() >= self.scene.settings.max_events {
+            return Err(SolverError::TooManyEvents {
+                t: self.t,
+                limit: self.scene.settings.max_events,
+            });
+        }
+        self.out.stats.count(rec.kind);
+        self.out.events.push(rec);
+        Ok(())
+    }
+
+    /// Minimum-M-norm projection of q onto g_N = 0 for closed contacts, and of q̇ onto
+    /// ġ_N = 0 (closed) and ġ_T = 0 (stick). Returns the largest correction made.
+    fn project(&mut self) -> f64 {
+        let n = self.n;
+        let scene = self.scene;
+        let q = self.q();
+        let v = self.v();
+        let closed: Vec<usize> = (0..self.state.len())
+            .filter(|&i| self.state[i] != ContactState::Open)
+            .collect();
+        // closed contacts, and open ones that penetrate (after an event located past g_N = 0)
+        let held: Vec<usize> = (0..self.state.len())
+            .filter(|&i| {
+                self.state[i] != ContactState::Open
+                    || scene.contact_kinematics(&scene.contacts[i], &q, &v).gap < 0.0
+            })
+            .collect();
+        if held.is_empty() {
+            return 0.0;
+        }
+        let mut moved = 0.0f64;
+        for _ in 0..3 {
+            let q = self.q();
+            let v = self.v();
+            let kin: Vec<_> = held
+                .iter()
+                .map(|&i| scene.contact_kinematics(&scene.contacts[i], &q, &v))
+                .collect();
+            let rows: Vec<&DVector<f64>> = kin.iter().map(|k| &k.w_n).collect();
+            let res: Vec<f64> = kin.iter().map(|k| k.gap).collect();
+            if res.iter().all(|r| r.abs() < 1e-15) {
+                break;
+            }
+            let dq = min_norm_correction(&rows, &res, &self.minv);
+            moved = moved.max(dq.amax());
+            for i in 0..n {
+                self.y[i] -= dq[i];
+            }
+        }
+        let q = self.q();
+        let v = self.v();
+        let mut rows = Vec::new();
+        let mut res = Vec::new();
+        let kin: Vec<_> = closed
+            .iter()
+            .map(|&i| scene.contact_kinematics(&scene.contacts[i], &q, &v))
+            .collect();
+        for (a, &i) in closed.iter().enumerate() {
+            rows.push(&kin[a].w_n);
+            res.push(kin[a].gap_rate);
+            if self.state[i] == ContactState::Stick {
+                rows.push(&kin[a].w_t);
+                res.push(kin[a].slip_rate);
+            }
+        }
+        if rows.is_empty() {
+            return moved;
+        }
+        let dv = min_norm_correction(&rows, &res, &self.minv);
+        moved = moved.max(dv.amax());
+        for i in 0..n {
+            self.y[n + i] -= dv[i];
+        }
+        moved
+    }
+
+    /// Decide the contact states at the current instant: impacts (eq. 5) until no closed
+    /// contact approaches, then the acceleration LCP (eq. 8) for the closed ones.
+    fn resolve(&mut self) -> Result<(), SolverError> {
+        let scene = self.scene;
+        let st = &scene.settings;
+        let nc = scene.contacts.len();
+        let before = self.state.clone();
+        let mut impacted = vec![false; nc];
+        for _pass in 0..8 {
+            let q = self.q();
+            let v = self.v();
+            let kin: Vec<ContactKinematics> = scene
+                .contacts
+                .iter()
+                .map(|c| scene.contact_kinematics(c, &q, &v))
+                .collect();
+            let set: Vec<usize> = (0..nc).filter(|&i| kin[i].gap <= st.gap_tol).collect();
+            let approaching: Vec<usize> = set
+                .iter()
+                .copied()
+                .filter(|&i| kin[i].gap_rate < -st.velocity_tol)
+                .collect();
+            if approaching.is_empty() {
+                break;
+            }
+            let mut eps: Vec<f64> = set.iter().map(|&i| scene.contacts[i].restitution).collect();
+            let mu: Vec<f64> = set.iter().map(|&i| scene.contacts[i].mu).collect();
+            let mut accumulated = vec![None; set.len()];
+            for (a, &i) in set.iter().enumerate() {
+                if !approaching.contains(&i) {
+                    continue;
+                }
+                let speed = -kin[i].gap_rate;
+                let shrinking = {
+                    let h = &self.last_impacts[i];
+                    h.len() < 2 || {
+                        let (t1, t0) = (h[h.len() - 1], h[h.len() - 2]);
+                        (self.t - t1) < 0.999 * (t1 - t0)
+                    }
+                };
+                if st.accumulation_rule && eps[a] > 0.0 && speed < st.zeno_velocity && shrinking {
+                    eps[a] = 0.0;
+                    let h = &self.last_impacts[i];
+                    let est = if h.len() >= 2 {
+                        let t1 = h[h.len() - 1];
+                        let t0 = h[h.len() - 2];
+                        let f_now = self.t - t1;
+                        let f_prev = t1 - t0;
+                        let r = if f_prev > 0.0 { f_now / f_prev } else { 0.0 };
+                        if r > 0.0 && r < 1.0 {
+                            self.t + f_now * r / (1.0 - r)
+                        } else {
+                            self.t
+                        }
+                    } else {
+                        self.t
+                    };
+                    accumulated[a] = Some(est);
+                }
+            }
+            let kin_set: Vec<&ContactKinematics> = set.iter().map(|&i| &kin[i]).collect();
+            let imp = solve_impact(&kin_set, &eps, &mu, &self.minv, &st.lemke).map_err(|e| {
+                SolverError::Lcp {
+                    t: self.t,
+                    what: "impact",
+                    source: e,
+                }
+            })?;
+            self.out.stats.lcp_solves += 1;
+            self.out.stats.lemke_pivots += imp.pivots;
+            for k in 0..self.n {
+                self.y[self.n + k] += imp.velocity_jump[k];
+            }
+            for (a, &i) in set.iter().enumerate() {
+                let de_n = imp.normal_impulse[a] * (kin[i].gap_rate + imp.gap_rate_after[a]) / 2.0;
+                let de_t =
+                    imp.tangential_impulse[a] * (kin[i].slip_rate + imp.slip_rate_after[a]) / 2.0;
+                self.impact_normal += de_n;
+                self.impact_tangential += de_t;
+                if approaching.contains(&i) || imp.normal_impulse[a] > 0.0 {
+                    impacted[i] = true;
+                    self.check_burst(i)?;
+                    let hist = &mut self.last_impacts[i];
+                    hist.push(self.t);
+                    if hist.len() > 3 {
+                        hist.remove(0);
+                    }
+                    let sticks = imp.slip_rate_after[a].abs() <= st.velocity_tol.max(1e-12);
+                    self.log(EventRecord {
+                        t: self.t,
+                        contact: i,
+                        kind: EventKind::Impact,
+                        normal: imp.normal_impulse[a],
+                        tangential: imp.tangential_impulse[a],
+                        gap_rate_before: kin[i].gap_rate,
+                        gap_rate_after: imp.gap_rate_after[a],
+                        slip_rate_after: imp.slip_rate_after[a],
+                        sticks: (scene.contacts[i].mu > 0.0).then_some(sticks),
+                        info: f64::NAN,
+                    })?;
+                    if let Some(est) = accumulated[a] {
+                        self.out.accumulation_times.push((i, est));
+                        self.log(EventRecord {
+                            t: self.t,
+                            contact: i,
+                            kind: EventKind::Accumulation,
+                            normal: imp.normal_impulse[a],
+                            tangential: imp.tangential_impulse[a],
+                            gap_rate_before: kin[i].gap_rate,
+                            gap_rate_after: imp.gap_rate_after[a],
+                            slip_rate_after: imp.slip_rate_after[a],
+                            sticks: Some(sticks),
+                            info: est,
+                        })?;
+                    }
+                }
+            }
+        }
+        // acceleration level
+        let q = self.q();
+        let v = self.v();
+        let kin: Vec<ContactKinematics> = scene
+            .contacts
+            .iter()
+            .map(|c| scene.contact_kinematics(c, &q, &v))
+            .collect();
+        let closed: Vec<usize> = (0..nc)
+            .filter(|&i| kin[i].gap <= st.gap_tol && kin[i].gap_rate.abs() <= st.velocity_tol)
+            .collect();
+        for i in 0..nc {
+            if !closed.contains(&i) {
+                self.state[i] = ContactState::Open;
+            }
+        }
+        if !closed.is_empty() {
+            let mut h = DVector::zeros(self.n);
+            smooth_forces_laws(scene, &self.laws, self.t, &q, &v, &mut h, &mut self.jac);
+            self.force_scale = self.force_scale.max(h.amax());
+            let mu: Vec<f64> = closed.iter().map(|&i| scene.contacts[i].mu).collect();
+            let slide: Vec<Option<f64>> = closed
+                .iter()
+                .map(|&i| {
+                    let s = kin[i].slip_rate;
+                    if scene.contacts[i].mu > 0.0 && s.abs() > st.velocity_tol {
+                        Some(sgn(s))
+                    } else {
+                        None
+                    }
+                })
+                .collect();
+            let kin_set: Vec<&ContactKinematics> = closed.iter().map(|&i| &kin[i]).collect();
+            let outcome = solve_contact(&kin_set, &mu, &slide, &self.minv, &h, &st.lemke)
+                .map_err(|e| match e {
+                    LcpError::Ray { .. } if slide.iter().any(|s| s.is_some()) => {
+                        SolverError::Painleve {
+                            t: self.t,
+                            contacts: closed
+                                .iter()
+                                .map(|&i| scene.contacts[i].name.as_str())
+                                .collect::<Vec<_>>()
+                                .join(", "),
+                            detail: "the acceleration LCP ends on a ray".into(),
+                        }
+                    }
+                    e => SolverError::Lcp {
+                        t: self.t,
+                        what: "contact",
+                        source: e,
+                    },
+                })?;
+            self.out.stats.lcp_solves += 1;
+            self.out.stats.lemke_pivots += outcome.pivots;
+            for (a, &i) in closed.iter().enumerate() {
+                self.force_scale = self.force_scale.max(outcome.normal_force[a].abs());
+                self.state[i] = match outcome.decision[a] {
+                    Decision::Detach => ContactState::Open,
+                    Decision::Stick => ContactState::Stick,
+                    Decision::Slide(s) => ContactState::Slide(s),
+                };
+            }
+            // Painlevé check for sliding contacts (non-uniqueness when the Delassus term is ≤ 0)
+            for (a, &i) in closed.iter().enumerate() {
+                if let ContactState::Slide(s) = self.state[i] {
+                    let c = &scene.contacts[i];
+                    if c.mu > 0.0 && s != 0.0 {
+                        let k = kin_set[a];
+                        let wq = &k.w_n - &k.w_t * (c.mu * s);
+                        let g: f64 = k
+                            .w_n
+                            .iter()
+                            .zip(self.minv.iter())
+                            .zip(wq.iter())
+                            .map(|((x, m), y)| x * m * y)
+                            .sum();
+                        let g0: f64 = k
+                            .w_n
+                            .iter()
+                            .zip(self.minv.iter())
+                            .map(|(x, m)| x * m * x)
+                            .sum();
+                        if g <= 1e-12 * g0 {
+                            return Err(SolverError::Painleve {
+                                t: self.t,
+                                contacts: c.name.clone(),
+                                detail: format!(
+                                    "W_Nᵀ M⁻¹ (W_N − μ s W_T) = {g:.4e} ≤ 0 while sliding"
+                                ),
+                            });
+                        }
+                    }
+                }
+            }
+        }
+        self.project();
+        // log transitions
+        for i in 0..nc {
+            let (b, a) = (before[i], self.state[i]);
+            let kind = match (b, a) {
+                (ContactState::Stick, ContactState::Slide(_)) => Some(EventKind::Slip),
+                (ContactState::Slide(s0), ContactState::Slide(s1)) if s0 != s1 => {
+                    Some(EventKind::Slip)
+                }
+                (ContactState::Slide(_), ContactState::Stick) => Some(EventKind::Stick),
+                (ContactState::Open, ContactState::Stick) if !impacted[i] => {
+                    Some(EventKind::Stick)
+                }
+                (ContactState::Open, ContactState::Slide(_)) if !impacted[i] => {
+                    Some(EventKind::Slip)
+                }
+                (ContactState::Stick | ContactState::Slide(_), ContactState::Open) => {
+                    Some(EventKind::Release)
+                }
+                _ => None,
+            };
+            if let Some(kind) = kind {
+                let q = self.q();
+                let v = self.v();
+                let k = scene.contact_kinematics(&scene.contacts[i], &q, &v);
+                self.log(EventRecord {
+                    t: self.t,
+                    contact: i,
+                    kind,
+                    normal: 0.0,
+                    tangential: 0.0,
+                    gap_rate_before: k.gap_rate,
+                    gap_rate_after: k.gap_rate,
+                    slip_rate_after: k.slip_rate,
+                    sticks: Some(a == ContactState::Stick),
+                    info: f64::NAN,
+                })?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Guard against impact accumulation without the accumulation rule (Zeno).
+    fn check_burst(&mut self, i: usize) -> Result<(), SolverError> {
+        let st = &self.scene.settings;
+        let (last, count) = self.burst[i];
+        let count = if self.t - last < st.min_event_spacing {
+            count + 1
+        } else {
+            0
+        };
+        self.burst[i] = (self.t, count);
+        if count >= 16 {
+            return Err(SolverError::StepCollapse {
+                t: self.t,
+                contact: self.scene.contacts[i].name.clone(),
+                events: count,
+                window: st.min_event_spacing,
+            });
+        }
+        Ok(())
+    }
+}
+
+/// smooth_forces with the run's own hysteretic states.
+fn smooth_forces_laws(
+    scene: &Scene,
+    laws: &[Hysteretic],
+    t: f64,
+    q: &DVector<f64>,
+    v: &DVector<f64>,
+    h: &mut DVector<f64>,
+    jac: &mut DVector<f64>,
+) -> PowerTerms {
+    smooth_forces(scene, Some(laws), t, q, v, h, jac)
+}
+
+/// Solve a small (possibly singular: redundant contacts) system; minimum-norm when singular.
+fn solve_small(a: DMatrix<f64>, b: DVector<f64>) -> DVector<f64> {
+    let scale = a.amax().max(1e-300);
+    if let Some(lu) = a.clone().lu().try_inverse() {
+        let x = &lu * &b;
+        let r = (&a * &x - &b).amax();
+        if x.iter().all(|v| v.is_finite()) && r <= 1e-9 * (1.0 + b.amax()) {
+            return x;
+        }
+    }
+    let svd = a.svd(true, true);
+    svd.solve(&b, 1e-12 * scale)
+        .unwrap_or_else(|_| DVector::zeros(b.len()))
+}
+
+/// δ = M⁻¹Jᵀ (J M⁻¹ Jᵀ)⁺ r: the minimum-M-norm correction with J δ = r.
+fn min_norm_correction(rows: &[&DVector<f64>], res: &[f64], minv: &DVector<f64>) -> DVector<f64> {
+    let k = rows.len();
+    let mut a = DMatrix::zeros(k, k);
+    for r in 0..k {
+        for c in 0..k {
+            a[(r, c)] = rows[r]
+                .iter()
+                .zip(minv.iter())
+                .zip(rows[c].iter())
+                .map(|((x, m), y)| x * m * y)
+                .sum();
+        }
+    }
+    let lam = solve_small(a, DVector::from_column_slice(res));
+    let mut d = DVector::zeros(minv.len());
+    for r in 0..k {
+        d.axpy(lam[r], rows[r], 1.0);
+    }
+    d.component_mul(minv)
+}
+
+/// Run the event-driven integration of a scene.
+pub fn run(scene: &Scene, observer: &mut dyn Observer) -> Result<RunOutput, SolverError> {
+    let wall = Instant::now();
+    let n = scene.ndof();
+    let st = &scene.settings;
+    let mut y = DVector::zeros(2 * n + LEDGER_TERMS);
+    y.rows_mut(0, n).copy_from(&scene.q0);
+    y.rows_mut(n, n).copy_from(&scene.v0);
+    let mut laws: Vec<Hysteretic> = scene.hysteretic.iter().map(|h| h.law.clone()).collect();
+    let mut eng = Engine {
+        scene,
+        laws: Vec::new(),
+        state: vec![ContactState::Open; scene.contacts.len()],
+        minv: scene.mass.map(|m| 1.0 / m),
+        n,
+        t: 0.0,
+        y,
+        impact_normal: 0.0,
+        impact_tangential: 0.0,
+        e0: 0.0,
+        energy_scale: 0.0,
+        out: RunOutput::new(scene),
+        last_impacts: vec![Vec::new(); scene.contacts.len()],
+        burst: vec![(f64::NEG_INFINITY, 0); scene.contacts.len()],
+        force_scale: 0.0,
+        jac: DVector::zeros(n),
+    };
+    // initial hysteretic directions from the initial deformation rates
+    {
+        let q = eng.q();
+        let v = eng.v();
+        for (j, el) in scene.hysteretic.iter().enumerate() {
+            let (e, ed, _) = scene.deformation(&el.attachment, el.support, 0.0, &q, &v, &mut eng.jac);
+            laws[j].set_direction(e, if ed < 0.0 { -1.0 } else { 1.0 });
+        }
+    }
+    eng.laws = laws;
+    {
+        let q = eng.q();
+        let v = eng.v();
+        for c in &scene.contacts {
+            let k = scene.contact_kinematics(c, &q, &v);
+            if k.gap < -st.gap_tol {
+                return Err(SolverError::InitialPenetration {
+                    contact: c.name.clone(),
+                    gap: k.gap,
+                });
+            }
+        }
+        eng.e0 = scene.kinetic_energy(&v) + scene.spring_energy(0.0, &q, &v);
+        let mut h = DVector::zeros(n);
+        smooth_forces_laws(scene, &eng.laws, 0.0, &q, &v, &mut h, &mut eng.jac);
+        eng.force_scale = h.amax().max(scene.mass.amax() * 1e-6);
+    }
+    eng.resolve()?;
+    eng.record_sample(SampleKind::Grid)?;
+    let breakpoints = scene.breakpoints();
+    let mut bp = 0usize;
+    let mut next_out = 1usize;
+    let mut ctrl = Controller::default();
+    let mut f0 = DVector::zeros(y_len(n));
+    let rhs_evals = std::cell::Cell::new(0usize);
+    macro_rules! rhs_of {
+        ($eng:expr) => {
+            |t: f64, y: &DVector<f64>, out: &mut DVector<f64>| {
+                rhs_evals.set(rhs_evals.get() + 1);
+                $eng.rhs(t, y, out)
+            }
+        };
+    }
+    {
+        let y0 = eng.y.clone();
+        (rhs_of!(eng))(0.0, &y0, &mut f0)?;
+    }
+    let mut h = dopri::initial_h(&eng.y, &f0, st.rtol, st.atol, 2 * n).min(st.t_end / 10.0);
+    if st.h_max > 0.0 {
+        h = h.min(st.h_max);
+    }
+    let h_min = 1e-14 * st.t_end.max(1.0);
+    let mut last_batch = (0usize, 0usize, Instant::now());
+    let mut fns = eng.event_fns();
+    let mut armed = arm(&mut eng, &fns)?;
+    while eng.t < st.t_end {
+        if eng.out.stats.steps_accepted + eng.out.stats.steps_rejected >= st.max_steps {
+            return Err(SolverError::TooManySteps {
+                t: eng.t,
+                limit: st.max_steps,
+            });
+        }
+        while bp < breakpoints.len() && breakpoints[bp] <= eng.t * (1.0 + 1e-15) {
+            bp += 1;
+        }
+        let t_stop = if bp < breakpoints.len() {
+            breakpoints[bp].min(st.t_end)
+        } else {
+            st.t_end
+        };
+        let mut hh = h.min(t_stop - eng.t);
+        if st.h_max > 0.0 {
+            hh = hh.min(st.h_max);
+        }
+        if t_stop - eng.t - hh < 1e-12 * hh {
+            hh = t_stop - eng.t;
+        }
+        let y0 = eng.y.clone();
+        let t0 = eng.t;
+        let step = dopri::step(&mut rhs_of!(eng), t0, &y0, &f0, hh, st.rtol, st.atol, 2 * n)?;
+        let finite = step.y1.iter().all(|x| x.is_finite());
+        if !finite || step.error > 1.0 {
+            eng.out.stats.steps_rejected += 1;
+            h = if finite {
+                ctrl.next_h(hh, step.error, false)
+            } else {
+                hh * 0.25
+            };
+            if h < h_min {
+                return Err(if finite {
+                    SolverError::StepTooSmall { t: eng.t, h }
+                } else {
+                    SolverError::NonFinite { t: eng.t }
+                });
+            }
+            continue;
+        }
+        eng.out.stats.steps_accepted += 1;
+        h = ctrl.next_h(hh, step.error, true);
+        // event search on the dense output
+        let found = locate_event(&mut eng, &step, &fns, &mut armed)?;
+        let t1 = found.map_or(step.t1(), |(t, _)| t);
+        // grid output inside (t0, t1]
+        while (next_out as f64) * st.output_dt <= t1 * (1.0 + 1e-14) && eng.t < st.t_end {
+            let tg = (next_out as f64) * st.output_dt;
+            if tg > t1 {
+                break;
+            }
+            eng.t = tg.min(st.t_end);
+            eng.y = step.dense(eng.t);
+            eng.record_sample(SampleKind::Grid)?;
+            next_out += 1;
+        }
+        eng.t = t1;
+        eng.y = if found.is_some() {
+            step.dense(t1)
+        } else {
+            step.y1.clone()
+        };
+        let mut restart = false;
+        if let Some((_, f)) = found {
+            eng.out.stats.events_located += 1;
+            match f {
+                EventFn::Lower(j) | EventFn::Upper(j) | EventFn::Reversal(j) => {
+                    let b = *eng.laws[j].branch();
+                    let el = &scene.hysteretic[j];
+                    let q = eng.q();
+                    let v = eng.v();
+                    let (e, _, _) = scene.deformation(&el.attachment, el.support, t1, &q, &v, &mut eng.jac);
+                    let dir = if matches!(f, EventFn::Reversal(_)) {
+                        -b.direction
+                    } else if matches!(f, EventFn::Upper(_)) {
+                        1.0
+                    } else {
+                        -1.0
+                    };
+                    let e_at = match f {
+                        EventFn::Lower(_) => b.lower,
+                        EventFn::Upper(_) => b.upper,
+                        _ => e,
+                    };
+                    eng.laws[j].on_branch_end(e_at, dir);
+                    eng.out.stats.branch_events += 1;
+                }
+                _ => {
+                    eng.record_sample(SampleKind::PreEvent)?;
+                    eng.resolve()?;
+                    eng.record_sample(SampleKind::PostEvent)?;
+                }
+            }
+            restart = true;
+        } else if eng.state.iter().any(|s| *s != ContactState::Open) {
+            restart = eng.project() > 0.0;
+        }
+        if restart {
+            let y1 = eng.y.clone();
+            let t = eng.t;
+            (rhs_of!(eng))(t, &y1, &mut f0)?;
+            fns = eng.event_fns();
+            armed = arm(&mut eng, &fns)?;
+        } else {
+            f0 = step.f1.clone();
+        }
+        if eng.out.samples.len() - last_batch.0 >= 256 || last_batch.2.elapsed().as_millis() >= 40 {
+            let cont = observer.batch(
+                &eng.out.samples[last_batch.0..],
+                &eng.out.events[last_batch.1..],
+                eng.t,
+            );
+            last_batch = (eng.out.samples.len(), eng.out.events.len(), Instant::now());
+            if !cont {
+                return Err(SolverError::Cancelled { t: eng.t });
+            }
+        }
+    }
+    if eng.out.samples.last().is_none_or(|s| s.t < st.t_end) {
+        eng.record_sample(SampleKind::Grid)?;
+    }
+    observer.batch(
+        &eng.out.samples[last_batch.0..],
+        &eng.out.events[last_batch.1..],
+        eng.t,
+    );
+    eng.out.stats.rhs_evals = rhs_evals.get();
+    eng.out.stats.wall_time = wall.elapsed().as_secs_f64();
+    eng.out.final_laws = eng.laws.clone();
+    eng.out.finish(eng.energy_scale);
+    Ok(eng.out)
+}
+
+fn y_len(n: usize) -> usize {
+    2 * n + LEDGER_TERMS
+}
+
+/// Armed flags: a function is armed when it is known to be positive just after the start of a
+/// phase — clearly positive, or zero and moving up (a separating gap, a slide or branch just
+/// begun). Unarmed ones trigger only below −threshold (an inconsistent state the LCP repairs).
+fn arm(eng: &mut Engine, fns: &[EventFn]) -> Result<Vec<bool>, SolverError> {
+    let y = eng.y.clone();
+    let vals = eng.event_values(eng.t, &y, fns)?;
+    let n = eng.n;
+    let q = y.rows(0, n).into_owned();
+    let v = y.rows(n, n).into_owned();
+    let scene = eng.scene;
+    Ok(fns
+        .iter()
+        .zip(vals)
+        .map(|(f, val)| {
+            let thr = eng.threshold(*f);
+            match *f {
+                EventFn::Gap(i) => {
+                    val > thr
+                        || (val > -scene.settings.gap_tol
+                            && scene.contact_kinematics(&scene.contacts[i], &q, &v).gap_rate
+                                > scene.settings.velocity_tol)
+                }
+                EventFn::SlideStop(_)
+                | EventFn::Reversal(_)
+                | EventFn::Lower(_)
+                | EventFn::Upper(_) => val > -thr,
+                EventFn::Release(_) | EventFn::StickSlip(_) => val > thr,
+            }
+        })
+        .collect())
+}
+
+/// First event in the step: sample the dense output at θ = ¼, ½, ¾, 1, then Illinois on the
+/// bracketing interval down to `event_time_tol`. Returns (t_event, function), t_event being
+/// the bracket end where the function has crossed. Updates the armed flags.
+fn locate_event(
+    eng: &mut Engine,
+    step: &dopri::Step,
+    fns: &[EventFn],
+    armed: &mut [bool],
+) -> Result<Option<(f64, EventFn)>, SolverError> {
+    if fns.is_empty() {
+        return Ok(None);
+    }
+    let thr: Vec<f64> = fns.iter().map(|f| eng.threshold(*f)).collect();
+    let shifted = |v: f64, k: usize, armed: &[bool]| if armed[k] { v } else { v + thr[k] };
+    let mut t_prev = step.t0;
+    let mut v_prev = eng.event_values(step.t0, &step.y0, fns)?;
+    for (k, v) in v_prev.iter_mut().enumerate() {
+        if armed[k] && *v <= 0.0 {
+            // positive just after t0 by construction
+            *v = f64::MIN_POSITIVE;
+        }
+    }
+    for theta in [0.25, 0.5, 0.75, 1.0] {
+        let t = step.t0 + theta * step.h;
+        let y = if theta == 1.0 {
+            step.y1.clone()
+        } else {
+            step.dense(t)
+        };
+        let vals = eng.event_values(t, &y, fns)?;
+        let mut best: Option<(f64, EventFn)> = None;
+        for k in 0..fns.len() {
+            let a = shifted(v_prev[k], k, armed);
+            let b = shifted(vals[k], k, armed);
+            if a > 0.0 && b <= 0.0 {
+                let root = illinois(eng, step, fns, k, t_prev, t, a, b, armed[k], thr[k])?;
+                if best.is_none_or(|(tb, _)| root < tb) {
+                    best = Some((root, fns[k]));
+                }
+            }
+        }
+        if best.is_some() {
+            return Ok(best);
+        }
+        for k in 0..fns.len() {
+            if !armed[k] && vals[k] > thr[k] {
+                armed[k] = true;
+            }
+        }
+        t_prev = t;
+        v_prev = vals;
+    }
+    Ok(None)
+}
+
+#[allow(clippy::too_many_arguments)]
+fn illinois(
+    eng: &mut Engine,
+    step: &dopri::Step,
+    fns: &[EventFn],
+    k: usize,
+    mut ta: f64,
+    mut tb: f64,
+    mut fa: f64,
+    mut fb: f64,
+    armed: bool,
+    thr: f64,
+) -> Result<f64, SolverError> {
+    let tol = eng.scene.settings.event_time_tol;
+    let one = [fns[k]];
+    let mut side = 0i32;
+    for _ in 0..200 {
+        if tb - ta <= tol.max(4.0 * f64::EPSILON * tb.abs()) {
+            break;
+        }
+        let mut tm = (ta * fb - tb * fa) / (fb - fa);
+        if !(tm > ta && tm < tb) {
+            tm = 0.5 * (ta + tb);
+        }
+        let y = step.dense(tm);
+        let mut fm = eng.event_values(tm, &y, &one)?[0];
+        if !armed {
+            fm += thr;
+        }
+        if fm > 0.0 {
+            ta = tm;
+            fa = fm;
+            if side == -1 {
+                fb *= 0.5;
+            }
+            side = -1;
+        } else {
+            tb = tm;
+            fb = fm;
+            if side == 1 {
+                fa *= 0.5;
+            }
+            side = 1;
+        }
+        if fm == 0.0 {
+            break;
+        }
+    }
+    Ok(tb)
+}

@@ -1,0 +1,28 @@
+//! deckspin — nonsmooth seismic analysis of bridges whose decks pound their abutments and
+//! rotate in plan (reference: the paper in `../shared/reference/paper.txt`).
+//!
+//! The engine is plain modules; the CLI and the terminal workbench are thin layers over it.
+//! - [`lemke`]: Lemke's algorithm for the LCP.
+//! - [`scene`]: planar rigid bodies, contacts, force elements (eq. 1–2).
+//! - [`contact`]: the impact LCP (eq. 5–7) and the contact LCP (eq. 8–10).
+//! - [`dopri`], [`event_driven`]: the event-driven integrator.
+//! - [`hysteresis`]: linear, bilinear and Takeda laws for columns.
+//! - [`excitation`]: records, processing, multi-support motions.
+//! - [`model`], [`bridge`]: model files.
+//! - [`output`]: history, events, energy ledger, summary.
+
+pub mod bridge;
+pub mod contact;
+pub mod dopri;
+pub mod event_driven;
+pub mod excitation;
+#[path = "hysteresis_stub.rs"]
+pub mod hysteresis;
+pub mod lemke;
+pub mod model;
+pub mod output;
+pub mod scene;
+
+pub use event_driven::{Observer, Silent, SolverError, run};
+pub use model::{ModelError, load};
+pub use output::RunOutput;

@@ -1,0 +1,467 @@
+//! Run results: time history (output grid plus every event instant), event log, energy ledger
+//! and summary; writers for `history.csv`, `events.csv` and `summary.json`.
+
+use crate::hysteresis::Hysteretic;
+use crate::scene::Scene;
+use serde::Serialize;
+use std::io::Write;
+use std::path::Path;
+
+/// State of one contact.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub enum ContactState {
+    Open,
+    Stick,
+    /// Closed and sliding with ġ_T of this sign (0: frictionless).
+    Slide(f64),
+}
+
+impl ContactState {
+    pub fn label(&self) -> &'static str {
+        match self {
+            ContactState::Open => "open",
+            ContactState::Stick => "stick",
+            ContactState::Slide(s) if *s > 0.0 => "slide+",
+            ContactState::Slide(s) if *s < 0.0 => "slide-",
+            ContactState::Slide(_) => "slide",
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub enum SampleKind {
+    Grid,
+    PreEvent,
+    PostEvent,
+}
+
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct ContactSample {
+    pub gap: f64,
+    pub gap_rate: f64,
+    pub slip_rate: f64,
+    /// λ_N, λ_T (continuous contact forces; 0 when open).
+    pub normal_force: f64,
+    pub tangential_force: f64,
+    pub state: ContactState,
+}
+
+/// Energy ledger at one instant. Balance: T + V + W_hyst + D_damp + D_fric + D_imp
+/// = E₀ + W_loads + W_supports.
+#[derive(Clone, Copy, Debug, Default, Serialize)]
+pub struct EnergySample {
+    pub kinetic: f64,
+    /// Linear springs ½ k e².
+    pub elastic: f64,
+    pub loads: f64,
+    pub supports: f64,
+    pub damping: f64,
+    /// Work absorbed by hysteretic elements (stored + dissipated).
+    pub hysteretic: f64,
+    /// Dissipated by contact forces during continuous contact (sliding friction).
+    pub friction: f64,
+    /// Lost in impacts, normal and tangential parts (Λᵀ(ġ⁺ + ġ⁻)/2).
+    pub impact_normal: f64,
+    pub impact_tangential: f64,
+    pub initial: f64,
+    /// Left minus right side of the balance.
+    pub closure: f64,
+}
+
+impl EnergySample {
+    pub fn balance(&self) -> f64 {
+        (self.kinetic
+            + self.elastic
+            + self.hysteretic
+            + self.damping
+            + self.friction
+            + self.impact_normal
+            + self.impact_tangential)
+            - (self.initial + self.loads + self.supports)
+    }
+    pub fn scale(&self) -> f64 {
+        self.kinetic
+            + self.elastic
+            + self.hysteretic.abs()
+            + self.damping.abs()
+            + self.friction.abs()
+            + self.impact_normal.abs()
+            + self.impact_tangential.abs()
+            + self.initial.abs()
+            + self.loads.abs()
+            + self.supports.abs()
+    }
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct Sample {
+    pub t: f64,
+    pub kind: SampleKind,
+    pub q: Vec<f64>,
+    pub v: Vec<f64>,
+    pub contacts: Vec<ContactSample>,
+    /// (deformation, force) of each hysteretic element.
+    pub elements: Vec<(f64, f64)>,
+    pub energy: EnergySample,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
+pub enum EventKind {
+    Impact,
+    Stick,
+    Slip,
+    Release,
+    Accumulation,
+}
+
+impl EventKind {
+    pub fn label(&self) -> &'static str {
+        match self {
+            EventKind::Impact => "impact",
+            EventKind::Stick => "stick",
+            EventKind::Slip => "slip",
+            EventKind::Release => "release",
+            EventKind::Accumulation => "accumulation",
+        }
+    }
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct EventRecord {
+    pub t: f64,
+    pub contact: usize,
+    pub kind: EventKind,
+    /// Λ_N, Λ_T for impacts (N·s).
+    pub normal: f64,
+    pub tangential: f64,
+    pub gap_rate_before: f64,
+    pub gap_rate_after: f64,
+    pub slip_rate_after: f64,
+    /// After the event: does the contact stick?
+    pub sticks: Option<bool>,
+    /// Accumulation events: estimated accumulation time t∞.
+    pub info: f64,
+}
+
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct RunStats {
+    pub steps_accepted: usize,
+    pub steps_rejected: usize,
+    pub rhs_evals: usize,
+    pub lcp_solves: usize,
+    pub lemke_pivots: usize,
+    pub events_located: usize,
+    pub branch_events: usize,
+    pub impacts: usize,
+    pub sticks: usize,
+    pub slips: usize,
+    pub releases: usize,
+    pub accumulations: usize,
+    pub wall_time: f64,
+}
+
+impl RunStats {
+    pub fn count(&mut self, k: EventKind) {
+        match k {
+            EventKind::Impact => self.impacts += 1,
+            EventKind::Stick => self.sticks += 1,
+            EventKind::Slip => self.slips += 1,
+            EventKind::Release => self.releases += 1,
+            EventKind::Accumulation => self.accumulations += 1,
+        }
+    }
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct DofPeak {
+    pub name: String,
+    pub max_abs: f64,
+    pub at: f64,
+    pub residual: f64,
+    pub max_abs_velocity: f64,
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct ContactSummary {
+    pub name: String,
+    pub min_gap: f64,
+    pub max_normal_force: f64,
+    pub max_normal_impulse: f64,
+    pub impacts: usize,
+    pub stick_time: f64,
+    pub slide_time: f64,
+}
+
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct Summary {
+    pub title: String,
+    pub t_end: f64,
+    pub peaks: Vec<DofPeak>,
+    pub contacts: Vec<ContactSummary>,
+    pub max_penetration: f64,
+    pub energy_final: EnergySample,
+    pub energy_closure_abs: f64,
+    pub energy_closure_rel: f64,
+    pub accumulation_times: Vec<(String, f64)>,
+    pub stats: RunStats,
+}
+
+/// Everything a run produces.
+#[derive(Clone, Debug)]
+pub struct RunOutput {
+    pub title: String,
+    pub dof_names: Vec<String>,
+    pub contact_names: Vec<String>,
+    pub element_names: Vec<String>,
+    pub samples: Vec<Sample>,
+    pub events: Vec<EventRecord>,
+    pub stats: RunStats,
+    pub accumulation_times: Vec<(usize, f64)>,
+    pub final_laws: Vec<Hysteretic>,
+    pub summary: Summary,
+}
+
+impl RunOutput {
+    pub fn new(scene: &Scene) -> Self {
+        Self {
+            title: scene.title.clone(),
+            dof_names: scene.dof_names.clone(),
+            contact_names: scene.contacts.iter().map(|c| c.name.clone()).collect(),
+            element_names: scene.hysteretic.iter().map(|c| c.name.clone()).collect(),
+            samples: Vec::new(),
+            events: Vec::new(),
+            stats: RunStats::default(),
+            accumulation_times: Vec::new(),
+            final_laws: Vec::new(),
+            summary: Summary::default(),
+        }
+    }
+
+    /// Index of a DOF by name.
+    pub fn dof(&self, name: &str) -> Option<usize> {
+        self.dof_names.iter().position(|n| n == name)
+    }
+
+    /// Fill the summary from samples and events.
+    pub fn finish(&mut self, energy_scale: f64) {
+        let nd = self.dof_names.len();
+        let mut peaks: Vec<DofPeak> = self
+            .dof_names
+            .iter()
+            .map(|n| DofPeak {
+                name: n.clone(),
+                max_abs: 0.0,
+                at: 0.0,
+                residual: 0.0,
+                max_abs_velocity: 0.0,
+            })
+            .collect();
+        let mut contacts: Vec<ContactSummary> = self
+            .contact_names
+            .iter()
+            .map(|n| ContactSummary {
+                name: n.clone(),
+                min_gap: f64::INFINITY,
+                max_normal_force: 0.0,
+                max_normal_impulse: 0.0,
+                impacts: 0,
+                stick_time: 0.0,
+                slide_time: 0.0,
+            })
+            .collect();
+        let mut closure: f64 = 0.0;
+        let mut prev: Option<&Sample> = None;
+        for s in &self.samples {
+            for k in 0..nd {
+                if s.q[k].abs() > peaks[k].max_abs {
+                    peaks[k].max_abs = s.q[k].abs();
+                    peaks[k].at = s.t;
+                }
+                peaks[k].max_abs_velocity = peaks[k].max_abs_velocity.max(s.v[k].abs());
+            }
+            for (i, c) in s.contacts.iter().enumerate() {
+                contacts[i].min_gap = contacts[i].min_gap.min(c.gap);
+                contacts[i].max_normal_force = contacts[i].max_normal_force.max(c.normal_force);
+                if let Some(p) = prev {
+                    let dt = s.t - p.t;
+                    match p.contacts[i].state {
+                        ContactState::Stick => contacts[i].stick_time += dt,
+                        ContactState::Slide(_) => contacts[i].slide_time += dt,
+                        ContactState::Open => {}
+                    }
+                }
+            }
+            closure = closure.max(s.energy.closure.abs());
+            prev = Some(s);
+        }
+        if let Some(last) = self.samples.last() {
+            for k in 0..nd {
+                peaks[k].residual = last.q[k];
+            }
+        }
+        for e in &self.events {
+            if e.kind == EventKind::Impact {
+                contacts[e.contact].impacts += 1;
+                contacts[e.contact].max_normal_impulse =
+                    contacts[e.contact].max_normal_impulse.max(e.normal);
+            }
+        }
+        let max_penetration = contacts
+            .iter()
+            .map(|c| -c.min_gap)
+            .fold(0.0f64, f64::max);
+        self.summary = Summary {
+            title: self.title.clone(),
+            t_end: self.samples.last().map_or(0.0, |s| s.t),
+            peaks,
+            contacts,
+            max_penetration,
+            energy_final: self.samples.last().map(|s| s.energy).unwrap_or_default(),
+            energy_closure_abs: closure,
+            energy_closure_rel: if energy_scale > 0.0 {
+                closure / energy_scale
+            } else {
+                0.0
+            },
+            accumulation_times: self
+                .accumulation_times
+                .iter()
+                .map(|(i, t)| (self.contact_names[*i].clone(), *t))
+                .collect(),
+            stats: self.stats.clone(),
+        };
+    }
+
+    pub fn write_history(&self, path: &Path) -> std::io::Result<()> {
+        let mut w = std::io::BufWriter::new(std::fs::File::create(path)?);
+        let mut head = vec!["t".to_string(), "row".to_string()];
+        for n in &self.dof_names {
+            head.push(n.clone());
+        }
+        for n in &self.dof_names {
+            head.push(format!("d/dt {n}"));
+        }
+        for c in &self.contact_names {
+            for f in [
+                "gap",
+                "gap_rate",
+                "slip_rate",
+                "normal_force",
+                "tangential_force",
+                "state",
+            ] {
+                head.push(format!("{c}.{f}"));
+            }
+        }
+        for e in &self.element_names {
+            head.push(format!("{e}.deformation"));
+            head.push(format!("{e}.force"));
+        }
+        for f in [
+            "kinetic",
+            "elastic",
+            "hysteretic",
+            "damping",
+            "friction",
+            "impact_normal",
+            "impact_tangential",
+            "loads",
+            "supports",
+            "closure",
+        ] {
+            head.push(format!("energy.{f}"));
+        }
+        writeln!(w, "{}", head.join(","))?;
+        for s in &self.samples {
+            let mut row: Vec<String> = vec![
+                format!("{:.12e}", s.t),
+                match s.kind {
+                    SampleKind::Grid => "grid",
+                    SampleKind::PreEvent => "pre-event",
+                    SampleKind::PostEvent => "post-event",
+                }
+                .into(),
+            ];
+            row.extend(s.q.iter().chain(s.v.iter()).map(|x| format!("{x:.12e}")));
+            for c in &s.contacts {
+                row.extend(
+                    [
+                        c.gap,
+                        c.gap_rate,
+                        c.slip_rate,
+                        c.normal_force,
+                        c.tangential_force,
+                    ]
+                    .iter()
+                    .map(|x| format!("{x:.12e}")),
+                );
+                row.push(c.state.label().into());
+            }
+            for (e, f) in &s.elements {
+                row.push(format!("{e:.12e}"));
+                row.push(format!("{f:.12e}"));
+            }
+            let en = &s.energy;
+            row.extend(
+                [
+                    en.kinetic,
+                    en.elastic,
+                    en.hysteretic,
+                    en.damping,
+                    en.friction,
+                    en.impact_normal,
+                    en.impact_tangential,
+                    en.loads,
+                    en.supports,
+                    en.closure,
+                ]
+                .iter()
+                .map(|x| format!("{x:.12e}")),
+            );
+            writeln!(w, "{}", row.join(","))?;
+        }
+        w.flush()
+    }
+
+    pub fn write_events(&self, path: &Path) -> std::io::Result<()> {
+        let mut w = std::io::BufWriter::new(std::fs::File::create(path)?);
+        writeln!(
+            w,
+            "t,contact,kind,normal_impulse,tangential_impulse,gap_rate_before,gap_rate_after,slip_rate_after,sticks,accumulation_time"
+        )?;
+        for e in &self.events {
+            writeln!(
+                w,
+                "{:.15e},{},{},{:.12e},{:.12e},{:.12e},{:.12e},{:.12e},{},{}",
+                e.t,
+                self.contact_names[e.contact],
+                e.kind.label(),
+                e.normal,
+                e.tangential,
+                e.gap_rate_before,
+                e.gap_rate_after,
+                e.slip_rate_after,
+                e.sticks.map_or("", |s| if s { "stick" } else { "slip" }),
+                if e.info.is_finite() {
+                    format!("{:.15e}", e.info)
+                } else {
+                    String::new()
+                }
+            )?;
+        }
+        w.flush()
+    }
+
+    pub fn write_summary(&self, path: &Path) -> std::io::Result<()> {
+        let s = serde_json::to_string_pretty(&self.summary).map_err(std::io::Error::other)?;
+        std::fs::write(path, s)
+    }
+
+    /// history.csv, events.csv, summary.json in `dir` (created).
+    pub fn write_all(&self, dir: &Path) -> std::io::Result<()> {
+        std::fs::create_dir_all(dir)?;
+        self.write_history(&dir.join("history.csv"))?;
+        self.write_events(&dir.join("events.csv"))?;
+        self.write_summary(&dir.join("summary.json"))
+    }
+}

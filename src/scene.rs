@@ -1,0 +1,484 @@
+//! The general planar scene the engine integrates: rigid bodies with only the DOFs they need,
+//! point-on-face unilateral contacts, force elements to fixed or moving supports, constant loads.
+//!
+//! Generalized coordinates q are displacements from a reference configuration
+//! (paper §3.2: u = [x₁, θ₁, x₂, y₂, θ₂, x₃, θ₃]); M is diagonal (eq. 1).
+
+use crate::excitation::GroundMotion;
+use crate::hysteresis::{Branch, Hysteretic};
+use crate::lemke::LemkeOptions;
+use nalgebra::{DVector, Vector2};
+use std::sync::Arc;
+
+/// Planar coordinate a body may have as a degree of freedom.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Axis {
+    X = 0,
+    Y = 1,
+    Theta = 2,
+}
+
+/// A planar rigid body. `dofs[a]` is the index in q of axis a, or `None` when that axis is fixed.
+#[derive(Clone, Debug)]
+pub struct Body {
+    pub name: String,
+    pub mass: f64,
+    pub inertia: f64,
+    /// Centre position at the reference configuration (q = 0).
+    pub reference: Vector2<f64>,
+    pub dofs: [Option<usize>; 3],
+}
+
+/// Which body: a scene body or the fixed ground.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BodyRef {
+    Ground,
+    Body(usize),
+}
+
+/// Unilateral frictional contact of a point of one body against a straight face of another
+/// (corner-on-face; the face at any angle, so skew abutments work).
+#[derive(Clone, Debug)]
+pub struct Contact {
+    pub name: String,
+    pub point_body: BodyRef,
+    /// Contact point, body frame, relative to the body centre.
+    pub point: Vector2<f64>,
+    pub face_body: BodyRef,
+    /// A point of the face, face-body frame, relative to the face body's centre.
+    pub face_point: Vector2<f64>,
+    /// Unit outward normal of the face in the face-body frame (g_N > 0 is open).
+    pub face_normal: Vector2<f64>,
+    /// Coulomb coefficient μ.
+    pub mu: f64,
+    /// Newton restitution ε (eq. 3).
+    pub restitution: f64,
+}
+
+/// How an element's deformation is measured.
+#[derive(Clone, Debug)]
+pub enum Attachment {
+    /// e = d·(P(q) − P(0)) − u_g(t): a body point along a fixed world direction d.
+    Point {
+        body: usize,
+        point: Vector2<f64>,
+        direction: Vector2<f64>,
+    },
+    /// e = θ − u_g(t).
+    Rotation { body: usize },
+}
+
+/// Linear spring–dashpot to a fixed or moving support.
+#[derive(Clone, Debug)]
+pub struct Spring {
+    pub name: String,
+    pub attachment: Attachment,
+    pub stiffness: f64,
+    pub damping: f64,
+    pub support: Option<usize>,
+}
+
+/// Hysteretic element (a column in one direction) with an optional parallel dashpot.
+#[derive(Clone, Debug)]
+pub struct HystereticElement {
+    pub name: String,
+    pub attachment: Attachment,
+    pub law: Hysteretic,
+    pub damping: f64,
+    pub support: Option<usize>,
+}
+
+/// A prescribed support motion u_g(t).
+#[derive(Clone, Debug)]
+pub enum Motion {
+    /// u_g = A sin(ω t + φ).
+    Harmonic {
+        amplitude: f64,
+        omega: f64,
+        phase: f64,
+    },
+    /// A processed record (piecewise-linear acceleration, exact integrals).
+    Record(Arc<GroundMotion>),
+}
+
+#[derive(Clone, Debug)]
+pub struct Support {
+    pub name: String,
+    pub motion: Motion,
+    pub factor: f64,
+}
+
+impl Support {
+    /// (u_g, u̇_g, ü_g) at t.
+    pub fn at(&self, t: f64) -> (f64, f64, f64) {
+        let (d, v, a) = match &self.motion {
+            Motion::Harmonic {
+                amplitude,
+                omega,
+                phase,
+            } => {
+                let s = (omega * t + phase).sin();
+                let c = (omega * t + phase).cos();
+                (
+                    amplitude * s,
+                    amplitude * omega * c,
+                    -amplitude * omega * omega * s,
+                )
+            }
+            Motion::Record(g) => g.at(t),
+        };
+        (self.factor * d, self.factor * v, self.factor * a)
+    }
+}
+
+/// Mass-proportional damping −a₀ M (q̇ − q̇_ref(t)), with q̇_ref the quasi-static velocity
+/// Σ_s r_{i,s} u̇_{g,s}; it vanishes for rigid-body support motion.
+#[derive(Clone, Debug, Default)]
+pub struct MassDamping {
+    pub alpha: f64,
+    /// (dof, support, factor) terms of q̇_ref.
+    pub reference: Vec<(usize, usize, f64)>,
+}
+
+/// Solver settings of one run (one documented struct, rapier style).
+#[derive(Clone, Debug)]
+pub struct Settings {
+    pub t_end: f64,
+    /// Output step of the time history (event instants are always added).
+    pub output_dt: f64,
+    pub rtol: f64,
+    pub atol: f64,
+    /// Largest step, s (0 = none).
+    pub h_max: f64,
+    /// Event location tolerance on time, s.
+    pub event_time_tol: f64,
+    /// |g_N| below this is a closed contact, m.
+    pub gap_tol: f64,
+    /// |ġ| below this is zero (no impact, stick), m/s.
+    pub velocity_tol: f64,
+    /// Accumulation rule: an impact slower than `zeno_velocity` closes the contact (ε → 0).
+    pub accumulation_rule: bool,
+    pub zeno_velocity: f64,
+    /// Guard: two events of one contact closer than this in time means the step collapsed.
+    pub min_event_spacing: f64,
+    pub max_events: usize,
+    pub max_steps: usize,
+    /// Never step over the sample instants of recorded support motions.
+    pub stop_at_samples: bool,
+    pub lemke: LemkeOptions,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Self {
+            t_end: 1.0,
+            output_dt: 0.01,
+            rtol: 1e-8,
+            atol: 1e-10,
+            h_max: 0.0,
+            event_time_tol: 1e-13,
+            gap_tol: 1e-9,
+            velocity_tol: 1e-9,
+            accumulation_rule: true,
+            zeno_velocity: 1e-6,
+            min_event_spacing: 1e-11,
+            max_events: 200_000,
+            max_steps: 5_000_000,
+            stop_at_samples: false,
+            lemke: LemkeOptions::default(),
+        }
+    }
+}
+
+/// A compiled scene: what the integrators run.
+#[derive(Clone, Debug)]
+pub struct Scene {
+    pub title: String,
+    pub bodies: Vec<Body>,
+    pub contacts: Vec<Contact>,
+    pub springs: Vec<Spring>,
+    pub hysteretic: Vec<HystereticElement>,
+    pub supports: Vec<Support>,
+    pub mass_damping: MassDamping,
+    /// Constant generalized forces (gravity, loads).
+    pub loads: DVector<f64>,
+    /// Diagonal of M.
+    pub mass: DVector<f64>,
+    pub dof_names: Vec<String>,
+    pub q0: DVector<f64>,
+    pub v0: DVector<f64>,
+    pub settings: Settings,
+}
+
+/// Kinematics of one contact at (q, q̇): gap, Jacobian rows and the velocity-product terms.
+#[derive(Clone, Debug)]
+pub struct ContactKinematics {
+    /// g_N.
+    pub gap: f64,
+    /// W_N = ∂g_N/∂q (so ġ_N = W_Nᵀ q̇).
+    pub w_n: DVector<f64>,
+    /// W_T: ġ_T = W_Tᵀ q̇, along the face tangent t = k × n.
+    pub w_t: DVector<f64>,
+    pub gap_rate: f64,
+    pub slip_rate: f64,
+    /// ŵ_N, ŵ_T: g̈ = Wᵀ q̈ + ŵ.
+    pub bias_n: f64,
+    pub bias_t: f64,
+    /// World position of the contact point (for drawing).
+    pub point: Vector2<f64>,
+    pub normal: Vector2<f64>,
+}
+
+/// k × a for a planar vector a.
+#[inline]
+pub fn perp(a: Vector2<f64>) -> Vector2<f64> {
+    Vector2::new(-a.y, a.x)
+}
+
+#[inline]
+fn rot(theta: f64, a: Vector2<f64>) -> Vector2<f64> {
+    let (s, c) = theta.sin_cos();
+    Vector2::new(c * a.x - s * a.y, s * a.x + c * a.y)
+}
+
+/// Pose and velocity of a body (or ground) from q, q̇.
+#[derive(Clone, Copy, Debug)]
+pub struct BodyState {
+    pub position: Vector2<f64>,
+    pub angle: f64,
+    pub velocity: Vector2<f64>,
+    pub omega: f64,
+}
+
+impl Scene {
+    pub fn ndof(&self) -> usize {
+        self.mass.len()
+    }
+
+    pub fn body_state(&self, b: BodyRef, q: &DVector<f64>, v: &DVector<f64>) -> BodyState {
+        match b {
+            BodyRef::Ground => BodyState {
+                position: Vector2::zeros(),
+                angle: 0.0,
+                velocity: Vector2::zeros(),
+                omega: 0.0,
+            },
+            BodyRef::Body(i) => {
+                let body = &self.bodies[i];
+                let get = |a: usize, x: &DVector<f64>| body.dofs[a].map_or(0.0, |k| x[k]);
+                BodyState {
+                    position: body.reference + Vector2::new(get(0, q), get(1, q)),
+                    angle: get(2, q),
+                    velocity: Vector2::new(get(0, v), get(1, v)),
+                    omega: get(2, v),
+                }
+            }
+        }
+    }
+
+    /// Adds `coef·(∂ (point velocity)/∂q̇)ᵀ d` to a Jacobian row: the generalized direction of a
+    /// force d applied at world arm ρ from the centre of body b.
+    fn add_point_jacobian(
+        &self,
+        row: &mut DVector<f64>,
+        b: BodyRef,
+        arm: Vector2<f64>,
+        d: Vector2<f64>,
+        coef: f64,
+    ) {
+        if let BodyRef::Body(i) = b {
+            let dofs = &self.bodies[i].dofs;
+            if let Some(k) = dofs[0] {
+                row[k] += coef * d.x;
+            }
+            if let Some(k) = dofs[1] {
+                row[k] += coef * d.y;
+            }
+            if let Some(k) = dofs[2] {
+                row[k] += coef * d.dot(&perp(arm));
+            }
+        }
+    }
+
+    /// Exact planar kinematics of contact `c` (no small-rotation linearisation):
+    /// g_N = n·(P − O), n = R(θ_B) n₀, P = X_A + R(θ_A) r_A, O = X_B + R(θ_B) p_B.
+    pub fn contact_kinematics(
+        &self,
+        c: &Contact,
+        q: &DVector<f64>,
+        v: &DVector<f64>,
+    ) -> ContactKinematics {
+        let n_dof = self.ndof();
+        let a = self.body_state(c.point_body, q, v);
+        let b = self.body_state(c.face_body, q, v);
+        let rho_a = rot(a.angle, c.point);
+        let p = a.position + rho_a;
+        let n = rot(b.angle, c.face_normal);
+        let t = perp(n);
+        let o = b.position + rot(b.angle, c.face_point);
+        let gap = n.dot(&(p - o));
+        let arm_b = p - b.position;
+        let v_p = a.velocity + a.omega * perp(rho_a);
+        let v_bmat = b.velocity + b.omega * perp(arm_b);
+        let v_rel = v_p - v_bmat;
+        let mut w_n = DVector::zeros(n_dof);
+        let mut w_t = DVector::zeros(n_dof);
+        self.add_point_jacobian(&mut w_n, c.point_body, rho_a, n, 1.0);
+        self.add_point_jacobian(&mut w_n, c.face_body, arm_b, n, -1.0);
+        self.add_point_jacobian(&mut w_t, c.point_body, rho_a, t, 1.0);
+        self.add_point_jacobian(&mut w_t, c.face_body, arm_b, t, -1.0);
+        // g̈ = d/dt[n·v_rel]: ṅ = ω_B t, ṫ = −ω_B n; a_P ∋ −ω_A² ρ_A; d/dt v_Bmat ∋ ω_B k×(v_P − v_B).
+        let common = -a.omega * a.omega * rho_a - b.omega * perp(v_p - b.velocity);
+        let bias_n = b.omega * t.dot(&v_rel) + n.dot(&common);
+        let bias_t = -b.omega * n.dot(&v_rel) + t.dot(&common);
+        ContactKinematics {
+            gap,
+            gap_rate: n.dot(&v_rel),
+            slip_rate: t.dot(&v_rel),
+            w_n,
+            w_t,
+            bias_n,
+            bias_t,
+            point: p,
+            normal: n,
+        }
+    }
+
+    /// Deformation e, rate ė and generalized direction J = ∂e/∂q of an attachment.
+    pub fn deformation(
+        &self,
+        att: &Attachment,
+        support: Option<usize>,
+        t: f64,
+        q: &DVector<f64>,
+        v: &DVector<f64>,
+        jac: &mut DVector<f64>,
+    ) -> (f64, f64, f64) {
+        jac.fill(0.0);
+        let (ug, vg, _) = support.map_or((0.0, 0.0, 0.0), |s| self.supports[s].at(t));
+        match att {
+            Attachment::Point {
+                body,
+                point,
+                direction,
+            } => {
+                let s = self.body_state(BodyRef::Body(*body), q, v);
+                let rho = rot(s.angle, *point);
+                let disp = s.position - self.bodies[*body].reference + rho - point;
+                let vel = s.velocity + s.omega * perp(rho);
+                self.add_point_jacobian(jac, BodyRef::Body(*body), rho, *direction, 1.0);
+                (direction.dot(&disp) - ug, direction.dot(&vel) - vg, vg)
+            }
+            Attachment::Rotation { body } => {
+                let s = self.body_state(BodyRef::Body(*body), q, v);
+                if let Some(k) = self.bodies[*body].dofs[2] {
+                    jac[k] = 1.0;
+                }
+                (s.angle - ug, s.omega - vg, vg)
+            }
+        }
+    }
+
+    /// Time instants where the right-hand side is not smooth in t (record samples).
+    pub fn breakpoints(&self) -> Vec<f64> {
+        let mut out = Vec::new();
+        if self.settings.stop_at_samples {
+            for s in &self.supports {
+                if let Motion::Record(g) = &s.motion {
+                    out.extend(g.sample_times());
+                }
+            }
+        }
+        out.retain(|t| *t > 0.0 && *t < self.settings.t_end);
+        out.sort_by(f64::total_cmp);
+        out.dedup();
+        out
+    }
+
+    /// Elastic energy stored in the linear springs.
+    pub fn spring_energy(&self, t: f64, q: &DVector<f64>, v: &DVector<f64>) -> f64 {
+        let mut jac = DVector::zeros(self.ndof());
+        self.springs
+            .iter()
+            .map(|s| {
+                let (e, _, _) = self.deformation(&s.attachment, s.support, t, q, v, &mut jac);
+                0.5 * s.stiffness * e * e
+            })
+            .sum()
+    }
+
+    pub fn kinetic_energy(&self, v: &DVector<f64>) -> f64 {
+        0.5 * v.iter().zip(self.mass.iter()).map(|(a, m)| m * a * a).sum::<f64>()
+    }
+
+    /// Current branches of all hysteretic elements.
+    pub fn branches(&self) -> Vec<Branch> {
+        self.hysteretic.iter().map(|h| *h.law.branch()).collect()
+    }
+}
+
+/// Rates of the energy ledger's integrated terms.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct PowerTerms {
+    /// Work rate of constant loads.
+    pub loads: f64,
+    /// Power delivered by moving supports.
+    pub supports: f64,
+    /// Dissipation rate in dashpots and mass-proportional damping.
+    pub damping: f64,
+    /// Rate of work absorbed by hysteretic elements (stored + dissipated).
+    pub hysteretic: f64,
+}
+
+/// Number of integrated ledger terms appended to the ODE state (loads, supports, damping,
+/// hysteretic, sliding friction).
+pub const LEDGER_TERMS: usize = 5;
+
+/// Smooth (non-contact) generalized forces h(t, q, q̇) of eq. 1 (F_D + F_S + loads), and their powers.
+pub fn smooth_forces(
+    scene: &Scene,
+    laws: Option<&[Hysteretic]>,
+    t: f64,
+    q: &DVector<f64>,
+    v: &DVector<f64>,
+    h: &mut DVector<f64>,
+    jac: &mut DVector<f64>,
+) -> PowerTerms {
+    h.copy_from(&scene.loads);
+    let mut p = PowerTerms {
+        loads: scene.loads.dot(v),
+        ..Default::default()
+    };
+    for s in &scene.springs {
+        let (e, ed, vg) = scene.deformation(&s.attachment, s.support, t, q, v, jac);
+        let f = s.stiffness * e + s.damping * ed;
+        h.axpy(-f, jac, 1.0);
+        p.supports -= f * vg;
+        p.damping += s.damping * ed * ed;
+    }
+    for (j, el) in scene.hysteretic.iter().enumerate() {
+        let (e, ed, vg) = scene.deformation(&el.attachment, el.support, t, q, v, jac);
+        let fh = laws.map_or(&el.law, |l| &l[j]).force(e);
+        let f = fh + el.damping * ed;
+        h.axpy(-f, jac, 1.0);
+        p.supports -= f * vg;
+        p.damping += el.damping * ed * ed;
+        p.hysteretic += fh * ed;
+    }
+    let md = &scene.mass_damping;
+    if md.alpha != 0.0 {
+        // v_ref from supports; F = −a₀ M (v − v_ref)
+        let mut vref = vec![0.0; scene.ndof()];
+        for &(k, s, f) in &md.reference {
+            vref[k] += f * scene.supports[s].at(t).1;
+        }
+        for k in 0..scene.ndof() {
+            let rel = v[k] - vref[k];
+            let f = md.alpha * scene.mass[k] * rel;
+            h[k] -= f;
+            p.damping += f * rel;
+            p.supports -= f * vref[k];
+        }
+    }
+    p
+}
