@@ -519,7 +519,9 @@ impl<'a> Engine<'a> {
                         (self.t - t1) < 0.999 * (t1 - t0)
                     }
                 };
-                if st.accumulation_rule && eps[a] > 0.0 && speed < st.zeno_velocity && shrinking {
+                let flight = self.last_impacts[i].last().map_or(f64::INFINITY, |t| self.t - t);
+                let slow = speed < st.zeno_velocity || flight < st.min_event_spacing;
+                if st.accumulation_rule && eps[a] > 0.0 && slow && shrinking {
                     eps[a] = 0.0;
                     let h = &self.last_impacts[i];
                     let est = if h.len() >= 2 {
@@ -860,8 +862,15 @@ pub fn run(scene: &Scene, observer: &mut dyn Observer) -> Result<RunOutput, Solv
         smooth_forces_laws(scene, &eng.laws, 0.0, &q, &v, &mut h, &mut eng.jac);
         eng.force_scale = h.amax().max(scene.mass.amax() * 1e-6);
     }
+    let n_events = eng.out.events.len();
+    eng.record_sample(SampleKind::PreEvent)?;
     eng.resolve()?;
-    eng.record_sample(SampleKind::Grid)?;
+    if eng.out.events.len() > n_events {
+        eng.record_sample(SampleKind::PostEvent)?;
+    } else {
+        eng.out.samples.pop();
+        eng.record_sample(SampleKind::Grid)?;
+    }
     let breakpoints = scene.breakpoints();
     let mut bp = 0usize;
     let mut next_out = 1usize;

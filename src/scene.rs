@@ -159,7 +159,9 @@ pub struct Settings {
     /// Accumulation rule: an impact slower than `zeno_velocity` closes the contact (ε → 0).
     pub accumulation_rule: bool,
     pub zeno_velocity: f64,
-    /// Guard: two events of one contact closer than this in time means the step collapsed.
+    /// Zeno guard: 16 impacts in a row of one contact each closer than this to the previous
+    /// one stop the run (without the accumulation rule); with the rule, such an impact closes
+    /// the contact.
     pub min_event_spacing: f64,
     pub max_events: usize,
     pub max_steps: usize,
@@ -181,7 +183,7 @@ impl Default for Settings {
             velocity_tol: 1e-9,
             accumulation_rule: true,
             zeno_velocity: 1e-6,
-            min_event_spacing: 1e-11,
+            min_event_spacing: 1e-6,
             max_events: 200_000,
             max_steps: 5_000_000,
             stop_at_samples: false,
@@ -217,7 +219,7 @@ pub struct ContactKinematics {
     pub gap: f64,
     /// W_N = ∂g_N/∂q (so ġ_N = W_Nᵀ q̇).
     pub w_n: DVector<f64>,
-    /// W_T: ġ_T = W_Tᵀ q̇, along the face tangent t = k × n.
+    /// W_T: ġ_T = W_Tᵀ q̇, along the face tangent t = (n_y, −n_x) ((t, n) right-handed).
     pub w_t: DVector<f64>,
     pub gap_rate: f64,
     pub slip_rate: f64,
@@ -314,7 +316,8 @@ impl Scene {
         let rho_a = rot(a.angle, c.point);
         let p = a.position + rho_a;
         let n = rot(b.angle, c.face_normal);
-        let t = perp(n);
+        // (t, n) right-handed: t = n rotated by −90° (floor n = +y → t = +x)
+        let t = Vector2::new(n.y, -n.x);
         let o = b.position + rot(b.angle, c.face_point);
         let gap = n.dot(&(p - o));
         let arm_b = p - b.position;
@@ -327,10 +330,10 @@ impl Scene {
         self.add_point_jacobian(&mut w_n, c.face_body, arm_b, n, -1.0);
         self.add_point_jacobian(&mut w_t, c.point_body, rho_a, t, 1.0);
         self.add_point_jacobian(&mut w_t, c.face_body, arm_b, t, -1.0);
-        // g̈ = d/dt[n·v_rel]: ṅ = ω_B t, ṫ = −ω_B n; a_P ∋ −ω_A² ρ_A; d/dt v_Bmat ∋ ω_B k×(v_P − v_B).
+        // g̈ = d/dt[n·v_rel]: ṅ = −ω_B t, ṫ = ω_B n; a_P ∋ −ω_A² ρ_A; d/dt v_Bmat ∋ ω_B k×(v_P − v_B).
         let common = -a.omega * a.omega * rho_a - b.omega * perp(v_p - b.velocity);
-        let bias_n = b.omega * t.dot(&v_rel) + n.dot(&common);
-        let bias_t = -b.omega * n.dot(&v_rel) + t.dot(&common);
+        let bias_n = -b.omega * t.dot(&v_rel) + n.dot(&common);
+        let bias_t = b.omega * n.dot(&v_rel) + t.dot(&common);
         ContactKinematics {
             gap,
             gap_rate: n.dot(&v_rel),
