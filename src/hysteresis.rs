@@ -661,7 +661,14 @@ impl Takeda {
 fn bilinear_next(k: f64, kp: f64, c: f64, b: &Branch, u: f64, d: f64) -> Branch {
     let f = b.force(u);
     if b.ends_on_reversal && d != b.direction {
-        bilinear_elastic(k, kp, c, u, f, d)
+        // Reversal on a yield line: the elastic line starts exactly there.
+        let mut e = bilinear_elastic(k, kp, c, u, f, d);
+        if d < 0.0 {
+            e.upper = u;
+        } else {
+            e.lower = u;
+        }
+        e
     } else {
         Branch {
             u_ref: u,
