@@ -72,10 +72,7 @@ impl Branch {
 #[derive(Debug, thiserror::Error)]
 pub enum HysteresisError {
     #[error("{field}: {reason}")]
-    Invalid {
-        field: &'static str,
-        reason: String,
-    },
+    Invalid { field: &'static str, reason: String },
 }
 
 fn default_unloading_exponent() -> f64 {
@@ -125,7 +122,10 @@ fn positive(field: &'static str, x: f64) -> Result<(), HysteresisError> {
     if x.is_finite() && x > 0.0 {
         Ok(())
     } else {
-        Err(invalid(field, format!("must be positive and finite, got {x}")))
+        Err(invalid(
+            field,
+            format!("must be positive and finite, got {x}"),
+        ))
     }
 }
 
@@ -209,8 +209,7 @@ impl Law {
                         }
                     }
                 }
-                if !(unloading_exponent.is_finite() && (0.0..=1.0).contains(&unloading_exponent))
-                {
+                if !(unloading_exponent.is_finite() && (0.0..=1.0).contains(&unloading_exponent)) {
                     return Err(invalid(
                         "unloading_exponent",
                         format!("must be in [0, 1], got {unloading_exponent}"),
@@ -701,7 +700,11 @@ fn bilinear_elastic(k: f64, kp: f64, c: f64, u: f64, f: f64, d: f64) -> Branch {
 enum Model {
     Linear,
     /// Elastic slope, post-yield slope, half band `f_y·(1 − r)`.
-    Bilinear { k: f64, kp: f64, c: f64 },
+    Bilinear {
+        k: f64,
+        kp: f64,
+        c: f64,
+    },
     Takeda(Box<Takeda>),
 }
 
@@ -794,8 +797,7 @@ impl Hysteretic {
             return;
         }
         let b = self.branch;
-        if b.ends_on_reversal && d != b.direction && b.direction * (u - b.end(b.direction)) >= 0.0
-        {
+        if b.ends_on_reversal && d != b.direction && b.direction * (u - b.end(b.direction)) >= 0.0 {
             self.step(u, b.direction);
             let b = self.branch;
             if b.ends_on_reversal && d != b.direction {

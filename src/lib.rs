@@ -16,7 +16,6 @@ pub mod contact;
 pub mod dopri;
 pub mod event_driven;
 pub mod excitation;
-#[path = "hysteresis_stub.rs"]
 pub mod hysteresis;
 pub mod lemke;
 pub mod model;
