@@ -771,18 +771,35 @@ fn smooth_forces_laws(
     smooth_forces(scene, Some(laws), t, q, v, h, jac)
 }
 
-/// Solve a small (possibly singular: redundant contacts) system; minimum-norm when singular.
+/// Solve a small (possibly singular: redundant contacts) system. Full-pivot LU when well
+/// conditioned; otherwise the minimum-norm least-squares solution (SVD), which splits forces
+/// equally between redundant constraints.
 fn solve_small(a: DMatrix<f64>, b: DVector<f64>) -> DVector<f64> {
-    let scale = a.amax().max(1e-300);
-    if let Some(lu) = a.clone().lu().try_inverse() {
-        let x = &lu * &b;
-        let r = (&a * &x - &b).amax();
-        if x.iter().all(|v| v.is_finite()) && r <= 1e-9 * (1.0 + b.amax()) {
+    let n = a.nrows();
+    if n == 1 {
+        let d = a[(0, 0)];
+        return if d.abs() > 1e-300 {
+            DVector::from_element(1, b[0] / d)
+        } else {
+            DVector::zeros(1)
+        };
+    }
+    let lu = a.clone().full_piv_lu();
+    let u = lu.u();
+    let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
+    for i in 0..n {
+        let d = u[(i, i)].abs();
+        lo = lo.min(d);
+        hi = hi.max(d);
+    }
+    if hi > 0.0 && lo > 1e-9 * hi {
+        if let Some(x) = lu.solve(&b) {
             return x;
         }
     }
+    let scale = a.amax().max(1e-300);
     let svd = a.svd(true, true);
-    svd.solve(&b, 1e-12 * scale)
+    svd.solve(&b, 1e-9 * scale)
         .unwrap_or_else(|_| DVector::zeros(b.len()))
 }
 

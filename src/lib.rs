@@ -21,6 +21,7 @@ pub mod lemke;
 pub mod model;
 pub mod output;
 pub mod scene;
+pub mod tui;
 
 pub use event_driven::{Observer, Silent, SolverError, run};
 pub use model::{ModelError, load};

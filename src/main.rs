@@ -45,7 +45,7 @@ fn main() -> ExitCode {
             at,
         }) => cmd_run(&model, &out, &set, at),
         None => match cli.model {
-            Some(_) => Err("the workbench is not built yet; use `deckspin run MODEL`".into()),
+            Some(m) => deckspin::tui::run(&m),
             None => Err("no model given: `deckspin run MODEL.toml --out DIR` (see --help)".into()),
         },
     };
