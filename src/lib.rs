@@ -21,6 +21,7 @@ pub mod lemke;
 pub mod model;
 pub mod output;
 pub mod scene;
+pub mod studies;
 pub mod tui;
 
 pub use event_driven::{Observer, Silent, SolverError, run};

@@ -33,6 +33,66 @@ enum Command {
         #[arg(long)]
         at: Option<f64>,
     },
+    /// Eigen-analysis of the initial system: periods and mode shapes.
+    Modes {
+        model: PathBuf,
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        set: Vec<String>,
+    },
+    /// Show what a processed excitation looks like (PGA, PGV, PGD, duration).
+    Excitation {
+        /// AT2 or two-column record.
+        file: PathBuf,
+        /// Scale to this PGA (g).
+        #[arg(long)]
+        target_pga: Option<f64>,
+        /// Time scale (quarter-scale similitude: 0.5).
+        #[arg(long, default_value_t = 1.0)]
+        time_scale: f64,
+        /// Time lag, s.
+        #[arg(long, default_value_t = 0.0)]
+        lag: f64,
+        /// Polynomial baseline order (0: no correction).
+        #[arg(long, default_value_t = 3)]
+        baseline: usize,
+        /// Write t, a, v, d to this CSV.
+        #[arg(long)]
+        csv: Option<PathBuf>,
+    },
+    /// Run a model over every combination of swept scalars, in parallel.
+    Sweep {
+        model: PathBuf,
+        /// key=a:b:step or key=v1,v2,... (repeatable: the cartesian product is run).
+        #[arg(long = "set", value_name = "KEY=RANGE", required = true)]
+        set: Vec<String>,
+        /// Fixed overrides applied to every run.
+        #[arg(long = "fix", value_name = "KEY=VALUE")]
+        fix: Vec<String>,
+        /// CSV output.
+        #[arg(long, default_value = "out/sweep.csv")]
+        out: PathBuf,
+    },
+    /// The paper's studies: `pga` (Fig. 7) or `mu` (Fig. 8).
+    Study {
+        #[arg(value_parser = ["pga", "mu"])]
+        kind: String,
+        model: PathBuf,
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        set: Vec<String>,
+        #[arg(long, default_value = "out")]
+        out: PathBuf,
+    },
+    /// Benchmark: one run of the model and the μ × runs sweep (medians).
+    Bench {
+        #[arg(default_value = "models/four-span.toml")]
+        model: PathBuf,
+        /// Repetitions of the single run.
+        #[arg(long, default_value_t = 11)]
+        repeat: usize,
+        /// Repetitions of the sweep.
+        #[arg(long, default_value_t = 3)]
+        sweeps: usize,
+    },
 }
 
 fn main() -> ExitCode {
@@ -44,6 +104,32 @@ fn main() -> ExitCode {
             set,
             at,
         }) => cmd_run(&model, &out, &set, at),
+        Some(Command::Modes { model, set }) => cmd_modes(&model, &set),
+        Some(Command::Excitation {
+            file,
+            target_pga,
+            time_scale,
+            lag,
+            baseline,
+            csv,
+        }) => cmd_excitation(&file, target_pga, time_scale, lag, baseline, csv.as_deref()),
+        Some(Command::Sweep {
+            model,
+            set,
+            fix,
+            out,
+        }) => cmd_sweep(&model, &set, &fix, &out),
+        Some(Command::Study {
+            kind,
+            model,
+            set,
+            out,
+        }) => cmd_study(&kind, &model, &set, &out),
+        Some(Command::Bench {
+            model,
+            repeat,
+            sweeps,
+        }) => cmd_bench(&model, repeat, sweeps),
         None => match cli.model {
             Some(m) => deckspin::tui::run(&m),
             None => Err("no model given: `deckspin run MODEL.toml --out DIR` (see --help)".into()),
@@ -122,4 +208,221 @@ fn print_state_at(run: &deckspin::RunOutput, t: f64) {
             c.slip_rate
         );
     }
+}
+
+fn cmd_modes(model: &std::path::Path, set: &[String]) -> CliResult {
+    let scene = deckspin::load(model, set)?;
+    let modes = deckspin::bridge::modes(&scene);
+    println!("{} — {} DOF", scene.title, scene.ndof());
+    print!("{:>5} {:>10} {:>10}", "mode", "T (s)", "f (Hz)");
+    for n in &scene.dof_names {
+        print!(" {n:>12.12}");
+    }
+    println!();
+    for (i, m) in modes.iter().enumerate() {
+        let big = m.shape.amax().max(1e-300);
+        print!("{:>5} {:>10.5} {:>10.4}", i + 1, m.period, m.omega / (2.0 * std::f64::consts::PI));
+        for x in m.shape.iter() {
+            print!(" {:>12.4}", x / big);
+        }
+        println!();
+    }
+    if scene.mass_damping.alpha != 0.0 {
+        println!("Rayleigh: a0 = {:.5e} 1/s (mass), element dashpots a1·k", scene.mass_damping.alpha);
+    }
+    Ok(())
+}
+
+fn cmd_excitation(
+    file: &std::path::Path,
+    target_pga: Option<f64>,
+    time_scale: f64,
+    lag: f64,
+    baseline: usize,
+    csv: Option<&std::path::Path>,
+) -> CliResult {
+    use deckspin::excitation::{Baseline, GroundMotion, Processing, read_any};
+    let rec = read_any(file)?;
+    let p = Processing {
+        target_pga,
+        time_scale,
+        lag,
+        baseline: if baseline == 0 {
+            Baseline::None
+        } else {
+            Baseline::Polynomial { order: baseline }
+        },
+        ..Processing::default()
+    };
+    let g = GroundMotion::from_record(&rec, &p)?;
+    let s = g.stats();
+    for h in &rec.header {
+        println!("  | {h}");
+    }
+    println!("{}: {} samples, dt = {} s (processed {} s)", file.display(), rec.accel_g.len(), rec.dt, g.dt);
+    println!("  PGA {:.4} g ({:.4} m/s²)   PGV {:.4} m/s   PGD {:.4} m", s.pga_g, s.pga, s.pgv, s.pgd);
+    println!(
+        "  duration {:.3} s, 5–95 % Arias duration {:.3} s, lag {:.3} s",
+        s.duration, s.significant_duration, lag
+    );
+    println!(
+        "  end drift: displacement {:.3e} m, velocity {:.3e} m/s (baseline change of PGA {:.2e})",
+        s.final_displacement, s.final_velocity, s.correction_pga_change
+    );
+    if let Some(path) = csv {
+        let mut w = csv::Writer::from_path(path)?;
+        w.write_record(["t", "acc_m_s2", "vel_m_s", "disp_m"])?;
+        for t in g.sample_times() {
+            let (d, v, a) = g.at(t);
+            w.write_record([t, a, v, d].map(|x| format!("{x:.9e}")))?;
+        }
+        w.flush()?;
+        println!("  wrote {}", path.display());
+    }
+    Ok(())
+}
+
+fn cmd_sweep(model: &std::path::Path, set: &[String], fix: &[String], out: &std::path::Path) -> CliResult {
+    use deckspin::studies::{Study, parse_axis, table, write_csv};
+    let axes = set.iter().map(|s| parse_axis(s)).collect::<Result<Vec<_>, _>>()?;
+    let study = Study::open(model, fix)?;
+    let t0 = std::time::Instant::now();
+    let rows = study.sweep(&axes);
+    let wall = t0.elapsed().as_secs_f64();
+    print!("{}", table(&rows));
+    if let Some(dir) = out.parent() {
+        std::fs::create_dir_all(dir)?;
+    }
+    write_csv(&rows, out)?;
+    println!("{} runs in {:.3} s on {} threads; wrote {}", rows.len(), wall, rayon::current_num_threads(), out.display());
+    if rows.iter().any(|r| r.error.is_some()) {
+        return Err("some runs failed (see the table)".into());
+    }
+    Ok(())
+}
+
+fn cmd_study(kind: &str, model: &std::path::Path, set: &[String], out: &std::path::Path) -> CliResult {
+    use deckspin::studies::{Study, increase_vs_mu, rotation_vs_pga};
+    use std::fmt::Write as _;
+    let study = Study::open(model, set)?;
+    std::fs::create_dir_all(out)?;
+    let t0 = std::time::Instant::now();
+    let mut text = String::new();
+    let mut csv = String::new();
+    match kind {
+        "pga" => {
+            writeln!(text, "Peak deck rotation vs target PGA (Fig. 7 analog)")?;
+            writeln!(text, "{:>4} {:>7} {:>7} {:>14} {:>14} {:>7} {:>8}", "run", "PGA x", "PGA y", "θ no contact", "θ contact", "ratio", "impacts")?;
+            csv += "run,pga_x,pga_y,peak_rotation_no_contact,peak_rotation_contact,residual_rotation_contact,impacts\n";
+            for (i, px, py, a, b) in rotation_vs_pga(&study) {
+                writeln!(
+                    text,
+                    "{i:>4} {px:>7.3} {py:>7.3} {:>14.4e} {:>14.4e} {:>7.2} {:>8}",
+                    a.peak_rotation,
+                    b.peak_rotation,
+                    b.peak_rotation / a.peak_rotation,
+                    b.impacts
+                )?;
+                writeln!(csv, "{i},{px},{py},{:.6e},{:.6e},{:.6e},{}", a.peak_rotation, b.peak_rotation, b.residual_rotation, b.impacts)?;
+                for r in [&a, &b] {
+                    if let Some(e) = &r.error {
+                        writeln!(text, "     error: {e}")?;
+                    }
+                }
+            }
+        }
+        _ => {
+            let mus: Vec<f64> = (0..=7).map(|i| i as f64 / 10.0).collect();
+            let m = increase_vs_mu(&study, &mus);
+            writeln!(text, "Percent increase of peak rotation over no contact vs μ (Fig. 8 analog)")?;
+            write!(text, "{:>16}", "run (PGA x)")?;
+            csv += "run,pga_x";
+            for mu in &mus {
+                write!(text, " {:>7}", format!("μ={mu}"))?;
+                write!(csv, ",mu_{mu}")?;
+            }
+            writeln!(text)?;
+            csv += "\n";
+            for r in 0..m.rows.len() {
+                write!(text, "{:>16}", format!("{} ({:.2} g)", r + 1, m.pgas[r].0))?;
+                write!(csv, "{},{}", r + 1, m.pgas[r].0)?;
+                for k in 0..mus.len() {
+                    write!(text, " {:>7.1}", m.increase(r, k))?;
+                    write!(csv, ",{:.3}", m.increase(r, k))?;
+                }
+                writeln!(text)?;
+                csv += "\n";
+            }
+            write!(text, "{:>16}", "mean")?;
+            csv += "mean,";
+            for k in 0..mus.len() {
+                write!(text, " {:>7.1}", m.mean_increase(k))?;
+                write!(csv, ",{:.3}", m.mean_increase(k))?;
+            }
+            writeln!(text)?;
+            csv += "\n";
+            for row in m.rows.iter().flatten().chain(m.baseline.iter()) {
+                if let Some(e) = &row.error {
+                    writeln!(text, "error: {e}")?;
+                }
+            }
+        }
+    }
+    writeln!(text, "({:.2} s wall on {} threads)", t0.elapsed().as_secs_f64(), rayon::current_num_threads())?;
+    print!("{text}");
+    let stem = if kind == "pga" { "rotation_vs_pga" } else { "increase_vs_mu" };
+    std::fs::write(out.join(format!("{stem}.csv")), csv)?;
+    std::fs::write(out.join(format!("{stem}.txt")), text)?;
+    println!("wrote {}/{stem}.{{csv,txt}}", out.display());
+    Ok(())
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+fn cmd_bench(model: &std::path::Path, repeat: usize, sweeps: usize) -> CliResult {
+    use deckspin::studies::{Axis, Study, run_count};
+    let scene = deckspin::load(model, &[])?;
+    let mut times = Vec::new();
+    let mut steps = 0;
+    for _ in 0..repeat.max(1) {
+        let t0 = std::time::Instant::now();
+        let r = deckspin::run(&scene, &mut deckspin::Silent)?;
+        times.push(t0.elapsed().as_secs_f64());
+        steps = r.summary.stats.steps_accepted;
+    }
+    println!(
+        "single run ({}): median {:.1} ms over {} runs ({} steps)",
+        scene.title,
+        median(times.clone()) * 1e3,
+        times.len(),
+        steps
+    );
+    let study = Study::open(model, &[])?;
+    let n = run_count(&study.text);
+    if n > 0 {
+        let axes = [
+            Axis { key: "contacts.mu".into(), values: (0..=7).map(|i| format!("{}", i as f64 / 10.0)).collect() },
+            Axis { key: "excitation.run".into(), values: (1..=n).map(|i| i.to_string()).collect() },
+        ];
+        let mut st = Vec::new();
+        for _ in 0..sweeps.max(1) {
+            let t0 = std::time::Instant::now();
+            let rows = study.sweep(&axes);
+            st.push(t0.elapsed().as_secs_f64());
+            if let Some(e) = rows.iter().find_map(|r| r.error.clone()) {
+                return Err(e.into());
+            }
+        }
+        println!(
+            "μ × runs sweep ({} runs, {} threads): median {:.3} s over {} sweeps",
+            8 * n,
+            rayon::current_num_threads(),
+            median(st.clone()),
+            st.len()
+        );
+    }
+    Ok(())
 }

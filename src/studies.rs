@@ -1,0 +1,335 @@
+//! Parameter studies (paper §4.2–4.4): sweeps over any scalar of a model in parallel (rayon),
+//! peak deck rotation against PGA with and without contact (Fig. 7), and the increase of peak
+//! rotation with μ (Fig. 8).
+
+use crate::model::{self, ModelError};
+use crate::output::RunOutput;
+use rayon::prelude::*;
+use serde::Serialize;
+use std::path::{Path, PathBuf};
+
+/// One swept key and its values (`key=a:b:step` or `key=v1,v2,…`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Axis {
+    pub key: String,
+    pub values: Vec<String>,
+}
+
+/// Parse `key=a:b:step` (inclusive, numeric) or `key=v1,v2,…`.
+pub fn parse_axis(spec: &str) -> Result<Axis, String> {
+    let (key, vals) = spec
+        .split_once('=')
+        .ok_or_else(|| format!("'{spec}': expected key=a:b:step or key=v1,v2"))?;
+    let key = key.trim().to_string();
+    let parts: Vec<&str> = vals.split(':').collect();
+    let values: Vec<String> = if parts.len() == 3 {
+        let num = |s: &str| {
+            s.trim()
+                .parse::<f64>()
+                .map_err(|_| format!("'{spec}': '{s}' is not a number"))
+        };
+        let (a, b, h) = (num(parts[0])?, num(parts[1])?, num(parts[2])?);
+        if !(h > 0.0) || !a.is_finite() || !b.is_finite() || b < a {
+            return Err(format!("'{spec}': need a ≤ b and step > 0"));
+        }
+        let n = ((b - a) / h + 1e-9).floor() as usize;
+        if n > 100_000 {
+            return Err(format!("'{spec}': too many values"));
+        }
+        (0..=n)
+            .map(|i| {
+                let v = a + i as f64 * h;
+                let r = (v * 1e12).round() / 1e12;
+                if r.fract() == 0.0 && !vals.contains('.') {
+                    format!("{}", r as i64)
+                } else {
+                    format!("{r}")
+                }
+            })
+            .collect()
+    } else {
+        vals.split(',').map(|s| s.trim().to_string()).collect()
+    };
+    if values.is_empty() || values.iter().any(|v| v.is_empty()) {
+        return Err(format!("'{spec}': no values"));
+    }
+    Ok(Axis { key, values })
+}
+
+/// What a sweep records of one run.
+#[derive(Clone, Debug, Serialize)]
+pub struct Row {
+    pub settings: Vec<(String, String)>,
+    pub peak_rotation: f64,
+    pub residual_rotation: f64,
+    pub peak_x: f64,
+    pub peak_y: f64,
+    pub impacts: usize,
+    pub stick_time: f64,
+    pub energy_closure_rel: f64,
+    pub wall_time: f64,
+    pub error: Option<String>,
+}
+
+/// Index of the deck rotation DOF: `deck.theta`, else the first `*.theta`, else DOF 0.
+pub fn rotation_dof(r: &RunOutput) -> usize {
+    r.dof("deck.theta")
+        .or_else(|| r.dof_names.iter().position(|n| n.ends_with(".theta")))
+        .unwrap_or(0)
+}
+
+pub fn row_of(settings: Vec<(String, String)>, r: &RunOutput) -> Row {
+    let k = rotation_dof(r);
+    let s = &r.summary;
+    let peak = |name: &str| r.dof(name).map_or(f64::NAN, |i| s.peaks[i].max_abs);
+    Row {
+        settings,
+        peak_rotation: s.peaks[k].max_abs,
+        residual_rotation: s.peaks[k].residual,
+        peak_x: peak("deck.x"),
+        peak_y: peak("deck.y"),
+        impacts: s.stats.impacts,
+        stick_time: s.contacts.iter().map(|c| c.stick_time).sum(),
+        energy_closure_rel: s.energy_closure_rel,
+        wall_time: s.stats.wall_time,
+        error: None,
+    }
+}
+
+/// A model read once, run many times with overrides.
+pub struct Study {
+    pub path: PathBuf,
+    pub text: String,
+    pub base: Vec<String>,
+}
+
+impl Study {
+    pub fn open(path: &Path, base: &[String]) -> Result<Self, ModelError> {
+        let text = std::fs::read_to_string(path).map_err(|e| ModelError::Io {
+            path: path.to_path_buf(),
+            source: e,
+        })?;
+        // validate once, so a bad model fails before any job starts
+        model::load_str(&text, path, base)?;
+        Ok(Self {
+            path: path.to_path_buf(),
+            text,
+            base: base.to_vec(),
+        })
+    }
+
+    /// Run with extra overrides.
+    pub fn run(&self, set: &[(String, String)]) -> Row {
+        let mut ov = self.base.clone();
+        ov.extend(set.iter().map(|(k, v)| format!("{k}={v}")));
+        let res = model::load_str(&self.text, &self.path, &ov)
+            .map_err(|e| e.to_string())
+            .and_then(|scene| crate::run(&scene, &mut crate::Silent).map_err(|e| e.to_string()));
+        match res {
+            Ok(r) => row_of(set.to_vec(), &r),
+            Err(e) => Row {
+                settings: set.to_vec(),
+                peak_rotation: f64::NAN,
+                residual_rotation: f64::NAN,
+                peak_x: f64::NAN,
+                peak_y: f64::NAN,
+                impacts: 0,
+                stick_time: f64::NAN,
+                energy_closure_rel: f64::NAN,
+                wall_time: f64::NAN,
+                error: Some(e),
+            },
+        }
+    }
+
+    /// All combinations of the axes, run in parallel on all cores; rows in input order.
+    pub fn sweep(&self, axes: &[Axis]) -> Vec<Row> {
+        let mut combos: Vec<Vec<(String, String)>> = vec![vec![]];
+        for ax in axes {
+            combos = combos
+                .into_iter()
+                .flat_map(|c| {
+                    ax.values.iter().map(move |v| {
+                        let mut c = c.clone();
+                        c.push((ax.key.clone(), v.clone()));
+                        c
+                    })
+                })
+                .collect();
+        }
+        combos.par_iter().map(|c| self.run(c)).collect()
+    }
+}
+
+/// CSV of sweep rows.
+pub fn write_csv(rows: &[Row], path: &Path) -> std::io::Result<()> {
+    let mut w = csv::Writer::from_path(path)?;
+    let mut head: Vec<String> = rows
+        .first()
+        .map(|r| r.settings.iter().map(|(k, _)| k.clone()).collect())
+        .unwrap_or_default();
+    head.extend(
+        [
+            "peak_rotation",
+            "residual_rotation",
+            "peak_x",
+            "peak_y",
+            "impacts",
+            "stick_time",
+            "energy_closure_rel",
+            "wall_time_s",
+            "error",
+        ]
+        .map(String::from),
+    );
+    w.write_record(&head)?;
+    for r in rows {
+        let mut rec: Vec<String> = r.settings.iter().map(|(_, v)| v.clone()).collect();
+        rec.extend([
+            format!("{:.6e}", r.peak_rotation),
+            format!("{:.6e}", r.residual_rotation),
+            format!("{:.6e}", r.peak_x),
+            format!("{:.6e}", r.peak_y),
+            r.impacts.to_string(),
+            format!("{:.4}", r.stick_time),
+            format!("{:.3e}", r.energy_closure_rel),
+            format!("{:.4}", r.wall_time),
+            r.error.clone().unwrap_or_default(),
+        ]);
+        w.write_record(&rec)?;
+    }
+    w.flush()
+}
+
+/// A plain text table of sweep rows.
+pub fn table(rows: &[Row]) -> String {
+    let mut out = String::new();
+    if let Some(r) = rows.first() {
+        for (k, _) in &r.settings {
+            out += &format!("{k:>22} ");
+        }
+    }
+    out += &format!(
+        "{:>12} {:>12} {:>8} {:>9} {:>9}\n",
+        "peak θ", "resid θ", "impacts", "stick s", "wall ms"
+    );
+    for r in rows {
+        for (_, v) in &r.settings {
+            out += &format!("{v:>22} ");
+        }
+        match &r.error {
+            Some(e) => out += &format!("error: {e}\n"),
+            None => {
+                out += &format!(
+                    "{:>12.4e} {:>12.4e} {:>8} {:>9.3} {:>9.1}\n",
+                    r.peak_rotation,
+                    r.residual_rotation,
+                    r.impacts,
+                    r.stick_time,
+                    r.wall_time * 1e3
+                )
+            }
+        }
+    }
+    out
+}
+
+/// Number of `[[run]]` entries of a bridge model.
+pub fn run_count(text: &str) -> usize {
+    toml::from_str::<toml::Table>(text)
+        .ok()
+        .and_then(|t| t.get("run").and_then(|r| r.as_array()).map(|a| a.len()))
+        .unwrap_or(0)
+}
+
+/// Fig. 7: peak deck rotation per run with and without contact. Rows: run, pga_x, pga_y,
+/// peak without contact, peak with contact.
+pub fn rotation_vs_pga(study: &Study) -> Vec<(usize, f64, f64, Row, Row)> {
+    let n = run_count(&study.text);
+    let runs: Vec<String> = (1..=n).map(|i| i.to_string()).collect();
+    let rows = study.sweep(&[
+        Axis {
+            key: "excitation.run".into(),
+            values: runs,
+        },
+        Axis {
+            key: "contacts.enabled".into(),
+            values: vec!["false".into(), "true".into()],
+        },
+    ]);
+    let pgas = run_pgas(&study.text);
+    rows.chunks(2)
+        .enumerate()
+        .map(|(i, pair)| {
+            let (px, py) = pgas.get(i).copied().unwrap_or((f64::NAN, f64::NAN));
+            (i + 1, px, py, pair[0].clone(), pair[1].clone())
+        })
+        .collect()
+}
+
+pub fn run_pgas(text: &str) -> Vec<(f64, f64)> {
+    toml::from_str::<toml::Table>(text)
+        .ok()
+        .and_then(|t| {
+            t.get("run").and_then(|r| r.as_array()).map(|a| {
+                a.iter()
+                    .map(|r| {
+                        let g = |k: &str| r.get(k).and_then(|v| v.as_float()).unwrap_or(f64::NAN);
+                        (g("pga_x"), g("pga_y"))
+                    })
+                    .collect()
+            })
+        })
+        .unwrap_or_default()
+}
+
+/// Fig. 8: percent increase of peak rotation over the no-contact peak, per run and μ.
+pub struct MuStudy {
+    pub mus: Vec<f64>,
+    pub pgas: Vec<(f64, f64)>,
+    /// Peak rotation without contact per run.
+    pub baseline: Vec<Row>,
+    /// rows[run][mu].
+    pub rows: Vec<Vec<Row>>,
+}
+
+impl MuStudy {
+    pub fn increase(&self, run: usize, mu: usize) -> f64 {
+        100.0 * (self.rows[run][mu].peak_rotation / self.baseline[run].peak_rotation - 1.0)
+    }
+    pub fn mean_increase(&self, mu: usize) -> f64 {
+        let n = self.rows.len() as f64;
+        (0..self.rows.len()).map(|r| self.increase(r, mu)).sum::<f64>() / n
+    }
+}
+
+pub fn increase_vs_mu(study: &Study, mus: &[f64]) -> MuStudy {
+    let n = run_count(&study.text);
+    let runs: Vec<String> = (1..=n).map(|i| i.to_string()).collect();
+    let baseline = study.sweep(&[
+        Axis {
+            key: "excitation.run".into(),
+            values: runs.clone(),
+        },
+        Axis {
+            key: "contacts.enabled".into(),
+            values: vec!["false".into()],
+        },
+    ]);
+    let rows = study.sweep(&[
+        Axis {
+            key: "excitation.run".into(),
+            values: runs,
+        },
+        Axis {
+            key: "contacts.mu".into(),
+            values: mus.iter().map(|m| format!("{m}")).collect(),
+        },
+    ]);
+    MuStudy {
+        mus: mus.to_vec(),
+        pgas: run_pgas(&study.text),
+        baseline,
+        rows: rows.chunks(mus.len()).map(|c| c.to_vec()).collect(),
+    }
+}
