@@ -981,34 +981,7 @@ pub fn run(scene: &Scene, observer: &mut dyn Observer) -> Result<RunOutput, Solv
         let mut restart = false;
         if let Some((_, f)) = found {
             eng.out.stats.events_located += 1;
-            match f {
-                EventFn::Lower(j) | EventFn::Upper(j) | EventFn::Reversal(j) => {
-                    let b = *eng.laws[j].branch();
-                    let el = &scene.hysteretic[j];
-                    let q = eng.q();
-                    let v = eng.v();
-                    let (e, _, _) = scene.deformation(&el.attachment, el.support, t1, &q, &v, &mut eng.jac);
-                    let dir = if matches!(f, EventFn::Reversal(_)) {
-                        -b.direction
-                    } else if matches!(f, EventFn::Upper(_)) {
-                        1.0
-                    } else {
-                        -1.0
-                    };
-                    let e_at = match f {
-                        EventFn::Lower(_) => b.lower,
-                        EventFn::Upper(_) => b.upper,
-                        _ => e,
-                    };
-                    eng.laws[j].on_branch_end(e_at, dir);
-                    eng.out.stats.branch_events += 1;
-                }
-                _ => {
-                    eng.record_sample(SampleKind::PreEvent)?;
-                    eng.resolve()?;
-                    eng.record_sample(SampleKind::PostEvent)?;
-                }
-            }
+            process_event(&mut eng, f)?;
             restart = true;
         } else if eng.state.iter().any(|s| *s != ContactState::Open) {
             restart = eng.project() > 0.0;
@@ -1019,6 +992,21 @@ pub fn run(scene: &Scene, observer: &mut dyn Observer) -> Result<RunOutput, Solv
             (rhs_of!(eng))(t, &y1, &mut f0)?;
             fns = eng.event_fns();
             armed = arm(&mut eng, &fns)?;
+            // events already due at this instant (simultaneous crossings, e.g. symmetric
+            // columns reversing together): process them now, before any step
+            let mut guard = 0;
+            while let Some(f) = due_now(&mut eng, &fns)? {
+                guard += 1;
+                if guard > 64 {
+                    break;
+                }
+                process_event(&mut eng, f)?;
+                let y1 = eng.y.clone();
+                let t = eng.t;
+                (rhs_of!(eng))(t, &y1, &mut f0)?;
+                fns = eng.event_fns();
+                armed = arm(&mut eng, &fns)?;
+            }
         } else {
             f0 = step.f1.clone();
         }
@@ -1047,6 +1035,57 @@ pub fn run(scene: &Scene, observer: &mut dyn Observer) -> Result<RunOutput, Solv
     eng.out.final_laws = eng.laws.clone();
     eng.out.finish(eng.energy_scale);
     Ok(eng.out)
+}
+
+/// Apply one located event at the current instant: a branch change of a hysteretic element,
+/// or a contact event (the LCPs decide the new state).
+fn process_event(eng: &mut Engine, f: EventFn) -> Result<(), SolverError> {
+    let scene = eng.scene;
+    match f {
+        EventFn::Lower(j) | EventFn::Upper(j) | EventFn::Reversal(j) => {
+            let b = *eng.laws[j].branch();
+            let el = &scene.hysteretic[j];
+            let q = eng.q();
+            let v = eng.v();
+            let (e, _, _) =
+                scene.deformation(&el.attachment, el.support, eng.t, &q, &v, &mut eng.jac);
+            let (e_at, dir) = match f {
+                EventFn::Lower(_) => (b.lower, -1.0),
+                EventFn::Upper(_) => (b.upper, 1.0),
+                _ => (e, -b.direction),
+            };
+            eng.laws[j].on_branch_end(e_at, dir);
+            eng.out.stats.branch_events += 1;
+        }
+        _ => {
+            eng.record_sample(SampleKind::PreEvent)?;
+            eng.resolve()?;
+            eng.record_sample(SampleKind::PostEvent)?;
+        }
+    }
+    Ok(())
+}
+
+/// A function already past its threshold at the current instant (it crossed together with
+/// the event just processed). Gaps count only while closing.
+fn due_now(eng: &mut Engine, fns: &[EventFn]) -> Result<Option<EventFn>, SolverError> {
+    let y = eng.y.clone();
+    let vals = eng.event_values(eng.t, &y, fns)?;
+    let n = eng.n;
+    let q = y.rows(0, n).into_owned();
+    let v = y.rows(n, n).into_owned();
+    for (f, val) in fns.iter().zip(vals) {
+        if val < -eng.threshold(*f) {
+            if let EventFn::Gap(i) = *f {
+                let k = eng.scene.contact_kinematics(&eng.scene.contacts[i], &q, &v);
+                if k.gap_rate >= -eng.scene.settings.velocity_tol {
+                    continue;
+                }
+            }
+            return Ok(Some(*f));
+        }
+    }
+    Ok(None)
 }
 
 fn y_len(n: usize) -> usize {

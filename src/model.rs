@@ -330,12 +330,20 @@ fn set_path(item: &mut toml_edit::Item, segs: &[&str], value: &toml_edit::Value)
         toml_edit::Item::Table(t) => {
             if rest.is_empty() {
                 match t.get_mut(first) {
-                    Some(toml_edit::Item::Value(v)) if !v.is_inline_table() && !v.is_array() => {
+                    Some(toml_edit::Item::Value(v))
+                        if (!v.is_inline_table() && !v.is_array())
+                            || (v.is_inline_table() && value.is_inline_table())
+                            || (v.is_array() && value.is_array()) =>
+                    {
                         let decor = v.decor().clone();
                         *v = value.clone();
                         *v.decor_mut() = decor;
                     }
-                    Some(_) => return Err(format!("'{first}' is not a scalar")),
+                    Some(_) => {
+                        return Err(format!(
+                            "'{first}' is a table or array: give a value of the same kind"
+                        ));
+                    }
                     None => {
                         t.insert(first, toml_edit::Item::Value(value.clone()));
                     }
@@ -348,15 +356,44 @@ fn set_path(item: &mut toml_edit::Item, segs: &[&str], value: &toml_edit::Value)
                 set_path(child, rest, value)
             }
         }
-        toml_edit::Item::Value(toml_edit::Value::InlineTable(t)) => {
-            if rest.is_empty() {
-                t.insert(*first, value.clone());
-                Ok(1)
-            } else {
-                Err(format!("'{first}' is inside an inline table"))
-            }
-        }
+        toml_edit::Item::Value(v) => set_in_value(v, segs, value),
         _ => Err(format!("cannot descend into '{first}'")),
+    }
+}
+
+/// Set a scalar inside an inline table or array (`law.stiffness`, `gaps.0`).
+fn set_in_value(v: &mut toml_edit::Value, segs: &[&str], value: &toml_edit::Value) -> Result<usize, String> {
+    let Some((first, rest)) = segs.split_first() else {
+        return Err("empty key".into());
+    };
+    let child = match v {
+        toml_edit::Value::InlineTable(t) => {
+            if rest.is_empty() && !t.contains_key(first) {
+                t.insert(*first, value.clone());
+                return Ok(1);
+            }
+            t.get_mut(first).ok_or_else(|| format!("no key '{first}'"))?
+        }
+        toml_edit::Value::Array(a) => {
+            let i: usize = first
+                .parse()
+                .map_err(|_| format!("'{first}' is not an index of an array"))?;
+            let len = a.len();
+            a.get_mut(i)
+                .ok_or_else(|| format!("index {i} out of range (array of {len})"))?
+        }
+        _ => return Err(format!("cannot descend into '{first}'")),
+    };
+    if rest.is_empty() {
+        if child.is_inline_table() != value.is_inline_table() || child.is_array() != value.is_array() {
+            return Err(format!("'{first}': give a value of the same kind"));
+        }
+        let decor = child.decor().clone();
+        *child = value.clone();
+        *child.decor_mut() = decor;
+        Ok(1)
+    } else {
+        set_in_value(child, rest, value)
     }
 }
 

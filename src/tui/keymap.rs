@@ -1,0 +1,217 @@
+//! The one keymap table: (context, keys, action, description). The key handler, the help
+//! screen and the key-hint bar are all generated from [`KEYMAP`].
+
+use crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
+
+/// What a key does.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Action {
+    Quit,
+    Help,
+    SwitchView,
+    Rerun,
+    Cancel,
+    Save,
+    Export,
+    ToggleMarker,
+    ToggleOverlay,
+    CursorLeft,
+    CursorRight,
+    CursorLeftFast,
+    CursorRightFast,
+    CursorHome,
+    CursorEnd,
+    ZoomIn,
+    ZoomOut,
+    ZoomReset,
+    NextElement,
+    PrevElement,
+    FieldUp,
+    FieldDown,
+    FieldPageUp,
+    FieldPageDown,
+    FieldEdit,
+    FieldRevert,
+    EditCommit,
+    EditCancel,
+    EditBackspace,
+    EditClear,
+    Yes,
+    No,
+    CloseHelp,
+}
+
+/// Where a binding applies. Lookup order: the mode's own context first, then the view, then
+/// [`Ctx::Global`] (global keys are off while editing, confirming or reading the help).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Ctx {
+    Global,
+    Charts,
+    Form,
+    Edit,
+    Confirm,
+    Help,
+}
+
+impl Ctx {
+    pub fn title(self) -> &'static str {
+        match self {
+            Ctx::Global => "everywhere",
+            Ctx::Charts => "charts view",
+            Ctx::Form => "form view",
+            Ctx::Edit => "editing a value",
+            Ctx::Confirm => "answering a question",
+            Ctx::Help => "this help",
+        }
+    }
+}
+
+/// One key: a character (shift ignored), a control character, a special key, or a special key
+/// with shift.
+#[derive(Clone, Copy, Debug)]
+pub enum K {
+    Ch(char),
+    Ctrl(char),
+    Code(KeyCode),
+    Shift(KeyCode),
+}
+
+impl K {
+    pub fn matches(&self, ev: &KeyEvent) -> bool {
+        let ctrl = ev.modifiers.contains(KeyModifiers::CONTROL);
+        let shift = ev.modifiers.contains(KeyModifiers::SHIFT);
+        match *self {
+            K::Ch(c) => ev.code == KeyCode::Char(c) && !ctrl,
+            K::Ctrl(c) => ev.code == KeyCode::Char(c) && ctrl,
+            K::Code(code) => ev.code == code && !shift && !ctrl,
+            K::Shift(code) => ev.code == code && shift,
+        }
+    }
+}
+
+pub struct Binding {
+    pub ctx: Ctx,
+    pub keys: &'static [K],
+    /// How the keys are written on screen.
+    pub label: &'static str,
+    pub action: Action,
+    pub desc: &'static str,
+    /// Short text for the key-hint bar (None: help screen only).
+    pub hint: Option<&'static str>,
+}
+
+use Action as A;
+use KeyCode as KC;
+
+const fn b(
+    ctx: Ctx,
+    keys: &'static [K],
+    label: &'static str,
+    action: Action,
+    desc: &'static str,
+    hint: Option<&'static str>,
+) -> Binding {
+    Binding {
+        ctx,
+        keys,
+        label,
+        action,
+        desc,
+        hint,
+    }
+}
+
+/// The keymap. Order matters for the hint bar (most useful first).
+#[rustfmt::skip]
+pub const KEYMAP: &[Binding] = &[
+    // editing a value
+    b(Ctx::Edit, &[K::Code(KC::Enter)], "Enter", A::EditCommit, "accept the value (refused with the reason when invalid)", Some("accept")),
+    b(Ctx::Edit, &[K::Code(KC::Esc)], "Esc", A::EditCancel, "abandon the edit", Some("cancel")),
+    b(Ctx::Edit, &[K::Code(KC::Backspace)], "Bksp", A::EditBackspace, "delete the last character", Some("delete")),
+    b(Ctx::Edit, &[K::Ctrl('u')], "^U", A::EditClear, "clear the value", Some("clear")),
+    // questions
+    b(Ctx::Confirm, &[K::Ch('y')], "y", A::Yes, "yes", Some("yes")),
+    b(Ctx::Confirm, &[K::Ch('n'), K::Code(KC::Esc)], "n/Esc", A::No, "no", Some("no")),
+    // help
+    b(Ctx::Help, &[K::Ch('?'), K::Code(KC::Esc), K::Ch('q')], "?/Esc/q", A::CloseHelp, "close the help", Some("close")),
+    // charts view
+    b(Ctx::Charts, &[K::Code(KC::Left), K::Ch('h')], "←/h", A::CursorLeft, "move the time cursor left", Some("cursor")),
+    b(Ctx::Charts, &[K::Code(KC::Right), K::Ch('l')], "→/l", A::CursorRight, "move the time cursor right", None),
+    b(Ctx::Charts, &[K::Shift(KC::Left), K::Ch('H')], "S-←/H", A::CursorLeftFast, "move the cursor left by 10 %", None),
+    b(Ctx::Charts, &[K::Shift(KC::Right), K::Ch('L')], "S-→/L", A::CursorRightFast, "move the cursor right by 10 %", None),
+    b(Ctx::Charts, &[K::Code(KC::Home)], "Home", A::CursorHome, "cursor to the start", None),
+    b(Ctx::Charts, &[K::Code(KC::End)], "End", A::CursorEnd, "cursor to the end (follows a running simulation)", None),
+    b(Ctx::Charts, &[K::Ch('+'), K::Ch('=')], "+", A::ZoomIn, "zoom in on time around the cursor", Some("zoom")),
+    b(Ctx::Charts, &[K::Ch('-')], "-", A::ZoomOut, "zoom out on time", None),
+    b(Ctx::Charts, &[K::Ch('0')], "0", A::ZoomReset, "show the whole run", None),
+    b(Ctx::Charts, &[K::Ch('n')], "n", A::NextElement, "next column element in the force–deformation chart", Some("column")),
+    b(Ctx::Charts, &[K::Ch('N')], "N", A::PrevElement, "previous column element", None),
+    // form view
+    b(Ctx::Form, &[K::Code(KC::Up), K::Ch('k')], "↑/k", A::FieldUp, "previous field", None),
+    b(Ctx::Form, &[K::Code(KC::Down), K::Ch('j')], "↓/j", A::FieldDown, "next field", Some("field")),
+    b(Ctx::Form, &[K::Code(KC::PageUp)], "PgUp", A::FieldPageUp, "page up", None),
+    b(Ctx::Form, &[K::Code(KC::PageDown)], "PgDn", A::FieldPageDown, "page down", None),
+    b(Ctx::Form, &[K::Code(KC::Enter)], "Enter", A::FieldEdit, "edit the selected value", Some("edit")),
+    b(Ctx::Form, &[K::Ch('u')], "u", A::FieldRevert, "revert the field to its saved value", Some("revert")),
+    // everywhere
+    b(Ctx::Global, &[K::Ch('q'), K::Ctrl('c')], "q", A::Quit, "quit (asks first if there are unsaved edits)", Some("quit")),
+    b(Ctx::Global, &[K::Ch('?')], "?", A::Help, "help: every key", Some("help")),
+    b(Ctx::Global, &[K::Code(KC::Tab), K::Code(KC::BackTab)], "Tab", A::SwitchView, "switch between the charts and the form", Some("view")),
+    b(Ctx::Global, &[K::Ch('s')], "s", A::Save, "save the model file (comments kept; atomic) and rerun", Some("save")),
+    b(Ctx::Global, &[K::Ch('r')], "r", A::Rerun, "run again (with the unsaved edits, if any)", Some("rerun")),
+    b(Ctx::Global, &[K::Code(KC::Esc), K::Ch('c')], "Esc/c", A::Cancel, "cancel the running simulation", Some("cancel")),
+    b(Ctx::Global, &[K::Ch('e')], "e", A::Export, "export the charted data and the event log (CSV)", Some("export")),
+    b(Ctx::Global, &[K::Ch('o')], "o", A::ToggleOverlay, "show or hide the previous run", Some("overlay")),
+    b(Ctx::Global, &[K::Ch('m')], "m", A::ToggleMarker, "chart markers: Braille ⇄ ASCII", Some("markers")),
+];
+
+/// The contexts that are active, most specific first.
+pub fn active(mode_ctx: Option<Ctx>, view_ctx: Ctx) -> Vec<Ctx> {
+    match mode_ctx {
+        Some(m) => vec![m],
+        None => vec![view_ctx, Ctx::Global],
+    }
+}
+
+/// The action of a key in the given contexts.
+pub fn lookup(ctxs: &[Ctx], ev: &KeyEvent) -> Option<Action> {
+    ctxs.iter().find_map(|c| {
+        KEYMAP
+            .iter()
+            .filter(|bd| bd.ctx == *c)
+            .find(|bd| bd.keys.iter().any(|k| k.matches(ev)))
+            .map(|bd| bd.action)
+    })
+}
+
+/// (key label, hint) pairs for the key-hint bar, in table order.
+pub fn hints(ctxs: &[Ctx]) -> Vec<(&'static str, &'static str)> {
+    ctxs.iter()
+        .flat_map(|c| KEYMAP.iter().filter(move |bd| bd.ctx == *c))
+        .filter_map(|bd| bd.hint.map(|h| (bd.label, h)))
+        .collect()
+}
+
+/// Help screen lines: (context title, [(key label, description)]).
+pub fn help() -> Vec<(&'static str, Vec<(&'static str, &'static str)>)> {
+    [
+        Ctx::Global,
+        Ctx::Charts,
+        Ctx::Form,
+        Ctx::Edit,
+        Ctx::Confirm,
+        Ctx::Help,
+    ]
+    .iter()
+    .map(|c| {
+        (
+            c.title(),
+            KEYMAP
+                .iter()
+                .filter(|bd| bd.ctx == *c)
+                .map(|bd| (bd.label, bd.desc))
+                .collect(),
+        )
+    })
+    .collect()
+}

@@ -1,0 +1,277 @@
+//! The shake-table bridge: linear response against an exact solution, modes against hand
+//! formulas, rotation mechanism, damping under rigid-body support motion, bad inputs.
+mod common;
+use common::*;
+use deckspin::output::EventKind;
+use nalgebra::{DMatrix, DVector};
+
+const FOUR_SPAN: &str = "models/four-span.toml";
+
+fn load(set: &[&str]) -> deckspin::scene::Scene {
+    let set: Vec<String> = set.iter().map(|s| s.to_string()).collect();
+    deckspin::load(&model(FOUR_SPAN), &set).unwrap_or_else(|e| panic!("{e}"))
+}
+
+#[test]
+fn longitudinal_period_matches_hand_formula() {
+    let s = load(&["contacts.enabled=false"]);
+    // deck x is carried by six columns in x: k(h) = k_ref (h_ref/h)³
+    let k = 9320.0;
+    let kx: f64 = [1.83, 2.44, 1.52].iter().map(|h| 2.0 * k * (1.83f64 / h).powi(3)).sum();
+    let t_long = 2.0 * std::f64::consts::PI * (140.5 / kx).sqrt();
+    let modes = deckspin::bridge::modes(&s);
+    let m = modes
+        .iter()
+        .find(|m| m.shape[2].abs() > 0.99 * m.shape.amax())
+        .expect("a deck-x mode");
+    assert_rel(m.period, t_long, 1e-10, "longitudinal period");
+    // abutment x: 0.65 t on two actuators of 1e4 kN/m
+    let t_ab = 2.0 * std::f64::consts::PI * (0.65 / 2e4f64).sqrt();
+    assert!(modes.iter().any(|m| rel(m.period, t_ab) < 1e-10));
+}
+
+/// State-space exact solution of M q̈ + C q̇ + K q = b_c cos Ωt + b_s sin Ωt from rest:
+/// x = x_p + e^{At}(x₀ − x_p(0)), with the particular solution from (A, Ω).
+fn exact_linear(
+    m: &DVector<f64>,
+    k: &DMatrix<f64>,
+    c: &DMatrix<f64>,
+    bc: &DVector<f64>,
+    bs: &DVector<f64>,
+    w: f64,
+    times: &[f64],
+) -> Vec<DVector<f64>> {
+    let n = m.len();
+    let mut a = DMatrix::zeros(2 * n, 2 * n);
+    for i in 0..n {
+        a[(i, n + i)] = 1.0;
+        for j in 0..n {
+            a[(n + i, j)] = -k[(i, j)] / m[i];
+            a[(n + i, n + j)] = -c[(i, j)] / m[i];
+        }
+    }
+    let mut f1 = DVector::zeros(2 * n);
+    let mut f2 = DVector::zeros(2 * n);
+    for i in 0..n {
+        f1[n + i] = bc[i] / m[i];
+        f2[n + i] = bs[i] / m[i];
+    }
+    // x_p = P cos + Q sin: ΩQ = AP + f1, −ΩP = AQ + f2
+    let mut big = DMatrix::zeros(4 * n, 4 * n);
+    let mut rhs = DVector::zeros(4 * n);
+    for i in 0..2 * n {
+        for j in 0..2 * n {
+            big[(i, j)] = a[(i, j)];
+            big[(2 * n + i, 2 * n + j)] = a[(i, j)];
+        }
+        big[(i, 2 * n + i)] = -w;
+        big[(2 * n + i, i)] = w;
+        rhs[i] = -f1[i];
+        rhs[2 * n + i] = -f2[i];
+    }
+    let pq = big.lu().solve(&rhs).unwrap();
+    let p = pq.rows(0, 2 * n).into_owned();
+    let q = pq.rows(2 * n, 2 * n).into_owned();
+    // homogeneous part propagated over the uniform grid with one e^{AΔt}
+    let dt = times[1] - times[0];
+    let e = (&a * dt).exp();
+    let mut xh = -&p;
+    assert!(times[0] == 0.0);
+    times
+        .iter()
+        .enumerate()
+        .map(|(k, &t)| {
+            if k > 0 {
+                xh = &e * &xh;
+            }
+            &p * (w * t).cos() + &q * (w * t).sin() + &xh
+        })
+        .collect()
+}
+
+#[test]
+fn linear_bridge_without_contact_matches_exact_solution() {
+    let scene = load(&[
+        "contacts.enabled=false",
+        "column.law={ law = \"linear\", stiffness = 9320.0 }",
+        "excitation.kind=harmonic",
+        "excitation.frequency=2.0",
+        // tiny amplitudes: the exact kinematics is nonlinear at O(θ² r), which must stay
+        // below the 1e-6 being tested (θ ~ 1e-7 rad here)
+        "excitation.amplitude_x=0.000005",
+        "excitation.amplitude_y=0.000004",
+        "excitation.lag_bents.1=0.01",
+        "excitation.lag_bents.2=0.03",
+        "solver.t_end=3.0",
+        "solver.output_dt=0.05",
+        "solver.rtol=1e-11",
+        "solver.atol=1e-17",
+    ]);
+    assert!(scene.mass_damping.alpha > 0.0, "Rayleigh damping is on");
+    let n = scene.ndof();
+    // the linear system read off the force function (linear in q, q̇ and the supports)
+    let z = DVector::zeros(n);
+    let mut jac = DVector::zeros(n);
+    let mut h0 = DVector::zeros(n);
+    let h = |t: f64, q: &DVector<f64>, v: &DVector<f64>, jac: &mut DVector<f64>| {
+        let mut out = DVector::zeros(n);
+        deckspin::scene::smooth_forces(&scene, None, t, q, v, &mut out, jac);
+        out
+    };
+    let eps = 1e-7;
+    let mut k = DMatrix::zeros(n, n);
+    let mut c = DMatrix::zeros(n, n);
+    h0.copy_from(&h(0.0, &z, &z, &mut jac));
+    for j in 0..n {
+        let mut e = DVector::zeros(n);
+        e[j] = eps;
+        let hk = h(0.0, &e, &z, &mut jac);
+        let hc = h(0.0, &z, &e, &mut jac);
+        for i in 0..n {
+            k[(i, j)] = -(hk[i] - h0[i]) / eps;
+            c[(i, j)] = -(hc[i] - h0[i]) / eps;
+        }
+    }
+    let w = 2.0 * std::f64::consts::PI * 2.0;
+    let bc = h(0.0, &z, &z, &mut jac);
+    let bs = h(std::f64::consts::PI / (2.0 * w), &z, &z, &mut jac);
+    let r = deckspin::run(&scene, &mut deckspin::Silent).unwrap();
+    let grid: Vec<_> = r.samples.iter().filter(|s| s.kind == deckspin::output::SampleKind::Grid).collect();
+    let times: Vec<f64> = grid.iter().map(|s| s.t).collect();
+    let exact = exact_linear(&scene.mass, &k, &c, &bc, &bs, w, &times);
+    let mut worst = 0.0f64;
+    for dof in [2usize, 3, 4, 0] {
+        let peak = exact.iter().map(|x| x[dof].abs()).fold(0.0, f64::max);
+        assert!(peak > 0.0);
+        let mut w = 0.0f64;
+        for (s, x) in grid.iter().zip(&exact) {
+            w = w.max((s.q[dof] - x[dof]).abs() / peak);
+        }
+        eprintln!("dof {dof}: peak {peak:.3e}, max rel err {w:.3e}");
+        worst = worst.max(w);
+    }
+    eprintln!("linear bridge: max relative error {worst:.3e}");
+    assert!(worst <= 1e-6, "max relative error {worst:.3e}");
+    assert!(r.summary.peaks[4].max_abs > 1e-9, "the test sees rotation");
+}
+
+#[test]
+fn symmetric_bridge_without_friction_does_not_rotate_and_asymmetric_gap_does() {
+    let base = [
+        "bent.2.height=1.83",
+        "excitation.kind=harmonic",
+        "excitation.frequency=2.5",
+        "excitation.amplitude_x=0.03",
+        "excitation.amplitude_y=0.0",
+        "solver.t_end=2.0",
+    ];
+    let mut set: Vec<&str> = base.to_vec();
+    set.push("contacts.mu=0.0");
+    let r = deckspin::run(&load(&set), &mut deckspin::Silent).unwrap();
+    assert!(r.summary.stats.impacts > 0, "the deck pounds");
+    assert!(r.summary.peaks[4].max_abs < 1e-12, "θ = {}", r.summary.peaks[4].max_abs);
+    // with friction and a smaller gap at corner 1 (left, +y), the first left impact is at
+    // that corner: its normal impulse (+x at y = +1.2 m) spins the deck clockwise
+    let mut set: Vec<&str> = base.to_vec();
+    set.push("contacts.mu=0.5");
+    set.push("contacts.gaps.0=0.008");
+    let r = deckspin::run(&load(&set), &mut deckspin::Silent).unwrap();
+    let first = r
+        .events
+        .iter()
+        .find(|e| e.kind == EventKind::Impact && r.contact_names[e.contact].starts_with("left"))
+        .expect("a left impact");
+    assert_eq!(r.contact_names[first.contact], "left_top");
+    let before = r.samples.iter().filter(|s| s.t < first.t).map(|s| s.q[4].abs()).fold(0.0, f64::max);
+    assert!(before < 1e-12, "no rotation before the first asymmetric impact");
+    let after = post_event(&r, first.t);
+    assert!(after.v[4] < 0.0, "clockwise spin, θ̇ = {}", after.v[4]);
+    eprintln!("asymmetric gap: peak rotation {:.3e}", r.summary.peaks[4].max_abs);
+    assert!(r.summary.peaks[4].max_abs > 1e-6);
+}
+
+#[test]
+fn damping_vanishes_for_rigid_body_support_motion() {
+    let scene = load(&[
+        "excitation.kind=harmonic",
+        "excitation.frequency=1.5",
+        "excitation.amplitude_x=0.02",
+        "excitation.amplitude_y=0.0",
+    ]);
+    assert!(scene.mass_damping.alpha > 0.0);
+    let n = scene.ndof();
+    let w = 2.0 * std::f64::consts::PI * 1.5;
+    let mut jac = DVector::zeros(n);
+    for t in [0.1, 0.37, 1.2] {
+        let (u, ud) = (0.02 * (w * t).sin(), 0.02 * w * (w * t).cos());
+        let mut q = DVector::zeros(n);
+        let mut v = DVector::zeros(n);
+        for i in [0, 2, 5] {
+            q[i] = u;
+            v[i] = ud;
+        }
+        let mut h = DVector::zeros(n);
+        let p = deckspin::scene::smooth_forces(&scene, None, t, &q, &v, &mut h, &mut jac);
+        assert!(h.amax() < 1e-9, "t = {t}: h = {h}");
+        assert!(p.damping.abs() < 1e-9);
+        // and a relative velocity is damped
+        v[3] += 0.1;
+        deckspin::scene::smooth_forces(&scene, None, t, &q, &v, &mut h, &mut jac);
+        assert!(h[3] < -1e-3);
+    }
+}
+
+#[test]
+fn bridge_run_closes_energy_and_never_penetrates() {
+    let r = run(FOUR_SPAN, &["solver.t_end=6.0"]);
+    let s = &r.summary;
+    assert!(s.stats.impacts > 10 && s.stats.sticks > 0 && s.stats.slips > 0, "{:?}", s.stats);
+    assert!(s.energy_closure_rel < 1e-6, "closure {:.3e}", s.energy_closure_rel);
+    assert!(s.max_penetration < 1e-11, "penetration {:.3e}", s.max_penetration);
+    // every event instant appears in the history (pre and post)
+    for e in r.events.iter().take(20) {
+        post_event(&r, e.t);
+    }
+    // column loops are recorded
+    assert_eq!(r.element_names.len(), 12);
+    assert!(r.samples.iter().any(|s| s.elements[0].1.abs() > 10.0));
+}
+
+#[test]
+fn bad_excitation_input_is_a_clear_error() {
+    let e = deckspin::load(&model(FOUR_SPAN), &["excitation.longitudinal=../excitations/nope.AT2".into()])
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("nope.AT2"), "{e}");
+    let e = deckspin::load(
+        &model(FOUR_SPAN),
+        &["excitation.longitudinal=../tests/fixtures/excitation/bad_npts.AT2".into()],
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("bad_npts.AT2") && e.to_lowercase().contains("npts"), "{e}");
+    let e = deckspin::load(
+        &model(FOUR_SPAN),
+        &["excitation.longitudinal=../tests/fixtures/excitation/non_numeric.AT2".into()],
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("non_numeric.AT2:6:") && e.contains("8.0x-03"), "{e}");
+    let e = deckspin::load(&model(FOUR_SPAN), &["excitation.run=9".into()]).unwrap_err().to_string();
+    assert!(e.contains("excitation.run") && e.contains("four-span.toml:"), "{e}");
+    let e = deckspin::load(&model(FOUR_SPAN), &["deck.mass=-1".into()]).unwrap_err().to_string();
+    assert!(e.contains("deck.mass"), "{e}");
+}
+
+#[test]
+fn sweep_axis_parsing() {
+    use deckspin::studies::parse_axis;
+    let a = parse_axis("contacts.mu=0:0.7:0.1").unwrap();
+    assert_eq!(a.values.len(), 8);
+    assert_eq!(a.values[3], "0.3");
+    let a = parse_axis("excitation.run=1:7:1").unwrap();
+    assert_eq!(a.values, ["1", "2", "3", "4", "5", "6", "7"]);
+    assert_eq!(parse_axis("x=1,2,5").unwrap().values, ["1", "2", "5"]);
+    assert!(parse_axis("x=1:0:1").is_err());
+    assert!(parse_axis("x").is_err());
+}
