@@ -10,7 +10,9 @@ use crate::output::{
     ContactSample, ContactState, EnergySample, EventKind, EventRecord, RunOutput, Sample,
     SampleKind,
 };
-use crate::scene::{ContactKinematics, LEDGER_TERMS, PowerTerms, Scene, smooth_forces};
+use crate::scene::{
+    ContactKinematics, LEDGER_TERMS, PowerTerms, Scene, smooth_forces, smooth_forces_in,
+};
 use nalgebra::{DMatrix, DVector};
 use std::time::Instant;
 
@@ -107,6 +109,8 @@ struct Engine<'a> {
     burst: Vec<(f64, usize)>,
     force_scale: f64,
     jac: DVector<f64>,
+    /// Event function values at the end of the last step (reused at the next step's start).
+    last_event_values: Option<(f64, Vec<f64>)>,
 }
 
 fn sgn(x: f64) -> f64 {
@@ -124,16 +128,30 @@ impl<'a> Engine<'a> {
     /// Constrained dynamics in the current mode: M q̈ = h + Σ W λ with g̈_N = 0 (closed),
     /// g̈_T = 0 (stick), λ_T = −μ s λ_N (slide).
     fn dynamics(&mut self, t: f64, y: &DVector<f64>) -> Result<Dynamics, SolverError> {
+        self.dynamics_with(t, y, true)
+    }
+
+    /// `all`: kinematics of every contact (for output); otherwise only the closed ones are
+    /// computed (open contacts get a placeholder and carry no force).
+    fn dynamics_with(&mut self, t: f64, y: &DVector<f64>, all: bool) -> Result<Dynamics, SolverError> {
         let n = self.n;
         let scene = self.scene;
         let q = y.rows(0, n).into_owned();
         let v = y.rows(n, n).into_owned();
         let mut h = DVector::zeros(n);
-        let power = smooth_forces_laws(scene, &self.laws, t, &q, &v, &mut h, &mut self.jac);
+        let fr = scene.frame(t, &q, &v);
+        let power = smooth_forces_in(scene, Some(&self.laws), &fr, &q, &v, &mut h, &mut self.jac);
         let kin: Vec<ContactKinematics> = scene
             .contacts
             .iter()
-            .map(|c| scene.contact_kinematics(c, &q, &v))
+            .zip(&self.state)
+            .map(|(c, st)| {
+                if all || *st != ContactState::Open {
+                    scene.contact_kinematics_in(&fr, c)
+                } else {
+                    ContactKinematics::placeholder()
+                }
+            })
             .collect();
         let nc = kin.len();
         let mut lam_n = vec![0.0; nc];
@@ -231,7 +249,7 @@ impl<'a> Engine<'a> {
 
     fn rhs(&mut self, t: f64, y: &DVector<f64>, out: &mut DVector<f64>) -> Result<(), SolverError> {
         let n = self.n;
-        let d = self.dynamics(t, y)?;
+        let d = self.dynamics_with(t, y, false)?;
         for i in 0..n {
             out[i] = y[n + i];
             out[n + i] = d.qdd[i];
@@ -296,14 +314,16 @@ impl<'a> Engine<'a> {
         let q = y.rows(0, n).into_owned();
         let v = y.rows(n, n).into_owned();
         let dynamics = if needs_forces {
-            Some(self.dynamics(t, y)?)
+            Some(self.dynamics_with(t, y, false)?)
         } else {
             None
         };
+        let fr = scene.frame(t, &q, &v);
+        let mut defo: Vec<Option<(f64, f64)>> = vec![None; scene.hysteretic.len()];
         let mut vals = Vec::with_capacity(fns.len());
         for f in fns {
             let val = match *f {
-                EventFn::Gap(i) => scene.contact_kinematics(&scene.contacts[i], &q, &v).gap,
+                EventFn::Gap(i) => scene.contact_kinematics_in(&fr, &scene.contacts[i]).gap,
                 EventFn::Release(i) => dynamics.as_ref().map_or(0.0, |d| d.lam_n[i]),
                 EventFn::StickSlip(i) => dynamics.as_ref().map_or(0.0, |d| {
                     scene.contacts[i].mu * d.lam_n[i] - d.lam_t[i].abs()
@@ -313,12 +333,19 @@ impl<'a> Engine<'a> {
                         ContactState::Slide(s) => s,
                         _ => 1.0,
                     };
-                    s * scene.contact_kinematics(&scene.contacts[i], &q, &v).slip_rate
+                    s * scene.contact_kinematics_in(&fr, &scene.contacts[i]).slip_rate
                 }
                 EventFn::Lower(j) | EventFn::Upper(j) | EventFn::Reversal(j) => {
-                    let el = &scene.hysteretic[j];
-                    let (e, ed, _) =
-                        scene.deformation(&el.attachment, el.support, t, &q, &v, &mut self.jac);
+                    let (e, ed) = match defo[j] {
+                        Some(d) => d,
+                        None => {
+                            let el = &scene.hysteretic[j];
+                            let (e, ed, _) =
+                                scene.deformation_in(&fr, &el.attachment, el.support, &mut self.jac);
+                            defo[j] = Some((e, ed));
+                            (e, ed)
+                        }
+                    };
                     let b = self.laws[j].branch();
                     match *f {
                         EventFn::Lower(_) => e - b.lower,
@@ -851,6 +878,7 @@ pub fn run(scene: &Scene, observer: &mut dyn Observer) -> Result<RunOutput, Solv
         burst: vec![(f64::NEG_INFINITY, 0); scene.contacts.len()],
         force_scale: 0.0,
         jac: DVector::zeros(n),
+        last_event_values: None,
     };
     // initial hysteretic directions from the initial deformation rates
     {
@@ -994,12 +1022,9 @@ pub fn run(scene: &Scene, observer: &mut dyn Observer) -> Result<RunOutput, Solv
             armed = arm(&mut eng, &fns)?;
             // events already due at this instant (simultaneous crossings, e.g. symmetric
             // columns reversing together): process them now, before any step
-            let mut guard = 0;
-            while let Some(f) = due_now(&mut eng, &fns)? {
-                guard += 1;
-                if guard > 64 {
-                    break;
-                }
+            let mut done: Vec<EventFn> = Vec::new();
+            while let Some(f) = due_now(&mut eng, &fns, &done)? {
+                done.push(f);
                 process_event(&mut eng, f)?;
                 let y1 = eng.y.clone();
                 let t = eng.t;
@@ -1068,14 +1093,18 @@ fn process_event(eng: &mut Engine, f: EventFn) -> Result<(), SolverError> {
 
 /// A function already past its threshold at the current instant (it crossed together with
 /// the event just processed). Gaps count only while closing.
-fn due_now(eng: &mut Engine, fns: &[EventFn]) -> Result<Option<EventFn>, SolverError> {
+fn due_now(
+    eng: &mut Engine,
+    fns: &[EventFn],
+    done: &[EventFn],
+) -> Result<Option<EventFn>, SolverError> {
     let y = eng.y.clone();
     let vals = eng.event_values(eng.t, &y, fns)?;
     let n = eng.n;
     let q = y.rows(0, n).into_owned();
     let v = y.rows(n, n).into_owned();
     for (f, val) in fns.iter().zip(vals) {
-        if val < -eng.threshold(*f) {
+        if val < -eng.threshold(*f) && !done.contains(f) {
             if let EventFn::Gap(i) = *f {
                 let k = eng.scene.contact_kinematics(&eng.scene.contacts[i], &q, &v);
                 if k.gap_rate >= -eng.scene.settings.velocity_tol {
@@ -1096,6 +1125,7 @@ fn y_len(n: usize) -> usize {
 /// phase — clearly positive, or zero and moving up (a separating gap, a slide or branch just
 /// begun). Unarmed ones trigger only below −threshold (an inconsistent state the LCP repairs).
 fn arm(eng: &mut Engine, fns: &[EventFn]) -> Result<Vec<bool>, SolverError> {
+    eng.last_event_values = None;
     let y = eng.y.clone();
     let vals = eng.event_values(eng.t, &y, fns)?;
     let n = eng.n;
@@ -1138,28 +1168,45 @@ fn locate_event(
     }
     let thr: Vec<f64> = fns.iter().map(|f| eng.threshold(*f)).collect();
     let shifted = |v: f64, k: usize, armed: &[bool]| if armed[k] { v } else { v + thr[k] };
-    let mut t_prev = step.t0;
-    let mut v_prev = eng.event_values(step.t0, &step.y0, fns)?;
+    let mut v_prev = match eng.last_event_values.take() {
+        Some((t, v)) if t == step.t0 && v.len() == fns.len() => v,
+        _ => eng.event_values(step.t0, &step.y0, fns)?,
+    };
+    let mut t_prev = vec![step.t0; fns.len()];
     for (k, v) in v_prev.iter_mut().enumerate() {
         if armed[k] && *v <= 0.0 {
             // positive just after t0 by construction
             *v = f64::MIN_POSITIVE;
         }
     }
+    // gaps (cheap, and a corner may graze through in part of a step) at θ = ¼, ½, ¾, 1;
+    // everything else at ½ and 1
+    let gaps: Vec<usize> = (0..fns.len())
+        .filter(|&k| matches!(fns[k], EventFn::Gap(_)))
+        .collect();
+    let gap_fns: Vec<EventFn> = gaps.iter().map(|&k| fns[k]).collect();
     for theta in [0.25, 0.5, 0.75, 1.0] {
+        let full = theta == 0.5 || theta == 1.0;
+        if !full && gaps.is_empty() {
+            continue;
+        }
         let t = step.t0 + theta * step.h;
         let y = if theta == 1.0 {
             step.y1.clone()
         } else {
             step.dense(t)
         };
-        let vals = eng.event_values(t, &y, fns)?;
+        let (idx, vals): (Vec<usize>, Vec<f64>) = if full {
+            ((0..fns.len()).collect(), eng.event_values(t, &y, fns)?)
+        } else {
+            (gaps.clone(), eng.event_values(t, &y, &gap_fns)?)
+        };
         let mut best: Option<(f64, EventFn)> = None;
-        for k in 0..fns.len() {
+        for (&k, &val) in idx.iter().zip(&vals) {
             let a = shifted(v_prev[k], k, armed);
-            let b = shifted(vals[k], k, armed);
+            let b = shifted(val, k, armed);
             if a > 0.0 && b <= 0.0 {
-                let root = illinois(eng, step, fns, k, t_prev, t, a, b, armed[k], thr[k])?;
+                let root = illinois(eng, step, fns, k, t_prev[k], t, a, b, armed[k], thr[k])?;
                 if best.is_none_or(|(tb, _)| root < tb) {
                     best = Some((root, fns[k]));
                 }
@@ -1168,14 +1215,15 @@ fn locate_event(
         if best.is_some() {
             return Ok(best);
         }
-        for k in 0..fns.len() {
-            if !armed[k] && vals[k] > thr[k] {
+        for (&k, &val) in idx.iter().zip(&vals) {
+            if !armed[k] && val > thr[k] {
                 armed[k] = true;
             }
+            v_prev[k] = val;
+            t_prev[k] = t;
         }
-        t_prev = t;
-        v_prev = vals;
     }
+    eng.last_event_values = Some((step.t1(), v_prev));
     Ok(None)
 }
 

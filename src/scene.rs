@@ -231,17 +231,29 @@ pub struct ContactKinematics {
     pub normal: Vector2<f64>,
 }
 
+impl ContactKinematics {
+    /// An open contact whose kinematics were not needed (no allocation).
+    pub fn placeholder() -> Self {
+        Self {
+            gap: f64::INFINITY,
+            w_n: DVector::zeros(0),
+            w_t: DVector::zeros(0),
+            gap_rate: 0.0,
+            slip_rate: 0.0,
+            bias_n: 0.0,
+            bias_t: 0.0,
+            point: Vector2::zeros(),
+            normal: Vector2::zeros(),
+        }
+    }
+}
+
 /// k × a for a planar vector a.
 #[inline]
 pub fn perp(a: Vector2<f64>) -> Vector2<f64> {
     Vector2::new(-a.y, a.x)
 }
 
-#[inline]
-fn rot(theta: f64, a: Vector2<f64>) -> Vector2<f64> {
-    let (s, c) = theta.sin_cos();
-    Vector2::new(c * a.x - s * a.y, s * a.x + c * a.y)
-}
 
 /// Pose and velocity of a body (or ground) from q, q̇.
 #[derive(Clone, Copy, Debug)]
@@ -250,6 +262,37 @@ pub struct BodyState {
     pub angle: f64,
     pub velocity: Vector2<f64>,
     pub omega: f64,
+    /// (cos θ, sin θ).
+    pub cs: (f64, f64),
+}
+
+impl BodyState {
+    /// R(θ) a.
+    #[inline]
+    pub fn rot(&self, a: Vector2<f64>) -> Vector2<f64> {
+        let (c, s) = self.cs;
+        Vector2::new(c * a.x - s * a.y, s * a.x + c * a.y)
+    }
+}
+
+/// Everything position- and time-dependent that several elements share, computed once per
+/// evaluation: body poses and support motions.
+#[derive(Clone, Debug)]
+pub struct Frame {
+    pub poses: Vec<BodyState>,
+    pub ground: BodyState,
+    /// (u_g, u̇_g, ü_g) per support.
+    pub supports: Vec<(f64, f64, f64)>,
+}
+
+impl Frame {
+    #[inline]
+    pub fn pose(&self, b: BodyRef) -> &BodyState {
+        match b {
+            BodyRef::Ground => &self.ground,
+            BodyRef::Body(i) => &self.poses[i],
+        }
+    }
 }
 
 impl Scene {
@@ -264,15 +307,23 @@ impl Scene {
                 angle: 0.0,
                 velocity: Vector2::zeros(),
                 omega: 0.0,
+                cs: (1.0, 0.0),
             },
             BodyRef::Body(i) => {
                 let body = &self.bodies[i];
                 let get = |a: usize, x: &DVector<f64>| body.dofs[a].map_or(0.0, |k| x[k]);
+                let angle = get(2, q);
                 BodyState {
                     position: body.reference + Vector2::new(get(0, q), get(1, q)),
-                    angle: get(2, q),
+                    angle,
                     velocity: Vector2::new(get(0, v), get(1, v)),
                     omega: get(2, v),
+                    cs: if angle == 0.0 {
+                        (1.0, 0.0)
+                    } else {
+                        let (s, c) = angle.sin_cos();
+                        (c, s)
+                    },
                 }
             }
         }
@@ -310,15 +361,35 @@ impl Scene {
         q: &DVector<f64>,
         v: &DVector<f64>,
     ) -> ContactKinematics {
-        let n_dof = self.ndof();
         let a = self.body_state(c.point_body, q, v);
         let b = self.body_state(c.face_body, q, v);
-        let rho_a = rot(a.angle, c.point);
+        self.contact_kinematics_of(c, &a, &b)
+    }
+
+    /// Poses of all bodies and support motions at (t, q, q̇).
+    pub fn frame(&self, t: f64, q: &DVector<f64>, v: &DVector<f64>) -> Frame {
+        Frame {
+            poses: (0..self.bodies.len())
+                .map(|i| self.body_state(BodyRef::Body(i), q, v))
+                .collect(),
+            ground: self.body_state(BodyRef::Ground, q, v),
+            supports: self.supports.iter().map(|s| s.at(t)).collect(),
+        }
+    }
+
+    /// [`Scene::contact_kinematics`] from precomputed poses.
+    pub fn contact_kinematics_in(&self, fr: &Frame, c: &Contact) -> ContactKinematics {
+        self.contact_kinematics_of(c, fr.pose(c.point_body), fr.pose(c.face_body))
+    }
+
+    fn contact_kinematics_of(&self, c: &Contact, a: &BodyState, b: &BodyState) -> ContactKinematics {
+        let n_dof = self.ndof();
+        let rho_a = a.rot(c.point);
         let p = a.position + rho_a;
-        let n = rot(b.angle, c.face_normal);
+        let n = b.rot(c.face_normal);
         // (t, n) right-handed: t = n rotated by −90° (floor n = +y → t = +x)
         let t = Vector2::new(n.y, -n.x);
-        let o = b.position + rot(b.angle, c.face_point);
+        let o = b.position + b.rot(c.face_point);
         let gap = n.dot(&(p - o));
         let arm_b = p - b.position;
         let v_p = a.velocity + a.omega * perp(rho_a);
@@ -357,23 +428,35 @@ impl Scene {
         v: &DVector<f64>,
         jac: &mut DVector<f64>,
     ) -> (f64, f64, f64) {
+        let fr = self.frame(t, q, v);
+        self.deformation_in(&fr, att, support, jac)
+    }
+
+    /// [`Scene::deformation`] from precomputed poses and support motions.
+    pub fn deformation_in(
+        &self,
+        fr: &Frame,
+        att: &Attachment,
+        support: Option<usize>,
+        jac: &mut DVector<f64>,
+    ) -> (f64, f64, f64) {
         jac.fill(0.0);
-        let (ug, vg, _) = support.map_or((0.0, 0.0, 0.0), |s| self.supports[s].at(t));
+        let (ug, vg, _) = support.map_or((0.0, 0.0, 0.0), |s| fr.supports[s]);
         match att {
             Attachment::Point {
                 body,
                 point,
                 direction,
             } => {
-                let s = self.body_state(BodyRef::Body(*body), q, v);
-                let rho = rot(s.angle, *point);
+                let s = fr.poses[*body];
+                let rho = s.rot(*point);
                 let disp = s.position - self.bodies[*body].reference + rho - point;
                 let vel = s.velocity + s.omega * perp(rho);
                 self.add_point_jacobian(jac, BodyRef::Body(*body), rho, *direction, 1.0);
                 (direction.dot(&disp) - ug, direction.dot(&vel) - vg, vg)
             }
             Attachment::Rotation { body } => {
-                let s = self.body_state(BodyRef::Body(*body), q, v);
+                let s = fr.poses[*body];
                 if let Some(k) = self.bodies[*body].dofs[2] {
                     jac[k] = 1.0;
                 }
@@ -401,10 +484,11 @@ impl Scene {
     /// Elastic energy stored in the linear springs.
     pub fn spring_energy(&self, t: f64, q: &DVector<f64>, v: &DVector<f64>) -> f64 {
         let mut jac = DVector::zeros(self.ndof());
+        let fr = self.frame(t, q, v);
         self.springs
             .iter()
             .map(|s| {
-                let (e, _, _) = self.deformation(&s.attachment, s.support, t, q, v, &mut jac);
+                let (e, _, _) = self.deformation_in(&fr, &s.attachment, s.support, &mut jac);
                 0.5 * s.stiffness * e * e
             })
             .sum()
@@ -447,20 +531,34 @@ pub fn smooth_forces(
     h: &mut DVector<f64>,
     jac: &mut DVector<f64>,
 ) -> PowerTerms {
+    let fr = scene.frame(t, q, v);
+    smooth_forces_in(scene, laws, &fr, q, v, h, jac)
+}
+
+/// [`smooth_forces`] from a precomputed [`Frame`].
+pub fn smooth_forces_in(
+    scene: &Scene,
+    laws: Option<&[Hysteretic]>,
+    fr: &Frame,
+    _q: &DVector<f64>,
+    v: &DVector<f64>,
+    h: &mut DVector<f64>,
+    jac: &mut DVector<f64>,
+) -> PowerTerms {
     h.copy_from(&scene.loads);
     let mut p = PowerTerms {
         loads: scene.loads.dot(v),
         ..Default::default()
     };
     for s in &scene.springs {
-        let (e, ed, vg) = scene.deformation(&s.attachment, s.support, t, q, v, jac);
+        let (e, ed, vg) = scene.deformation_in(fr, &s.attachment, s.support, jac);
         let f = s.stiffness * e + s.damping * ed;
         h.axpy(-f, jac, 1.0);
         p.supports -= f * vg;
         p.damping += s.damping * ed * ed;
     }
     for (j, el) in scene.hysteretic.iter().enumerate() {
-        let (e, ed, vg) = scene.deformation(&el.attachment, el.support, t, q, v, jac);
+        let (e, ed, vg) = scene.deformation_in(fr, &el.attachment, el.support, jac);
         let fh = laws.map_or(&el.law, |l| &l[j]).force(e);
         let f = fh + el.damping * ed;
         h.axpy(-f, jac, 1.0);
@@ -473,7 +571,7 @@ pub fn smooth_forces(
         // v_ref from supports; F = −a₀ M (v − v_ref)
         let mut vref = vec![0.0; scene.ndof()];
         for &(k, s, f) in &md.reference {
-            vref[k] += f * scene.supports[s].at(t).1;
+            vref[k] += f * fr.supports[s].1;
         }
         for k in 0..scene.ndof() {
             let rel = v[k] - vref[k];

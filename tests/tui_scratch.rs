@@ -1,8 +1,28 @@
-#[test]
-fn t() {
-    let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("models/four-span.toml");
+use deckspin::tui::{self, App, update, Msg};
+use ratatui::{Terminal, backend::TestBackend};
+use std::path::Path;
+
+fn fixture() -> App {
+    let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("models/four-span.toml");
     let text = std::fs::read_to_string(&p).unwrap();
-    let t0 = std::time::Instant::now();
-    for _ in 0..5 { deckspin::model::load_str(&text, &p, &[]).unwrap(); }
-    eprintln!("load_str {:?}", t0.elapsed() / 5);
+    let text = text.replace("t_end = 16.0", "t_end = 2.0").replace("gaps = [0.0127, 0.0127, 0.0127, 0.0127]", "gaps = [0.004, 0.004, 0.004, 0.004]");
+    let mut app = App::new_from_text(&text, &p);
+    let fx = app.start();
+    tui::execute_blocking(&mut app, fx);
+    app
+}
+
+#[test]
+fn show() {
+    let mut app = fixture();
+    for (w, h) in [(120u16, 40u16), (80, 24), (60, 18)] {
+        update(&mut app, Msg::Resize(w, h));
+        let mut t = Terminal::new(TestBackend::new(w, h)).unwrap();
+        t.draw(|f| tui::ui::draw(f, &app)).unwrap();
+        println!("{}", t.backend());
+    }
+    update(&mut app, Msg::Action(tui::keymap::Action::SwitchView));
+    let mut t = Terminal::new(TestBackend::new(120, 40)).unwrap();
+    t.draw(|f| tui::ui::draw(f, &app)).unwrap();
+    println!("{}", t.backend());
 }

@@ -550,7 +550,7 @@ fn fix_law(root: &mut Item, segs: &[&str], kind: &str) -> Result<(), String> {
             "post_yield_ratio" => Value::from(0.05),
             _ => continue, // optional Takeda keys keep their defaults
         };
-        t.insert(key, v);
+        t.insert(*key, v);
     }
     t.fmt();
     Ok(())

@@ -96,8 +96,8 @@ pub struct Binding {
     pub label: &'static str,
     pub action: Action,
     pub desc: &'static str,
-    /// Short text for the key-hint bar (None: help screen only).
-    pub hint: Option<&'static str>,
+    /// (keys, text) for the key-hint bar (None: help screen only).
+    pub hint: Option<(&'static str, &'static str)>,
 }
 
 use Action as A;
@@ -109,7 +109,7 @@ const fn b(
     label: &'static str,
     action: Action,
     desc: &'static str,
-    hint: Option<&'static str>,
+    hint: Option<(&'static str, &'static str)>,
 ) -> Binding {
     Binding {
         ctx,
@@ -125,44 +125,44 @@ const fn b(
 #[rustfmt::skip]
 pub const KEYMAP: &[Binding] = &[
     // editing a value
-    b(Ctx::Edit, &[K::Code(KC::Enter)], "Enter", A::EditCommit, "accept the value (refused with the reason when invalid)", Some("accept")),
-    b(Ctx::Edit, &[K::Code(KC::Esc)], "Esc", A::EditCancel, "abandon the edit", Some("cancel")),
-    b(Ctx::Edit, &[K::Code(KC::Backspace)], "Bksp", A::EditBackspace, "delete the last character", Some("delete")),
-    b(Ctx::Edit, &[K::Ctrl('u')], "^U", A::EditClear, "clear the value", Some("clear")),
+    b(Ctx::Edit, &[K::Code(KC::Enter)], "Enter", A::EditCommit, "accept the value (refused with the reason when invalid)", Some(("Enter", "accept"))),
+    b(Ctx::Edit, &[K::Code(KC::Esc)], "Esc", A::EditCancel, "abandon the edit", Some(("Esc", "cancel"))),
+    b(Ctx::Edit, &[K::Code(KC::Backspace)], "Bksp", A::EditBackspace, "delete the last character", Some(("Bksp", "delete"))),
+    b(Ctx::Edit, &[K::Ctrl('u')], "^U", A::EditClear, "clear the value", Some(("^U", "clear"))),
     // questions
-    b(Ctx::Confirm, &[K::Ch('y')], "y", A::Yes, "yes", Some("yes")),
-    b(Ctx::Confirm, &[K::Ch('n'), K::Code(KC::Esc)], "n/Esc", A::No, "no", Some("no")),
+    b(Ctx::Confirm, &[K::Ch('y')], "y", A::Yes, "yes", Some(("y", "yes"))),
+    b(Ctx::Confirm, &[K::Ch('n'), K::Code(KC::Esc)], "n/Esc", A::No, "no", Some(("n/Esc", "no"))),
     // help
-    b(Ctx::Help, &[K::Ch('?'), K::Code(KC::Esc), K::Ch('q')], "?/Esc/q", A::CloseHelp, "close the help", Some("close")),
+    b(Ctx::Help, &[K::Ch('?'), K::Code(KC::Esc), K::Ch('q')], "?/Esc/q", A::CloseHelp, "close the help", Some(("?/Esc/q", "close"))),
     // charts view
-    b(Ctx::Charts, &[K::Code(KC::Left), K::Ch('h')], "←/h", A::CursorLeft, "move the time cursor left", Some("cursor")),
+    b(Ctx::Charts, &[K::Code(KC::Left), K::Ch('h')], "←/h", A::CursorLeft, "move the time cursor left", Some(("←→", "cursor"))),
     b(Ctx::Charts, &[K::Code(KC::Right), K::Ch('l')], "→/l", A::CursorRight, "move the time cursor right", None),
     b(Ctx::Charts, &[K::Shift(KC::Left), K::Ch('H')], "S-←/H", A::CursorLeftFast, "move the cursor left by 10 %", None),
     b(Ctx::Charts, &[K::Shift(KC::Right), K::Ch('L')], "S-→/L", A::CursorRightFast, "move the cursor right by 10 %", None),
     b(Ctx::Charts, &[K::Code(KC::Home)], "Home", A::CursorHome, "cursor to the start", None),
     b(Ctx::Charts, &[K::Code(KC::End)], "End", A::CursorEnd, "cursor to the end (follows a running simulation)", None),
-    b(Ctx::Charts, &[K::Ch('+'), K::Ch('=')], "+", A::ZoomIn, "zoom in on time around the cursor", Some("zoom")),
+    b(Ctx::Charts, &[K::Ch('+'), K::Ch('=')], "+", A::ZoomIn, "zoom in on time around the cursor", Some(("+-", "zoom"))),
     b(Ctx::Charts, &[K::Ch('-')], "-", A::ZoomOut, "zoom out on time", None),
     b(Ctx::Charts, &[K::Ch('0')], "0", A::ZoomReset, "show the whole run", None),
-    b(Ctx::Charts, &[K::Ch('n')], "n", A::NextElement, "next column element in the force–deformation chart", Some("column")),
+    b(Ctx::Charts, &[K::Ch('n')], "n", A::NextElement, "next column element in the force–deformation chart", Some(("n", "column"))),
     b(Ctx::Charts, &[K::Ch('N')], "N", A::PrevElement, "previous column element", None),
     // form view
     b(Ctx::Form, &[K::Code(KC::Up), K::Ch('k')], "↑/k", A::FieldUp, "previous field", None),
-    b(Ctx::Form, &[K::Code(KC::Down), K::Ch('j')], "↓/j", A::FieldDown, "next field", Some("field")),
+    b(Ctx::Form, &[K::Code(KC::Down), K::Ch('j')], "↓/j", A::FieldDown, "next field", Some(("↑↓", "field"))),
     b(Ctx::Form, &[K::Code(KC::PageUp)], "PgUp", A::FieldPageUp, "page up", None),
     b(Ctx::Form, &[K::Code(KC::PageDown)], "PgDn", A::FieldPageDown, "page down", None),
-    b(Ctx::Form, &[K::Code(KC::Enter)], "Enter", A::FieldEdit, "edit the selected value", Some("edit")),
-    b(Ctx::Form, &[K::Ch('u')], "u", A::FieldRevert, "revert the field to its saved value", Some("revert")),
+    b(Ctx::Form, &[K::Code(KC::Enter)], "Enter", A::FieldEdit, "edit the selected value", Some(("Enter", "edit"))),
+    b(Ctx::Form, &[K::Ch('u')], "u", A::FieldRevert, "revert the field to its saved value", Some(("u", "revert"))),
     // everywhere
-    b(Ctx::Global, &[K::Ch('q'), K::Ctrl('c')], "q", A::Quit, "quit (asks first if there are unsaved edits)", Some("quit")),
-    b(Ctx::Global, &[K::Ch('?')], "?", A::Help, "help: every key", Some("help")),
-    b(Ctx::Global, &[K::Code(KC::Tab), K::Code(KC::BackTab)], "Tab", A::SwitchView, "switch between the charts and the form", Some("view")),
-    b(Ctx::Global, &[K::Ch('s')], "s", A::Save, "save the model file (comments kept; atomic) and rerun", Some("save")),
-    b(Ctx::Global, &[K::Ch('r')], "r", A::Rerun, "run again (with the unsaved edits, if any)", Some("rerun")),
-    b(Ctx::Global, &[K::Code(KC::Esc), K::Ch('c')], "Esc/c", A::Cancel, "cancel the running simulation", Some("cancel")),
-    b(Ctx::Global, &[K::Ch('e')], "e", A::Export, "export the charted data and the event log (CSV)", Some("export")),
-    b(Ctx::Global, &[K::Ch('o')], "o", A::ToggleOverlay, "show or hide the previous run", Some("overlay")),
-    b(Ctx::Global, &[K::Ch('m')], "m", A::ToggleMarker, "chart markers: Braille ⇄ ASCII", Some("markers")),
+    b(Ctx::Global, &[K::Ch('q'), K::Ctrl('c')], "q", A::Quit, "quit (asks first if there are unsaved edits)", Some(("q", "quit"))),
+    b(Ctx::Global, &[K::Ch('?')], "?", A::Help, "help: every key", Some(("?", "help"))),
+    b(Ctx::Global, &[K::Code(KC::Tab), K::Code(KC::BackTab)], "Tab", A::SwitchView, "switch between the charts and the form", Some(("Tab", "view"))),
+    b(Ctx::Global, &[K::Ch('s')], "s", A::Save, "save the model file (comments kept; atomic) and rerun", Some(("s", "save"))),
+    b(Ctx::Global, &[K::Ch('r')], "r", A::Rerun, "run again (with the unsaved edits, if any)", Some(("r", "rerun"))),
+    b(Ctx::Global, &[K::Code(KC::Esc), K::Ch('c')], "Esc/c", A::Cancel, "cancel the running simulation", Some(("Esc", "cancel"))),
+    b(Ctx::Global, &[K::Ch('e')], "e", A::Export, "export the charted data and the event log (CSV)", Some(("e", "export"))),
+    b(Ctx::Global, &[K::Ch('o')], "o", A::ToggleOverlay, "show or hide the previous run", Some(("o", "overlay"))),
+    b(Ctx::Global, &[K::Ch('m')], "m", A::ToggleMarker, "chart markers: Braille ⇄ ASCII", Some(("m", "markers"))),
 ];
 
 /// The contexts that are active, most specific first.
@@ -184,12 +184,19 @@ pub fn lookup(ctxs: &[Ctx], ev: &KeyEvent) -> Option<Action> {
     })
 }
 
-/// (key label, hint) pairs for the key-hint bar, in table order.
+/// (keys, hint) pairs for the key-hint bar: help and quit first, then the contexts' keys in
+/// table order.
 pub fn hints(ctxs: &[Ctx]) -> Vec<(&'static str, &'static str)> {
-    ctxs.iter()
+    let all: Vec<&Binding> = ctxs
+        .iter()
         .flat_map(|c| KEYMAP.iter().filter(move |bd| bd.ctx == *c))
-        .filter_map(|bd| bd.hint.map(|h| (bd.label, h)))
-        .collect()
+        .filter(|bd| bd.hint.is_some())
+        .collect();
+    let pinned = |bd: &&Binding| matches!(bd.action, Action::Help | Action::Quit);
+    let mut out: Vec<&Binding> = all.iter().copied().filter(pinned).collect();
+    out.sort_by_key(|bd| bd.action != Action::Help);
+    out.extend(all.iter().copied().filter(|bd| !pinned(bd)));
+    out.into_iter().filter_map(|bd| bd.hint).collect()
 }
 
 /// Help screen lines: (context title, [(key label, description)]).

@@ -1,0 +1,130 @@
+//! Simulation runs off the UI thread: the engine's observer forwards each batch of new samples
+//! and events as a [`Msg::Batch`]; the end of the run is a [`Msg::RunDone`]. A run is cancelled
+//! through a flag the observer checks at every batch.
+
+use super::app::{Msg, RunOutcome};
+use crate::event_driven::{Observer, SolverError};
+use crate::output::{EventRecord, Sample};
+use crate::scene::Scene;
+use std::cell::RefCell;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc::Sender;
+
+/// Prefix of worker thread names (the panic hook leaves the terminal alone for these).
+pub const THREAD_PREFIX: &str = "deckspin-worker";
+
+thread_local! {
+    /// Message of a panic on this worker thread (set by the panic hook).
+    pub static LAST_PANIC: RefCell<Option<String>> = const { RefCell::new(None) };
+}
+
+/// A running simulation.
+pub struct RunHandle {
+    pub id: u64,
+    cancel: Arc<AtomicBool>,
+}
+
+impl RunHandle {
+    pub fn cancel(&self) {
+        self.cancel.store(true, Ordering::Relaxed);
+    }
+}
+
+/// Forwards batches to a sink; stops the run when cancelled or when the sink is gone.
+struct Stream<F: FnMut(Msg) -> bool> {
+    id: u64,
+    cancel: Option<Arc<AtomicBool>>,
+    sink: F,
+}
+
+impl<F: FnMut(Msg) -> bool> Stream<F> {
+    fn cancelled(&self) -> bool {
+        self.cancel.as_ref().is_some_and(|c| c.load(Ordering::Relaxed))
+    }
+}
+
+impl<F: FnMut(Msg) -> bool> Observer for Stream<F> {
+    fn batch(&mut self, samples: &[Sample], events: &[EventRecord], t: f64) -> bool {
+        if self.cancelled() {
+            return false;
+        }
+        let alive = (self.sink)(Msg::Batch {
+            run: self.id,
+            samples: samples.to_vec(),
+            events: events.to_vec(),
+            t,
+        });
+        alive && !self.cancelled()
+    }
+}
+
+fn outcome(r: Result<crate::RunOutput, SolverError>) -> RunOutcome {
+    match r {
+        Ok(out) => RunOutcome::Finished(Box::new(out)),
+        Err(SolverError::Cancelled { t }) => RunOutcome::Cancelled { t },
+        Err(e) => RunOutcome::Failed(e.to_string()),
+    }
+}
+
+fn panic_text(p: &(dyn std::any::Any + Send)) -> String {
+    LAST_PANIC
+        .with(|l| l.borrow_mut().take())
+        .or_else(|| p.downcast_ref::<&str>().map(|s| s.to_string()))
+        .or_else(|| p.downcast_ref::<String>().cloned())
+        .unwrap_or_else(|| "unknown panic".into())
+}
+
+/// Starts run `id` of `scene` in a worker thread sending to `tx`.
+pub fn spawn(id: u64, scene: Scene, tx: Sender<Msg>) -> RunHandle {
+    let cancel = Arc::new(AtomicBool::new(false));
+    let flag = cancel.clone();
+    let tx2 = tx.clone();
+    let spawned = std::thread::Builder::new()
+        .name(format!("{THREAD_PREFIX}-{id}"))
+        .spawn(move || {
+            let sink_tx = tx.clone();
+            let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                let mut obs = Stream {
+                    id,
+                    cancel: Some(flag),
+                    sink: |m| sink_tx.send(m).is_ok(),
+                };
+                crate::run(&scene, &mut obs)
+            }));
+            let outcome = match result {
+                Ok(r) => outcome(r),
+                Err(p) => RunOutcome::Failed(format!("the engine panicked: {}", panic_text(p.as_ref()))),
+            };
+            let _ = tx.send(Msg::RunDone { run: id, outcome });
+        });
+    if let Err(e) = spawned {
+        let _ = tx2.send(Msg::RunDone {
+            run: id,
+            outcome: RunOutcome::Failed(format!("cannot start a worker thread: {e}")),
+        });
+    }
+    RunHandle { id, cancel }
+}
+
+/// Runs `scene` to completion in this thread and returns the messages a worker would have sent
+/// (for tests and headless use).
+pub fn run_blocking(id: u64, scene: &Scene) -> Vec<Msg> {
+    let mut msgs = Vec::new();
+    let r = {
+        let mut obs = Stream {
+            id,
+            cancel: None,
+            sink: |m| {
+                msgs.push(m);
+                true
+            },
+        };
+        crate::run(scene, &mut obs)
+    };
+    msgs.push(Msg::RunDone {
+        run: id,
+        outcome: outcome(r),
+    });
+    msgs
+}
