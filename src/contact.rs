@@ -38,49 +38,22 @@ pub fn solve_impact(
     minv: &DVector<f64>,
     opts: &LemkeOptions,
 ) -> Result<ImpactOutcome, LcpError> {
+    let w_n: Vec<&DVector<f64>> = kin.iter().map(|k| &k.w_n).collect();
+    let w_t: Vec<&DVector<f64>> = kin.iter().map(|k| &k.w_t).collect();
+    let q_n: Vec<f64> = (0..kin.len())
+        .map(|i| (1.0 + eps[i]) * kin[i].gap_rate)
+        .collect();
+    let q_t: Vec<f64> = kin.iter().map(|k| k.slip_rate).collect();
+    let (lam_n, lam_t, pivots) = frictional_velocity_lcp(
+        &w_n,
+        &w_t,
+        &|a, b| delassus(a, minv, b),
+        &q_n,
+        &q_t,
+        mu,
+        opts,
+    )?;
     let nc = kin.len();
-    let fr: Vec<usize> = (0..nc).filter(|&i| mu[i] > 0.0).collect();
-    let nf = fr.len();
-    let n = nc + 2 * nf;
-    let mut m = DMatrix::zeros(n, n);
-    let mut q = DVector::zeros(n);
-    for i in 0..nc {
-        for j in 0..nc {
-            m[(i, j)] = delassus(&kin[i].w_n, minv, &kin[j].w_n);
-        }
-        q[i] = (1.0 + eps[i]) * kin[i].gap_rate;
-    }
-    for (a, &j) in fr.iter().enumerate() {
-        // column of Λ_N(j) gets −G_NT μ_j; column Λ_TR(a) gets G_NT
-        for i in 0..nc {
-            let g_nt = delassus(&kin[i].w_n, minv, &kin[j].w_t);
-            m[(i, j)] -= g_nt * mu[j];
-            m[(i, nc + a)] = g_nt;
-        }
-    }
-    for (a, &i) in fr.iter().enumerate() {
-        let r = nc + a;
-        for j in 0..nc {
-            m[(r, j)] = delassus(&kin[i].w_t, minv, &kin[j].w_n);
-        }
-        for (b, &j) in fr.iter().enumerate() {
-            let g_tt = delassus(&kin[i].w_t, minv, &kin[j].w_t);
-            m[(r, j)] -= g_tt * mu[j];
-            m[(r, nc + b)] = g_tt;
-        }
-        m[(r, nc + nf + a)] = 1.0;
-        q[r] = kin[i].slip_rate;
-        let s = nc + nf + a;
-        m[(s, i)] = 2.0 * mu[i];
-        m[(s, nc + a)] = -1.0;
-    }
-    let LcpSolution { z, pivots, .. } = lemke(&m, &q, opts)?;
-    let mut lam_n = vec![0.0; nc];
-    let mut lam_t = vec![0.0; nc];
-    lam_n.copy_from_slice(&z.as_slice()[..nc]);
-    for (a, &i) in fr.iter().enumerate() {
-        lam_t[i] = z[nc + a] - mu[i] * lam_n[i];
-    }
     let mut dv = DVector::zeros(minv.len());
     for i in 0..nc {
         dv.axpy(lam_n[i], &kin[i].w_n, 1.0);
@@ -97,6 +70,65 @@ pub fn solve_impact(
         slip_rate_after,
         pivots,
     })
+}
+
+/// The velocity-level frictional LCP shared by impacts (eq. 5) and Moreau–Jean steps:
+/// v_N = G_NN Λ_N + G_NT Λ_T + q_N ≥ 0 ⊥ Λ_N ≥ 0, Coulomb on Λ_T with the split of eq. 5,
+/// ġ_T⁺ = G_TN Λ_N + G_TT Λ_T + q_T. `g(a, b)` is the Delassus product aᵀ Ŵ⁻¹ b.
+/// Returns (Λ_N, Λ_T, pivots).
+pub fn frictional_velocity_lcp(
+    w_n: &[&DVector<f64>],
+    w_t: &[&DVector<f64>],
+    g: &dyn Fn(&DVector<f64>, &DVector<f64>) -> f64,
+    q_n: &[f64],
+    q_t: &[f64],
+    mu: &[f64],
+    opts: &LemkeOptions,
+) -> Result<(Vec<f64>, Vec<f64>, usize), LcpError> {
+    let nc = w_n.len();
+    let fr: Vec<usize> = (0..nc).filter(|&i| mu[i] > 0.0).collect();
+    let nf = fr.len();
+    let n = nc + 2 * nf;
+    let mut m = DMatrix::zeros(n, n);
+    let mut q = DVector::zeros(n);
+    for i in 0..nc {
+        for j in 0..nc {
+            m[(i, j)] = g(w_n[i], w_n[j]);
+        }
+        q[i] = q_n[i];
+    }
+    for (a, &j) in fr.iter().enumerate() {
+        // column of Λ_N(j) gets −G_NT μ_j; column Λ_TR(a) gets G_NT
+        for i in 0..nc {
+            let g_nt = g(w_n[i], w_t[j]);
+            m[(i, j)] -= g_nt * mu[j];
+            m[(i, nc + a)] = g_nt;
+        }
+    }
+    for (a, &i) in fr.iter().enumerate() {
+        let r = nc + a;
+        for j in 0..nc {
+            m[(r, j)] = g(w_t[i], w_n[j]);
+        }
+        for (b, &j) in fr.iter().enumerate() {
+            let g_tt = g(w_t[i], w_t[j]);
+            m[(r, j)] -= g_tt * mu[j];
+            m[(r, nc + b)] = g_tt;
+        }
+        m[(r, nc + nf + a)] = 1.0;
+        q[r] = q_t[i];
+        let s = nc + nf + a;
+        m[(s, i)] = 2.0 * mu[i];
+        m[(s, nc + a)] = -1.0;
+    }
+    let LcpSolution { z, pivots, .. } = lemke(&m, &q, opts)?;
+    let mut lam_n = vec![0.0; nc];
+    let mut lam_t = vec![0.0; nc];
+    lam_n.copy_from_slice(&z.as_slice()[..nc]);
+    for (a, &i) in fr.iter().enumerate() {
+        lam_t[i] = z[nc + a] - mu[i] * lam_n[i];
+    }
+    Ok((lam_n, lam_t, pivots))
 }
 
 /// What the acceleration LCP decides for a closed contact.

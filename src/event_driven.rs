@@ -53,6 +53,13 @@ pub enum SolverError {
     InitialPenetration { contact: String, gap: f64 },
     #[error("t = {t:.9} s: state became non-finite")]
     NonFinite { t: f64 },
+    #[error("t = {t:.9} s: {method} with step {step:.3e} s is unstable: {detail}")]
+    Unstable {
+        t: f64,
+        method: &'static str,
+        step: f64,
+        detail: String,
+    },
     #[error("t = {t:.9} s: cancelled")]
     Cancelled { t: f64 },
 }

@@ -20,10 +20,13 @@ pub mod hysteresis;
 pub mod lemke;
 pub mod model;
 pub mod output;
+pub mod precision;
 pub mod scene;
 pub mod studies;
+pub mod timestepping;
 pub mod tui;
 
 pub use event_driven::{Observer, Silent, SolverError, run};
+pub use timestepping::simulate;
 pub use model::{ModelError, load};
 pub use output::RunOutput;

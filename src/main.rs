@@ -32,6 +32,9 @@ enum Command {
         /// Also print the state at this instant (velocities, contact states and forces).
         #[arg(long)]
         at: Option<f64>,
+        /// Integration method: event, moreau, penalty, penalty-explicit (default: the model's).
+        #[arg(long)]
+        method: Option<String>,
     },
     /// Eigen-analysis of the initial system: periods and mode shapes.
     Modes {
@@ -82,6 +85,31 @@ enum Command {
         #[arg(long, default_value = "out")]
         out: PathBuf,
     },
+    /// Work–precision: CPU time against error for each method and knob.
+    Precision {
+        model: PathBuf,
+        /// Comma-separated: event,moreau,penalty,penalty-explicit.
+        #[arg(long, default_value = "event,moreau,penalty,penalty-explicit")]
+        methods: String,
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        set: Vec<String>,
+        /// Fewer knob values.
+        #[arg(long)]
+        quick: bool,
+        #[arg(long, default_value = "out")]
+        out: PathBuf,
+    },
+    /// Where each method fails: method × knob → ok / unstable / inaccurate.
+    Stability {
+        model: PathBuf,
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        set: Vec<String>,
+        /// Peak error above this counts as inaccurate.
+        #[arg(long, default_value_t = 0.05)]
+        tolerance: f64,
+        #[arg(long)]
+        quick: bool,
+    },
     /// Benchmark: one run of the model and the μ × runs sweep (medians).
     Bench {
         #[arg(default_value = "models/four-span.toml")]
@@ -101,9 +129,15 @@ fn main() -> ExitCode {
         Some(Command::Run {
             model,
             out,
-            set,
+            mut set,
             at,
-        }) => cmd_run(&model, &out, &set, at),
+            method,
+        }) => {
+            if let Some(m) = method {
+                set.push(format!("solver.method=\"{m}\""));
+            }
+            cmd_run(&model, &out, &set, at)
+        }
         Some(Command::Modes { model, set }) => cmd_modes(&model, &set),
         Some(Command::Excitation {
             file,
@@ -125,6 +159,19 @@ fn main() -> ExitCode {
             set,
             out,
         }) => cmd_study(&kind, &model, &set, &out),
+        Some(Command::Precision {
+            model,
+            methods,
+            set,
+            quick,
+            out,
+        }) => cmd_precision(&model, &methods, &set, quick, &out),
+        Some(Command::Stability {
+            model,
+            set,
+            tolerance,
+            quick,
+        }) => cmd_stability(&model, &set, tolerance, quick),
         Some(Command::Bench {
             model,
             repeat,
@@ -148,11 +195,11 @@ type CliResult = Result<(), Box<dyn std::error::Error>>;
 
 fn cmd_run(model: &std::path::Path, out: &std::path::Path, set: &[String], at: Option<f64>) -> CliResult {
     let scene = deckspin::load(model, set)?;
-    let run = deckspin::run(&scene, &mut deckspin::Silent)?;
+    let run = deckspin::simulate(&scene, &mut deckspin::Silent)?;
     run.write_all(out)
         .map_err(|e| format!("{}: cannot write results: {e}", out.display()))?;
     let s = &run.summary;
-    println!("{} — t = {:.3} s", s.title, s.t_end);
+    println!("{} — t = {:.3} s ({})", s.title, s.t_end, scene.settings.method.name());
     println!(
         "  wall {:.1} ms, {} steps ({} rejected), {} RHS, {} LCPs",
         s.stats.wall_time * 1e3,
@@ -423,6 +470,82 @@ fn cmd_bench(model: &std::path::Path, repeat: usize, sweeps: usize) -> CliResult
             median(st.clone()),
             st.len()
         );
+    }
+    Ok(())
+}
+
+fn precision_points(
+    model: &std::path::Path,
+    methods: &[&str],
+    set: &[String],
+    quick: bool,
+) -> Result<(deckspin::precision::Reference, Vec<deckspin::precision::Point>), Box<dyn std::error::Error>> {
+    use deckspin::precision::{Bench, knobs};
+    let bench = Bench::open(model, set)?;
+    let scene = deckspin::model::load_str(&bench.text, model, set)?;
+    let reference = bench.reference(1e-10)?;
+    eprintln!(
+        "reference: event-driven, rtol 1e-10: peak |{}| = {:.9e}",
+        reference.run.dof_names[reference.dof], reference.peak
+    );
+    let mut points = Vec::new();
+    for m in methods {
+        for (label, ov) in knobs(m, scene.settings.t_end, scene.settings.contact_stiffness, quick) {
+            let p = bench.measure(&reference, m, &label, &ov);
+            eprintln!("  {m:<17} {label:<22} {:>10.4} s  peak err {:.3e}  {}", p.cpu_s, p.peak_error, p.status);
+            points.push(p);
+        }
+    }
+    Ok((reference, points))
+}
+
+fn cmd_precision(model: &std::path::Path, methods: &str, set: &[String], quick: bool, out: &std::path::Path) -> CliResult {
+    use deckspin::precision::{chart, cheapest_within, write_csv};
+    let methods: Vec<&str> = methods.split(',').map(|s| s.trim()).collect();
+    for m in &methods {
+        if deckspin::scene::Method::parse(m).is_none() {
+            return Err(format!("unknown method '{m}'").into());
+        }
+    }
+    let (_, points) = precision_points(model, &methods, set, quick)?;
+    std::fs::create_dir_all(out)?;
+    let stem = model.file_stem().map_or("model".into(), |s| s.to_string_lossy().into_owned());
+    let csv = out.join(format!("precision-{stem}.csv"));
+    write_csv(&points, &csv)?;
+    let mut text = String::new();
+    text += &format!("{:<17} {:<22} {:>10} {:>11} {:>11} {:>11} {:>8}  status\n", "method", "knob", "cpu s", "peak err", "rms err", "t1 err s", "steps");
+    for p in &points {
+        text += &format!(
+            "{:<17} {:<22} {:>10.4} {:>11.3e} {:>11.3e} {:>11.3e} {:>8}  {}\n",
+            p.method, p.knob, p.cpu_s, p.peak_error, p.rms_error, p.impact_time_error, p.steps, p.status
+        );
+    }
+    text += "\n";
+    text += &chart(&points, 64, 18);
+    text += "\ncheapest run within 1 % peak error:\n";
+    let event = cheapest_within(&points, "event", 0.01).map(|p| p.cpu_s);
+    for m in &methods {
+        match cheapest_within(&points, m, 0.01) {
+            Some(p) => {
+                let ratio = event.map_or(String::new(), |e| format!(" ({:.1} × event)", p.cpu_s / e));
+                text += &format!("  {m:<17} {:<22} {:.4} s{ratio}\n", p.knob, p.cpu_s)
+            }
+            None => text += &format!("  {m:<17} none of the tried knobs reaches 1 %\n"),
+        }
+    }
+    print!("{text}");
+    std::fs::write(out.join(format!("precision-{stem}.txt")), &text)?;
+    println!("wrote {} and .txt", csv.display());
+    Ok(())
+}
+
+fn cmd_stability(model: &std::path::Path, set: &[String], tolerance: f64, quick: bool) -> CliResult {
+    use deckspin::precision::verdict;
+    let methods = ["event", "moreau", "penalty", "penalty-explicit"];
+    let (_, points) = precision_points(model, &methods, set, quick)?;
+    println!("{:<17} {:<22} verdict (peak error limit {:.0} %)", "method", "knob", tolerance * 100.0);
+    for p in &points {
+        println!("{:<17} {:<22} {}", p.method, p.knob, verdict(p, tolerance));
     }
     Ok(())
 }

@@ -83,6 +83,8 @@ pub struct SolverSpec {
     pub step: Option<f64>,
     /// Contact stiffness of the penalty method, N/m.
     pub contact_stiffness: Option<f64>,
+    /// θ of the Moreau–Jean scheme (0.5–1).
+    pub theta: Option<f64>,
 }
 
 #[derive(Clone, Debug, Deserialize)]
@@ -523,18 +525,25 @@ pub fn settings(s: &SolverSpec, ck: &Check) -> Result<Settings, ModelError> {
         out.lemke.max_pivots = n;
     }
     if let Some(x) = s.step {
-        ck.positive("solver.step", x)?;
+        out.step = ck.positive("solver.step", x)?;
     }
     if let Some(x) = s.contact_stiffness {
-        ck.positive("solver.contact_stiffness", x)?;
+        out.contact_stiffness = ck.positive("solver.contact_stiffness", x)?;
+    }
+    if let Some(x) = s.theta {
+        ck.finite("solver.theta", x)?;
+        if !(0.5..=1.0).contains(&x) {
+            return Err(ck.err("solver.theta", format!("must be in [0.5, 1], got {x}")));
+        }
+        out.theta = x;
     }
     if let Some(m) = &s.method {
-        if !["event", "moreau", "penalty", "penalty-explicit"].contains(&m.as_str()) {
-            return Err(ck.err(
+        out.method = crate::scene::Method::parse(m).ok_or_else(|| {
+            ck.err(
                 "solver.method",
                 format!("unknown method '{m}' (event, moreau, penalty, penalty-explicit)"),
-            ));
-        }
+            )
+        })?;
     }
     Ok(out)
 }

@@ -140,9 +140,49 @@ pub struct MassDamping {
     pub reference: Vec<(usize, usize, f64)>,
 }
 
+/// How a scene is integrated.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Method {
+    /// The paper's event-driven scheme (DP5 between events, LCPs at events).
+    Event,
+    /// Moreau–Jean time-stepping: one velocity LCP per step, θ-method for smooth forces.
+    Moreau,
+    /// Penalty (gap elements) with Newmark average acceleration.
+    Penalty,
+    /// Penalty with the explicit central-difference scheme.
+    PenaltyExplicit,
+}
+
+impl Method {
+    pub fn parse(s: &str) -> Option<Self> {
+        match s {
+            "event" => Some(Method::Event),
+            "moreau" => Some(Method::Moreau),
+            "penalty" => Some(Method::Penalty),
+            "penalty-explicit" => Some(Method::PenaltyExplicit),
+            _ => None,
+        }
+    }
+    pub fn name(&self) -> &'static str {
+        match self {
+            Method::Event => "event",
+            Method::Moreau => "moreau",
+            Method::Penalty => "penalty",
+            Method::PenaltyExplicit => "penalty-explicit",
+        }
+    }
+}
+
 /// Solver settings of one run (one documented struct, rapier style).
 #[derive(Clone, Debug)]
 pub struct Settings {
+    pub method: Method,
+    /// Fixed step of the time-stepping and penalty methods, s.
+    pub step: f64,
+    /// θ of the Moreau–Jean θ-method for smooth forces.
+    pub theta: f64,
+    /// Penalty contact stiffness (normal and tangential stick spring), force/length.
+    pub contact_stiffness: f64,
     pub t_end: f64,
     /// Output step of the time history (event instants are always added).
     pub output_dt: f64,
@@ -173,6 +213,10 @@ pub struct Settings {
 impl Default for Settings {
     fn default() -> Self {
         Self {
+            method: Method::Event,
+            step: 1e-3,
+            theta: 0.5,
+            contact_stiffness: 1e6,
             t_end: 1.0,
             output_dt: 0.01,
             rtol: 1e-8,

@@ -124,7 +124,7 @@ impl Study {
         ov.extend(set.iter().map(|(k, v)| format!("{k}={v}")));
         let res = model::load_str(&self.text, &self.path, &ov)
             .map_err(|e| e.to_string())
-            .and_then(|scene| crate::run(&scene, &mut crate::Silent).map_err(|e| e.to_string()));
+            .and_then(|scene| crate::simulate(&scene, &mut crate::Silent).map_err(|e| e.to_string()));
         match res {
             Ok(r) => row_of(set.to_vec(), &r),
             Err(e) => Row {

@@ -120,14 +120,28 @@ pub enum Msg {
 /// Output of [`update`], executed by the runtime.
 #[derive(Debug)]
 pub enum Effect {
-    StartRun { id: u64, scene: Box<Scene> },
-    CancelRun { id: u64 },
+    StartRun {
+        id: u64,
+        scene: Box<Scene>,
+    },
+    CancelRun {
+        id: u64,
+    },
     /// Write `text` to `path` atomically (temporary file in the same directory, then rename).
-    Save { path: PathBuf, text: String },
+    Save {
+        path: PathBuf,
+        text: String,
+    },
     /// Write the files into the first directory of `dirs` that accepts them.
+    /// Format the charted columns of `run` in `window` and its event log as CSV (off the UI
+    /// thread) and write `<stem>-chart.csv`, `<stem>-events.csv` into the first directory of
+    /// `dirs` that accepts them.
     Export {
         dirs: Vec<PathBuf>,
-        files: Vec<(String, String)>,
+        stem: String,
+        run: Box<RunData>,
+        window: (f64, f64),
+        element: usize,
     },
     Quit,
 }
@@ -189,6 +203,9 @@ pub struct RunData {
     pub summary: Option<Summary>,
     pub steps: Option<usize>,
     pub digest: Digest,
+    /// Peak |q| per DOF and (min, max) of deformation and force per element, so far.
+    pub q_peak: Vec<f64>,
+    pub el_range: Vec<[f64; 4]>,
     /// Index of the charted rotation DOF and of the x/y DOFs.
     pub rot: Option<usize>,
     pub xy: Vec<usize>,
@@ -216,7 +233,10 @@ pub fn xy_dofs(names: &[String], rot: Option<usize>) -> Vec<usize> {
     if !found.is_empty() {
         return found;
     }
-    (0..names.len()).filter(|&i| Some(i) != rot).take(2).collect()
+    (0..names.len())
+        .filter(|&i| Some(i) != rot)
+        .take(2)
+        .collect()
 }
 
 impl RunData {
@@ -238,6 +258,16 @@ impl RunData {
             gap: vec![Vec::new(); nc],
             state: vec![Vec::new(); nc],
             el: vec![(Vec::new(), Vec::new()); element_names.len()],
+            q_peak: vec![0.0; dof_names.len()],
+            el_range: vec![
+                [
+                    f64::INFINITY,
+                    f64::NEG_INFINITY,
+                    f64::INFINITY,
+                    f64::NEG_INFINITY
+                ];
+                element_names.len()
+            ],
             digest: Digest {
                 rot_name: rot.map(|r| dof_names[r].clone()).unwrap_or_default(),
                 impacts: vec![0; nc],
@@ -284,16 +314,24 @@ impl RunData {
             }
             self.t.push(s.t);
             for (k, col) in self.q.iter_mut().enumerate() {
-                col.push(s.q.get(k).copied().unwrap_or(f64::NAN));
+                let v = s.q.get(k).copied().unwrap_or(f64::NAN);
+                col.push(v);
+                if v.abs() > self.q_peak[k] {
+                    self.q_peak[k] = v.abs();
+                }
             }
             for (i, c) in s.contacts.iter().enumerate().take(self.gap.len()) {
                 self.gap[i].push(c.gap);
                 self.state[i].push(c.state);
                 self.digest.min_gap[i] = self.digest.min_gap[i].min(c.gap);
             }
-            for (j, (d, f)) in s.elements.iter().enumerate().take(self.el.len()) {
-                self.el[j].0.push(*d);
-                self.el[j].1.push(*f);
+            for (j, &(d, f)) in s.elements.iter().enumerate().take(self.el.len()) {
+                self.el[j].0.push(d);
+                self.el[j].1.push(f);
+                let r = &mut self.el_range[j];
+                if d.is_finite() && f.is_finite() {
+                    *r = [r[0].min(d), r[1].max(d), r[2].min(f), r[3].max(f)];
+                }
             }
             if let Some(r) = self.rot {
                 let v = s.q.get(r).copied().unwrap_or(0.0);
@@ -356,7 +394,10 @@ impl RunData {
 /// A model error shown on screen: message, line and column, the offending source line.
 #[derive(Clone, Debug, PartialEq)]
 pub struct LoadError {
+    /// `file:line:col: message`.
     pub message: String,
+    /// The message without its location.
+    pub detail: String,
     pub line: Option<usize>,
     pub column: Option<usize>,
     pub source_line: Option<String>,
@@ -364,10 +405,12 @@ pub struct LoadError {
 
 impl LoadError {
     pub fn new(e: &crate::ModelError, text: &str) -> Self {
-        let (message, at) = form::error_with_column(e, text);
-        let source_line = at.and_then(|(l, _)| text.lines().nth(l.saturating_sub(1)).map(str::to_string));
+        let (message, detail, at) = form::describe_error(e, text);
+        let source_line =
+            at.and_then(|(l, _)| text.lines().nth(l.saturating_sub(1)).map(str::to_string));
         Self {
             message,
+            detail,
             line: at.map(|a| a.0),
             column: at.map(|a| a.1),
             source_line,
@@ -465,7 +508,10 @@ impl App {
             }
             Err(e) => {
                 let le = LoadError::new(&e, text);
-                app.set_status(StatusKind::Error, format!("the model does not load: {}", le.message));
+                app.set_status(
+                    StatusKind::Error,
+                    format!("the model does not load: {}", le.message),
+                );
                 app.load_error = Some(le);
             }
         }
@@ -475,7 +521,8 @@ impl App {
     /// Reads the model file (an unreadable file is an error; one that does not parse opens
     /// with the error on screen and loads once fixed).
     pub fn new_from_path(path: &Path, opts: Options) -> Result<App, String> {
-        let text = std::fs::read_to_string(path).map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
         Ok(Self::with_options(&text, path, opts))
     }
 
@@ -493,9 +540,10 @@ impl App {
     }
 
     pub fn file_name(&self) -> String {
-        self.path
-            .file_name()
-            .map_or_else(|| self.path.display().to_string(), |n| n.to_string_lossy().into_owned())
+        self.path.file_name().map_or_else(
+            || self.path.display().to_string(),
+            |n| n.to_string_lossy().into_owned(),
+        )
     }
 
     pub fn title(&self) -> String {
@@ -615,7 +663,10 @@ pub fn update(app: &mut App, msg: Msg) -> Vec<Effect> {
         Msg::FileUnreadable(e) => {
             app.set_status(
                 StatusKind::Warn,
-                format!("cannot read {}: {e} (keeping the last good model)", app.file_name()),
+                format!(
+                    "cannot read {}: {e} (keeping the last good model)",
+                    app.file_name()
+                ),
             );
             Vec::new()
         }
@@ -669,7 +720,10 @@ fn on_action(app: &mut App, a: Action) -> Vec<Effect> {
         A::Quit => {
             if app.dirty() {
                 app.mode = Mode::Confirm(Confirm::Quit);
-                app.set_status(StatusKind::Warn, "unsaved edits: quit anyway and lose them? (y/n)");
+                app.set_status(
+                    StatusKind::Warn,
+                    "unsaved edits: quit anyway and lose them? (y/n)",
+                );
                 Vec::new()
             } else {
                 quit(app)
@@ -765,8 +819,14 @@ fn on_action(app: &mut App, a: Action) -> Vec<Effect> {
                 } else {
                     (app.element + n - 1) % n
                 };
-                let name = app.current.as_ref().map(|r| r.element_names[app.element].clone());
-                app.set_status(StatusKind::Info, format!("column element: {}", name.unwrap_or_default()));
+                let name = app
+                    .current
+                    .as_ref()
+                    .map(|r| r.element_names[app.element].clone());
+                app.set_status(
+                    StatusKind::Info,
+                    format!("column element: {}", name.unwrap_or_default()),
+                );
             }
             Vec::new()
         }
@@ -830,7 +890,10 @@ fn answer(app: &mut App, yes: bool) -> Vec<Effect> {
         (Confirm::Reload { text }, true) => {
             let fx = apply_reload(app, text, true);
             if app.load_error.is_none() {
-                app.set_status(StatusKind::Ok, format!("reloaded {} (your edits were discarded)", app.file_name()));
+                app.set_status(
+                    StatusKind::Ok,
+                    format!("reloaded {} (your edits were discarded)", app.file_name()),
+                );
             }
             fx
         }
@@ -838,7 +901,10 @@ fn answer(app: &mut App, yes: bool) -> Vec<Effect> {
             app.disk_hash = hash_text(&text);
             app.set_status(
                 StatusKind::Warn,
-                format!("kept your edits; {} changed on disk (s overwrites it)", app.file_name()),
+                format!(
+                    "kept your edits; {} changed on disk (s overwrites it)",
+                    app.file_name()
+                ),
             );
             Vec::new()
         }
@@ -865,7 +931,11 @@ fn commit(app: &mut App) -> Vec<Effect> {
         Ok(text) => {
             accept_draft(app, text);
             app.mode = Mode::Normal;
-            let v = app.form.selected().and_then(|f| f.value.clone()).unwrap_or_default();
+            let v = app
+                .form
+                .selected()
+                .and_then(|f| f.value.clone())
+                .unwrap_or_default();
             let unit = if f.unit.is_empty() || f.unit == "–" || f.unit.contains('|') {
                 String::new()
             } else {
@@ -873,7 +943,10 @@ fn commit(app: &mut App) -> Vec<Effect> {
             };
             app.set_status(
                 StatusKind::Ok,
-                format!("{} = {v}{unit} (unsaved: s saves and reruns, r runs the edits)", f.path),
+                format!(
+                    "{} = {v}{unit} (unsaved: s saves and reruns, r runs the edits)",
+                    f.path
+                ),
             );
         }
         Err(reason) => {
@@ -907,7 +980,11 @@ fn revert(app: &mut App) -> Vec<Effect> {
         Some(v) => form::set_value(&app.draft, &f.path, f.kind, v, ""),
         None => form::remove_value(&app.draft, &f.path),
     };
-    match r.and_then(|t| form::validate(&t, &app.path).map(|_| t).map_err(|e| e.to_string())) {
+    match r.and_then(|t| {
+        form::validate(&t, &app.path)
+            .map(|_| t)
+            .map_err(|e| e.to_string())
+    }) {
         Ok(t) => {
             accept_draft(app, t);
             app.set_status(StatusKind::Ok, format!("{} reverted", f.path));
@@ -923,7 +1000,10 @@ fn save(app: &mut App) -> Vec<Effect> {
         return Vec::new();
     }
     if let Err(e) = form::validate(&app.draft, &app.path) {
-        app.set_status(StatusKind::Error, format!("not saved: {}", form::error_with_column(&e, &app.draft).0));
+        app.set_status(
+            StatusKind::Error,
+            format!("not saved: {}", form::error_with_column(&e, &app.draft).0),
+        );
         return Vec::new();
     }
     app.expected_save = Some(hash_text(&app.draft));
@@ -992,15 +1072,25 @@ fn apply_reload(app: &mut App, text: String, discard: bool) -> Vec<Effect> {
             app.rebuild_form();
             app.mode = Mode::Normal;
             let fx = start_run(app);
-            app.set_status(StatusKind::Ok, format!("reloaded {} — rerunning", app.file_name()));
+            app.set_status(
+                StatusKind::Ok,
+                format!("reloaded {} — rerunning", app.file_name()),
+            );
             fx
         }
         Err(e) => {
             let le = LoadError::new(&e, &text);
-            let keep = if discard { " (your edits are kept)" } else { "" };
+            let keep = if discard {
+                " (your edits are kept)"
+            } else {
+                ""
+            };
             app.set_status(
                 StatusKind::Error,
-                format!("reload failed, keeping the last good model{keep}: {}", le.message),
+                format!(
+                    "reload failed, keeping the last good model{keep}: {}",
+                    le.message
+                ),
             );
             app.load_error = Some(le);
             Vec::new()
@@ -1068,7 +1158,10 @@ fn on_done(app: &mut App, run: u64, outcome: RunOutcome) -> Vec<Effect> {
         }
         RunOutcome::Cancelled { t } => {
             cur.status = RunStatus::Cancelled;
-            app.set_status(StatusKind::Warn, format!("{label} cancelled at t = {t:.3} s"));
+            app.set_status(
+                StatusKind::Warn,
+                format!("{label} cancelled at t = {t:.3} s"),
+            );
         }
         RunOutcome::Failed(e) => {
             cur.status = RunStatus::Failed(e.clone());
@@ -1115,10 +1208,11 @@ fn zoom(app: &mut App, factor: f64) {
     app.zoom = Some((lo, lo + w));
 }
 
-/// CSV of what is charted (full resolution, visible window) and of the event log.
-pub fn export_csv(app: &App) -> Option<(String, String)> {
-    let run = app.current.as_ref().filter(|r| !r.t.is_empty()).or(app.previous.as_ref())?;
-    let (t0, t1) = app.window();
+/// CSV of what is charted (full resolution, in the time window) and of the event log (the
+/// engine's `events.csv` columns).
+pub fn export_csv(run: &RunData, window: (f64, f64), element: usize) -> (String, String) {
+    use std::fmt::Write;
+    let (t0, t1) = window;
     let mut cols: Vec<(String, &Vec<f64>)> = Vec::new();
     if let Some(r) = run.rot {
         cols.push((run.dof_names[r].clone(), &run.q[r]));
@@ -1129,8 +1223,12 @@ pub fn export_csv(app: &App) -> Option<(String, String)> {
     for &k in &run.xy {
         cols.push((run.dof_names[k].clone(), &run.q[k]));
     }
-    if let Some(j) = (!run.element_names.is_empty()).then(|| app.element % run.element_names.len()) {
-        cols.push((format!("{}.deformation", run.element_names[j]), &run.el[j].0));
+    if !run.element_names.is_empty() {
+        let j = element % run.element_names.len();
+        cols.push((
+            format!("{}.deformation", run.element_names[j]),
+            &run.el[j].0,
+        ));
         cols.push((format!("{}.force", run.element_names[j]), &run.el[j].1));
     }
     let mut chart = String::from("t");
@@ -1140,9 +1238,9 @@ pub fn export_csv(app: &App) -> Option<(String, String)> {
     }
     chart.push('\n');
     for i in super::chart::window(&run.t, t0, t1) {
-        chart.push_str(&format!("{:.12e}", run.t[i]));
+        let _ = write!(chart, "{:.12e}", run.t[i]);
         for (_, c) in &cols {
-            chart.push_str(&format!(",{:.12e}", c[i]));
+            let _ = write!(chart, ",{:.12e}", c[i]);
         }
         chart.push('\n');
     }
@@ -1150,8 +1248,9 @@ pub fn export_csv(app: &App) -> Option<(String, String)> {
         "t,contact,kind,normal_impulse,tangential_impulse,gap_rate_before,gap_rate_after,slip_rate_after,sticks,accumulation_time\n",
     );
     for e in &run.events {
-        ev.push_str(&format!(
-            "{:.15e},{},{},{:.12e},{:.12e},{:.12e},{:.12e},{:.12e},{},{}\n",
+        let _ = writeln!(
+            ev,
+            "{:.15e},{},{},{:.12e},{:.12e},{:.12e},{:.12e},{:.12e},{},{}",
             e.t,
             run.contact_names.get(e.contact).map_or("?", String::as_str),
             e.kind.label(),
@@ -1166,13 +1265,32 @@ pub fn export_csv(app: &App) -> Option<(String, String)> {
             } else {
                 String::new()
             }
-        ));
+        );
     }
-    Some((chart, ev))
+    (chart, ev)
+}
+
+/// The export files of an [`Effect::Export`]: (file name, content).
+pub fn export_files(
+    stem: &str,
+    run: &RunData,
+    window: (f64, f64),
+    element: usize,
+) -> Vec<(String, String)> {
+    let (chart, events) = export_csv(run, window, element);
+    vec![
+        (format!("{stem}-chart.csv"), chart),
+        (format!("{stem}-events.csv"), events),
+    ]
 }
 
 fn export(app: &mut App) -> Vec<Effect> {
-    let Some((chart, events)) = export_csv(app) else {
+    let Some(run) = app
+        .current
+        .as_ref()
+        .filter(|r| !r.t.is_empty())
+        .or(app.previous.as_ref())
+    else {
         app.set_status(StatusKind::Info, "nothing to export yet");
         return Vec::new();
     };
@@ -1189,12 +1307,13 @@ fn export(app: &mut App) -> Vec<Effect> {
         });
     }
     dirs.push(PathBuf::from("."));
-    app.set_status(StatusKind::Info, "exporting…");
-    vec![Effect::Export {
+    let fx = vec![Effect::Export {
         dirs,
-        files: vec![
-            (format!("{stem}-chart.csv"), chart),
-            (format!("{stem}-events.csv"), events),
-        ],
-    }]
+        stem,
+        run: Box::new(run.clone()),
+        window: app.window(),
+        element: app.element,
+    }];
+    app.set_status(StatusKind::Info, "exporting…");
+    fx
 }

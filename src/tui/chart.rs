@@ -8,7 +8,13 @@
 /// `t` must be non-decreasing (event instants may repeat a time). Samples outside the window
 /// and non-finite values are dropped. When the window holds at most `2 * columns` samples they
 /// are returned unchanged.
-pub fn downsample_minmax(t: &[f64], y: &[f64], t0: f64, t1: f64, columns: usize) -> Vec<(f64, f64)> {
+pub fn downsample_minmax(
+    t: &[f64],
+    y: &[f64],
+    t0: f64,
+    t1: f64,
+    columns: usize,
+) -> Vec<(f64, f64)> {
     let n = t.len().min(y.len());
     let t = &t[..n];
     let lo = t.partition_point(|&x| x < t0);
@@ -18,7 +24,10 @@ pub fn downsample_minmax(t: &[f64], y: &[f64], t0: f64, t1: f64, columns: usize)
     }
     let finite = |i: usize| y[i].is_finite();
     if hi - lo <= 2 * columns || t1 <= t0 {
-        return (lo..hi).filter(|&i| finite(i)).map(|i| (t[i], y[i])).collect();
+        return (lo..hi)
+            .filter(|&i| finite(i))
+            .map(|i| (t[i], y[i]))
+            .collect();
     }
     let width = t1 - t0;
     let bucket = |x: f64| (((x - t0) / width * columns as f64) as usize).min(columns - 1);
@@ -29,7 +38,11 @@ pub fn downsample_minmax(t: &[f64], y: &[f64], t0: f64, t1: f64, columns: usize)
         if imin == usize::MAX {
             return;
         }
-        let (a, b) = if imin <= imax { (imin, imax) } else { (imax, imin) };
+        let (a, b) = if imin <= imax {
+            (imin, imax)
+        } else {
+            (imax, imin)
+        };
         out.push((t[a], y[a]));
         if b != a {
             out.push((t[b], y[b]));
@@ -77,7 +90,10 @@ pub fn dedup_pixels(
         if !x.is_finite() || !y.is_finite() {
             continue;
         }
-        let px = (((x - xb[0]) * sx).round() as i64, ((y - yb[0]) * sy).round() as i64);
+        let px = (
+            ((x - xb[0]) * sx).round() as i64,
+            ((y - yb[0]) * sy).round() as i64,
+        );
         if px != last_px {
             out.push((x, y));
             last_px = px;
@@ -154,6 +170,29 @@ pub fn fmt_num(v: f64, width: usize) -> String {
         }
     }
     format!("{v:.0e}")
+}
+
+/// A number with `sig` significant digits (decimal for 1e-3 ≤ |v| < 1e5, else scientific).
+pub fn fmt_sig(v: f64, sig: usize) -> String {
+    if !v.is_finite() {
+        return format!("{v}");
+    }
+    if v == 0.0 {
+        return "0".into();
+    }
+    let sig = sig.max(1);
+    let e = v.abs().log10().floor() as i32;
+    if (-3..5).contains(&e) {
+        let decimals = (sig as i32 - 1 - e).max(0) as usize;
+        let s = format!("{v:.decimals$}");
+        if s.contains('.') {
+            s.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            s
+        }
+    } else {
+        format!("{v:.prec$e}", prec = sig - 1)
+    }
 }
 
 /// Screen column (0-based, in a plot `width` cells wide) of time `t`, mirroring how ratatui's

@@ -43,7 +43,13 @@ struct Spec {
     optional: bool,
 }
 
-const fn s(path: &'static str, label: &'static str, unit: &'static str, kind: Kind, optional: bool) -> Spec {
+const fn s(
+    path: &'static str,
+    label: &'static str,
+    unit: &'static str,
+    kind: Kind,
+    optional: bool,
+) -> Spec {
     Spec {
         path,
         label,
@@ -194,7 +200,12 @@ fn walk_table(t: &toml_edit::Table, prefix: &str, out: &mut Vec<Leaf>) {
     for (k, item) in t.iter() {
         let p = join(prefix, k);
         match item {
-            Item::Value(v) => walk_value(v, &p, comment(v.decor().suffix().and_then(|s| s.as_str())), out),
+            Item::Value(v) => walk_value(
+                v,
+                &p,
+                comment(v.decor().suffix().and_then(|s| s.as_str())),
+                out,
+            ),
             Item::Table(t) => walk_table(t, &p, out),
             Item::ArrayOfTables(a) => {
                 for (i, t) in a.iter().enumerate() {
@@ -245,8 +256,16 @@ pub fn build(draft: &str, saved: &str) -> Form {
         return Form::default();
     };
     let draft_leaves = leaves(&doc);
-    let saved_leaves = saved.parse::<DocumentMut>().map(|d| leaves(&d)).unwrap_or_default();
-    let saved_of = |p: &str| saved_leaves.iter().find(|l| l.path == p).map(|l| l.value.clone());
+    let saved_leaves = saved
+        .parse::<DocumentMut>()
+        .map(|d| leaves(&d))
+        .unwrap_or_default();
+    let saved_of = |p: &str| {
+        saved_leaves
+            .iter()
+            .find(|l| l.path == p)
+            .map(|l| l.value.clone())
+    };
     let mut fields = Vec::new();
     if doc.contains_key("deck") {
         let law = draft_leaves
@@ -346,17 +365,24 @@ fn unit_hint(unit: &str) -> String {
 /// Sets `path` to what the user typed, keeping comments, layout and the column of a trailing
 /// comment. Missing tables and keys are created. Changing a hysteretic law kind (`…law.law`)
 /// drops the keys the new law does not take and adds the ones it needs.
-pub fn set_value(text: &str, path: &str, kind: Kind, raw: &str, unit: &str) -> Result<String, String> {
+pub fn set_value(
+    text: &str,
+    path: &str,
+    kind: Kind,
+    raw: &str,
+    unit: &str,
+) -> Result<String, String> {
     let value = parse_input(kind, raw, unit)?;
     let mut doc: DocumentMut = text
         .parse()
         .map_err(|e: toml_edit::TomlError| format!("the file is not valid TOML: {e}"))?;
     let segs: Vec<&str> = path.split('.').collect();
     set_in_item(doc.as_item_mut(), &segs, value.clone())?;
-    if segs.len() >= 2 && segs[segs.len() - 1] == "law" {
-        if let Some(Value::String(kind)) = Some(&value) {
-            fix_law(doc.as_item_mut(), &segs[..segs.len() - 1], kind.value())?;
-        }
+    if segs.len() >= 2
+        && segs[segs.len() - 1] == "law"
+        && let Value::String(kind) = &value
+    {
+        fix_law(doc.as_item_mut(), &segs[..segs.len() - 1], kind.value())?;
     }
     Ok(doc.to_string())
 }
@@ -432,12 +458,18 @@ fn replace_keep_decor(slot: &mut Value, mut new: Value) {
     let decor = slot.decor().clone();
     *new.decor_mut() = decor;
     let new_len = display_len(&new);
-    if let Some(suffix) = new.decor().suffix().and_then(|s| s.as_str()).map(str::to_string) {
+    if let Some(suffix) = new
+        .decor()
+        .suffix()
+        .and_then(|s| s.as_str())
+        .map(str::to_string)
+    {
         let spaces = suffix.len() - suffix.trim_start_matches(' ').len();
         let rest = &suffix[spaces..];
         if rest.starts_with('#') && spaces > 0 {
             let target = (spaces + old_len).saturating_sub(new_len).max(1);
-            new.decor_mut().set_suffix(format!("{}{rest}", " ".repeat(target)));
+            new.decor_mut()
+                .set_suffix(format!("{}{rest}", " ".repeat(target)));
         }
     }
     *slot = new;
@@ -477,7 +509,9 @@ fn set_in_item(item: &mut Item, segs: &[&str], value: Value) -> Result<(), Strin
             }
         }
         Item::ArrayOfTables(a) => {
-            let i: usize = first.parse().map_err(|_| format!("'{first}' is not an index"))?;
+            let i: usize = first
+                .parse()
+                .map_err(|_| format!("'{first}' is not an index"))?;
             let t = a.get_mut(i).ok_or_else(|| format!("no element {i}"))?;
             let (k, rest2) = rest.split_first().ok_or("path ends at a table")?;
             if rest2.is_empty() {
@@ -508,7 +542,9 @@ fn set_in_value(v: &mut Value, segs: &[&str], value: Value) -> Result<(), String
     };
     match v {
         Value::Array(a) => {
-            let i: usize = first.parse().map_err(|_| format!("'{first}' is not an index"))?;
+            let i: usize = first
+                .parse()
+                .map_err(|_| format!("'{first}' is not an index"))?;
             let x = a.get_mut(i).ok_or_else(|| format!("no element {i}"))?;
             set_in_value(x, rest, value)
         }
@@ -527,7 +563,8 @@ fn set_in_value(v: &mut Value, segs: &[&str], value: Value) -> Result<(), String
 /// After a law kind change: keep the keys shared with the new law, drop the others, add the
 /// required ones with plausible values derived from the stiffness.
 fn fix_law(root: &mut Item, segs: &[&str], kind: &str) -> Result<(), String> {
-    let keys = law_keys(kind).ok_or_else(|| format!("unknown law '{kind}' (linear, bilinear, takeda)"))?;
+    let keys =
+        law_keys(kind).ok_or_else(|| format!("unknown law '{kind}' (linear, bilinear, takeda)"))?;
     let Some(Value::InlineTable(t)) = value_at(root, segs) else {
         return Ok(());
     };
@@ -539,7 +576,10 @@ fn fix_law(root: &mut Item, segs: &[&str], kind: &str) -> Result<(), String> {
     for k in stale {
         t.remove(&k);
     }
-    let k = t.get("stiffness").and_then(|v| v.as_float()).unwrap_or(1000.0);
+    let k = t
+        .get("stiffness")
+        .and_then(|v| v.as_float())
+        .unwrap_or(1000.0);
     for key in keys {
         if t.contains_key(key) {
             continue;
@@ -556,26 +596,45 @@ fn fix_law(root: &mut Item, segs: &[&str], kind: &str) -> Result<(), String> {
     Ok(())
 }
 
-/// Formats a model error with line and column (`file:line:col: …`). `Invalid` errors carry a
-/// field; its column is located in the text.
-pub fn error_with_column(e: &crate::ModelError, text: &str) -> (String, Option<(usize, usize)>) {
+/// A model error with line and column: (`file:line:col: …` message, the message without the
+/// location, (line, column)). `Invalid` errors carry a field whose column is located in the text.
+pub fn describe_error(
+    e: &crate::ModelError,
+    text: &str,
+) -> (String, String, Option<(usize, usize)>) {
     use crate::ModelError as E;
     match e {
-        E::Parse { line, column, .. } if *line > 0 => (e.to_string(), Some((*line, *column))),
+        E::Parse {
+            line,
+            column,
+            message,
+            ..
+        } if *line > 0 => (e.to_string(), message.clone(), Some((*line, *column))),
         E::Invalid {
             path,
             line,
             field,
             reason,
         } => {
-            let at = crate::model::locate(text, field).filter(|(l, _)| *l == *line || *line == 0);
+            let detail = format!("{field}: {reason}");
+            let at = crate::model::locate(text, field).filter(|(l, _)| *l == *line);
             match at {
-                Some((l, c)) if *line > 0 => (format!("{}:{l}:{c}: {field}: {reason}", path.display()), Some((l, c))),
-                _ => (e.to_string(), None),
+                Some((l, c)) if *line > 0 => (
+                    format!("{}:{l}:{c}: {detail}", path.display()),
+                    detail,
+                    Some((l, c)),
+                ),
+                _ => (e.to_string(), detail, e.line().map(|l| (l, 1))),
             }
         }
-        _ => (e.to_string(), e.line().map(|l| (l, 1))),
+        _ => (e.to_string(), e.to_string(), e.line().map(|l| (l, 1))),
     }
+}
+
+/// [`describe_error`]'s full message and location.
+pub fn error_with_column(e: &crate::ModelError, text: &str) -> (String, Option<(usize, usize)>) {
+    let (m, _, at) = describe_error(e, text);
+    (m, at)
 }
 
 /// Validates a model text with the engine (the same path as loading the file).

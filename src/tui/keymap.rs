@@ -125,9 +125,9 @@ const fn b(
 #[rustfmt::skip]
 pub const KEYMAP: &[Binding] = &[
     // editing a value
-    b(Ctx::Edit, &[K::Code(KC::Enter)], "Enter", A::EditCommit, "accept the value (refused with the reason when invalid)", Some(("Enter", "accept"))),
+    b(Ctx::Edit, &[K::Code(KC::Enter)], "Enter", A::EditCommit, "accept (refused if invalid)", Some(("Enter", "accept"))),
     b(Ctx::Edit, &[K::Code(KC::Esc)], "Esc", A::EditCancel, "abandon the edit", Some(("Esc", "cancel"))),
-    b(Ctx::Edit, &[K::Code(KC::Backspace)], "Bksp", A::EditBackspace, "delete the last character", Some(("Bksp", "delete"))),
+    b(Ctx::Edit, &[K::Code(KC::Backspace)], "Bksp", A::EditBackspace, "delete a character", Some(("Bksp", "delete"))),
     b(Ctx::Edit, &[K::Ctrl('u')], "^U", A::EditClear, "clear the value", Some(("^U", "clear"))),
     // questions
     b(Ctx::Confirm, &[K::Ch('y')], "y", A::Yes, "yes", Some(("y", "yes"))),
@@ -135,34 +135,34 @@ pub const KEYMAP: &[Binding] = &[
     // help
     b(Ctx::Help, &[K::Ch('?'), K::Code(KC::Esc), K::Ch('q')], "?/Esc/q", A::CloseHelp, "close the help", Some(("?/Esc/q", "close"))),
     // charts view
-    b(Ctx::Charts, &[K::Code(KC::Left), K::Ch('h')], "←/h", A::CursorLeft, "move the time cursor left", Some(("←→", "cursor"))),
-    b(Ctx::Charts, &[K::Code(KC::Right), K::Ch('l')], "→/l", A::CursorRight, "move the time cursor right", None),
-    b(Ctx::Charts, &[K::Shift(KC::Left), K::Ch('H')], "S-←/H", A::CursorLeftFast, "move the cursor left by 10 %", None),
-    b(Ctx::Charts, &[K::Shift(KC::Right), K::Ch('L')], "S-→/L", A::CursorRightFast, "move the cursor right by 10 %", None),
+    b(Ctx::Charts, &[K::Code(KC::Left), K::Ch('h')], "←/h", A::CursorLeft, "cursor left", Some(("←→", "cursor"))),
+    b(Ctx::Charts, &[K::Code(KC::Right), K::Ch('l')], "→/l", A::CursorRight, "cursor right", None),
+    b(Ctx::Charts, &[K::Shift(KC::Left), K::Ch('H')], "S-←/H", A::CursorLeftFast, "cursor left 10 %", None),
+    b(Ctx::Charts, &[K::Shift(KC::Right), K::Ch('L')], "S-→/L", A::CursorRightFast, "cursor right 10 %", None),
     b(Ctx::Charts, &[K::Code(KC::Home)], "Home", A::CursorHome, "cursor to the start", None),
-    b(Ctx::Charts, &[K::Code(KC::End)], "End", A::CursorEnd, "cursor to the end (follows a running simulation)", None),
-    b(Ctx::Charts, &[K::Ch('+'), K::Ch('=')], "+", A::ZoomIn, "zoom in on time around the cursor", Some(("+-", "zoom"))),
-    b(Ctx::Charts, &[K::Ch('-')], "-", A::ZoomOut, "zoom out on time", None),
+    b(Ctx::Charts, &[K::Code(KC::End)], "End", A::CursorEnd, "cursor to the end (follow)", None),
+    b(Ctx::Charts, &[K::Ch('+'), K::Ch('=')], "+", A::ZoomIn, "zoom in around the cursor", Some(("+-", "zoom"))),
+    b(Ctx::Charts, &[K::Ch('-')], "-", A::ZoomOut, "zoom out", None),
     b(Ctx::Charts, &[K::Ch('0')], "0", A::ZoomReset, "show the whole run", None),
-    b(Ctx::Charts, &[K::Ch('n')], "n", A::NextElement, "next column element in the force–deformation chart", Some(("n", "column"))),
-    b(Ctx::Charts, &[K::Ch('N')], "N", A::PrevElement, "previous column element", None),
+    b(Ctx::Charts, &[K::Ch('n')], "n", A::NextElement, "next column (force–def.)", Some(("n", "column"))),
+    b(Ctx::Charts, &[K::Ch('N')], "N", A::PrevElement, "previous column", None),
     // form view
     b(Ctx::Form, &[K::Code(KC::Up), K::Ch('k')], "↑/k", A::FieldUp, "previous field", None),
     b(Ctx::Form, &[K::Code(KC::Down), K::Ch('j')], "↓/j", A::FieldDown, "next field", Some(("↑↓", "field"))),
     b(Ctx::Form, &[K::Code(KC::PageUp)], "PgUp", A::FieldPageUp, "page up", None),
     b(Ctx::Form, &[K::Code(KC::PageDown)], "PgDn", A::FieldPageDown, "page down", None),
-    b(Ctx::Form, &[K::Code(KC::Enter)], "Enter", A::FieldEdit, "edit the selected value", Some(("Enter", "edit"))),
-    b(Ctx::Form, &[K::Ch('u')], "u", A::FieldRevert, "revert the field to its saved value", Some(("u", "revert"))),
+    b(Ctx::Form, &[K::Code(KC::Enter)], "Enter", A::FieldEdit, "edit the value", Some(("Enter", "edit"))),
+    b(Ctx::Form, &[K::Ch('u')], "u", A::FieldRevert, "revert to the saved value", Some(("u", "revert"))),
     // everywhere
-    b(Ctx::Global, &[K::Ch('q'), K::Ctrl('c')], "q", A::Quit, "quit (asks first if there are unsaved edits)", Some(("q", "quit"))),
-    b(Ctx::Global, &[K::Ch('?')], "?", A::Help, "help: every key", Some(("?", "help"))),
-    b(Ctx::Global, &[K::Code(KC::Tab), K::Code(KC::BackTab)], "Tab", A::SwitchView, "switch between the charts and the form", Some(("Tab", "view"))),
-    b(Ctx::Global, &[K::Ch('s')], "s", A::Save, "save the model file (comments kept; atomic) and rerun", Some(("s", "save"))),
-    b(Ctx::Global, &[K::Ch('r')], "r", A::Rerun, "run again (with the unsaved edits, if any)", Some(("r", "rerun"))),
-    b(Ctx::Global, &[K::Code(KC::Esc), K::Ch('c')], "Esc/c", A::Cancel, "cancel the running simulation", Some(("Esc", "cancel"))),
-    b(Ctx::Global, &[K::Ch('e')], "e", A::Export, "export the charted data and the event log (CSV)", Some(("e", "export"))),
-    b(Ctx::Global, &[K::Ch('o')], "o", A::ToggleOverlay, "show or hide the previous run", Some(("o", "overlay"))),
-    b(Ctx::Global, &[K::Ch('m')], "m", A::ToggleMarker, "chart markers: Braille ⇄ ASCII", Some(("m", "markers"))),
+    b(Ctx::Global, &[K::Ch('q'), K::Ctrl('c')], "q", A::Quit, "quit (asks if edits unsaved)", Some(("q", "quit"))),
+    b(Ctx::Global, &[K::Ch('?')], "?", A::Help, "this help", Some(("?", "help"))),
+    b(Ctx::Global, &[K::Code(KC::Tab), K::Code(KC::BackTab)], "Tab", A::SwitchView, "charts ⇄ form", Some(("Tab", "view"))),
+    b(Ctx::Global, &[K::Ch('s')], "s", A::Save, "save the file and rerun", Some(("s", "save"))),
+    b(Ctx::Global, &[K::Ch('r')], "r", A::Rerun, "rerun (with unsaved edits)", Some(("r", "rerun"))),
+    b(Ctx::Global, &[K::Code(KC::Esc), K::Ch('c')], "Esc/c", A::Cancel, "cancel the simulation", Some(("Esc", "cancel"))),
+    b(Ctx::Global, &[K::Ch('e')], "e", A::Export, "export chart + events CSV", Some(("e", "export"))),
+    b(Ctx::Global, &[K::Ch('o')], "o", A::ToggleOverlay, "show/hide the previous run", Some(("o", "overlay"))),
+    b(Ctx::Global, &[K::Ch('m')], "m", A::ToggleMarker, "markers Braille ⇄ ASCII", Some(("m", "markers"))),
 ];
 
 /// The contexts that are active, most specific first.

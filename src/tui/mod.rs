@@ -17,7 +17,9 @@ pub use app::{App, Effect, Msg, Options, update};
 
 use crossterm::event::{self, Event};
 use crossterm::execute;
-use crossterm::terminal::{EnterAlternateScreen, LeaveAlternateScreen, disable_raw_mode, enable_raw_mode};
+use crossterm::terminal::{
+    EnterAlternateScreen, LeaveAlternateScreen, disable_raw_mode, enable_raw_mode,
+};
 use ratatui::Terminal;
 use ratatui::backend::CrosstermBackend;
 use std::collections::{HashMap, VecDeque};
@@ -88,10 +90,21 @@ pub fn execute_blocking(app: &mut App, effects: Vec<Effect>) {
             Effect::StartRun { id, scene } => worker::run_blocking(id, &scene),
             Effect::CancelRun { .. } => Vec::new(),
             Effect::Save { path, text } => {
-                let result = save_atomic(&path, &text).map(|_| path).map_err(|e| e.to_string());
+                let result = save_atomic(&path, &text)
+                    .map(|_| path)
+                    .map_err(|e| e.to_string());
                 vec![Msg::Saved { text, result }]
             }
-            Effect::Export { dirs, files } => vec![Msg::Exported(write_exports(&dirs, &files))],
+            Effect::Export {
+                dirs,
+                stem,
+                run,
+                window,
+                element,
+            } => {
+                let files = app::export_files(&stem, &run, window, element);
+                vec![Msg::Exported(write_exports(&dirs, &files))]
+            }
             Effect::Quit => Vec::new(),
         };
         for m in msgs {
@@ -100,18 +113,32 @@ pub fn execute_blocking(app: &mut App, effects: Vec<Effect>) {
     }
 }
 
-/// Restores the terminal: raw mode off, main screen, cursor shown.
-fn restore_terminal() {
-    let _ = disable_raw_mode();
-    let _ = execute!(io::stdout(), LeaveAlternateScreen, crossterm::cursor::Show);
+/// Test hook: `DECKSPIN_TEST_PANIC=ui` panics on the UI thread after the first frame,
+/// `=worker` inside the simulation thread (the end-to-end test checks the terminal is restored
+/// and the worker's panic is reported as a failed run).
+pub(crate) fn test_panic(place: &str) -> bool {
+    std::env::var("DECKSPIN_TEST_PANIC").is_ok_and(|v| v == place)
 }
 
-/// Restores the terminal when dropped (normal return, `?` errors).
+/// Whether the terminal is in workbench mode (raw, alternate screen).
+static TERMINAL_TAKEN: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// Restores the terminal once: raw mode off, main screen, cursor shown. (Leaving the
+/// alternate screen twice would move the cursor back over what was printed in between.)
+fn restore_terminal() {
+    if TERMINAL_TAKEN.swap(false, std::sync::atomic::Ordering::SeqCst) {
+        let _ = disable_raw_mode();
+        let _ = execute!(io::stdout(), LeaveAlternateScreen, crossterm::cursor::Show);
+    }
+}
+
+/// Restores the terminal when dropped (normal return, `?` errors, unwinding).
 struct TerminalGuard;
 
 impl TerminalGuard {
     fn enter() -> io::Result<Self> {
         enable_raw_mode()?;
+        TERMINAL_TAKEN.store(true, std::sync::atomic::Ordering::SeqCst);
         let guard = TerminalGuard;
         execute!(io::stdout(), EnterAlternateScreen, crossterm::cursor::Hide)?;
         Ok(guard)
@@ -166,7 +193,11 @@ impl Timing {
             let now = SystemTime::now()
                 .duration_since(UNIX_EPOCH)
                 .map_or(0.0, |d| d.as_secs_f64() * 1e3);
-            let _ = writeln!(f, "{now:.3} {label} +{:.3}ms", self.start.elapsed().as_secs_f64() * 1e3);
+            let _ = writeln!(
+                f,
+                "{now:.3} {label} +{:.3}ms",
+                self.start.elapsed().as_secs_f64() * 1e3
+            );
         }
     }
 }
@@ -185,7 +216,8 @@ impl Runtime {
                 Effect::StartRun { id, scene } => {
                     timing.log(&format!("run-start {id}"));
                     self.runs.retain(|_, h| h.id + 8 > id);
-                    self.runs.insert(id, worker::spawn(id, *scene, self.tx.clone()));
+                    self.runs
+                        .insert(id, worker::spawn(id, *scene, self.tx.clone()));
                 }
                 Effect::CancelRun { id } => {
                     if let Some(h) = self.runs.get(&id) {
@@ -193,12 +225,25 @@ impl Runtime {
                     }
                 }
                 Effect::Save { path, text } => {
-                    let result = save_atomic(&path, &text).map(|_| path).map_err(|e| e.to_string());
+                    let result = save_atomic(&path, &text)
+                        .map(|_| path)
+                        .map_err(|e| e.to_string());
                     timing.log("saved");
                     queue.extend(update(app, Msg::Saved { text, result }));
                 }
-                Effect::Export { dirs, files } => {
-                    queue.extend(update(app, Msg::Exported(write_exports(&dirs, &files))));
+                Effect::Export {
+                    dirs,
+                    stem,
+                    run,
+                    window,
+                    element,
+                } => {
+                    // formatting 10⁵ rows takes a while: off the UI thread
+                    let tx = self.tx.clone();
+                    std::thread::spawn(move || {
+                        let files = app::export_files(&stem, &run, window, element);
+                        let _ = tx.send(Msg::Exported(write_exports(&dirs, &files)));
+                    });
                 }
                 Effect::Quit => app.quit = true,
             }
@@ -213,19 +258,21 @@ impl Runtime {
 }
 
 fn spawn_input(tx: Sender<Msg>) {
-    let _ = std::thread::Builder::new().name("deckspin-input".into()).spawn(move || {
-        loop {
-            let msg = match event::read() {
-                Ok(Event::Key(k)) => Msg::Key(k),
-                Ok(Event::Resize(w, h)) => Msg::Resize(w, h),
-                Ok(_) => continue,
-                Err(_) => return,
-            };
-            if tx.send(msg).is_err() {
-                return;
+    let _ = std::thread::Builder::new()
+        .name("deckspin-input".into())
+        .spawn(move || {
+            loop {
+                let msg = match event::read() {
+                    Ok(Event::Key(k)) => Msg::Key(k),
+                    Ok(Event::Resize(w, h)) => Msg::Resize(w, h),
+                    Ok(_) => continue,
+                    Err(_) => return,
+                };
+                if tx.send(msg).is_err() {
+                    return;
+                }
             }
-        }
-    });
+        });
 }
 
 /// Open the workbench on a model file.
@@ -257,6 +304,9 @@ pub fn run(model: &Path) -> Result<(), Box<dyn std::error::Error>> {
         if first_frame {
             timing.log("first-frame");
             first_frame = false;
+            if test_panic("ui") {
+                panic!("DECKSPIN_TEST_PANIC=ui: a panic on the UI thread");
+            }
         }
         if let Some(id) = first_batch_of.take() {
             timing.log(&format!("first-run-frame {id}"));
@@ -275,7 +325,9 @@ pub fn run(model: &Path) -> Result<(), Box<dyn std::error::Error>> {
         }
         for m in batch {
             match &m {
-                Msg::Batch { run, .. } if *run > framed && app.current.as_ref().is_some_and(|c| c.id == *run) => {
+                Msg::Batch { run, .. }
+                    if *run > framed && app.current.as_ref().is_some_and(|c| c.id == *run) =>
+                {
                     first_batch_of = Some(*run)
                 }
                 Msg::FileChanged(_) => timing.log("file-changed"),

@@ -3,7 +3,9 @@
 //! cached per run length, time window and plot size, so a frame stays light with 10⁵-sample
 //! histories.
 
-use super::app::{App, Confirm, Digest, MIN_HEIGHT, MIN_WIDTH, Mode, RunData, RunStatus, StatusKind, View};
+use super::app::{
+    App, Confirm, Digest, MIN_HEIGHT, MIN_WIDTH, Mode, RunData, RunStatus, StatusKind, View,
+};
 use super::chart::{self, bounds, column_of, downsample_minmax, fmt_num};
 use super::keymap;
 use crate::output::{ContactState, EventKind};
@@ -13,17 +15,44 @@ use ratatui::style::{Color, Modifier, Style};
 use ratatui::symbols::{Marker, border};
 use ratatui::text::{Line, Span};
 use ratatui::widgets::canvas::{Canvas, Context, Line as CLine};
-use ratatui::widgets::{Axis, Block, Chart, Clear, Dataset, GraphType, Paragraph, Row, Table, Wrap};
+use ratatui::widgets::{
+    Axis, Block, Chart, Clear, Dataset, GraphType, Paragraph, Row, Table, Wrap,
+};
 use std::collections::HashMap;
 
 /// Width of the y-axis labels of the time charts (the event strip uses the same offset).
 const LABEL_W: u16 = 9;
 
-/// Drawing caches (decimated series, event strips), keyed by what they depend on.
+/// Drawing caches (decimated series, loops, scales, event strips), each entry keyed by what
+/// it depends on (run, its length, time window, plot size, …).
 #[derive(Default)]
 pub struct Cache {
-    series: HashMap<String, (Key, Vec<(f64, f64)>)>,
+    series: HashMap<String, (Key, Points)>,
     strips: HashMap<u64, (Key, Vec<Vec<char>>)>,
+    memo: HashMap<String, (Vec<u64>, Points)>,
+}
+
+type Points = Vec<(f64, f64)>;
+
+/// Cached computation of points under `name`, recomputed when `key` changes.
+fn memo(
+    app: &App,
+    name: String,
+    key: Vec<u64>,
+    f: impl FnOnce() -> Vec<(f64, f64)>,
+) -> Vec<(f64, f64)> {
+    if let Some((k, v)) = app.cache.borrow().memo.get(&name)
+        && *k == key
+    {
+        return v.clone();
+    }
+    let v = f();
+    let mut cache = app.cache.borrow_mut();
+    if cache.memo.len() > 64 {
+        cache.memo.clear();
+    }
+    cache.memo.insert(name, (key, v.clone()));
+    v
 }
 
 #[derive(Clone, Copy, PartialEq, Debug)]
@@ -100,7 +129,11 @@ impl Theme {
         Style::default().add_modifier(Modifier::REVERSED)
     }
     fn marker(&self) -> Marker {
-        if self.ascii { Marker::Dot } else { Marker::Braille }
+        if self.ascii {
+            Marker::Dot
+        } else {
+            Marker::Braille
+        }
     }
     fn per_cell(&self) -> usize {
         if self.ascii { 1 } else { 2 }
@@ -153,8 +186,9 @@ pub fn draw(frame: &mut Frame, app: &App) {
     .areas(area);
     draw_header(frame, header, app, &th);
     if let Some(le) = &app.load_error {
-        let h = if body.height >= 24 { 5 } else { 4 };
-        let [banner, rest] = Layout::vertical([Constraint::Length(h), Constraint::Min(0)]).areas(body);
+        let h = if body.height >= 18 { 5 } else { 4 };
+        let [banner, rest] =
+            Layout::vertical([Constraint::Length(h), Constraint::Min(0)]).areas(body);
         draw_error(frame, banner, le, &th);
         body = rest;
     }
@@ -223,8 +257,15 @@ fn run_progress(app: &App, th: &Theme) -> Line<'static> {
             let mut spans = vec![
                 Span::styled(label, th.bold()),
                 Span::raw(" "),
-                Span::styled(gauge(r.t_sim / r.t_end.max(1e-300), 10, th.ascii), th.fg(Color::Cyan)),
-                Span::raw(format!(" {}/{} s · {ev} events", fmt_t(r.t_sim), fmt_t(r.t_end))),
+                Span::styled(
+                    gauge(r.t_sim / r.t_end.max(1e-300), 10, th.ascii),
+                    th.fg(Color::Cyan),
+                ),
+                Span::raw(format!(
+                    " {}/{} s · {ev} events",
+                    fmt_t(r.t_sim),
+                    fmt_t(r.t_end)
+                )),
             ];
             if r.status == RunStatus::Cancelling {
                 spans.push(Span::styled(" · cancelling", th.status(StatusKind::Warn)));
@@ -234,21 +275,21 @@ fn run_progress(app: &App, th: &Theme) -> Line<'static> {
         RunStatus::Finished => Line::from(vec![
             Span::styled(label, th.bold()),
             Span::styled(" done", th.status(StatusKind::Ok)),
-            Span::raw(format!(
-                " · {} s · {ev} events{}",
-                fmt_t(r.t_sim),
-                r.steps
-                    .filter(|_| app.size.0 >= 100)
-                    .map_or(String::new(), |s| format!(" · {s} steps"))
-            )),
+            Span::raw(format!(" · {} s · {ev} events", fmt_t(r.t_sim))),
         ]),
         RunStatus::Cancelled => Line::from(vec![
             Span::styled(label, th.bold()),
-            Span::styled(format!(" cancelled at {} s", fmt_t(r.t_sim)), th.status(StatusKind::Warn)),
+            Span::styled(
+                format!(" cancelled at {} s", fmt_t(r.t_sim)),
+                th.status(StatusKind::Warn),
+            ),
         ]),
         RunStatus::Failed(_) => Line::from(vec![
             Span::styled(label, th.bold()),
-            Span::styled(format!(" failed at {} s", fmt_t(r.t_sim)), th.status(StatusKind::Error)),
+            Span::styled(
+                format!(" failed at {} s", fmt_t(r.t_sim)),
+                th.status(StatusKind::Error),
+            ),
         ]),
     }
 }
@@ -269,12 +310,22 @@ fn draw_header(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
         View::Charts => "charts",
         View::Form => "form",
     };
+    let fixed = 8 + 3 + name.chars().count() + 3 + 3 + view.len();
+    let room = (l.width as usize).saturating_sub(fixed);
+    let mut title = app.title();
+    if title.chars().count() > room {
+        title = title
+            .chars()
+            .take(room.saturating_sub(1))
+            .collect::<String>()
+            + "…";
+    }
     let left = Line::from(vec![
         Span::styled("deckspin", th.bold().patch(th.fg(Color::Cyan))),
         Span::styled(" │ ", th.dim()),
         Span::styled(name, th.bold()),
         Span::styled(" │ ", th.dim()),
-        Span::raw(app.title()),
+        Span::raw(title),
         Span::styled(format!(" │ {view}"), th.dim()),
     ]);
     frame.render_widget(Paragraph::new(left), l);
@@ -284,15 +335,20 @@ fn draw_header(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
 fn draw_error(frame: &mut Frame, area: Rect, le: &super::app::LoadError, th: &Theme) {
     let err = th.status(StatusKind::Error);
     let title = match (le.line, le.column) {
-        (Some(l), Some(c)) => format!(" model error at line {l}, column {c} — showing the last good model "),
+        (Some(l), Some(c)) => {
+            format!(" model error at line {l}, column {c} — showing the last good model ")
+        }
         _ => " model error — showing the last good model ".to_string(),
     };
     let block = th.block(Line::styled(title, err)).border_style(err);
     let inner = block.inner(area);
-    let mut lines = vec![Line::styled(le.message.clone(), err)];
+    let mut lines = vec![Line::styled(le.detail.clone(), err)];
     if let (Some(l), Some(src)) = (le.line, &le.source_line) {
         let prefix = format!("{l:>5} │ ");
-        lines.push(Line::from(vec![Span::styled(prefix.clone(), th.dim()), Span::raw(src.clone())]));
+        lines.push(Line::from(vec![
+            Span::styled(prefix.clone(), th.dim()),
+            Span::raw(src.clone()),
+        ]));
         if let Some(c) = le.column {
             let pad = prefix.chars().count() + src.chars().take(c.saturating_sub(1)).count();
             lines.push(Line::styled(format!("{}^", " ".repeat(pad)), err));
@@ -310,8 +366,14 @@ fn draw_status(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
     };
     let ww = (wm.chars().count() as u16 + 1).min(area.width / 3);
     let [l, r] = Layout::horizontal([Constraint::Min(0), Constraint::Length(ww)]).areas(area);
-    frame.render_widget(Paragraph::new(Line::styled(app.status.clone(), th.status(app.status_kind))), l);
-    frame.render_widget(Paragraph::new(Line::styled(wm, th.dim())).alignment(Alignment::Right), r);
+    frame.render_widget(
+        Paragraph::new(Line::styled(app.status.clone(), th.status(app.status_kind))),
+        l,
+    );
+    frame.render_widget(
+        Paragraph::new(Line::styled(wm, th.dim())).alignment(Alignment::Right),
+        r,
+    );
 }
 
 fn draw_hints(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
@@ -322,7 +384,10 @@ fn draw_hints(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
         if used + w > area.width as usize {
             break;
         }
-        spans.push(Span::styled(format!(" {k}"), th.bold().patch(th.selected())));
+        spans.push(Span::styled(
+            format!(" {k}"),
+            th.bold().patch(th.selected()),
+        ));
         spans.push(Span::raw(format!(" {h} ")));
         used += w;
     }
@@ -332,52 +397,63 @@ fn draw_hints(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
 fn centered(area: Rect, w: u16, h: u16) -> Rect {
     let w = w.min(area.width);
     let h = h.min(area.height);
-    Rect::new(area.x + (area.width - w) / 2, area.y + (area.height - h) / 2, w, h)
+    Rect::new(
+        area.x + (area.width - w) / 2,
+        area.y + (area.height - h) / 2,
+        w,
+        h,
+    )
 }
 
 fn draw_help(frame: &mut Frame, area: Rect, th: &Theme) {
     let groups: Vec<Vec<Line>> = keymap::help()
         .into_iter()
         .map(|(title, rows)| {
-            let mut g = vec![Line::styled(title.to_string(), th.bold().patch(th.fg(Color::Cyan)))];
+            let mut g = vec![Line::styled(
+                title.to_string(),
+                th.bold().patch(th.fg(Color::Cyan)),
+            )];
             for (k, d) in rows {
-                g.push(Line::from(vec![Span::styled(format!(" {k:<8}"), th.bold()), Span::raw(d.to_string())]));
+                g.push(Line::from(vec![
+                    Span::styled(format!(" {k:<8}"), th.bold()),
+                    Span::raw(d.to_string()),
+                ]));
             }
             g
         })
         .collect();
-    let total: usize = groups.iter().map(Vec::len).sum();
-    let (mut c0, mut c1) = (Vec::new(), Vec::new());
-    for g in groups {
-        if c0.len() + g.len() / 2 <= total / 2 {
-            c0.extend(g);
-        } else {
-            c1.extend(g);
-        }
-    }
-    let rect = centered(area, area.width.saturating_sub(2).min(120), area.height.saturating_sub(2));
+    let all: Vec<Line> = groups.into_iter().flatten().collect();
+    let half = all.len().div_ceil(2);
+    let (c0, c1) = (all[..half].to_vec(), all[half..].to_vec());
+    let rect = centered(area, area.width.min(100), area.height);
     let block = th.block(" help — keys (Esc closes) ");
     let inner = block.inner(rect);
     frame.render_widget(Clear, rect);
     frame.render_widget(block, rect);
-    let [a, b] = Layout::horizontal([Constraint::Percentage(50), Constraint::Percentage(50)]).areas(inner);
+    let [a, b] =
+        Layout::horizontal([Constraint::Percentage(50), Constraint::Percentage(50)]).areas(inner);
     frame.render_widget(Paragraph::new(c0), a);
     frame.render_widget(Paragraph::new(c1), b);
 }
 
 fn draw_confirm(frame: &mut Frame, area: Rect, app: &App, c: &Confirm, th: &Theme) {
     let q = match c {
-        Confirm::Reload { .. } => format!("{} changed on disk. Reload it and discard your unsaved edits?", app.file_name()),
-        Confirm::Quit => "Quit and lose your unsaved edits?".to_string(),
+        Confirm::Reload { .. } => vec![
+            format!("{} changed on disk.", app.file_name()),
+            "Reload it and discard your unsaved edits?".to_string(),
+        ],
+        Confirm::Quit => vec!["Quit and lose your unsaved edits?".to_string()],
     };
     let w = (area.width.saturating_sub(8)).min(64);
-    let rect = centered(area, w, 6);
-    let block = th.block(" question ").border_style(th.status(StatusKind::Warn));
+    let rect = centered(area, w, q.len() as u16 + 4);
+    let block = th
+        .block(" question ")
+        .border_style(th.status(StatusKind::Warn));
     let inner = block.inner(rect);
     frame.render_widget(Clear, rect);
     frame.render_widget(block, rect);
-    let lines = vec![
-        Line::from(q),
+    let mut lines: Vec<Line> = q.into_iter().map(Line::from).collect();
+    lines.extend([
         Line::from(""),
         Line::from(vec![
             Span::styled(" y ", th.selected().patch(th.bold())),
@@ -385,7 +461,7 @@ fn draw_confirm(frame: &mut Frame, area: Rect, app: &App, c: &Confirm, th: &Them
             Span::styled(" n ", th.selected().patch(th.bold())),
             Span::raw(" no"),
         ]),
-    ];
+    ]);
     frame.render_widget(Paragraph::new(lines).wrap(Wrap { trim: true }), inner);
 }
 
@@ -398,7 +474,8 @@ fn draw_charts(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
     } else {
         (area.width * 35 / 100).max(24)
     };
-    let [left, right] = Layout::horizontal([Constraint::Min(0), Constraint::Length(right_w)]).areas(area);
+    let [left, right] =
+        Layout::horizontal([Constraint::Min(0), Constraint::Length(right_w)]).areas(area);
     draw_time_panel(frame, left, app, th);
     draw_side_panel(frame, right, app, th);
 }
@@ -409,7 +486,11 @@ fn shown_run(app: &App) -> Option<&RunData> {
 }
 
 fn overlay_run(app: &App) -> Option<&RunData> {
-    if app.overlay { app.previous.as_ref() } else { None }
+    if app.overlay {
+        app.previous.as_ref()
+    } else {
+        None
+    }
 }
 
 struct Series {
@@ -430,7 +511,15 @@ fn time_key(r: &RunData, t0: f64, t1: f64, cols: u16) -> Key {
 }
 
 /// Decimated column of a run (cached).
-fn decimated(app: &App, r: &RunData, what: &str, y: &[f64], t0: f64, t1: f64, cols: u16) -> Vec<(f64, f64)> {
+fn decimated(
+    app: &App,
+    r: &RunData,
+    what: &str,
+    y: &[f64],
+    t0: f64,
+    t1: f64,
+    cols: u16,
+) -> Vec<(f64, f64)> {
     let key = time_key(r, t0, t1, cols);
     let name = format!("{}:{what}", r.id);
     let mut cache = app.cache.borrow_mut();
@@ -580,11 +669,14 @@ fn draw_time_chart(
     let [head, body] = Layout::vertical([Constraint::Length(1), Constraint::Min(0)]).areas(area);
     // header: title [unit], legend, value at the cursor
     let mut spans = vec![Span::styled(format!("{title} [{unit}]"), th.bold())];
-    let current: Vec<&Series> = series.iter().filter(|s| !s.name.ends_with("(previous)")).collect();
+    let current: Vec<&Series> = series
+        .iter()
+        .filter(|s| !s.name.ends_with("(previous)"))
+        .collect();
     if current.len() > 1 {
         for s in &current {
             spans.push(Span::styled(" ━", s.style));
-            spans.push(Span::raw(format!("{}", short_name(&s.name))));
+            spans.push(Span::raw(s.name.clone()));
         }
     }
     if series.iter().any(|s| s.name.ends_with("(previous)")) {
@@ -592,12 +684,17 @@ fn draw_time_chart(
     }
     if current.len() == 1 {
         let name = &current[0].name;
-        let col = run
-            .dof(name)
-            .map(|k| &run.q[k])
-            .or_else(|| run.contact_names.iter().position(|n| n == name).map(|i| &run.gap[i]));
+        let col = run.dof(name).map(|k| &run.q[k]).or_else(|| {
+            run.contact_names
+                .iter()
+                .position(|n| n == name)
+                .map(|i| &run.gap[i])
+        });
         if let Some(v) = col.and_then(|c| value_at(run, c, tc)) {
-            spans.push(Span::styled(format!("  @cursor {}", fmt_num(v, 9)), th.cursor()));
+            spans.push(Span::styled(
+                format!("  @cursor {}", fmt_num(v, 9)),
+                th.cursor(),
+            ));
         }
     }
     frame.render_widget(Paragraph::new(Line::from(spans)), head);
@@ -609,28 +706,55 @@ fn draw_time_chart(
     let marker = th.marker();
     let mut ds: Vec<Dataset> = series
         .iter()
-        .map(|s| Dataset::default().marker(marker).graph_type(GraphType::Line).style(s.style).data(&s.data))
+        .map(|s| {
+            Dataset::default()
+                .marker(marker)
+                .graph_type(GraphType::Line)
+                .style(s.style)
+                .data(&s.data)
+        })
         .collect();
     if tc >= t0 && tc <= t1 {
-        ds.push(Dataset::default().marker(marker).graph_type(GraphType::Line).style(th.cursor()).data(&cursor));
+        ds.push(
+            Dataset::default()
+                .marker(marker)
+                .graph_type(GraphType::Line)
+                .style(th.cursor())
+                .data(&cursor),
+        );
     }
-    let lab = |v: f64| Line::from(format!("{:>w$}", fmt_num(v, LABEL_W as usize - 1), w = LABEL_W as usize));
+    let lab = |v: f64| {
+        Line::from(format!(
+            "{:>w$}",
+            fmt_num(v, LABEL_W as usize - 1),
+            w = LABEL_W as usize
+        ))
+    };
     let chart = Chart::new(ds)
         .x_axis(Axis::default().bounds([t0, t1]))
-        .y_axis(Axis::default().bounds(yb).labels(vec![lab(yb[0]), lab(yb[1])]).style(th.dim()))
+        .y_axis(
+            Axis::default()
+                .bounds(yb)
+                .labels(vec![lab(yb[0]), lab(yb[1])])
+                .style(th.dim()),
+        )
         .legend_position(None);
     frame.render_widget(chart, body);
-}
-
-fn short_name(n: &str) -> String {
-    n.to_string()
 }
 
 const EV_IMPACT: char = '*';
 
 /// Per-contact event strip: events (impact `*`, stick `S`, slip `~`, release `^`,
 /// accumulation `!`) over the contact state (stuck `█`/`#`, sliding `▒`/`=`, open ` `).
-pub fn event_strip(run: &RunData, contact: usize, t0: f64, t1: f64, width: usize, per_cell: usize, ascii: bool) -> Vec<char> {
+pub fn event_strip(
+    run: &RunData,
+    contact: usize,
+    t0: f64,
+    t1: f64,
+    width: usize,
+    per_cell: usize,
+    ascii: bool,
+) -> Vec<char> {
     let mut rank: Vec<Option<u8>> = vec![None; width];
     let range = chart::window(&run.t, t0, t1);
     let states = &run.state[contact];
@@ -650,11 +774,15 @@ pub fn event_strip(run: &RunData, contact: usize, t0: f64, t1: f64, width: usize
         .get(range.end.saturating_sub(1))
         .filter(|_| range.end > range.start)
         .and_then(|&t| column_of(t, t0, t1, width, per_cell));
-    let mut prev = range.start.checked_sub(1).and_then(|i| states.get(i)).map(|s| match s {
-        ContactState::Stick => 2,
-        ContactState::Slide(_) => 1,
-        ContactState::Open => 0,
-    });
+    let mut prev = range
+        .start
+        .checked_sub(1)
+        .and_then(|i| states.get(i))
+        .map(|s| match s {
+            ContactState::Stick => 2,
+            ContactState::Slide(_) => 1,
+            ContactState::Open => 0,
+        });
     for (c, r) in rank.iter_mut().enumerate() {
         if last_col.is_none_or(|l| c > l) {
             break;
@@ -693,7 +821,16 @@ pub fn event_strip(run: &RunData, contact: usize, t0: f64, t1: f64, width: usize
 }
 
 #[allow(clippy::too_many_arguments)]
-fn draw_timeline(frame: &mut Frame, area: Rect, app: &App, run: &RunData, t0: f64, t1: f64, tc: f64, th: &Theme) {
+fn draw_timeline(
+    frame: &mut Frame,
+    area: Rect,
+    app: &App,
+    run: &RunData,
+    t0: f64,
+    t1: f64,
+    tc: f64,
+    th: &Theme,
+) {
     if area.height < 2 {
         return;
     }
@@ -703,11 +840,26 @@ fn draw_timeline(frame: &mut Frame, area: Rect, app: &App, run: &RunData, t0: f6
     let rows = (area.height as usize).saturating_sub(2).min(nc);
     let stuck = if th.ascii { "#" } else { "█" };
     let slide = if th.ascii { "=" } else { "▒" };
+    let tnow = format!(" t = {} s", fmt_num(tc, 9));
+    let legend = if area.width as usize >= 60 + tnow.len() {
+        format!("* impact  S stick  ~ slip  ^ release  {stuck} stuck  {slide} sliding")
+    } else {
+        format!("*impact S stick ~slip ^release {stuck}stuck {slide}slide")
+    };
     let head = Line::from(vec![
         Span::styled("events ", th.bold()),
-        Span::styled(format!("* impact  S stick  ~ slip  ^ release  {stuck} stuck  {slide} sliding"), th.dim()),
-        Span::styled(format!("   t = {} s", fmt_num(tc, 9)), th.cursor()),
+        Span::styled(legend, th.dim()),
     ]);
+    let tw = tnow.len() as u16;
+    frame.render_widget(
+        Paragraph::new(Line::styled(tnow, th.cursor())).alignment(Alignment::Right),
+        Rect::new(
+            area.right().saturating_sub(tw),
+            area.y,
+            tw.min(area.width),
+            1,
+        ),
+    );
     let mut lines = vec![head];
     let key = Key {
         extra: u64::from(th.ascii),
@@ -731,7 +883,10 @@ fn draw_timeline(frame: &mut Frame, area: Rect, app: &App, run: &RunData, t0: f6
     };
     let cur_col = column_of(tc, t0, t1, w, per_cell);
     for (i, strip) in strips.iter().enumerate().take(rows) {
-        let name: String = run.contact_names[i].chars().take(LABEL_W as usize - 1).collect();
+        let name: String = run.contact_names[i]
+            .chars()
+            .take(LABEL_W as usize - 1)
+            .collect();
         let mut spans = vec![Span::styled(
             format!("{name:>lw$} ", lw = LABEL_W as usize - 1),
             th.series(i),
@@ -811,8 +966,12 @@ fn plan_scale(app: &App, half: f64) -> f64 {
     }
     if let Some(r) = shown_run(app) {
         for (k, n) in r.dof_names.iter().enumerate() {
-            let m = r.q[k].iter().fold(0.0f64, |m, v| m.max(v.abs()));
-            d = d.max(if n.ends_with(".theta") { m * half * 0.5 } else { m });
+            let m = r.q_peak[k];
+            d = d.max(if n.ends_with(".theta") {
+                m * half * 0.5
+            } else {
+                m
+            });
         }
     }
     if d <= 0.0 {
@@ -851,7 +1010,12 @@ fn draw_plan(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
     for c in &scene.contacts {
         pts.push(body_ref(scene, c.point_body) + c.point);
     }
-    let (mut x0, mut x1, mut y0, mut y1) = (f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY);
+    let (mut x0, mut x1, mut y0, mut y1) = (
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+    );
     for p in &pts {
         x0 = x0.min(p.x);
         x1 = x1.max(p.x);
@@ -877,7 +1041,9 @@ fn draw_plan(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
             match (body.dofs[a], run, idx) {
                 (Some(k), Some(r), Some(i)) => {
                     let name = &scene.dof_names[k];
-                    r.dof(name).and_then(|kk| r.q[kk].get(i).copied()).unwrap_or(0.0)
+                    r.dof(name)
+                        .and_then(|kk| r.q[kk].get(i).copied())
+                        .unwrap_or(0.0)
                 }
                 _ => 0.0,
             }
@@ -934,7 +1100,9 @@ fn draw_plan(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
             // faces (exaggerated gaps) with a block behind each
             for c in &scene.contacts {
                 let g0 = contact_gap0(scene, c);
-                let fp = body_ref(scene, c.point_body) + c.point - s * g0 * c.face_normal - body_ref(scene, c.face_body);
+                let fp = body_ref(scene, c.point_body) + c.point
+                    - s * g0 * c.face_normal
+                    - body_ref(scene, c.face_body);
                 let f = place(c.face_body, fp);
                 let n = rot(c.face_body, c.face_normal);
                 let t = Vector2::new(-n.y, n.x) * face_len;
@@ -961,10 +1129,26 @@ fn draw_plan(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
                         let q = place(BodyRef::Body(bi), cps[(k + 1) % cps.len()]);
                         ctx.draw(&CLine::new(p.x, p.y, q.x, q.y, body_color));
                     }
-                } else if !scene.contacts.iter().any(|c| c.face_body == BodyRef::Body(bi)) {
+                } else if !scene
+                    .contacts
+                    .iter()
+                    .any(|c| c.face_body == BodyRef::Body(bi))
+                {
                     let e = 0.02 * hx;
-                    ctx.draw(&CLine::new(centre.x - e, centre.y, centre.x + e, centre.y, body_color));
-                    ctx.draw(&CLine::new(centre.x, centre.y - e, centre.x, centre.y + e, body_color));
+                    ctx.draw(&CLine::new(
+                        centre.x - e,
+                        centre.y,
+                        centre.x + e,
+                        centre.y,
+                        body_color,
+                    ));
+                    ctx.draw(&CLine::new(
+                        centre.x,
+                        centre.y - e,
+                        centre.x,
+                        centre.y + e,
+                        body_color,
+                    ));
                     for p in &cps {
                         let q = place(BodyRef::Body(bi), *p);
                         ctx.draw(&CLine::new(centre.x, centre.y, q.x, q.y, body_color));
@@ -976,8 +1160,12 @@ fn draw_plan(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
             for (ci, c) in scene.contacts.iter().enumerate() {
                 let p = place(c.point_body, c.point);
                 match states[ci] {
-                    ContactState::Stick => ctx.print(p.x, p.y, Span::styled(stuck_sym, stick_style)),
-                    ContactState::Slide(_) => ctx.print(p.x, p.y, Span::styled(touch_sym, contact_style)),
+                    ContactState::Stick => {
+                        ctx.print(p.x, p.y, Span::styled(stuck_sym, stick_style))
+                    }
+                    ContactState::Slide(_) => {
+                        ctx.print(p.x, p.y, Span::styled(touch_sym, contact_style))
+                    }
                     ContactState::Open => {}
                 }
             }
@@ -999,64 +1187,109 @@ fn draw_loop(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
     }
     let j = app.element % run.element_names.len();
     let name = &run.element_names[j];
-    let prev = overlay_run(app)
-        .filter(|p| p.id != run.id)
-        .and_then(|p| p.element_names.iter().position(|n| n == name).map(|k| (p, k)));
+    let prev = overlay_run(app).filter(|p| p.id != run.id).and_then(|p| {
+        p.element_names
+            .iter()
+            .position(|n| n == name)
+            .map(|k| (p, k))
+    });
     let tc = app.cursor_time();
     let (t0, _) = app.window();
-    let unit_f = if app.scene.as_ref().is_some_and(|s| s.bodies.iter().any(|b| b.name == "deck")) {
+    let unit_f = if app
+        .scene
+        .as_ref()
+        .is_some_and(|s| s.bodies.iter().any(|b| b.name == "deck"))
+    {
         " kN"
     } else {
         ""
     };
-    let title = format!(" {name} force–deformation ({}/{}, n: next) ", j + 1, run.element_names.len());
+    let title = format!(
+        " {name} force–deformation ({}/{}, n: next) ",
+        j + 1,
+        run.element_names.len()
+    );
     let block = th.block(title);
     let inner = block.inner(area);
     let (dx, fx) = (&run.el[j].0, &run.el[j].1);
-    let mut xb = bounds(dx.iter());
-    let mut yb = bounds(fx.iter());
+    let mut r = run.el_range[j];
     if let Some((p, k)) = prev {
-        let pxb = bounds(p.el[k].0.iter());
-        let pyb = bounds(p.el[k].1.iter());
-        xb = [xb[0].min(pxb[0]), xb[1].max(pxb[1])];
-        yb = [yb[0].min(pyb[0]), yb[1].max(pyb[1])];
+        let q = p.el_range[k];
+        r = [
+            r[0].min(q[0]),
+            r[1].max(q[1]),
+            r[2].min(q[2]),
+            r[3].max(q[3]),
+        ];
     }
+    let xb = bounds(&[r[0], r[1]]);
+    let yb = bounds(&[r[2], r[3]]);
     let res_x = inner.width as usize * th.per_cell();
     let res_y = inner.height as usize * if th.ascii { 1 } else { 4 };
-    let range = chart::window(&run.t, t0, tc);
-    let cur = chart::dedup_pixels(range.map(|i| (dx[i], fx[i])), xb, yb, res_x, res_y);
+    let geo = [
+        res_x as u64,
+        res_y as u64,
+        xb[0].to_bits(),
+        xb[1].to_bits(),
+        yb[0].to_bits(),
+        yb[1].to_bits(),
+    ];
+    let mut key = vec![run.t.len() as u64, t0.to_bits(), tc.to_bits()];
+    key.extend(geo);
+    let cur = memo(app, format!("{}:loop{j}", run.id), key, || {
+        let range = chart::window(&run.t, t0, tc);
+        chart::dedup_pixels(range.map(|i| (dx[i], fx[i])), xb, yb, res_x, res_y)
+    });
     let prev_pts = prev.map(|(p, k)| {
-        let key = Key {
-            extra: (res_y as u64) << 32 | xb[0].to_bits() >> 32,
-            ..time_key(p, 0.0, 0.0, res_x as u16)
-        };
-        let cname = format!("{}:loop{k}", p.id);
-        let mut cache = app.cache.borrow_mut();
-        match cache.series.get(&cname) {
-            Some((kk, v)) if *kk == key => v.clone(),
-            _ => {
-                let v = chart::dedup_pixels(p.el[k].0.iter().copied().zip(p.el[k].1.iter().copied()), xb, yb, res_x, res_y);
-                cache.series.insert(cname, (key, v.clone()));
-                v
-            }
-        }
+        let mut key = vec![p.t.len() as u64];
+        key.extend(geo);
+        memo(app, format!("{}:loop{k}", p.id), key, || {
+            chart::dedup_pixels(
+                p.el[k].0.iter().copied().zip(p.el[k].1.iter().copied()),
+                xb,
+                yb,
+                res_x,
+                res_y,
+            )
+        })
     });
     let here = cur.last().map(|p| [*p]);
     let marker = th.marker();
     let mut ds = Vec::new();
     if let Some(p) = &prev_pts {
-        ds.push(Dataset::default().marker(marker).graph_type(GraphType::Line).style(th.previous()).data(p));
+        ds.push(
+            Dataset::default()
+                .marker(marker)
+                .graph_type(GraphType::Line)
+                .style(th.previous())
+                .data(p),
+        );
     }
-    ds.push(Dataset::default().marker(marker).graph_type(GraphType::Line).style(th.series(2)).data(&cur));
+    ds.push(
+        Dataset::default()
+            .marker(marker)
+            .graph_type(GraphType::Line)
+            .style(th.series(2))
+            .data(&cur),
+    );
     if let Some(h) = &here {
-        ds.push(Dataset::default().marker(Marker::Block).graph_type(GraphType::Scatter).style(th.cursor()).data(h));
+        ds.push(
+            Dataset::default()
+                .marker(Marker::Block)
+                .graph_type(GraphType::Scatter)
+                .style(th.cursor())
+                .data(h),
+        );
     }
     let chart = Chart::new(ds)
         .block(block)
         .x_axis(
             Axis::default()
                 .bounds(xb)
-                .labels(vec![Line::from(fmt_num(xb[0], 7)), Line::from(fmt_num(xb[1], 7))])
+                .labels(vec![
+                    Line::from(fmt_num(xb[0], 7)),
+                    Line::from(fmt_num(xb[1], 7)),
+                ])
                 .style(th.dim()),
         )
         .y_axis(
@@ -1075,39 +1308,63 @@ fn draw_loop(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
 fn digest_rows(cur: Option<&Digest>, prev: Option<&Digest>) -> Vec<[String; 3]> {
     let rot = cur
         .or(prev)
-        .map(|d| if d.rot_name.ends_with(".theta") { "θ".to_string() } else { d.rot_name.clone() })
+        .map(|d| {
+            if d.rot_name.ends_with(".theta") {
+                "θ".to_string()
+            } else {
+                d.rot_name.clone()
+            }
+        })
         .unwrap_or_else(|| "θ".into());
-    let f = |d: Option<&Digest>, g: &dyn Fn(&Digest) -> String| d.map_or("—".to_string(), g);
-    let rows: Vec<(String, &dyn Fn(&Digest) -> String)> = vec![
-        (format!("peak |{rot}|"), &|d: &Digest| fmt_num(d.peak_rot, 9)),
-        ("  at t [s]".into(), &|d: &Digest| fmt_num(d.peak_rot_at, 9)),
-        (format!("residual {rot}"), &|d: &Digest| fmt_num(d.residual_rot, 9)),
-        ("impacts".into(), &|d: &Digest| d.total_impacts().to_string()),
-        ("stick time [s]".into(), &|d: &Digest| fmt_num(d.total_stick_time(), 9)),
-        ("min gap [m]".into(), &|d: &Digest| {
+    type Get = fn(&Digest) -> String;
+    let rows: [(String, Get); 6] = [
+        (format!("peak |{rot}|"), |d| chart::fmt_sig(d.peak_rot, 4)),
+        ("  at t [s]".into(), |d| chart::fmt_sig(d.peak_rot_at, 4)),
+        (format!("residual {rot}"), |d| {
+            chart::fmt_sig(d.residual_rot, 4)
+        }),
+        ("impacts".into(), |d| d.total_impacts().to_string()),
+        ("stick [s]".into(), |d| {
+            chart::fmt_sig(d.total_stick_time(), 4)
+        }),
+        ("min gap [m]".into(), |d| {
+            // below a nanometre is closed contact (round-off noise otherwise)
             let g = d.min_gap();
-            if g.is_finite() { fmt_num(g, 9) } else { "—".into() }
+            match g {
+                g if !g.is_finite() => "—".into(),
+                g if g.abs() < 1e-9 => "0".into(),
+                g => chart::fmt_sig(g, 4),
+            }
         }),
     ];
-    rows.into_iter().map(|(n, g)| [n, f(cur, g), f(prev, g)]).collect()
+    let f = |d: Option<&Digest>, g: Get| d.map_or("—".to_string(), g);
+    rows.into_iter()
+        .map(|(n, g)| [n, f(cur, g), f(prev, g)])
+        .collect()
 }
 
 fn draw_summary(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
     let cur = app.current.as_ref();
     let prev = app.previous.as_ref();
+    let label_w: u16 = 12;
+    let value_w = (area.width.saturating_sub(2 + label_w + 2) / 2).clamp(4, 12);
     let rows = digest_rows(cur.map(|r| &r.digest), prev.map(|r| &r.digest));
     let header = Row::new(vec![
         String::new(),
         cur.map_or("current".into(), |r| format!("run {}", r.id)),
-        prev.map_or("previous".into(), |r| format!("run {} (prev)", r.id)),
+        prev.map_or("previous".into(), |r| format!("run {}", r.id)),
     ])
     .style(th.bold());
     let table = Table::new(
         rows.into_iter().map(|r| Row::new(r.to_vec())),
-        [Constraint::Length(15), Constraint::Fill(1), Constraint::Fill(1)],
+        [
+            Constraint::Length(label_w),
+            Constraint::Length(value_w),
+            Constraint::Length(value_w),
+        ],
     )
     .header(header)
-    .block(th.block(" summary: current vs previous "));
+    .block(th.block(" current vs previous "));
     frame.render_widget(table, area);
 }
 
@@ -1116,7 +1373,8 @@ fn draw_summary(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
 
 fn draw_form(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
     let left_w = (area.width * 55 / 100).max(34);
-    let [left, right] = Layout::horizontal([Constraint::Length(left_w), Constraint::Min(0)]).areas(area);
+    let [left, right] =
+        Layout::horizontal([Constraint::Length(left_w), Constraint::Min(0)]).areas(area);
     let title = if app.dirty() {
         " parameters — edited (* unsaved; s saves) "
     } else {
@@ -1144,13 +1402,24 @@ fn draw_form(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
         };
         let label: String = f.label.chars().take(label_w).collect();
         let value: String = if value.chars().count() > value_w {
-            value.chars().skip(value.chars().count() - value_w).collect()
+            value
+                .chars()
+                .skip(value.chars().count() - value_w)
+                .collect()
         } else {
             value
         };
-        let unit: String = if f.unit.contains('|') { String::new() } else { f.unit.chars().take(unit_w).collect() };
+        let unit: String = if f.unit.contains('|') {
+            String::new()
+        } else {
+            f.unit.chars().take(unit_w).collect()
+        };
         let text = format!("{mark}{label:<label_w$} {value:>value_w$} {unit:<unit_w$}");
-        let mut style = if f.curated { Style::default() } else { th.dim() };
+        let mut style = if f.curated {
+            Style::default()
+        } else {
+            th.dim()
+        };
         if f.edited() {
             style = style.patch(th.fg(Color::Yellow));
         }
@@ -1165,7 +1434,8 @@ fn draw_form(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
     frame.render_widget(Paragraph::new(lines), inner);
 
     let sum_h = if right.height >= 20 { 9 } else { 0 };
-    let [detail, sum] = Layout::vertical([Constraint::Min(0), Constraint::Length(sum_h)]).areas(right);
+    let [detail, sum] =
+        Layout::vertical([Constraint::Min(0), Constraint::Length(sum_h)]).areas(right);
     draw_field_detail(frame, detail, app, th);
     if sum_h > 0 {
         draw_summary(frame, sum, app, th);
@@ -1183,32 +1453,66 @@ fn draw_field_detail(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
         Line::from(format!(
             "{}{}",
             f.kind.name(),
-            if f.unit.is_empty() { String::new() } else { format!(", {}", f.unit) }
+            if f.unit.is_empty() {
+                String::new()
+            } else {
+                format!(", {}", f.unit)
+            }
         )),
         Line::from(vec![
             Span::styled("saved: ", th.dim()),
-            Span::raw(f.saved.clone().unwrap_or_else(|| "(absent: default)".into())),
+            Span::raw(
+                f.saved
+                    .clone()
+                    .unwrap_or_else(|| "(absent: default)".into()),
+            ),
         ]),
     ];
     if f.edited() {
         lines.push(Line::from(vec![
             Span::styled("draft: ", th.dim()),
-            Span::styled(f.value.clone().unwrap_or_else(|| "(absent)".into()), th.fg(Color::Yellow)),
+            Span::styled(
+                f.value.clone().unwrap_or_else(|| "(absent)".into()),
+                th.fg(Color::Yellow),
+            ),
         ]));
     }
-    if !f.note.is_empty() {
-        lines.push(Line::styled(format!("# {}", f.note), th.dim()));
-    }
-    lines.push(Line::from(""));
     match &app.mode {
         Mode::Editing { buffer, check } => {
-            lines.push(Line::from(vec![Span::styled("> ", th.bold()), Span::raw(format!("{buffer}_"))]));
+            lines.push(Line::from(vec![
+                Span::styled("> ", th.bold()),
+                Span::raw(format!("{buffer}_")),
+            ]));
             match check {
-                Ok(()) => lines.push(Line::styled("✓ valid — Enter accepts", th.status(StatusKind::Ok))),
-                Err(e) => lines.push(Line::styled(format!("✗ {e}"), th.status(StatusKind::Error))),
+                Ok(()) => lines.push(Line::styled(
+                    "✓ valid — Enter accepts",
+                    th.status(StatusKind::Ok),
+                )),
+                Err(e) => {
+                    let prefix = format!("{}:", app.path.display());
+                    let short = e
+                        .strip_prefix(&prefix)
+                        .map_or(e.clone(), |r| format!("at {r}"));
+                    lines.push(Line::styled(
+                        format!("✗ {short}"),
+                        th.status(StatusKind::Error),
+                    ));
+                }
             }
         }
-        _ => lines.push(Line::styled("Enter edits · u reverts · s saves · r runs", th.dim())),
+        _ => lines.push(Line::styled(
+            "Enter edits · u reverts · s saves · r runs",
+            th.dim(),
+        )),
     }
-    frame.render_widget(Paragraph::new(lines).wrap(Wrap { trim: false }).block(block), area);
+    if !f.note.is_empty() {
+        lines.push(Line::from(""));
+        lines.push(Line::styled(format!("# {}", f.note), th.dim()));
+    }
+    frame.render_widget(
+        Paragraph::new(lines)
+            .wrap(Wrap { trim: false })
+            .block(block),
+        area,
+    );
 }

@@ -68,19 +68,28 @@ pub fn spawn(path: &Path, tx: Sender<Msg>) -> Watch {
 
 /// A debounced watcher on the file's directory, reporting changes of that file name (created,
 /// written, renamed onto). On a watcher error it starts the polling fallback (once).
-pub fn notify_watch(path: &Path, tx: Sender<Msg>) -> Result<Debouncer<notify::RecommendedWatcher, RecommendedCache>, String> {
+pub fn notify_watch(
+    path: &Path,
+    tx: Sender<Msg>,
+) -> Result<Debouncer<notify::RecommendedWatcher, RecommendedCache>, String> {
     let dir = path
         .parent()
         .filter(|d| !d.as_os_str().is_empty())
         .unwrap_or(Path::new("."))
         .to_path_buf();
-    let name = path.file_name().ok_or("the model path has no file name")?.to_os_string();
+    let name = path
+        .file_name()
+        .ok_or("the model path has no file name")?
+        .to_os_string();
     let target = path.to_path_buf();
     let fell_back = Arc::new(AtomicBool::new(false));
     let mut d = new_debouncer(DEBOUNCE, None, move |res: DebounceEventResult| match res {
         Ok(events) => {
             let ours = events.iter().any(|e| {
-                !e.kind.is_access() && e.paths.iter().any(|p| p.file_name() == Some(name.as_os_str()))
+                !e.kind.is_access()
+                    && e.paths
+                        .iter()
+                        .any(|p| p.file_name() == Some(name.as_os_str()))
             });
             if ours && target.exists() {
                 let _ = tx.send(read(&target));
@@ -88,14 +97,17 @@ pub fn notify_watch(path: &Path, tx: Sender<Msg>) -> Result<Debouncer<notify::Re
         }
         Err(errors) => {
             if !fell_back.swap(true, Ordering::SeqCst) {
-                let e = errors.first().map_or("unknown".to_string(), |e| e.to_string());
+                let e = errors
+                    .first()
+                    .map_or("unknown".to_string(), |e| e.to_string());
                 let _ = tx.send(Msg::WatchMode(format!("polling 1 s (watcher error: {e})")));
                 spawn_poll(target.clone(), tx.clone(), POLL);
             }
         }
     })
     .map_err(|e| e.to_string())?;
-    d.watch(&dir, RecursiveMode::NonRecursive).map_err(|e| e.to_string())?;
+    d.watch(&dir, RecursiveMode::NonRecursive)
+        .map_err(|e| e.to_string())?;
     Ok(d)
 }
 

@@ -40,7 +40,9 @@ struct Stream<F: FnMut(Msg) -> bool> {
 
 impl<F: FnMut(Msg) -> bool> Stream<F> {
     fn cancelled(&self) -> bool {
-        self.cancel.as_ref().is_some_and(|c| c.load(Ordering::Relaxed))
+        self.cancel
+            .as_ref()
+            .is_some_and(|c| c.load(Ordering::Relaxed))
     }
 }
 
@@ -90,11 +92,16 @@ pub fn spawn(id: u64, scene: Scene, tx: Sender<Msg>) -> RunHandle {
                     cancel: Some(flag),
                     sink: |m| sink_tx.send(m).is_ok(),
                 };
+                if super::test_panic("worker") {
+                    panic!("DECKSPIN_TEST_PANIC=worker: a panic in the simulation thread");
+                }
                 crate::run(&scene, &mut obs)
             }));
             let outcome = match result {
                 Ok(r) => outcome(r),
-                Err(p) => RunOutcome::Failed(format!("the engine panicked: {}", panic_text(p.as_ref()))),
+                Err(p) => {
+                    RunOutcome::Failed(format!("the engine panicked: {}", panic_text(p.as_ref())))
+                }
             };
             let _ = tx.send(Msg::RunDone { run: id, outcome });
         });

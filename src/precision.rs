@@ -1,0 +1,291 @@
+//! Work–precision: each method over its own knob (tolerance, step, contact stiffness), CPU time
+//! against the error from a converged event-driven reference (Hairer & Wanner's work–precision
+//! diagrams); and where each method fails (stability table).
+
+use crate::event_driven::SolverError;
+use crate::model;
+use crate::output::{EventKind, RunOutput, SampleKind};
+use crate::studies::rotation_dof;
+use serde::Serialize;
+use std::path::Path;
+
+/// One point of a work–precision diagram.
+#[derive(Clone, Debug, Serialize)]
+pub struct Point {
+    pub method: String,
+    /// "rtol=1e-6", "h=1e-3", "h=1e-3 k=1e6" …
+    pub knob: String,
+    pub cpu_s: f64,
+    /// |peak − peak_ref| / |peak_ref| of the watched DOF.
+    pub peak_error: f64,
+    /// RMS of the history difference over RMS of the reference.
+    pub rms_error: f64,
+    /// |t₁ − t₁,ref| of the first impact, s (NaN without impacts).
+    pub impact_time_error: f64,
+    pub steps: usize,
+    /// "ok", "unstable: …", "failed: …".
+    pub status: String,
+}
+
+/// The watched quantity: deck rotation, else the first θ, else DOF 0.
+pub struct Reference {
+    pub run: RunOutput,
+    pub dof: usize,
+    pub peak: f64,
+    pub t: Vec<f64>,
+    pub y: Vec<f64>,
+    pub first_impact: Option<f64>,
+}
+
+fn series(r: &RunOutput, dof: usize) -> (Vec<f64>, Vec<f64>) {
+    r.samples
+        .iter()
+        .filter(|s| s.kind != SampleKind::PreEvent)
+        .map(|s| (s.t, s.q[dof]))
+        .unzip()
+}
+
+fn first_impact(r: &RunOutput) -> Option<f64> {
+    r.events
+        .iter()
+        .find(|e| e.kind == EventKind::Impact)
+        .map(|e| e.t)
+}
+
+fn interp(t: &[f64], y: &[f64], x: f64) -> f64 {
+    match t.partition_point(|&ti| ti < x) {
+        0 => y[0],
+        i if i >= t.len() => y[t.len() - 1],
+        i => {
+            let (t0, t1) = (t[i - 1], t[i]);
+            if t1 <= t0 {
+                y[i]
+            } else {
+                y[i - 1] + (y[i] - y[i - 1]) * (x - t0) / (t1 - t0)
+            }
+        }
+    }
+}
+
+/// A model read once and run with knob overrides.
+pub struct Bench {
+    pub path: std::path::PathBuf,
+    pub text: String,
+    pub base: Vec<String>,
+}
+
+impl Bench {
+    pub fn open(path: &Path, base: &[String]) -> Result<Self, model::ModelError> {
+        let text = std::fs::read_to_string(path).map_err(|e| model::ModelError::Io {
+            path: path.to_path_buf(),
+            source: e,
+        })?;
+        model::load_str(&text, path, base)?;
+        Ok(Self {
+            path: path.to_path_buf(),
+            text,
+            base: base.to_vec(),
+        })
+    }
+
+    pub fn run(&self, set: &[String]) -> Result<(RunOutput, f64), String> {
+        let mut ov = self.base.clone();
+        ov.extend(set.iter().cloned());
+        let scene = model::load_str(&self.text, &self.path, &ov).map_err(|e| e.to_string())?;
+        let t0 = std::time::Instant::now();
+        let r = crate::simulate(&scene, &mut crate::Silent).map_err(|e| match e {
+            SolverError::Unstable { .. } => format!("unstable: {e}"),
+            e => format!("failed: {e}"),
+        })?;
+        Ok((r, t0.elapsed().as_secs_f64()))
+    }
+
+    /// The converged event-driven reference.
+    pub fn reference(&self, rtol: f64) -> Result<Reference, String> {
+        let (run, _) = self.run(&[
+            "solver.method=\"event\"".into(),
+            format!("solver.rtol={rtol:e}"),
+            format!("solver.atol={:e}", rtol * 1e-3),
+        ])?;
+        let dof = rotation_dof(&run);
+        let (t, y) = series(&run, dof);
+        Ok(Reference {
+            peak: run.summary.peaks[dof].max_abs,
+            first_impact: first_impact(&run),
+            dof,
+            t,
+            y,
+            run,
+        })
+    }
+
+    pub fn measure(&self, reference: &Reference, method: &str, knob: &str, set: &[String]) -> Point {
+        let mut ov = vec![format!("solver.method=\"{method}\"")];
+        ov.extend(set.iter().cloned());
+        match self.run(&ov) {
+            Ok((r, cpu)) => {
+                let (t, y) = series(&r, reference.dof);
+                let (mut num, mut den) = (0.0, 0.0);
+                for (tr, yr) in reference.t.iter().zip(&reference.y) {
+                    let d = interp(&t, &y, *tr) - yr;
+                    num += d * d;
+                    den += yr * yr;
+                }
+                Point {
+                    method: method.into(),
+                    knob: knob.into(),
+                    cpu_s: cpu,
+                    peak_error: (r.summary.peaks[reference.dof].max_abs - reference.peak).abs()
+                        / reference.peak.abs().max(1e-300),
+                    rms_error: (num / den.max(1e-300)).sqrt(),
+                    impact_time_error: match (first_impact(&r), reference.first_impact) {
+                        (Some(a), Some(b)) => (a - b).abs(),
+                        _ => f64::NAN,
+                    },
+                    steps: r.summary.stats.steps_accepted,
+                    status: "ok".into(),
+                }
+            }
+            Err(e) => Point {
+                method: method.into(),
+                knob: knob.into(),
+                cpu_s: f64::NAN,
+                peak_error: f64::NAN,
+                rms_error: f64::NAN,
+                impact_time_error: f64::NAN,
+                steps: 0,
+                status: e,
+            },
+        }
+    }
+}
+
+/// Knob settings of each method for a run of length `t_end` with base contact stiffness `k`.
+pub fn knobs(method: &str, t_end: f64, k: f64, quick: bool) -> Vec<(String, Vec<String>)> {
+    let steps: Vec<f64> = if quick {
+        vec![100.0, 1000.0, 10000.0]
+    } else {
+        vec![100.0, 300.0, 1000.0, 3000.0, 10000.0, 30000.0]
+    };
+    match method {
+        "event" => {
+            let tols: &[f64] = if quick {
+                &[1e-3, 1e-5, 1e-7]
+            } else {
+                &[1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8]
+            };
+            tols.iter()
+                .map(|r| {
+                    (
+                        format!("rtol={r:.0e}"),
+                        vec![format!("solver.rtol={r:e}"), format!("solver.atol={:e}", r * 1e-3)],
+                    )
+                })
+                .collect()
+        }
+        "moreau" => steps
+            .iter()
+            .map(|n| {
+                let h = t_end / n;
+                (format!("h={h:.1e}"), vec![format!("solver.step={h:e}")])
+            })
+            .collect(),
+        _ => {
+            let ks: &[f64] = if quick { &[1.0] } else { &[0.01, 1.0, 100.0] };
+            let mut out = Vec::new();
+            for f in ks {
+                for n in &steps {
+                    let h = t_end / n;
+                    let kk = k * f;
+                    out.push((
+                        format!("h={h:.1e} k={kk:.0e}"),
+                        vec![format!("solver.step={h:e}"), format!("solver.contact_stiffness={kk:e}")],
+                    ));
+                }
+            }
+            out
+        }
+    }
+}
+
+/// A log–log text chart of error against CPU time, one letter per method.
+pub fn chart(points: &[Point], width: usize, height: usize) -> String {
+    let good: Vec<&Point> = points
+        .iter()
+        .filter(|p| p.status == "ok" && p.cpu_s > 0.0 && p.peak_error > 0.0 && p.peak_error.is_finite())
+        .collect();
+    if good.is_empty() {
+        return "(no points)\n".into();
+    }
+    let lx: Vec<f64> = good.iter().map(|p| p.cpu_s.log10()).collect();
+    let ly: Vec<f64> = good.iter().map(|p| p.peak_error.max(1e-16).log10()).collect();
+    let (x0, x1) = (lx.iter().cloned().fold(f64::INFINITY, f64::min).floor(), lx.iter().cloned().fold(f64::NEG_INFINITY, f64::max).ceil());
+    let (y0, y1) = (ly.iter().cloned().fold(f64::INFINITY, f64::min).floor(), ly.iter().cloned().fold(f64::NEG_INFINITY, f64::max).ceil());
+    let (x1, y1) = (x1.max(x0 + 1.0), y1.max(y0 + 1.0));
+    let mut grid = vec![vec![' '; width]; height];
+    for (i, p) in good.iter().enumerate() {
+        let cx = (((lx[i] - x0) / (x1 - x0)) * (width - 1) as f64).round() as usize;
+        let cy = (((y1 - ly[i]) / (y1 - y0)) * (height - 1) as f64).round() as usize;
+        let c = match p.method.as_str() {
+            "event" => 'E',
+            "moreau" => 'M',
+            "penalty" => 'P',
+            _ => 'X',
+        };
+        grid[cy.min(height - 1)][cx.min(width - 1)] = c;
+    }
+    let mut s = format!("peak error (log10, {y1} at top … {y0} at bottom) against CPU time (log10 s, {x0} … {x1})\n");
+    for (r, row) in grid.iter().enumerate() {
+        let label = if r == 0 {
+            format!("1e{y1:<3}")
+        } else if r == height - 1 {
+            format!("1e{y0:<3}")
+        } else {
+            "     ".into()
+        };
+        s += &format!("{label}|{}\n", row.iter().collect::<String>());
+    }
+    s += &format!("     +{}\n", "-".repeat(width));
+    s += &format!("      1e{x0}s{}1e{x1}s\n", " ".repeat(width.saturating_sub(12)));
+    s += "      E event-driven  M Moreau–Jean  P penalty (Newmark)  X penalty (central difference)\n";
+    s
+}
+
+/// The cheapest point of a method with peak error ≤ `tol`.
+pub fn cheapest_within<'a>(points: &'a [Point], method: &str, tol: f64) -> Option<&'a Point> {
+    points
+        .iter()
+        .filter(|p| p.method == method && p.status == "ok" && p.peak_error <= tol)
+        .min_by(|a, b| a.cpu_s.total_cmp(&b.cpu_s))
+}
+
+pub fn write_csv(points: &[Point], path: &Path) -> std::io::Result<()> {
+    let mut w = csv::Writer::from_path(path)?;
+    w.write_record(["method", "knob", "cpu_s", "peak_error", "rms_error", "impact_time_error", "steps", "status"])?;
+    for p in points {
+        w.write_record([
+            p.method.clone(),
+            p.knob.clone(),
+            format!("{:.6e}", p.cpu_s),
+            format!("{:.6e}", p.peak_error),
+            format!("{:.6e}", p.rms_error),
+            format!("{:.6e}", p.impact_time_error),
+            p.steps.to_string(),
+            p.status.clone(),
+        ])?;
+    }
+    w.flush()
+}
+
+/// Classify a point for the stability table.
+pub fn verdict(p: &Point, tol: f64) -> String {
+    if p.status.starts_with("unstable") {
+        "unstable".into()
+    } else if p.status != "ok" {
+        "failed".into()
+    } else if p.peak_error > tol || !p.peak_error.is_finite() {
+        format!("inaccurate ({:.0} %)", 100.0 * p.peak_error)
+    } else {
+        format!("ok ({:.2} %)", 100.0 * p.peak_error)
+    }
+}

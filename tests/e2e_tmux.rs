@@ -1,0 +1,291 @@
+//! End-to-end: the real `deckspin MODEL.toml` workbench in a detached tmux session (120×40).
+//! Runs a 3 s copy of the four-span bridge, edits a gap in the form, saves, sees the rerun
+//! and the comparison change, edits the file on disk and sees "reloaded", quits with `q` and
+//! checks the terminal is back on the normal screen. Skipped (passes) without tmux.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::time::{Duration, Instant};
+
+struct Tmux {
+    socket: String,
+}
+
+impl Tmux {
+    fn cmd(&self, args: &[&str]) -> std::process::Output {
+        Command::new("tmux")
+            .args(["-L", &self.socket, "-f", "/dev/null"])
+            .args(args)
+            .output()
+            .expect("run tmux")
+    }
+    fn capture(&self) -> String {
+        String::from_utf8_lossy(&self.cmd(&["capture-pane", "-p", "-t", "e2e"]).stdout).into_owned()
+    }
+    fn keys(&self, keys: &[&str]) {
+        for k in keys {
+            let out = self.cmd(&["send-keys", "-t", "e2e", k]);
+            assert!(
+                out.status.success(),
+                "send-keys {k}: {}",
+                String::from_utf8_lossy(&out.stderr)
+            );
+            std::thread::sleep(Duration::from_millis(30));
+        }
+    }
+    fn text(&self, s: &str) {
+        let out = self.cmd(&["send-keys", "-t", "e2e", "-l", s]);
+        assert!(out.status.success());
+    }
+    /// Polls the pane until `pred` holds (≤ `secs`), returning the screen.
+    fn wait(&self, what: &str, secs: u64, pred: impl Fn(&str) -> bool) -> String {
+        let end = Instant::now() + Duration::from_secs(secs);
+        loop {
+            let s = self.capture();
+            if pred(&s) {
+                return s;
+            }
+            if Instant::now() > end {
+                panic!("timed out waiting for {what}; screen:\n{s}");
+            }
+            std::thread::sleep(Duration::from_millis(100));
+        }
+    }
+    fn alternate_on(&self) -> String {
+        let out = self.cmd(&["display-message", "-p", "-t", "e2e", "#{alternate_on}"]);
+        String::from_utf8_lossy(&out.stdout).trim().to_string()
+    }
+}
+
+impl Drop for Tmux {
+    fn drop(&mut self) {
+        let _ = self.cmd(&["kill-server"]);
+    }
+}
+
+fn have_tmux() -> bool {
+    Command::new("tmux")
+        .arg("-V")
+        .output()
+        .is_ok_and(|o| o.status.success())
+}
+
+/// tmp/models/four-span.toml (t_end = 3 s) + tmp/excitations/*.AT2, as the model expects.
+fn workspace() -> PathBuf {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    static N: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let n = N.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
+    let d = std::env::temp_dir().join(format!("deckspin-e2e-{}-{n}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(d.join("models")).unwrap();
+    std::fs::create_dir_all(d.join("excitations")).unwrap();
+    for e in std::fs::read_dir(root.join("excitations")).unwrap() {
+        let e = e.unwrap();
+        std::fs::copy(e.path(), d.join("excitations").join(e.file_name())).unwrap();
+    }
+    let text = std::fs::read_to_string(root.join("models/four-span.toml")).unwrap();
+    let text = deckspin::tui::form::set_value(
+        &text,
+        "solver.t_end",
+        deckspin::tui::form::Kind::Float,
+        "3.0",
+        "",
+    )
+    .unwrap();
+    std::fs::write(d.join("models/four-span.toml"), text).unwrap();
+    d
+}
+
+/// The two numbers of a summary row (current, previous).
+fn row(screen: &str, name: &str) -> (String, String) {
+    let line = screen
+        .lines()
+        .find(|l| l.contains(&format!("│{name}")))
+        .unwrap_or_else(|| panic!("no row {name}:\n{screen}"));
+    let cells: Vec<String> = line
+        .rsplit('│')
+        .nth(1)
+        .unwrap()
+        .trim_start_matches(name)
+        .split_whitespace()
+        .map(str::to_string)
+        .collect();
+    (cells[0].clone(), cells.get(1).cloned().unwrap_or_default())
+}
+
+/// Starts the workbench on tmp/models/four-span.toml in session "e2e" (120×40) through a shell
+/// that reports the exit code and whether the terminal is back in canonical (cooked) mode.
+fn start(tmux: &Tmux, d: &Path, env: &str) {
+    let script = format!(
+        "cd '{}' && {env} '{}' models/four-span.toml; echo deckspin-exited-$?; \
+         stty -a | tr ' ;' '\\n\\n' | grep -x -e icanon -e -icanon; echo stty-done; exec sleep 120",
+        d.display(),
+        env!("CARGO_BIN_EXE_deckspin")
+    );
+    let out = tmux.cmd(&[
+        "new-session",
+        "-d",
+        "-s",
+        "e2e",
+        "-x",
+        "120",
+        "-y",
+        "40",
+        "sh",
+        "-c",
+        &script,
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+fn unix_ms() -> f64 {
+    std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .unwrap()
+        .as_secs_f64()
+        * 1e3
+}
+
+#[test]
+fn workbench_in_tmux() {
+    if !have_tmux() {
+        println!("tmux is not on PATH: skipping the end-to-end terminal test");
+        return;
+    }
+    let d = workspace();
+    let model = d.join("models/four-span.toml");
+    let timing = d.join("timing.log");
+    let tmux = Tmux {
+        socket: format!("deckspin-e2e-{}", std::process::id()),
+    };
+    start(
+        &tmux,
+        &d,
+        &format!("DECKSPIN_TIMING='{}'", timing.display()),
+    );
+    // the first run streams and finishes
+    let s = tmux.wait("run 1 to finish", 30, |s| s.contains("run 1 done"));
+    assert_eq!(
+        tmux.alternate_on(),
+        "1",
+        "the workbench uses the alternate screen"
+    );
+    assert!(s.contains("deck.theta [rad]"), "{s}");
+    assert!(s.contains("gaps g_N [m]"), "{s}");
+    assert!(s.contains("events "), "{s}");
+    assert!(s.contains("plan ×"), "{s}");
+    assert!(
+        s.contains("watch: notify") || s.contains("watch: polling"),
+        "{s}"
+    );
+
+    // edit the left_top gap in the form
+    tmux.keys(&["Tab"]);
+    tmux.wait("the form", 5, |s| s.contains("parameters"));
+    for _ in 0..10 {
+        tmux.keys(&["Down"]);
+    }
+    tmux.wait("the gap field", 5, |s| s.contains("contacts.gaps.0"));
+    tmux.keys(&["Enter", "C-u"]);
+    tmux.text("0.002");
+    tmux.wait("a valid value", 5, |s| s.contains("✓ valid"));
+    tmux.keys(&["Enter"]);
+    tmux.wait("the edit to be accepted", 5, |s| {
+        s.contains("four-span.toml [+]")
+    });
+
+    // save: the file keeps its comments, the model reruns, the comparison changes
+    tmux.keys(&["s"]);
+    let s = tmux.wait("run 2 to finish", 30, |s| s.contains("run 2 done"));
+    let saved = std::fs::read_to_string(&model).unwrap();
+    assert!(
+        saved.contains("gaps = [0.002, 0.0127, 0.0127, 0.0127]"),
+        "{saved}"
+    );
+    assert!(saved.contains("# m, corners left_top, left_bottom, right_top, right_bottom"));
+    assert!(!s.contains("[+]"), "saved: no unsaved edits left\n{s}");
+    let (now, before) = row(&s, "peak |θ|");
+    assert_ne!(now, before, "the rotation peak changed with the gap:\n{s}");
+    assert!(s.contains("run 1"), "previous run compared:\n{s}");
+
+    // change the file on disk like an editor (write a temporary file, rename it over)
+    tmux.keys(&["Tab"]);
+    let edited = saved.replace("mu = 0.5 ", "mu = 0.4 ") + "# touched by the e2e test\n";
+    let tmp = d.join("models/.four-span.toml.swp");
+    std::fs::write(&tmp, &edited).unwrap();
+    let t_write = unix_ms();
+    std::fs::rename(&tmp, &model).unwrap();
+    tmux.wait("reloaded", 10, |s| s.contains("reloaded"));
+    tmux.wait("run 3 to finish", 30, |s| s.contains("run 3 done"));
+
+    // quit: back to the shell on the normal screen
+    tmux.keys(&["q"]);
+    let s = tmux.wait("the shell", 10, |s| s.contains("deckspin-exited-0"));
+    assert_eq!(tmux.alternate_on(), "0", "alternate screen left");
+    assert!(
+        !s.contains("deck.theta [rad]"),
+        "workbench still on screen:\n{s}"
+    );
+
+    // timings (printed, not asserted)
+    let log = std::fs::read_to_string(&timing).unwrap_or_default();
+    let at = |label: &str| {
+        log.lines()
+            .filter(|l| l.contains(label))
+            .filter_map(|l| l.split_whitespace().next()?.parse::<f64>().ok())
+            .collect::<Vec<f64>>()
+    };
+    if let (Some(start), Some(first)) = (at("start").first(), at("first-frame").first()) {
+        println!("startup to first frame: {:.1} ms", first - start);
+    }
+    if let Some(f3) = at("first-run-frame 3").first() {
+        println!(
+            "file saved on disk to first chart frame of the new run: {:.1} ms",
+            f3 - t_write
+        );
+    }
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+#[test]
+fn panics_restore_the_terminal() {
+    if !have_tmux() {
+        println!("tmux is not on PATH: skipping the end-to-end terminal test");
+        return;
+    }
+    let d = workspace();
+    // a panic in the simulation thread is a failed run; the workbench goes on
+    let tmux = Tmux {
+        socket: format!("deckspin-e2e-worker-{}", std::process::id()),
+    };
+    start(&tmux, &d, "DECKSPIN_TEST_PANIC=worker");
+    let s = tmux.wait("the failed run", 30, |s| s.contains("run 1 failed"));
+    assert!(s.contains("the engine panicked"), "{s}");
+    assert!(s.contains("DECKSPIN_TEST_PANIC=worker"), "{s}");
+    tmux.keys(&["q"]);
+    let s = tmux.wait("the shell", 10, |s| s.contains("stty-done"));
+    assert!(s.contains("deckspin-exited-0"), "{s}");
+    drop(tmux);
+
+    // a panic on the UI thread: the hook restores the terminal, then the message is printed
+    let tmux = Tmux {
+        socket: format!("deckspin-e2e-ui-{}", std::process::id()),
+    };
+    start(&tmux, &d, "DECKSPIN_TEST_PANIC=ui");
+    let s = tmux.wait("the shell", 30, |s| s.contains("stty-done"));
+    assert!(s.contains("deckspin-exited-101"), "{s}");
+    assert!(
+        s.contains("DECKSPIN_TEST_PANIC=ui: a panic on the UI thread"),
+        "message printed:\n{s}"
+    );
+    assert_eq!(tmux.alternate_on(), "0", "alternate screen left");
+    assert!(
+        s.lines().any(|l| l.trim() == "icanon"),
+        "raw mode left on:\n{s}"
+    );
+    let _ = std::fs::remove_dir_all(&d);
+}

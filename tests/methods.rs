@@ -1,0 +1,140 @@
+//! Time-stepping and penalty methods beside the event-driven one, and where each fails.
+mod common;
+use common::*;
+use deckspin::SolverError;
+
+fn simulate(rel: &str, set: &[&str]) -> Result<deckspin::RunOutput, SolverError> {
+    let set: Vec<String> = set.iter().map(|s| s.to_string()).collect();
+    let scene = deckspin::load(&model(rel), &set).unwrap_or_else(|e| panic!("{e}"));
+    deckspin::simulate(&scene, &mut deckspin::Silent)
+}
+
+/// A unit mass resting on a penalty floor (undamped: ε = 1), released from the unloaded
+/// spring so it oscillates on the contact spring: ω_c = √k.
+fn ball_penalty(h: f64, k: f64) -> Result<deckspin::RunOutput, SolverError> {
+    simulate(
+        "models/validation/bouncing-ball.toml",
+        &[
+            "solver.method=\"penalty-explicit\"",
+            &format!("solver.step={h}"),
+            &format!("solver.contact_stiffness={k}"),
+            "contact.0.restitution=1.0",
+            "body.0.initial_displacement=[0.0, 0.0, 0.0]",
+            "solver.t_end=0.5",
+        ],
+    )
+}
+
+#[test]
+fn explicit_penalty_instability_is_detected_within_10_percent_of_2_over_omega() {
+    let k: f64 = 1e6;
+    let limit = 2.0 / k.sqrt();
+    assert!(ball_penalty(0.5 * limit, k).is_ok(), "stable at half the limit");
+    assert!(matches!(ball_penalty(1.5 * limit, k), Err(SolverError::Unstable { .. })));
+    // bisection on the step for the measured limit
+    let (mut lo, mut hi) = (0.5 * limit, 1.5 * limit);
+    for _ in 0..12 {
+        let mid = 0.5 * (lo + hi);
+        match ball_penalty(mid, k) {
+            Ok(_) => lo = mid,
+            Err(SolverError::Unstable { .. }) => hi = mid,
+            Err(e) => panic!("{e}"),
+        }
+    }
+    let measured = 0.5 * (lo + hi);
+    eprintln!("explicit penalty: measured stability limit {measured:.4e} s, 2/ω = {limit:.4e} s");
+    assert!((measured / limit - 1.0).abs() < 0.10, "measured {measured:.4e}, 2/ω {limit:.4e}");
+}
+
+#[test]
+fn penalty_converges_to_event_driven_as_stiffness_grows() {
+    // deck corner impact, elastic and frictionless (the limit the gap element tends to):
+    // rotation 0.2 s after the impact
+    let common = ["solver.t_end=0.2", "contact.0.mu=0.0", "contact.0.restitution=1.0"];
+    let event = simulate("models/validation/corner-impact.toml", &common).unwrap();
+    let th_event = event.summary.peaks[2].max_abs;
+    let mut errs = Vec::new();
+    for k in [1e5, 1e6, 1e7, 1e8] {
+        let h = 0.05 / (k / 140.5f64).sqrt(); // 20 steps per 1/ω of the contact
+        let r = simulate(
+            "models/validation/corner-impact.toml",
+            &[
+                common[0],
+                common[1],
+                common[2],
+                "solver.method=\"penalty\"",
+                &format!("solver.step={h}"),
+                &format!("solver.contact_stiffness={k}"),
+            ],
+        )
+        .unwrap();
+        let e = rel(r.summary.peaks[2].max_abs, th_event);
+        eprintln!("penalty k = {k:.0e} N/m: rotation at 0.2 s off by {:.3} %", 100.0 * e);
+        errs.push(e);
+    }
+    for w in errs.windows(2) {
+        assert!(w[1] < w[0], "errors do not decrease with k: {errs:?}");
+    }
+    assert!(errs[3] < 0.02, "k = 1e8: {:.3e}", errs[3]);
+    assert!(errs[0] > 0.1, "a soft gap element is far off: {:.3e}", errs[0]);
+    // the error falls like k^(−1/2) (the contact lasts π/ω ∝ k^(−1/2))
+    let rate = (errs[1] / errs[3]).log10() / 2.0;
+    assert!(rate > 0.35 && rate < 0.7, "rate {rate}");
+}
+
+#[test]
+fn moreau_jean_impact_times_converge_with_first_order() {
+    let v: f64 = (2.0 * 9.81f64).sqrt();
+    let t1 = v / 9.81;
+    let mut errs = Vec::new();
+    let hs: [f64; 4] = [4e-3, 2e-3, 1e-3, 5e-4];
+    for h in hs {
+        let r = simulate(
+            "models/validation/bouncing-ball.toml",
+            &["solver.method=\"moreau\"", &format!("solver.step={h}"), "solver.t_end=1.0"],
+        )
+        .unwrap();
+        let first = impacts(&r)[0].t;
+        // the contact becomes active at the end of the step that crosses the floor
+        errs.push((first - t1).abs().max(1e-15));
+    }
+    let p = ((errs[0] / errs[3]).ln() / (hs[0] / hs[3]).ln()).abs();
+    eprintln!("Moreau–Jean impact-time errors {errs:?}, observed order {p:.2}");
+    assert!(p > 0.6 && p < 1.5, "observed order {p}");
+}
+
+#[test]
+fn moreau_jean_runs_through_the_zeno_accumulation() {
+    let r = simulate(
+        "models/validation/bouncing-ball.toml",
+        &["solver.method=\"moreau\"", "solver.step=1e-3", "solver.t_end=5.0"],
+    )
+    .unwrap();
+    let last = r.samples.last().unwrap();
+    assert!(last.q[0].abs() < 1e-3 && last.v[0].abs() < 1e-2, "ball at rest: {:?}", (last.q[0], last.v[0]));
+    // the energy never grows: frictionless, ε ≤ 1
+    let e0 = r.samples[0].energy.kinetic + 9.81;
+    for s in &r.samples {
+        assert!(s.energy.kinetic + 9.81 * s.q[0] <= e0 * (1.0 + 1e-9), "t = {}", s.t);
+    }
+}
+
+#[test]
+fn all_methods_agree_on_the_oscillator_against_a_stop() {
+    let omega = 2.0 * std::f64::consts::PI;
+    for (m, h, tol) in [("moreau", 2e-4, 2e-3), ("penalty", 1e-4, 5e-3), ("penalty-explicit", 5e-5, 5e-3)] {
+        let r = simulate(
+            "models/validation/oscillator-stop.toml",
+            &[
+                &format!("solver.method=\"{m}\""),
+                &format!("solver.step={h}"),
+                "solver.contact_stiffness=1e7",
+                "contact.0.restitution=1.0",
+                "solver.t_end=2.0",
+            ],
+        )
+        .unwrap();
+        let peak = r.summary.peaks[0].max_abs;
+        assert!(rel(peak, 1.0 / omega) < tol, "{m}: peak {peak}");
+    }
+}

@@ -1,0 +1,1190 @@
+//! Workbench tests without a terminal: `update(app, msg)` for every user action, drawing on
+//! ratatui's TestBackend with insta snapshots, chart decimation, file saving and watching.
+
+use crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
+use deckspin::output::ContactState;
+use deckspin::tui::app::{Confirm, Mode, RunData, RunOutcome, RunStatus, StatusKind, View};
+use deckspin::tui::keymap::{Action, Ctx, KEYMAP};
+use deckspin::tui::{self, App, Effect, Msg, Options, chart, form, update};
+use ratatui::Terminal;
+use ratatui::backend::TestBackend;
+use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
+use std::sync::mpsc;
+use std::time::{Duration, Instant};
+
+// ---------------------------------------------------------------------------------------------
+// fixtures
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn bridge_path() -> PathBuf {
+    root().join("models/four-span.toml")
+}
+
+fn corner_path() -> PathBuf {
+    root().join("models/validation/corner-impact.toml")
+}
+
+fn read(p: &Path) -> String {
+    std::fs::read_to_string(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
+}
+
+/// Sets a value in model text the way the form does.
+fn set(text: &str, path: &str, value: &str) -> String {
+    let kind = if value.parse::<f64>().is_ok() {
+        form::Kind::Float
+    } else {
+        form::Kind::Str
+    };
+    form::set_value(text, path, kind, value, "").unwrap_or_else(|e| panic!("{path}={value}: {e}"))
+}
+
+/// The four-span bridge shortened to 2 s with 4 mm gaps (impacts, sticks and slips early on).
+fn short_bridge(gap: &str) -> String {
+    let mut t = set(&read(&bridge_path()), "solver.t_end", "2.0");
+    for i in 0..4 {
+        t = set(&t, &format!("contacts.gaps.{i}"), gap);
+    }
+    t
+}
+
+fn run_of(text: &str, path: &Path, id: u64) -> RunData {
+    let mut app = App::new_from_text(text, path);
+    app.next_run = id;
+    let fx = app.start();
+    tui::execute_blocking(&mut app, fx);
+    let run = app.current.expect("a run");
+    assert_eq!(run.status, RunStatus::Finished, "{}", app.status);
+    run
+}
+
+/// Run 2 of the short bridge (4 mm gaps), computed once per test binary.
+fn bridge_run() -> &'static RunData {
+    static R: OnceLock<RunData> = OnceLock::new();
+    R.get_or_init(|| run_of(&short_bridge("0.004"), &bridge_path(), 2))
+}
+
+/// Run 1: the same bridge with 6 mm gaps (the "previous" run of the compare snapshots).
+fn bridge_prev_run() -> &'static RunData {
+    static R: OnceLock<RunData> = OnceLock::new();
+    R.get_or_init(|| run_of(&short_bridge("0.006"), &bridge_path(), 1))
+}
+
+/// A deterministic app: the short bridge with run 2 current and run 1 as the overlay. The
+/// model path is relative (tests run in the package root) so that snapshots do not contain
+/// the checkout's location.
+fn bridge_app() -> App {
+    let mut app = App::new_from_text(&short_bridge("0.004"), Path::new("models/four-span.toml"));
+    app.current = Some(bridge_run().clone());
+    app.previous = Some(bridge_prev_run().clone());
+    app.next_run = 3;
+    app.set_status(StatusKind::Ok, "run 2 finished");
+    app
+}
+
+/// A fresh app on the corner-impact scene (1 ms runs), first run done.
+fn corner_app() -> App {
+    let mut app = App::new_from_text(&read(&corner_path()), &corner_path());
+    let fx = app.start();
+    tui::execute_blocking(&mut app, fx);
+    app
+}
+
+fn key(c: char) -> Msg {
+    Msg::Key(KeyEvent::new(KeyCode::Char(c), KeyModifiers::NONE))
+}
+
+fn code(c: KeyCode) -> Msg {
+    Msg::Key(KeyEvent::new(c, KeyModifiers::NONE))
+}
+
+fn act(app: &mut App, a: Action) -> Vec<Effect> {
+    update(app, Msg::Action(a))
+}
+
+fn type_str(app: &mut App, s: &str) {
+    for c in s.chars() {
+        assert!(update(app, key(c)).is_empty());
+    }
+}
+
+fn select_field(app: &mut App, path: &str) {
+    app.view = View::Form;
+    app.form.selected = app
+        .form
+        .index_of(path)
+        .unwrap_or_else(|| panic!("no field {path}"));
+}
+
+/// Edits the selected field: Enter, clear, type, Enter.
+fn edit(app: &mut App, path: &str, value: &str) -> Vec<Effect> {
+    select_field(app, path);
+    assert!(update(app, code(KeyCode::Enter)).is_empty());
+    assert!(matches!(app.mode, Mode::Editing { .. }));
+    update(
+        app,
+        Msg::Key(KeyEvent::new(KeyCode::Char('u'), KeyModifiers::CONTROL)),
+    );
+    type_str(app, value);
+    update(app, code(KeyCode::Enter))
+}
+
+fn start_ids(fx: &[Effect]) -> Vec<u64> {
+    fx.iter()
+        .filter_map(|e| match e {
+            Effect::StartRun { id, .. } => Some(*id),
+            _ => None,
+        })
+        .collect()
+}
+
+fn render(app: &mut App, w: u16, h: u16) -> Terminal<TestBackend> {
+    update(app, Msg::Resize(w, h));
+    let mut t = Terminal::new(TestBackend::new(w, h)).unwrap();
+    t.draw(|f| tui::ui::draw(f, app)).unwrap();
+    t
+}
+
+fn screen(t: &Terminal<TestBackend>) -> String {
+    let b = t.backend().buffer();
+    let mut s = String::new();
+    for y in 0..b.area.height {
+        for x in 0..b.area.width {
+            s.push_str(b[(x, y)].symbol());
+        }
+        s.push('\n');
+    }
+    s
+}
+
+/// A scratch directory mirroring the repository layout: models/ + excitations/.
+fn scratch(name: &str) -> PathBuf {
+    static N: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let n = N.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
+    let d = std::env::temp_dir().join(format!("deckspin-tui-{}-{name}-{n}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(d.join("models")).unwrap();
+    std::fs::create_dir_all(d.join("excitations")).unwrap();
+    for e in std::fs::read_dir(root().join("excitations")).unwrap() {
+        let e = e.unwrap();
+        std::fs::copy(e.path(), d.join("excitations").join(e.file_name())).unwrap();
+    }
+    d
+}
+
+// ---------------------------------------------------------------------------------------------
+// chart decimation
+
+#[test]
+fn downsample_keeps_a_single_sample_spike() {
+    let n = 100_000;
+    let t: Vec<f64> = (0..n).map(|i| i as f64 * 1e-4).collect();
+    let mut y = vec![0.0; n];
+    y[54_321] = 7.0; // one-sample impact spike
+    y[77_777] = -3.0;
+    for cols in [10, 57, 200, 1000] {
+        let d = chart::downsample_minmax(&t, &y, 0.0, t[n - 1], cols);
+        assert!(d.len() <= 2 * cols, "{} points for {cols} columns", d.len());
+        assert!(
+            d.contains(&(t[54_321], 7.0)),
+            "spike lost at {cols} columns"
+        );
+        assert!(
+            d.contains(&(t[77_777], -3.0)),
+            "negative spike lost at {cols} columns"
+        );
+        assert!(d.windows(2).all(|w| w[0].0 <= w[1].0), "not in time order");
+    }
+    // zoomed window around the spike, and one that excludes it
+    let d = chart::downsample_minmax(&t, &y, 5.0, 6.0, 40);
+    assert!(d.contains(&(t[54_321], 7.0)));
+    assert!(d.iter().all(|p| p.0 >= 5.0 && p.0 <= 6.0));
+    let d = chart::downsample_minmax(&t, &y, 0.0, 5.0, 40);
+    assert!(d.iter().all(|p| p.1 == 0.0));
+}
+
+#[test]
+fn downsample_small_input_is_unchanged_and_skips_nan() {
+    let t = [0.0, 1.0, 1.0, 2.0];
+    let y = [1.0, 2.0, f64::NAN, 3.0];
+    assert_eq!(
+        chart::downsample_minmax(&t, &y, 0.0, 2.0, 10),
+        vec![(0.0, 1.0), (1.0, 2.0), (2.0, 3.0)]
+    );
+    assert!(chart::downsample_minmax(&t, &y, 3.0, 4.0, 10).is_empty());
+    assert!(chart::downsample_minmax(&[], &[], 0.0, 1.0, 10).is_empty());
+}
+
+#[test]
+fn pixel_dedup_keeps_shape_and_last_point() {
+    let pts: Vec<(f64, f64)> = (0..10_000).map(|i| (i as f64 / 10_000.0, 0.0)).collect();
+    let d = chart::dedup_pixels(pts.iter().copied(), [0.0, 1.0], [-1.0, 1.0], 20, 10);
+    assert!(d.len() <= 21, "{}", d.len());
+    assert_eq!(d.last(), pts.last());
+    assert_eq!(chart::fmt_num(0.0127, 9), "0.0127");
+    assert!(chart::fmt_num(-1.234e-7, 9).len() <= 9);
+}
+
+#[test]
+fn time_to_column_matches_canvas_rounding() {
+    assert_eq!(chart::column_of(0.0, 0.0, 10.0, 50, 2), Some(0));
+    assert_eq!(chart::column_of(10.0, 0.0, 10.0, 50, 2), Some(49));
+    assert_eq!(chart::column_of(10.1, 0.0, 10.0, 50, 2), None);
+}
+
+// ---------------------------------------------------------------------------------------------
+// keymap
+
+#[test]
+fn every_binding_is_handled_in_its_context() {
+    for bd in KEYMAP {
+        for k in bd.keys {
+            let mut app = corner_app();
+            match bd.ctx {
+                Ctx::Edit => {
+                    app.view = View::Form;
+                    act(&mut app, Action::FieldEdit);
+                }
+                Ctx::Confirm => app.mode = Mode::Confirm(Confirm::Quit),
+                Ctx::Help => app.mode = Mode::Help,
+                Ctx::Form => app.view = View::Form,
+                Ctx::Charts | Ctx::Global => {}
+            }
+            let ev = match *k {
+                tui::keymap::K::Ch(c) => KeyEvent::new(KeyCode::Char(c), KeyModifiers::NONE),
+                tui::keymap::K::Ctrl(c) => KeyEvent::new(KeyCode::Char(c), KeyModifiers::CONTROL),
+                tui::keymap::K::Code(c) => KeyEvent::new(c, KeyModifiers::NONE),
+                tui::keymap::K::Shift(c) => KeyEvent::new(c, KeyModifiers::SHIFT),
+            };
+            let found = tui::keymap::lookup(&app.contexts(), &ev);
+            assert_eq!(found, Some(bd.action), "{} in {:?}", bd.label, bd.ctx);
+            update(&mut app, Msg::Key(ev));
+            let _ = render(&mut app, 80, 24);
+        }
+    }
+}
+
+#[test]
+fn help_and_hint_bar_come_from_the_keymap() {
+    let help = tui::keymap::help();
+    for bd in KEYMAP {
+        assert!(
+            help.iter()
+                .any(|(_, rows)| rows.contains(&(bd.label, bd.desc))),
+            "{} missing from help",
+            bd.label
+        );
+    }
+    let mut app = bridge_app();
+    let t = render(&mut app, 200, 40);
+    let s = screen(&t);
+    let bar = s.lines().last().unwrap();
+    for (k, h) in tui::keymap::hints(&[Ctx::Charts, Ctx::Global]) {
+        assert!(
+            bar.contains(&format!("{k} {h}")),
+            "hint {k} {h} missing: {bar}"
+        );
+    }
+    act(&mut app, Action::Help);
+    let s = screen(&render(&mut app, 120, 40));
+    assert!(s.contains("help — keys"));
+    assert!(s.contains("cancel the simulation"));
+    act(&mut app, Action::CloseHelp);
+    assert_eq!(app.mode, Mode::Normal);
+}
+
+// ---------------------------------------------------------------------------------------------
+// form editing
+
+#[test]
+fn edit_a_gap_valid_value_accepted() {
+    let mut app = App::new_from_text(&read(&bridge_path()), &bridge_path());
+    assert!(!app.dirty());
+    let fx = edit(&mut app, "contacts.gaps.1", "0.02");
+    assert!(fx.is_empty());
+    assert_eq!(app.mode, Mode::Normal);
+    assert!(app.dirty());
+    assert!(
+        app.draft.contains("gaps = [0.0127, 0.02, 0.0127, 0.0127]"),
+        "{}",
+        app.draft
+    );
+    // the trailing comment of that line is kept
+    assert!(
+        app.draft
+            .contains("]   # m, corners left_top, left_bottom, right_top, right_bottom")
+    );
+    let f = &app.form.fields[app.form.index_of("contacts.gaps.1").unwrap()];
+    assert!(f.edited());
+    assert_eq!(f.value.as_deref(), Some("0.02"));
+    assert_eq!(f.saved.as_deref(), Some("0.0127"));
+    assert!(
+        app.status.contains("contacts.gaps.1 = 0.02 m"),
+        "{}",
+        app.status
+    );
+    // a value typed with its unit, and an integer for a float field
+    edit(&mut app, "deck.mass", "150 t");
+    assert!(
+        app.draft
+            .contains("mass = 150.0          # t, incl. added mass"),
+        "comment column kept"
+    );
+    // the edited model is what a rerun uses
+    let fx = act(&mut app, Action::Rerun);
+    let Some(Effect::StartRun { scene, .. }) =
+        fx.iter().find(|e| matches!(e, Effect::StartRun { .. }))
+    else {
+        panic!("no StartRun")
+    };
+    assert_eq!(scene.bodies[1].mass, 150.0);
+    assert!(app.current.as_ref().unwrap().label.contains("unsaved"));
+}
+
+#[test]
+fn edit_invalid_values_refused_with_the_reason() {
+    let mut app = App::new_from_text(&read(&bridge_path()), &bridge_path());
+    let before = app.draft.clone();
+    edit(&mut app, "contacts.gaps.0", "-0.01");
+    let Mode::Editing {
+        check: Err(reason), ..
+    } = &app.mode
+    else {
+        panic!("not refused: {:?}", app.mode)
+    };
+    assert!(
+        reason.contains("contacts.gaps.0: must be ≥ 0, got -0.01"),
+        "{reason}"
+    );
+    assert!(
+        reason.contains("four-span.toml:24:9:"),
+        "line and column: {reason}"
+    );
+    assert_eq!(app.status_kind, StatusKind::Error);
+    assert!(app.status.starts_with("refused: "));
+    assert_eq!(app.draft, before);
+    // the reason is on screen
+    let s = screen(&render(&mut app, 120, 40));
+    assert!(s.contains("✗"), "{s}");
+    assert!(s.contains("must be ≥ 0"), "{s}");
+    update(&mut app, code(KeyCode::Esc));
+    assert_eq!(app.mode, Mode::Normal);
+    // not a number
+    edit(&mut app, "contacts.mu", "abc");
+    assert!(
+        matches!(&app.mode, Mode::Editing { check: Err(r), .. } if r.contains("'abc' is not a number"))
+    );
+    update(&mut app, code(KeyCode::Esc));
+    // restitution above 1 (engine rule), live check while typing
+    select_field(&mut app, "contacts.restitution");
+    update(&mut app, code(KeyCode::Enter));
+    update(
+        &mut app,
+        Msg::Key(KeyEvent::new(KeyCode::Char('u'), KeyModifiers::CONTROL)),
+    );
+    type_str(&mut app, "1.5");
+    assert!(matches!(&app.mode, Mode::Editing { check: Err(r), .. } if r.contains("[0, 1]")));
+    update(&mut app, code(KeyCode::Backspace));
+    update(&mut app, code(KeyCode::Backspace));
+    assert!(
+        matches!(&app.mode, Mode::Editing { check: Ok(()), .. }),
+        "1 is valid"
+    );
+    assert!(!app.dirty());
+}
+
+#[test]
+fn revert_and_law_switch() {
+    let mut app = App::new_from_text(&read(&bridge_path()), &bridge_path());
+    edit(&mut app, "contacts.mu", "0.3");
+    assert!(app.dirty());
+    act(&mut app, Action::FieldRevert);
+    assert!(!app.dirty(), "reverted");
+    edit(&mut app, "column.law.law", "bilinear");
+    assert_eq!(app.mode, Mode::Normal, "{}", app.status);
+    assert!(app.draft.contains("law = { law = \"bilinear\", stiffness = 9320.0, yield_force = 98.0, post_yield_ratio = 0.05 }"), "{}", app.draft);
+    assert!(app.form.index_of("column.law.unloading_exponent").is_none());
+    edit(&mut app, "column.law.law", "elastic");
+    assert!(matches!(&app.mode, Mode::Editing { check: Err(r), .. } if r.contains("unknown law")));
+}
+
+#[test]
+fn generic_models_list_their_scalar_leaves() {
+    let app = App::new_from_text(&read(&corner_path()), &corner_path());
+    let paths: Vec<&str> = app.form.fields.iter().map(|f| f.path.as_str()).collect();
+    for p in [
+        "title",
+        "solver.t_end",
+        "body.0.mass",
+        "body.0.initial_velocity.0",
+        "contact.0.point.1",
+        "contact.0.mu",
+    ] {
+        assert!(paths.contains(&p), "{p} not in {paths:?}");
+    }
+    assert!(app.form.fields.iter().all(|f| !f.curated));
+}
+
+// ---------------------------------------------------------------------------------------------
+// saving
+
+#[test]
+fn save_keeps_every_comment_and_writes_atomically() {
+    let d = scratch("save");
+    let model = d.join("models/four-span.toml");
+    let original = read(&bridge_path());
+    std::fs::write(&model, &original).unwrap();
+    let mut app = App::new_from_path(&model, Options::default()).unwrap();
+    assert!(app.load_error.is_none(), "{:?}", app.load_error);
+    edit(&mut app, "contacts.gaps.2", "0.01");
+    edit(&mut app, "contacts.mu", "0.35");
+    let fx = act(&mut app, Action::Save);
+    let [Effect::Save { path, text }] = fx.as_slice() else {
+        panic!("{fx:?}")
+    };
+    assert_eq!(path, &model);
+    #[cfg(unix)]
+    let inode = {
+        use std::os::unix::fs::MetadataExt;
+        std::fs::metadata(&model).unwrap().ino()
+    };
+    tui::save_atomic(path, text).unwrap();
+    let saved = read(&model);
+    assert_eq!(&saved, text);
+    // every comment of the original is still there, and only two lines changed
+    for line in original.lines() {
+        if let Some(i) = line.find('#') {
+            assert!(saved.contains(&line[i..]), "comment lost: {}", &line[i..]);
+        }
+    }
+    let changed: Vec<(&str, &str)> = original
+        .lines()
+        .zip(saved.lines())
+        .filter(|(a, b)| a != b)
+        .collect();
+    assert_eq!(changed.len(), 2, "{changed:?}");
+    assert_eq!(original.lines().count(), saved.lines().count());
+    assert!(
+        saved.contains("mu = 0.35             # paper §4.3"),
+        "comment column kept:\n{saved}"
+    );
+    // temp + rename: a new inode, no temporary file left behind
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        assert_ne!(
+            std::fs::metadata(&model).unwrap().ino(),
+            inode,
+            "not replaced by rename"
+        );
+    }
+    let leftovers: Vec<_> = std::fs::read_dir(d.join("models"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(leftovers.len(), 1, "{leftovers:?}");
+    // the Saved message clears the edits and reruns
+    let fx = update(
+        &mut app,
+        Msg::Saved {
+            text: text.clone(),
+            result: Ok(model.clone()),
+        },
+    );
+    assert_eq!(start_ids(&fx), vec![1]);
+    assert!(!app.dirty());
+    assert!(app.status.contains("saved"));
+    // the watcher's event for our own save is not a foreign change
+    assert!(update(&mut app, Msg::FileChanged(saved)).is_empty());
+    assert_eq!(app.mode, Mode::Normal);
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+#[test]
+fn save_without_edits_does_nothing_and_failures_are_reported() {
+    let mut app = App::new_from_text(&read(&corner_path()), &corner_path());
+    assert!(act(&mut app, Action::Save).is_empty());
+    assert!(app.status.contains("no unsaved edits"));
+    edit(&mut app, "contact.0.mu", "0.2");
+    let fx = act(&mut app, Action::Save);
+    assert_eq!(fx.len(), 1);
+    let text = app.draft.clone();
+    let fx = update(
+        &mut app,
+        Msg::Saved {
+            text,
+            result: Err("disk full".into()),
+        },
+    );
+    assert!(fx.is_empty());
+    assert!(app.dirty(), "edits kept after a failed save");
+    assert_eq!(app.status, "save failed: disk full");
+    assert!(tui::save_atomic(Path::new("/nonexistent-dir/x.toml"), "x").is_err());
+}
+
+// ---------------------------------------------------------------------------------------------
+// running
+
+#[test]
+fn run_starts_a_worker_and_batches_stream_in() {
+    let mut app = App::new_from_text(&read(&corner_path()), &corner_path());
+    let fx = app.start();
+    assert_eq!(start_ids(&fx), vec![1]);
+    assert!(app.running());
+    let Effect::StartRun { id, scene } = fx.into_iter().next().unwrap() else {
+        unreachable!()
+    };
+    let msgs = tui::worker::run_blocking(id, &scene);
+    let mut n = 0;
+    for m in msgs {
+        let done = matches!(m, Msg::RunDone { .. });
+        if let Msg::Batch { samples, .. } = &m {
+            n += samples.len();
+        }
+        assert!(update(&mut app, m).is_empty());
+        let cur = app.current.as_ref().unwrap();
+        if !done {
+            assert_eq!(cur.t.len(), n, "batch appended");
+            assert_eq!(cur.status, RunStatus::Running);
+        }
+    }
+    let cur = app.current.as_ref().unwrap();
+    assert_eq!(cur.status, RunStatus::Finished);
+    assert_eq!(cur.digest.total_impacts(), 1);
+    assert!(app.status.contains("finished"), "{}", app.status);
+    // progress on screen
+    let s = screen(&render(&mut app, 80, 24));
+    assert!(s.contains("run 1 done"), "{s}");
+}
+
+#[test]
+fn batches_of_a_stale_run_are_ignored() {
+    let mut app = corner_app();
+    let fx = act(&mut app, Action::Rerun);
+    assert_eq!(start_ids(&fx), vec![2]);
+    let stale = tui::worker::run_blocking(1, app.scene.as_ref().unwrap());
+    for m in stale {
+        update(&mut app, m);
+    }
+    let cur = app.current.as_ref().unwrap();
+    assert_eq!(cur.id, 2);
+    assert!(cur.t.is_empty());
+    assert!(cur.running());
+}
+
+#[test]
+fn cancel_a_run() {
+    let mut app = App::new_from_text(&read(&corner_path()), &corner_path());
+    let fx = app.start();
+    assert_eq!(start_ids(&fx), vec![1]);
+    let fx = update(&mut app, code(KeyCode::Esc));
+    assert!(
+        matches!(fx.as_slice(), [Effect::CancelRun { id: 1 }]),
+        "{fx:?}"
+    );
+    assert_eq!(app.current.as_ref().unwrap().status, RunStatus::Cancelling);
+    let s = screen(&render(&mut app, 80, 24));
+    assert!(s.contains("cancelling"), "{s}");
+    update(
+        &mut app,
+        Msg::RunDone {
+            run: 1,
+            outcome: RunOutcome::Cancelled { t: 0.25 },
+        },
+    );
+    assert_eq!(app.current.as_ref().unwrap().status, RunStatus::Cancelled);
+    assert_eq!(app.status, "run 1 cancelled at t = 0.250 s");
+    // nothing left to cancel; rerun starts again and a cancelled run is not the overlay
+    assert!(update(&mut app, key('c')).is_empty());
+    let fx = act(&mut app, Action::Rerun);
+    assert_eq!(start_ids(&fx), vec![2]);
+    assert!(app.previous.is_none());
+}
+
+#[test]
+fn the_worker_streams_and_cancel_stops_the_engine() {
+    // the full 16 s bridge: far too long to finish before the cancel arrives
+    let scene = deckspin::load(&bridge_path(), &[]).unwrap();
+    let (tx, rx) = mpsc::channel();
+    let h = tui::worker::spawn(7, scene, tx);
+    let first = rx
+        .recv_timeout(Duration::from_secs(20))
+        .expect("a first batch");
+    assert!(matches!(first, Msg::Batch { run: 7, .. }));
+    h.cancel();
+    let t0 = Instant::now();
+    loop {
+        match rx
+            .recv_timeout(Duration::from_secs(20))
+            .expect("the run ends")
+        {
+            Msg::RunDone {
+                run: 7,
+                outcome: RunOutcome::Cancelled { t },
+            } => {
+                assert!(t < 16.0);
+                break;
+            }
+            Msg::Batch { .. } => {}
+            m => panic!("unexpected {m:?}"),
+        }
+    }
+    assert!(
+        t0.elapsed() < Duration::from_secs(5),
+        "cancel took {:?}",
+        t0.elapsed()
+    );
+}
+
+#[test]
+fn rerun_keeps_the_previous_run_as_overlay() {
+    let mut app = corner_app();
+    let fx = update(&mut app, key('r'));
+    assert_eq!(start_ids(&fx), vec![2]);
+    assert_eq!(app.previous.as_ref().unwrap().id, 1);
+    assert_eq!(app.current.as_ref().unwrap().id, 2);
+    tui::execute_blocking(&mut app, fx);
+    assert_eq!(app.previous.as_ref().unwrap().id, 1);
+    assert_eq!(app.current.as_ref().unwrap().status, RunStatus::Finished);
+    // rerun while running: the running one is cancelled, the finished previous stays
+    let fx = act(&mut app, Action::Rerun);
+    assert_eq!(start_ids(&fx), vec![3]);
+    assert_eq!(app.previous.as_ref().unwrap().id, 2);
+    let fx = act(&mut app, Action::Rerun);
+    assert!(
+        matches!(
+            fx.as_slice(),
+            [Effect::CancelRun { id: 3 }, Effect::StartRun { id: 4, .. }]
+        ),
+        "{fx:?}"
+    );
+    assert_eq!(app.previous.as_ref().unwrap().id, 2);
+    // the overlay can be hidden
+    act(&mut app, Action::ToggleOverlay);
+    assert!(!app.overlay);
+}
+
+#[test]
+fn compare_table_shows_current_and_previous() {
+    let mut app = bridge_app();
+    let s = screen(&render(&mut app, 120, 40));
+    assert!(s.contains("run 2"), "{s}");
+    assert!(s.contains("current vs previous"), "{s}");
+    let cur = &bridge_run().digest;
+    let prev = &bridge_prev_run().digest;
+    assert_ne!(cur.total_impacts(), prev.total_impacts());
+    let row = s
+        .lines()
+        .find(|l| l.contains("│impacts"))
+        .expect("impacts row");
+    let cells: Vec<&str> = row.split('│').nth(2).unwrap().split_whitespace().collect();
+    assert_eq!(
+        cells,
+        [
+            "impacts",
+            &cur.total_impacts().to_string(),
+            &prev.total_impacts().to_string()
+        ],
+        "{row}"
+    );
+}
+
+#[test]
+fn digest_matches_the_engine_summary() {
+    let r = bridge_run();
+    let s = r.summary.as_ref().unwrap();
+    let rot = s.peaks.iter().find(|p| p.name == "deck.theta").unwrap();
+    assert_eq!(r.digest.rot_name, "deck.theta");
+    assert_eq!(r.digest.peak_rot, rot.max_abs);
+    assert_eq!(r.digest.peak_rot_at, rot.at);
+    assert_eq!(r.digest.residual_rot, rot.residual);
+    assert!(r.digest.total_impacts() > 0);
+    for (i, c) in s.contacts.iter().enumerate() {
+        assert_eq!(r.digest.impacts[i], c.impacts, "{}", c.name);
+        assert!(
+            (r.digest.stick_time[i] - c.stick_time).abs() <= 1e-12,
+            "{}",
+            c.name
+        );
+        assert_eq!(r.digest.min_gap[i], c.min_gap);
+    }
+    assert!(r.digest.total_stick_time() > 0.0);
+}
+
+// ---------------------------------------------------------------------------------------------
+// hot reload
+
+#[test]
+fn reload_with_unchanged_content_is_ignored() {
+    let mut app = corner_app();
+    let status = app.status.clone();
+    let text = app.text.clone();
+    assert!(update(&mut app, Msg::FileChanged(text)).is_empty());
+    assert_eq!(app.status, status);
+    assert_eq!(app.current.as_ref().unwrap().id, 1);
+}
+
+#[test]
+fn reload_with_changed_content_reruns() {
+    let mut app = corner_app();
+    let changed = app.text.replace("mu = 0.5", "mu = 0.1") + "# a comment\n";
+    let fx = update(&mut app, Msg::FileChanged(changed.clone()));
+    assert_eq!(start_ids(&fx), vec![2]);
+    assert!(app.status.contains("reloaded"), "{}", app.status);
+    assert_eq!(app.text, changed);
+    assert_eq!(app.scene.as_ref().unwrap().contacts[0].mu, 0.1);
+    assert_eq!(
+        app.previous.as_ref().unwrap().id,
+        1,
+        "the old run is the overlay"
+    );
+    tui::execute_blocking(&mut app, fx);
+    let s = screen(&render(&mut app, 80, 24));
+    assert!(s.contains("reloaded") || s.contains("run 2"), "{s}");
+}
+
+#[test]
+fn reload_with_a_parse_error_keeps_the_last_good_model() {
+    let mut app = corner_app();
+    let good = app.text.clone();
+    let bad = good.replace("mu = 0.5", "mu = 0.5.1");
+    let line = bad.lines().position(|l| l.contains("0.5.1")).unwrap() + 1;
+    assert!(update(&mut app, Msg::FileChanged(bad)).is_empty());
+    let le = app.load_error.clone().expect("error shown");
+    assert_eq!(le.line, Some(line));
+    assert_eq!(le.column, Some(9));
+    assert!(
+        le.message
+            .contains(&format!("corner-impact.toml:{line}:9:")),
+        "{}",
+        le.message
+    );
+    assert!(
+        app.status.contains("keeping the last good model"),
+        "{}",
+        app.status
+    );
+    assert_eq!(app.status_kind, StatusKind::Error);
+    assert_eq!(app.text, good);
+    assert!(app.scene.is_some());
+    assert_eq!(
+        app.current.as_ref().unwrap().status,
+        RunStatus::Finished,
+        "charts stay"
+    );
+    let s = screen(&render(&mut app, 80, 24));
+    assert!(
+        s.contains(&format!("model error at line {line}, column 9")),
+        "{s}"
+    );
+    assert!(s.contains("mu = 0.5.1"), "source line shown: {s}");
+    // an invalid value (not a syntax error) is located too
+    let invalid = good.replace("mu = 0.5", "mu = -0.5");
+    update(&mut app, Msg::FileChanged(invalid));
+    let le = app.load_error.clone().unwrap();
+    assert_eq!((le.line, le.column), (Some(line), Some(1)));
+    assert!(
+        le.message.contains("contact.0.mu: must be ≥ 0"),
+        "{}",
+        le.message
+    );
+    // fixing the file clears the error and reruns
+    let fx = update(
+        &mut app,
+        Msg::FileChanged(good.replace("mu = 0.5", "mu = 0.4")),
+    );
+    assert_eq!(start_ids(&fx), vec![2]);
+    assert!(app.load_error.is_none());
+}
+
+#[test]
+fn reload_with_unsaved_edits_asks_first() {
+    let mut app = corner_app();
+    edit(&mut app, "contact.0.restitution", "0.5");
+    assert!(app.dirty());
+    let disk = app.text.replace("t_end = 0.5", "t_end = 0.4");
+    assert!(update(&mut app, Msg::FileChanged(disk.clone())).is_empty());
+    assert!(matches!(app.mode, Mode::Confirm(Confirm::Reload { .. })));
+    assert!(app.status.contains("(y/n)"));
+    let s = screen(&render(&mut app, 80, 24));
+    assert!(
+        s.contains("Reload it and discard your unsaved edits?"),
+        "{s}"
+    );
+    // n: edits kept, the same content does not ask again
+    assert!(update(&mut app, key('n')).is_empty());
+    assert!(app.dirty());
+    assert!(app.draft.contains("restitution = 0.5"));
+    assert!(update(&mut app, Msg::FileChanged(disk.clone())).is_empty());
+    assert_eq!(app.mode, Mode::Normal);
+    // a further change asks again; y reloads and reruns
+    let disk2 = disk.replace("t_end = 0.4", "t_end = 0.3");
+    update(&mut app, Msg::FileChanged(disk2.clone()));
+    let fx = update(&mut app, key('y'));
+    assert_eq!(start_ids(&fx), vec![2]);
+    assert!(!app.dirty());
+    assert_eq!(app.draft, disk2);
+    assert!(app.status.contains("reloaded"));
+    // a change while typing a value also asks
+    select_field(&mut app, "contact.0.mu");
+    update(&mut app, code(KeyCode::Enter));
+    update(
+        &mut app,
+        Msg::FileChanged(disk2.replace("t_end = 0.3", "t_end = 0.2")),
+    );
+    assert!(matches!(app.mode, Mode::Confirm(Confirm::Reload { .. })));
+}
+
+#[test]
+fn quit_asks_when_there_are_unsaved_edits() {
+    let mut app = corner_app();
+    let fx = update(&mut app, key('q'));
+    assert!(matches!(fx.as_slice(), [Effect::Quit]));
+    assert!(app.quit);
+    let mut app = corner_app();
+    edit(&mut app, "contact.0.mu", "0.2");
+    assert!(update(&mut app, key('q')).is_empty());
+    assert!(matches!(app.mode, Mode::Confirm(Confirm::Quit)));
+    update(&mut app, key('n'));
+    assert!(!app.quit);
+    update(
+        &mut app,
+        Msg::Key(KeyEvent::new(KeyCode::Char('c'), KeyModifiers::CONTROL)),
+    );
+    let fx = update(&mut app, key('y'));
+    assert!(matches!(fx.as_slice(), [Effect::Quit]));
+}
+
+// ---------------------------------------------------------------------------------------------
+// export
+
+#[test]
+fn export_writes_chart_and_event_csv() {
+    let d = scratch("export");
+    let model = d.join("models/corner.toml");
+    std::fs::write(&model, read(&corner_path())).unwrap();
+    let mut app = App::new_from_path(&model, Options::default()).unwrap();
+    let fx = app.start();
+    tui::execute_blocking(&mut app, fx);
+    let fx = update(&mut app, key('e'));
+    assert!(matches!(fx.as_slice(), [Effect::Export { .. }]));
+    tui::execute_blocking(&mut app, fx);
+    let chart = d.join("models/corner-chart.csv");
+    let events = d.join("models/corner-events.csv");
+    assert!(
+        app.status.contains(&chart.display().to_string()),
+        "{}",
+        app.status
+    );
+    assert!(
+        app.status.contains(&events.display().to_string()),
+        "{}",
+        app.status
+    );
+    let c = read(&chart);
+    let mut lines = c.lines();
+    assert_eq!(
+        lines.next().unwrap(),
+        "t,deck.theta,corner.gap,deck.x,deck.y"
+    );
+    assert_eq!(lines.count(), app.current.as_ref().unwrap().t.len());
+    let e = read(&events);
+    assert!(e.starts_with("t,contact,kind,normal_impulse"));
+    assert_eq!(
+        e.lines().filter(|l| l.contains(",corner,impact,")).count(),
+        1
+    );
+    // zoomed: only the visible window
+    act(&mut app, Action::CursorHome);
+    act(&mut app, Action::ZoomIn);
+    let (a, b) = app.window();
+    assert!(b - a < 0.3);
+    let (c2, _) = tui::app::export_csv(app.current.as_ref().unwrap(), app.window(), 0);
+    assert!(c2.lines().count() < c.lines().count());
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+// ---------------------------------------------------------------------------------------------
+// time cursor, zoom, element, markers, colours
+
+#[test]
+fn cursor_zoom_and_element_cycling() {
+    let mut app = bridge_app();
+    assert!(app.follow);
+    assert_eq!(app.cursor_time(), 2.0);
+    update(&mut app, code(KeyCode::Home));
+    assert_eq!(app.cursor_time(), 0.0);
+    update(&mut app, code(KeyCode::Right));
+    assert!((app.cursor_time() - 0.02).abs() < 1e-12);
+    update(
+        &mut app,
+        Msg::Key(KeyEvent::new(KeyCode::Right, KeyModifiers::SHIFT)),
+    );
+    assert!((app.cursor_time() - 0.22).abs() < 1e-12);
+    update(&mut app, key('+'));
+    let (a, b) = app.window();
+    assert!((b - a - 1.0).abs() < 1e-12 && a <= 0.22 && 0.22 <= b);
+    update(&mut app, key('+'));
+    update(&mut app, key('-'));
+    assert!((app.window().1 - app.window().0 - 1.0).abs() < 1e-12);
+    update(&mut app, key('0'));
+    assert_eq!(app.window(), (0.0, 2.0));
+    update(&mut app, code(KeyCode::End));
+    assert!(app.follow);
+    let n = bridge_run().element_names.len();
+    assert_eq!(n, 12);
+    update(&mut app, key('n'));
+    assert_eq!(app.element, 1);
+    update(&mut app, key('N'));
+    update(&mut app, key('N'));
+    assert_eq!(app.element, n - 1);
+    let s = screen(&render(&mut app, 120, 40));
+    assert!(s.contains(&bridge_run().element_names[n - 1]), "{s}");
+}
+
+#[test]
+fn ascii_markers_and_no_color() {
+    let mut app = bridge_app();
+    let braille = |s: &str| s.chars().any(|c| ('\u{2800}'..='\u{28ff}').contains(&c));
+    assert!(braille(&screen(&render(&mut app, 120, 40))));
+    update(&mut app, key('m'));
+    assert!(app.ascii);
+    let s = screen(&render(&mut app, 120, 40));
+    assert!(!braille(&s), "{s}");
+    // NO_COLOR: no colour anywhere on screen
+    let mut mono = App::with_options(
+        &short_bridge("0.004"),
+        &bridge_path(),
+        Options {
+            color: false,
+            ascii: true,
+        },
+    );
+    mono.current = Some(bridge_run().clone());
+    mono.previous = Some(bridge_prev_run().clone());
+    let t = render(&mut mono, 120, 40);
+    let buf = t.backend().buffer();
+    for c in buf.content() {
+        assert_eq!(c.fg, ratatui::style::Color::Reset, "coloured cell {c:?}");
+        assert_eq!(c.bg, ratatui::style::Color::Reset, "coloured cell {c:?}");
+    }
+    assert!(!braille(&screen(&t)), "DECKSPIN_ASCII-style start");
+    // default theme: only the 16 named colours
+    let mut app = bridge_app();
+    let t = render(&mut app, 120, 40);
+    for c in t.backend().buffer().content() {
+        for col in [c.fg, c.bg] {
+            assert!(
+                !matches!(
+                    col,
+                    ratatui::style::Color::Rgb(..) | ratatui::style::Color::Indexed(_)
+                ),
+                "{col:?}"
+            );
+        }
+    }
+}
+
+#[test]
+fn event_strip_marks_impacts_and_stick() {
+    let r = bridge_run();
+    let w = 100;
+    let strips: Vec<String> = (0..4)
+        .map(|i| {
+            tui::ui::event_strip(r, i, 0.0, 2.0, w, 2, false)
+                .into_iter()
+                .collect()
+        })
+        .collect();
+    for (i, s) in strips.iter().enumerate() {
+        assert_eq!(s.chars().count(), w);
+        assert_eq!(s.matches('*').count() > 0, r.digest.impacts[i] > 0, "{s}");
+    }
+    let stuck = (0..4).any(|i| r.state[i].contains(&ContactState::Stick));
+    assert!(stuck);
+    assert!(strips.iter().any(|s| s.contains('█') || s.contains('S')));
+}
+
+// ---------------------------------------------------------------------------------------------
+// terminal sizes and snapshots
+
+#[test]
+fn resize_and_too_small() {
+    let mut app = bridge_app();
+    update(&mut app, Msg::Resize(40, 10));
+    assert!(app.too_small());
+    let s = screen(&render(&mut app, 40, 10));
+    assert!(s.contains("terminal too small"));
+    assert!(s.contains("needs 60×18"));
+    update(&mut app, Msg::Resize(60, 18));
+    assert!(!app.too_small());
+    let s = screen(&render(&mut app, 60, 18));
+    assert!(!s.contains("too small"));
+    // every size from tiny to large draws without panicking, in both views and with help
+    for (w, h) in [
+        (1, 1),
+        (59, 17),
+        (60, 18),
+        (61, 19),
+        (80, 24),
+        (100, 30),
+        (200, 60),
+        (300, 12),
+    ] {
+        for view in [View::Charts, View::Form] {
+            app.view = view;
+            render(&mut app, w, h);
+            act(&mut app, Action::Help);
+            render(&mut app, w, h);
+            act(&mut app, Action::CloseHelp);
+        }
+    }
+}
+
+fn snapshot_settings() -> insta::Settings {
+    let mut s = insta::Settings::clone_current();
+    s.set_snapshot_path(root().join("tests/snapshots"));
+    s.set_prepend_module_to_snapshot(false);
+    s
+}
+
+#[test]
+fn snapshot_charts_80x24() {
+    let mut app = bridge_app();
+    let t = render(&mut app, 80, 24);
+    snapshot_settings().bind(|| insta::assert_snapshot!("charts_80x24", t.backend()));
+}
+
+#[test]
+fn snapshot_charts_120x40_with_cursor() {
+    let mut app = bridge_app();
+    act(&mut app, Action::CursorHome);
+    for _ in 0..4 {
+        act(&mut app, Action::CursorRightFast);
+    }
+    for _ in 0..8 {
+        act(&mut app, Action::CursorRight);
+    }
+    let t = render(&mut app, 120, 40);
+    snapshot_settings().bind(|| insta::assert_snapshot!("charts_120x40", t.backend()));
+}
+
+#[test]
+fn snapshot_too_small_40x10() {
+    let mut app = bridge_app();
+    let t = render(&mut app, 40, 10);
+    snapshot_settings().bind(|| insta::assert_snapshot!("too_small_40x10", t.backend()));
+}
+
+#[test]
+fn snapshot_resize_120x40_to_80x24() {
+    let mut app = bridge_app();
+    let mut t = render(&mut app, 120, 40);
+    t.backend_mut().resize(80, 24);
+    update(&mut app, Msg::Resize(80, 24));
+    t.draw(|f| tui::ui::draw(f, &app)).unwrap();
+    let direct = render(&mut app, 80, 24);
+    assert_eq!(
+        screen(&t),
+        screen(&direct),
+        "a resized frame equals a fresh one"
+    );
+    snapshot_settings().bind(|| insta::assert_snapshot!("resize_120x40_to_80x24", t.backend()));
+}
+
+#[test]
+fn snapshot_form_80x24_editing() {
+    let mut app = bridge_app();
+    select_field(&mut app, "contacts.gaps.0");
+    update(&mut app, code(KeyCode::Enter));
+    update(
+        &mut app,
+        Msg::Key(KeyEvent::new(KeyCode::Char('u'), KeyModifiers::CONTROL)),
+    );
+    type_str(&mut app, "-1");
+    let t = render(&mut app, 80, 24);
+    snapshot_settings().bind(|| insta::assert_snapshot!("form_80x24_editing", t.backend()));
+}
+
+#[test]
+fn snapshot_help_80x24() {
+    let mut app = bridge_app();
+    act(&mut app, Action::Help);
+    let t = render(&mut app, 80, 24);
+    snapshot_settings().bind(|| insta::assert_snapshot!("help_80x24", t.backend()));
+}
+
+#[test]
+fn snapshot_reload_error_80x24() {
+    let mut app = bridge_app();
+    let bad = app.text.replace("mu = 0.5", "mu = 0.5.1");
+    update(&mut app, Msg::FileChanged(bad));
+    let t = render(&mut app, 80, 24);
+    snapshot_settings().bind(|| insta::assert_snapshot!("reload_error_80x24", t.backend()));
+}
+
+// ---------------------------------------------------------------------------------------------
+// file watching
+
+fn wait_for_change(rx: &mpsc::Receiver<Msg>, want: &str) -> bool {
+    let end = Instant::now() + Duration::from_secs(5);
+    while Instant::now() < end {
+        if let Ok(Msg::FileChanged(t)) = rx.recv_timeout(Duration::from_millis(100))
+            && t.contains(want)
+        {
+            return true;
+        }
+    }
+    false
+}
+
+#[test]
+fn notify_watcher_sees_writes_and_rename_saves() {
+    let d = scratch("notify");
+    let model = d.join("models/m.toml");
+    std::fs::write(&model, "a = 1\n").unwrap();
+    let (tx, rx) = mpsc::channel();
+    let _w = match tui::watch::notify_watch(&model, tx) {
+        Ok(w) => w,
+        Err(e) => {
+            // the workbench falls back to polling (tested below)
+            println!("no notify watcher here ({e}): skipping");
+            return;
+        }
+    };
+    std::thread::sleep(Duration::from_millis(50));
+    // an editor that saves by writing a temporary file and renaming it over the model
+    tui::save_atomic(&model, "a = 2\n").unwrap();
+    assert!(wait_for_change(&rx, "a = 2"), "rename-save not seen");
+    // in-place write
+    std::fs::write(&model, "a = 3\n").unwrap();
+    assert!(wait_for_change(&rx, "a = 3"), "write not seen");
+    // other files in the directory are not reported
+    std::fs::write(d.join("models/other.toml"), "b = 1\n").unwrap();
+    std::thread::sleep(Duration::from_millis(400));
+    assert!(
+        rx.try_iter()
+            .all(|m| !matches!(m, Msg::FileChanged(t) if t.contains("b = 1")))
+    );
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+#[test]
+fn polling_fallback_sees_changes_by_content() {
+    let d = scratch("poll");
+    let model = d.join("models/m.toml");
+    std::fs::write(&model, "a = 1\n").unwrap();
+    let (tx, rx) = mpsc::channel();
+    tui::watch::spawn_poll(model.clone(), tx, Duration::from_millis(50));
+    std::thread::sleep(Duration::from_millis(120));
+    std::fs::write(&model, "a = 22\n").unwrap();
+    assert!(wait_for_change(&rx, "a = 22"));
+    // touching without a content change sends nothing
+    std::fs::write(&model, "a = 22\n").unwrap();
+    std::thread::sleep(Duration::from_millis(300));
+    assert!(rx.try_iter().next().is_none());
+    let _ = std::fs::remove_dir_all(&d);
+}
