@@ -60,6 +60,12 @@ pub enum SolverError {
         step: f64,
         detail: String,
     },
+    #[error("t = {t:.9} s: {method} iterations did not converge: {detail}")]
+    NoConvergence {
+        t: f64,
+        method: &'static str,
+        detail: String,
+    },
     #[error("t = {t:.9} s: cancelled")]
     Cancelled { t: f64 },
 }

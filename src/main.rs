@@ -96,6 +96,10 @@ enum Command {
         /// Fewer knob values.
         #[arg(long)]
         quick: bool,
+        /// Error measure for the chart and the 1 % summary: peak, rms, impact
+        /// (default: peak for a rotation, rms otherwise).
+        #[arg(long)]
+        metric: Option<String>,
         #[arg(long, default_value = "out")]
         out: PathBuf,
     },
@@ -164,8 +168,9 @@ fn main() -> ExitCode {
             methods,
             set,
             quick,
+            metric,
             out,
-        }) => cmd_precision(&model, &methods, &set, quick, &out),
+        }) => cmd_precision(&model, &methods, &set, quick, metric, &out),
         Some(Command::Stability {
             model,
             set,
@@ -499,7 +504,14 @@ fn precision_points(
     Ok((reference, points))
 }
 
-fn cmd_precision(model: &std::path::Path, methods: &str, set: &[String], quick: bool, out: &std::path::Path) -> CliResult {
+fn cmd_precision(
+    model: &std::path::Path,
+    methods: &str,
+    set: &[String],
+    quick: bool,
+    metric: Option<String>,
+    out: &std::path::Path,
+) -> CliResult {
     use deckspin::precision::{chart, cheapest_within, write_csv};
     let methods: Vec<&str> = methods.split(',').map(|s| s.trim()).collect();
     for m in &methods {
@@ -507,7 +519,13 @@ fn cmd_precision(model: &std::path::Path, methods: &str, set: &[String], quick: 
             return Err(format!("unknown method '{m}'").into());
         }
     }
-    let (_, points) = precision_points(model, &methods, set, quick)?;
+    let (reference, points) = precision_points(model, &methods, set, quick)?;
+    let metric = metric.unwrap_or_else(|| {
+        if reference.run.dof_names[reference.dof].ends_with("theta") { "peak".into() } else { "rms".into() }
+    });
+    if !["peak", "rms", "impact"].contains(&metric.as_str()) {
+        return Err(format!("unknown metric '{metric}' (peak, rms, impact)").into());
+    }
     std::fs::create_dir_all(out)?;
     let stem = model.file_stem().map_or("model".into(), |s| s.to_string_lossy().into_owned());
     let csv = out.join(format!("precision-{stem}.csv"));
@@ -521,16 +539,18 @@ fn cmd_precision(model: &std::path::Path, methods: &str, set: &[String], quick: 
         );
     }
     text += "\n";
-    text += &chart(&points, 64, 18);
-    text += "\ncheapest run within 1 % peak error:\n";
-    let event = cheapest_within(&points, "event", 0.01).map(|p| p.cpu_s);
+    text += &format!("watched: {}\n", reference.run.dof_names[reference.dof]);
+    text += &chart(&points, &metric, 64, 18);
+    let tol = if metric == "impact" { 1e-3 } else { 0.01 };
+    text += &format!("\ncheapest run within {tol} ({metric} error):\n");
+    let event = cheapest_within(&points, "event", &metric, tol).map(|p| p.cpu_s);
     for m in &methods {
-        match cheapest_within(&points, m, 0.01) {
+        match cheapest_within(&points, m, &metric, tol) {
             Some(p) => {
                 let ratio = event.map_or(String::new(), |e| format!(" ({:.1} × event)", p.cpu_s / e));
                 text += &format!("  {m:<17} {:<22} {:.4} s{ratio}\n", p.knob, p.cpu_s)
             }
-            None => text += &format!("  {m:<17} none of the tried knobs reaches 1 %\n"),
+            None => text += &format!("  {m:<17} none of the tried knobs reaches it\n"),
         }
     }
     print!("{text}");

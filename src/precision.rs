@@ -27,6 +27,17 @@ pub struct Point {
     pub status: String,
 }
 
+impl Point {
+    /// The error named by `metric`: "peak", "rms" or "impact".
+    pub fn error(&self, metric: &str) -> f64 {
+        match metric {
+            "rms" => self.rms_error,
+            "impact" => self.impact_time_error,
+            _ => self.peak_error,
+        }
+    }
+}
+
 /// The watched quantity: deck rotation, else the first θ, else DOF 0.
 pub struct Reference {
     pub run: RunOutput,
@@ -209,16 +220,16 @@ pub fn knobs(method: &str, t_end: f64, k: f64, quick: bool) -> Vec<(String, Vec<
 }
 
 /// A log–log text chart of error against CPU time, one letter per method.
-pub fn chart(points: &[Point], width: usize, height: usize) -> String {
+pub fn chart(points: &[Point], metric: &str, width: usize, height: usize) -> String {
     let good: Vec<&Point> = points
         .iter()
-        .filter(|p| p.status == "ok" && p.cpu_s > 0.0 && p.peak_error > 0.0 && p.peak_error.is_finite())
+        .filter(|p| p.status == "ok" && p.cpu_s > 0.0 && p.error(metric) > 0.0 && p.error(metric).is_finite())
         .collect();
     if good.is_empty() {
         return "(no points)\n".into();
     }
     let lx: Vec<f64> = good.iter().map(|p| p.cpu_s.log10()).collect();
-    let ly: Vec<f64> = good.iter().map(|p| p.peak_error.max(1e-16).log10()).collect();
+    let ly: Vec<f64> = good.iter().map(|p| p.error(metric).max(1e-16).log10()).collect();
     let (x0, x1) = (lx.iter().cloned().fold(f64::INFINITY, f64::min).floor(), lx.iter().cloned().fold(f64::NEG_INFINITY, f64::max).ceil());
     let (y0, y1) = (ly.iter().cloned().fold(f64::INFINITY, f64::min).floor(), ly.iter().cloned().fold(f64::NEG_INFINITY, f64::max).ceil());
     let (x1, y1) = (x1.max(x0 + 1.0), y1.max(y0 + 1.0));
@@ -234,7 +245,7 @@ pub fn chart(points: &[Point], width: usize, height: usize) -> String {
         };
         grid[cy.min(height - 1)][cx.min(width - 1)] = c;
     }
-    let mut s = format!("peak error (log10, {y1} at top … {y0} at bottom) against CPU time (log10 s, {x0} … {x1})\n");
+    let mut s = format!("{metric} error (log10, {y1} at top … {y0} at bottom) against CPU time (log10 s, {x0} … {x1})\n");
     for (r, row) in grid.iter().enumerate() {
         let label = if r == 0 {
             format!("1e{y1:<3}")
@@ -251,12 +262,15 @@ pub fn chart(points: &[Point], width: usize, height: usize) -> String {
     s
 }
 
-/// The cheapest point of a method with peak error ≤ `tol`.
-pub fn cheapest_within<'a>(points: &'a [Point], method: &str, tol: f64) -> Option<&'a Point> {
-    points
-        .iter()
-        .filter(|p| p.method == method && p.status == "ok" && p.peak_error <= tol)
-        .min_by(|a, b| a.cpu_s.total_cmp(&b.cpu_s))
+/// The cheapest knob of a method from which on every costlier knob also stays within `tol`
+/// (so a coarse run that lands near the reference by chance does not count).
+pub fn cheapest_within<'a>(points: &'a [Point], method: &str, metric: &str, tol: f64) -> Option<&'a Point> {
+    let mut mine: Vec<&Point> = points.iter().filter(|p| p.method == method).collect();
+    mine.sort_by(|a, b| a.cpu_s.total_cmp(&b.cpu_s));
+    let ok = |p: &Point| p.status == "ok" && p.error(metric) <= tol;
+    (0..mine.len())
+        .find(|&i| mine[i..].iter().all(|p| ok(p)))
+        .map(|i| mine[i])
 }
 
 pub fn write_csv(points: &[Point], path: &Path) -> std::io::Result<()> {

@@ -394,6 +394,7 @@ fn penalty_forces(
     dashpots: &[(f64, f64)],
     slip0: &[f64],
     dslip: &[f64],
+    mask: Option<&[bool]>,
 ) -> PenaltyForces {
     let n = scene.ndof();
     let nc = scene.contacts.len();
@@ -406,12 +407,20 @@ fn penalty_forces(
         absorbed: 0.0,
     };
     for (i, c) in scene.contacts.iter().enumerate() {
+        if mask.is_some_and(|m| !m[i]) {
+            continue;
+        }
         let kin = scene.contact_kinematics_in(fr, c);
-        if kin.gap >= 0.0 {
+        if mask.is_none() && kin.gap >= 0.0 {
             continue;
         }
         let (c_n, c_t) = dashpots[i];
-        let ln = (-k * kin.gap - c_n * kin.gap_rate).max(0.0);
+        // with a fixed active set (Newmark iterations) the element is linear
+        let ln = if mask.is_some() {
+            -k * kin.gap - c_n * kin.gap_rate
+        } else {
+            (-k * kin.gap - c_n * kin.gap_rate).max(0.0)
+        };
         out.elastic += 0.5 * k * kin.gap * kin.gap;
         let mut s = slip0[i] + dslip[i];
         // stick spring with a dashpot of the normal damping ratio (an undamped stick spring
@@ -478,15 +487,15 @@ pub fn run_penalty(scene: &Scene, explicit: bool, observer: &mut dyn Observer) -
     let cd = dashpots(scene, kc);
     let mut s = Stepper::new(scene);
     let zero = vec![0.0; nc];
-    let accel = |s: &Stepper, t: f64, q: &DVector<f64>, v: &DVector<f64>, slip0: &[f64], dslip: &[f64]| {
+    let accel = |s: &Stepper, t: f64, q: &DVector<f64>, v: &DVector<f64>, slip0: &[f64], dslip: &[f64], mask: Option<&[bool]>| {
         let mut f = DVector::zeros(n);
         let p = s.forces_trial(t, q, v, &mut f);
         let fr = scene.frame(t, q, v);
-        let pf = penalty_forces(scene, &fr, kc, &cd, slip0, dslip);
+        let pf = penalty_forces(scene, &fr, kc, &cd, slip0, dslip, mask);
         let a = (f + &pf.f).component_mul(&s.minv);
         (a, p, pf)
     };
-    let (mut a_k, p0, pf0) = accel(&s, 0.0, &s.q.clone(), &s.v.clone(), &s.slip_spring.clone(), &zero);
+    let (mut a_k, p0, pf0) = accel(&s, 0.0, &s.q.clone(), &s.v.clone(), &s.slip_spring.clone(), &zero, None);
     s.prev_power = p0;
     let mut contact_elastic = pf0.elastic;
     s.maybe_sample(contact_elastic);
@@ -509,53 +518,104 @@ pub fn run_penalty(scene: &Scene, explicit: bool, observer: &mut dyn Observer) -
             // tangential increment over the step from the half-step velocity
             let fr_mid = scene.frame(s.t + 0.5 * h, &(&q + &vh * (0.5 * h)), &vh);
             let dslip: Vec<f64> = scene.contacts.iter().map(|c| scene.contact_kinematics_in(&fr_mid, c).slip_rate * h).collect();
-            let (a1, _, pf) = accel(&s, t1, &q1, &vh, &s.slip_spring.clone(), &dslip);
+            let (a1, _, pf) = accel(&s, t1, &q1, &vh, &s.slip_spring.clone(), &dslip, None);
             let v1 = &vh + &a1 * (0.5 * h);
             v_half = vh;
             (q1, v1, a1, pf)
         } else {
-            // Newmark β = ¼, γ = ½ with Newton iterations on q₁ (finite-difference tangent)
-            let mut q1 = &q + &v * h + &a_k * (0.5 * h * h);
-            let mut result = None;
-            for _it in 0..30 {
-                let resid = |q1: &DVector<f64>| {
-                    let a1 = (q1 - &q - &v * h) * (4.0 / (h * h)) - &a_k;
-                    let v1 = &v + (&a_k + &a1) * (0.5 * h);
-                    let fr1 = scene.frame(t1, q1, &v1);
-                    let dslip: Vec<f64> = scene
-                        .contacts
-                        .iter()
-                        .enumerate()
-                        .map(|(i, c)| 0.5 * h * (slip_rate0[i] + scene.contact_kinematics_in(&fr1, c).slip_rate))
-                        .collect();
-                    let (acc, _, pf) = accel(&s, t1, q1, &v1, &s.slip_spring, &dslip);
-                    (a1.clone() - acc, a1, v1, pf)
-                };
-                let (r, a1, v1, pf) = resid(&q1);
-                let scale = r.amax();
-                if scale <= 1e-11 * (1.0 + a1.amax()) {
-                    result = Some((q1.clone(), v1, a1, pf));
-                    break;
-                }
+            // Newmark β = ¼, γ = ½: Newton on q₁ with a finite-difference tangent (refreshed
+            // when convergence stalls) and backtracking on ‖r‖ (the gap elements are kinked)
+            let resid = |q1: &DVector<f64>, mask: &[bool]| {
+                let a1 = (q1 - &q - &v * h) * (4.0 / (h * h)) - &a_k;
+                let v1 = &v + (&a_k + &a1) * (0.5 * h);
+                let fr1 = scene.frame(t1, q1, &v1);
+                let dslip: Vec<f64> = scene
+                    .contacts
+                    .iter()
+                    .enumerate()
+                    .map(|(i, c)| 0.5 * h * (slip_rate0[i] + scene.contact_kinematics_in(&fr1, c).slip_rate))
+                    .collect();
+                let (acc, _, pf) = accel(&s, t1, q1, &v1, &s.slip_spring, &dslip, Some(mask));
+                (a1.clone() - acc, a1, v1, pf)
+            };
+            let jacobian = |q1: &DVector<f64>, r: &DVector<f64>, mask: &[bool]| {
                 let mut jm = DMatrix::zeros(n, n);
                 for j in 0..n {
                     let d = 1e-7 * (1.0 + q1[j].abs());
                     let mut qp = q1.clone();
                     qp[j] += d;
-                    let (rp, ..) = resid(&qp);
+                    let (rp, ..) = resid(&qp, mask);
                     for i in 0..n {
                         jm[(i, j)] = (rp[i] - r[i]) / d;
                     }
                 }
-                let dq = jm.lu().solve(&r).ok_or(SolverError::NonFinite { t: s.t })?;
-                q1 -= &dq;
-                if dq.amax() <= 1e-14 * (1.0 + q1.amax()) {
-                    let (_, a1, v1, pf) = resid(&q1);
+                jm.lu()
+            };
+            // active set of the gap elements: predicted, then corrected until it is consistent
+            // with the converged state (the element is linear within a fixed set)
+            let mut q1 = &q + &v * h + &a_k * (0.5 * h * h);
+            let mut mask: Vec<bool> = {
+                let fr = scene.frame(t1, &q1, &v);
+                scene.contacts.iter().map(|c| scene.contact_kinematics_in(&fr, c).gap < 0.0).collect()
+            };
+            let mut result = None;
+            let mut last_r = 0.0;
+            let mut converged_last = false;
+            'sets: for _set in 0..8 {
+                let (mut r, mut a1, mut v1, mut pf) = resid(&q1, &mask);
+                let mut lu = jacobian(&q1, &r, &mask);
+                let mut converged = false;
+                for it in 0..30 {
+                    if r.amax() <= 1e-10 * (1.0 + a1.amax()) {
+                        converged = true;
+                        break;
+                    }
+                    if it > 0 && it % 4 == 0 {
+                        lu = jacobian(&q1, &r, &mask);
+                    }
+                    let dq = lu.solve(&r).ok_or(SolverError::NonFinite { t: s.t })?;
+                    q1 -= &dq;
+                    (r, a1, v1, pf) = resid(&q1, &mask);
+                }
+                last_r = r.amax();
+                converged_last = converged;
+                if !converged {
+                    break 'sets;
+                }
+                // consistent set: compressed elements in, tensile ones out
+                let fr = scene.frame(t1, &q1, &v1);
+                let natural: Vec<bool> = scene
+                    .contacts
+                    .iter()
+                    .enumerate()
+                    .map(|(i, c)| {
+                        let k = scene.contact_kinematics_in(&fr, c);
+                        k.gap < 0.0 && -kc * k.gap - cd[i].0 * k.gap_rate > 0.0
+                    })
+                    .collect();
+                if natural == mask {
                     result = Some((q1.clone(), v1, a1, pf));
-                    break;
+                    break 'sets;
+                }
+                mask = natural;
+            }
+            if result.is_none() && converged_last {
+                // the set cycles on the element's jump (c|ġ_N| at g_N = 0): take the last state
+                let (_, a1, v1, pf) = resid(&q1, &mask);
+                if q1.iter().all(|x| x.is_finite()) {
+                    result = Some((q1.clone(), v1, a1, pf));
                 }
             }
-            result.ok_or(SolverError::StepTooSmall { t: s.t, h })?
+            match result {
+                Some(x) => x,
+                None => {
+                    return Err(SolverError::NoConvergence {
+                        t: s.t,
+                        method: "penalty (Newmark)",
+                        detail: format!("residual {last_r:.3e}"),
+                    });
+                }
+            }
         };
         s.q = q1;
         s.v = v1;

@@ -296,6 +296,18 @@ fn help_and_hint_bar_come_from_the_keymap() {
     assert_eq!(app.mode, Mode::Normal);
 }
 
+#[test]
+fn the_documentation_lists_every_key() {
+    let doc = read(&root().join("docs/workbench.md"));
+    for bd in KEYMAP {
+        assert!(
+            doc.contains(&format!("`{}`", bd.label)),
+            "docs/workbench.md misses `{}`",
+            bd.label
+        );
+    }
+}
+
 // ---------------------------------------------------------------------------------------------
 // form editing
 
@@ -503,6 +515,25 @@ fn save_keeps_every_comment_and_writes_atomically() {
     let _ = std::fs::remove_dir_all(&d);
 }
 
+#[cfg(unix)]
+#[test]
+fn save_through_a_symlink_keeps_the_link() {
+    let d = scratch("symlink");
+    let real = d.join("models/real.toml");
+    let link = d.join("models/link.toml");
+    std::fs::write(&real, "a = 1\n").unwrap();
+    std::os::unix::fs::symlink(&real, &link).unwrap();
+    tui::save_atomic(&link, "a = 2\n").unwrap();
+    assert!(
+        std::fs::symlink_metadata(&link)
+            .unwrap()
+            .file_type()
+            .is_symlink()
+    );
+    assert_eq!(read(&real), "a = 2\n");
+    let _ = std::fs::remove_dir_all(&d);
+}
+
 #[test]
 fn save_without_edits_does_nothing_and_failures_are_reported() {
     let mut app = App::new_from_text(&read(&corner_path()), &corner_path());
@@ -561,6 +592,19 @@ fn run_starts_a_worker_and_batches_stream_in() {
 }
 
 #[test]
+fn the_models_solver_method_is_used() {
+    let mut app = App::new_from_text(&read(&corner_path()), &corner_path());
+    edit(&mut app, "solver.method", "moreau");
+    assert_eq!(app.mode, Mode::Normal, "{}", app.status);
+    assert!(app.draft.contains("method = \"moreau\""), "{}", app.draft);
+    let fx = act(&mut app, Action::Rerun);
+    tui::execute_blocking(&mut app, fx);
+    let cur = app.current.as_ref().unwrap();
+    assert_eq!(cur.status, RunStatus::Finished, "{}", app.status);
+    assert!(cur.t.len() > 10);
+}
+
+#[test]
 fn batches_of_a_stale_run_are_ignored() {
     let mut app = corner_app();
     let fx = act(&mut app, Action::Rerun);
@@ -606,31 +650,43 @@ fn cancel_a_run() {
 
 #[test]
 fn the_worker_streams_and_cancel_stops_the_engine() {
-    // the full 16 s bridge: far too long to finish before the cancel arrives
-    let scene = deckspin::load(&bridge_path(), &[]).unwrap();
+    // a short run in the worker thread: batches, then the finished output
+    let scene = deckspin::load(&corner_path(), &[]).unwrap();
     let (tx, rx) = mpsc::channel();
-    let h = tui::worker::spawn(7, scene, tx);
-    let first = rx
-        .recv_timeout(Duration::from_secs(20))
-        .expect("a first batch");
-    assert!(matches!(first, Msg::Batch { run: 7, .. }));
-    h.cancel();
-    let t0 = Instant::now();
+    let _h = tui::worker::spawn(3, scene, tx);
+    let mut batches = 0;
     loop {
         match rx
             .recv_timeout(Duration::from_secs(20))
             .expect("the run ends")
         {
+            Msg::Batch { run: 3, .. } => batches += 1,
             Msg::RunDone {
-                run: 7,
-                outcome: RunOutcome::Cancelled { t },
+                run: 3,
+                outcome: RunOutcome::Finished(out),
             } => {
-                assert!(t < 16.0);
+                assert!(batches >= 1);
+                assert_eq!(out.events.len(), 1);
                 break;
             }
-            Msg::Batch { .. } => {}
             m => panic!("unexpected {m:?}"),
         }
+    }
+    // the full 16 s bridge, cancelled: the engine stops at its next batch
+    let scene = deckspin::load(&bridge_path(), &[]).unwrap();
+    let (tx, rx) = mpsc::channel();
+    let h = tui::worker::spawn(7, scene, tx);
+    h.cancel();
+    let t0 = Instant::now();
+    match rx
+        .recv_timeout(Duration::from_secs(20))
+        .expect("the run ends")
+    {
+        Msg::RunDone {
+            run: 7,
+            outcome: RunOutcome::Cancelled { t },
+        } => assert!(t < 16.0),
+        m => panic!("unexpected {m:?}"),
     }
     assert!(
         t0.elapsed() < Duration::from_secs(5),
@@ -839,6 +895,31 @@ fn reload_with_unsaved_edits_asks_first() {
 }
 
 #[test]
+fn a_file_that_never_loaded_can_be_repaired() {
+    let bad = read(&corner_path()).replace("mu = 0.5", "mu = -0.5");
+    let mut app = App::new_from_text(&bad, &corner_path());
+    assert!(app.scene.is_none());
+    let le = app.load_error.clone().unwrap();
+    assert!(le.message.contains("contact.0.mu"), "{}", le.message);
+    assert!(app.start().is_empty(), "nothing to run");
+    assert!(act(&mut app, Action::Rerun).is_empty());
+    let s = screen(&render(&mut app, 80, 24));
+    assert!(s.contains("model error at line"), "{s}");
+    // repair it in the form: an edit elsewhere is taken, the fix makes it run
+    edit(&mut app, "contact.0.restitution", "0.1");
+    assert_eq!(app.mode, Mode::Normal);
+    assert!(app.scene.is_none());
+    edit(&mut app, "contact.0.mu", "0.4");
+    assert!(app.scene.is_some());
+    assert_eq!(start_ids(&act(&mut app, Action::Rerun)), vec![1]);
+    // or on disk: a good version loads and runs
+    let mut app = App::new_from_text(&bad, &corner_path());
+    let fx = update(&mut app, Msg::FileChanged(read(&corner_path())));
+    assert_eq!(start_ids(&fx), vec![1]);
+    assert!(app.load_error.is_none());
+}
+
+#[test]
 fn quit_asks_when_there_are_unsaved_edits() {
     let mut app = corner_app();
     let fx = update(&mut app, key('q'));
@@ -850,6 +931,15 @@ fn quit_asks_when_there_are_unsaved_edits() {
     assert!(matches!(app.mode, Mode::Confirm(Confirm::Quit)));
     update(&mut app, key('n'));
     assert!(!app.quit);
+    // Ctrl-C while typing a value asks too
+    select_field(&mut app, "contact.0.gap");
+    update(&mut app, code(KeyCode::Enter));
+    update(
+        &mut app,
+        Msg::Key(KeyEvent::new(KeyCode::Char('c'), KeyModifiers::CONTROL)),
+    );
+    assert!(matches!(app.mode, Mode::Confirm(Confirm::Quit)));
+    update(&mut app, key('n'));
     update(
         &mut app,
         Msg::Key(KeyEvent::new(KeyCode::Char('c'), KeyModifiers::CONTROL)),

@@ -229,6 +229,7 @@ pub fn xy_dofs(names: &[String], rot: Option<usize>) -> Vec<usize> {
     let found: Vec<usize> = ["x", "y"]
         .iter()
         .filter_map(|a| names.iter().position(|n| *n == format!("{body}.{a}")))
+        .filter(|&i| Some(i) != rot)
         .collect();
     if !found.is_empty() {
         return found;
@@ -624,13 +625,13 @@ impl App {
         match form::validate(&text, &self.path) {
             Ok(_) => Ok(text),
             Err(e) => {
-                let base_ok = self.scene.is_some() && self.load_error.is_none() || self.dirty();
                 let msg = form::error_with_column(&e, &text).0;
-                if base_ok || form::validate(&self.draft, &self.path).is_ok() {
-                    Err(msg)
-                } else {
-                    // the model was already invalid before this edit: accept, keep the error
+                // a file that never loaded takes edits that leave it invalid (so it can be
+                // repaired in the form); a valid model refuses them
+                if self.scene.is_none() && form::validate(&self.draft, &self.path).is_err() {
                     Ok(text)
+                } else {
+                    Err(msg)
                 }
             }
         }
@@ -691,6 +692,10 @@ pub fn update(app: &mut App, msg: Msg) -> Vec<Effect> {
 fn on_key(app: &mut App, ev: KeyEvent) -> Vec<Effect> {
     if ev.kind == KeyEventKind::Release {
         return Vec::new();
+    }
+    // Ctrl-C quits from anywhere (asking first when there are unsaved edits)
+    if ev.code == KeyCode::Char('c') && ev.modifiers.contains(KeyModifiers::CONTROL) {
+        return on_action(app, Action::Quit);
     }
     if let Some(a) = keymap::lookup(&app.contexts(), &ev) {
         return on_action(app, a);
@@ -1020,9 +1025,6 @@ fn on_saved(app: &mut App, text: String, result: Result<PathBuf, String>) -> Vec
         Ok(p) => {
             app.disk_hash = hash_text(&text);
             app.text = text;
-            if app.draft != app.text {
-                // edits made while saving stay as a draft
-            }
             app.load_error = None;
             app.rebuild_form();
             let fx = start_run(app);

@@ -94,6 +94,7 @@ const BRIDGE: &[Spec] = &[
     s("damping.ratio", "damping ratio ζ", "–", F, true),
     s("excitation.run", "excitation run", "#", I, true),
     s("excitation.time_scale", "time scale", "–", F, true),
+    s("solver.method", "solver method", "event|moreau|penalty|penalty-explicit", S, true),
     s("solver.t_end", "t_end", "s", F, true),
     s("solver.rtol", "rtol", "–", F, true),
     s("solver.output_dt", "output step", "s", F, true),

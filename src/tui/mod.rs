@@ -31,6 +31,14 @@ use std::time::{Instant, SystemTime, UNIX_EPOCH};
 /// Writes `text` to `path` atomically: a temporary file in the same directory (same file
 /// system), flushed to disk, given the original's permissions, then renamed over `path`.
 pub fn save_atomic(path: &Path, text: &str) -> io::Result<()> {
+    // a symbolic link stays a link: write the file it points to
+    let resolved;
+    let path = if std::fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink()) {
+        resolved = std::fs::canonicalize(path)?;
+        resolved.as_path()
+    } else {
+        path
+    };
     let dir = path
         .parent()
         .filter(|d| !d.as_os_str().is_empty())

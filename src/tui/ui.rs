@@ -553,16 +553,13 @@ fn draw_time_panel(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
     let strip_rows = nc.min(max_rows).min(8) as u16;
     let tl_h = 2 + strip_rows.max(if nc == 0 { 0 } else { 1 });
     let charts_h = area.height.saturating_sub(tl_h);
-    let n_charts: u16 = if charts_h >= 12 {
+    let fit: usize = if charts_h >= 12 {
         3
     } else if charts_h >= 6 {
         2
     } else {
         1
     };
-    let mut cons = vec![Constraint::Ratio(1, n_charts as u32); n_charts as usize];
-    cons.push(Constraint::Length(tl_h));
-    let rects = Layout::vertical(cons).split(area);
     let graph_w = area.width.saturating_sub(LABEL_W + 1);
     let cols = (graph_w as usize * th.per_cell()) as u16;
     let tc = app.cursor_time();
@@ -635,10 +632,14 @@ fn draw_time_panel(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
         let names: Vec<&str> = run.xy.iter().map(|&k| run.dof_names[k].as_str()).collect();
         charts.push((names.join(" / "), "m".into(), s));
     }
-    for (i, (title, unit, series)) in charts.into_iter().take(n_charts as usize).enumerate() {
+    let n_charts = fit.min(charts.len()).max(1);
+    let mut cons = vec![Constraint::Ratio(1, n_charts as u32); n_charts];
+    cons.push(Constraint::Length(tl_h));
+    let rects = Layout::vertical(cons).split(area);
+    for (i, (title, unit, series)) in charts.into_iter().take(n_charts).enumerate() {
         draw_time_chart(frame, rects[i], app, run, &title, &unit, series, tc, th);
     }
-    draw_timeline(frame, rects[n_charts as usize], app, run, t0, t1, tc, th);
+    draw_timeline(frame, rects[n_charts], app, run, t0, t1, tc, th);
 }
 
 fn unit_of(dof: &str) -> &'static str {
@@ -742,8 +743,6 @@ fn draw_time_chart(
     frame.render_widget(chart, body);
 }
 
-const EV_IMPACT: char = '*';
-
 /// Per-contact event strip: events (impact `*`, stick `S`, slip `~`, release `^`,
 /// accumulation `!`) over the contact state (stuck `█`/`#`, sliding `▒`/`=`, open ` `).
 pub fn event_strip(
@@ -805,7 +804,7 @@ pub fn event_strip(
     for e in run.events.iter().filter(|e| e.contact == contact) {
         if let Some(c) = column_of(e.t, t0, t1, width, per_cell) {
             let (p, ch) = match e.kind {
-                EventKind::Impact => (5, EV_IMPACT),
+                EventKind::Impact => (5, '*'),
                 EventKind::Accumulation => (4, '!'),
                 EventKind::Stick => (3, 'S'),
                 EventKind::Slip => (2, '~'),
@@ -938,6 +937,16 @@ fn draw_timeline(
 }
 
 fn draw_side_panel(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
+    let has_loop = shown_run(app).is_some_and(|r| !r.element_names.is_empty());
+    if !has_loop {
+        // no hysteretic elements: plan view and the comparison
+        let sum_h = 9.min(area.height / 2);
+        let [plan, sum] =
+            Layout::vertical([Constraint::Min(0), Constraint::Length(sum_h)]).areas(area);
+        draw_plan(frame, plan, app, th);
+        draw_summary(frame, sum, app, th);
+        return;
+    }
     let with_summary = area.height >= 28;
     let sum_h = if with_summary { 9 } else { 0 };
     let rest = area.height - sum_h;
@@ -1114,7 +1123,7 @@ fn draw_plan(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
             }
             ctx.layer();
             // bodies: polygon through their contact points, else a cross
-            for (bi, b) in scene.bodies.iter().enumerate() {
+            for bi in 0..scene.bodies.len() {
                 let mut cps: Vec<Vector2<f64>> = scene
                     .contacts
                     .iter()
@@ -1154,7 +1163,6 @@ fn draw_plan(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
                         ctx.draw(&CLine::new(centre.x, centre.y, q.x, q.y, body_color));
                     }
                 }
-                let _ = b;
             }
             // contact points in contact / stuck
             for (ci, c) in scene.contacts.iter().enumerate() {
@@ -1346,9 +1354,10 @@ fn digest_rows(cur: Option<&Digest>, prev: Option<&Digest>) -> Vec<[String; 3]> 
 fn draw_summary(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
     let cur = app.current.as_ref();
     let prev = app.previous.as_ref();
-    let label_w: u16 = 12;
-    let value_w = (area.width.saturating_sub(2 + label_w + 2) / 2).clamp(4, 12);
     let rows = digest_rows(cur.map(|r| &r.digest), prev.map(|r| &r.digest));
+    let longest = rows.iter().map(|r| r[0].chars().count()).max().unwrap_or(0) as u16;
+    let label_w = longest.clamp(12, (area.width / 3).max(12));
+    let value_w = (area.width.saturating_sub(2 + label_w + 2) / 2).clamp(4, 12);
     let header = Row::new(vec![
         String::new(),
         cur.map_or("current".into(), |r| format!("run {}", r.id)),

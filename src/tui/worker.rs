@@ -1,6 +1,7 @@
-//! Simulation runs off the UI thread: the engine's observer forwards each batch of new samples
-//! and events as a [`Msg::Batch`]; the end of the run is a [`Msg::RunDone`]. A run is cancelled
-//! through a flag the observer checks at every batch.
+//! Simulation runs off the UI thread with `deckspin::simulate` (the method the model's
+//! `solver.method` names): the engine's observer forwards each batch of new samples and events
+//! as a [`Msg::Batch`]; the end of the run is a [`Msg::RunDone`]. A run is cancelled through a
+//! flag the observer checks at every batch.
 
 use super::app::{Msg, RunOutcome};
 use crate::event_driven::{Observer, SolverError};
@@ -95,7 +96,7 @@ pub fn spawn(id: u64, scene: Scene, tx: Sender<Msg>) -> RunHandle {
                 if super::test_panic("worker") {
                     panic!("DECKSPIN_TEST_PANIC=worker: a panic in the simulation thread");
                 }
-                crate::run(&scene, &mut obs)
+                crate::simulate(&scene, &mut obs)
             }));
             let outcome = match result {
                 Ok(r) => outcome(r),
@@ -127,7 +128,7 @@ pub fn run_blocking(id: u64, scene: &Scene) -> Vec<Msg> {
                 true
             },
         };
-        crate::run(scene, &mut obs)
+        crate::simulate(scene, &mut obs)
     };
     msgs.push(Msg::RunDone {
         run: id,
