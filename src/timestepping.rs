@@ -576,6 +576,11 @@ pub fn run_penalty(scene: &Scene, explicit: bool, observer: &mut dyn Observer) -
                     let dq = lu.solve(&r).ok_or(SolverError::NonFinite { t: s.t })?;
                     q1 -= &dq;
                     (r, a1, v1, pf) = resid(&q1, &mask);
+                    if dq.amax() <= 1e-13 * (1.0 + q1.amax()) {
+                        // the update is at round-off: the residual is as small as it gets
+                        converged = true;
+                        break;
+                    }
                 }
                 last_r = r.amax();
                 converged_last = converged;

@@ -437,7 +437,23 @@ fn generic_models_list_their_scalar_leaves() {
     ] {
         assert!(paths.contains(&p), "{p} not in {paths:?}");
     }
-    assert!(app.form.fields.iter().all(|f| !f.curated));
+    // the solver settings are offered first (absent ones too), then every leaf by its path
+    let curated: Vec<&str> = app
+        .form
+        .fields
+        .iter()
+        .filter(|f| f.curated)
+        .map(|f| f.path.as_str())
+        .collect();
+    assert_eq!(
+        curated,
+        [
+            "solver.method",
+            "solver.t_end",
+            "solver.rtol",
+            "solver.output_dt"
+        ]
+    );
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -94,6 +94,11 @@ const BRIDGE: &[Spec] = &[
     s("damping.ratio", "damping ratio ζ", "–", F, true),
     s("excitation.run", "excitation run", "#", I, true),
     s("excitation.time_scale", "time scale", "–", F, true),
+];
+
+/// Solver settings, offered for every model (absent keys can be added).
+#[rustfmt::skip]
+const SOLVER: &[Spec] = &[
     s("solver.method", "solver method", "event|moreau|penalty|penalty-explicit", S, true),
     s("solver.t_end", "t_end", "s", F, true),
     s("solver.rtol", "rtol", "–", F, true),
@@ -268,36 +273,36 @@ pub fn build(draft: &str, saved: &str) -> Form {
             .map(|l| l.value.clone())
     };
     let mut fields = Vec::new();
-    if doc.contains_key("deck") {
-        let law = draft_leaves
-            .iter()
-            .find(|l| l.path == "column.law.law")
-            .map(|l| l.value.clone())
-            .unwrap_or_default();
-        let law_set = law_keys(&law).unwrap_or(&[]);
-        for sp in BRIDGE {
-            let leaf = draft_leaves.iter().find(|l| l.path == sp.path);
-            if let Some(k) = sp.path.strip_prefix("column.law.")
-                && k != "law"
-                && leaf.is_none()
-                && !law_set.contains(&k)
-            {
-                continue;
-            }
-            if leaf.is_none() && !sp.optional && !sp.path.starts_with("column.law.") {
-                continue;
-            }
-            fields.push(Field {
-                path: sp.path.to_string(),
-                label: sp.label.to_string(),
-                unit: sp.unit.to_string(),
-                kind: leaf.map_or(sp.kind, |l| l.kind),
-                value: leaf.map(|l| l.value.clone()),
-                saved: saved_of(sp.path),
-                note: leaf.map(|l| l.note.clone()).unwrap_or_default(),
-                curated: true,
-            });
+    let bridge = doc.contains_key("deck");
+    let law = draft_leaves
+        .iter()
+        .find(|l| l.path == "column.law.law")
+        .map(|l| l.value.clone())
+        .unwrap_or_default();
+    let law_set = law_keys(&law).unwrap_or(&[]);
+    let specs = if bridge { BRIDGE } else { &[] };
+    for sp in specs.iter().chain(SOLVER) {
+        let leaf = draft_leaves.iter().find(|l| l.path == sp.path);
+        if let Some(k) = sp.path.strip_prefix("column.law.")
+            && k != "law"
+            && leaf.is_none()
+            && !law_set.contains(&k)
+        {
+            continue;
         }
+        if leaf.is_none() && !sp.optional && !sp.path.starts_with("column.law.") {
+            continue;
+        }
+        fields.push(Field {
+            path: sp.path.to_string(),
+            label: sp.label.to_string(),
+            unit: sp.unit.to_string(),
+            kind: leaf.map_or(sp.kind, |l| l.kind),
+            value: leaf.map(|l| l.value.clone()),
+            saved: saved_of(sp.path),
+            note: leaf.map(|l| l.note.clone()).unwrap_or_default(),
+            curated: true,
+        });
     }
     for l in &draft_leaves {
         if fields.iter().any(|f| f.path == l.path) {
