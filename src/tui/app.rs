@@ -1153,9 +1153,15 @@ fn on_done(app: &mut App, run: u64, outcome: RunOutcome) -> Vec<Effect> {
                 cur.count(EventKind::Release),
             );
             let t = cur.t_sim;
+            // a run started by a reload keeps saying so
+            let prefix = if app.status.starts_with("reloaded") {
+                format!("reloaded {} · ", app.file_name())
+            } else {
+                String::new()
+            };
             app.set_status(
                 StatusKind::Ok,
-                format!("{label} finished at t = {t:.3} s: {imp} impacts, {st} sticks, {sl} slips, {re} releases"),
+                format!("{prefix}{label} finished at t = {t:.3} s: {imp} impacts, {st} sticks, {sl} slips, {re} releases"),
             );
         }
         RunOutcome::Cancelled { t } => {
