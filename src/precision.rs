@@ -176,7 +176,7 @@ pub fn knobs(method: &str, t_end: f64, k: f64, quick: bool) -> Vec<(String, Vec<
     let steps: Vec<f64> = if quick {
         vec![100.0, 1000.0, 10000.0]
     } else {
-        vec![100.0, 300.0, 1000.0, 3000.0, 10000.0, 30000.0]
+        vec![100.0, 300.0, 1000.0, 3000.0, 10000.0, 30000.0, 100000.0]
     };
     match method {
         "event" => {

@@ -510,8 +510,6 @@ pub fn run_penalty(scene: &Scene, explicit: bool, observer: &mut dyn Observer) -
         let t1 = (k + 1) as f64 * h;
         let (q, v) = (s.q.clone(), s.v.clone());
         let before = s.state.clone();
-        let fr0 = scene.frame(s.t, &q, &v);
-        let slip_rate0: Vec<f64> = scene.contacts.iter().map(|c| scene.contact_kinematics_in(&fr0, c).slip_rate).collect();
         let (q1, v1, a1, pf) = if explicit {
             let vh = &v_half + &a_k * h;
             let q1 = &q + &vh * h;
@@ -523,101 +521,45 @@ pub fn run_penalty(scene: &Scene, explicit: bool, observer: &mut dyn Observer) -
             v_half = vh;
             (q1, v1, a1, pf)
         } else {
-            // Newmark β = ¼, γ = ½: Newton on q₁ with a finite-difference tangent (refreshed
-            // when convergence stalls) and backtracking on ‖r‖ (the gap elements are kinked)
-            let resid = |q1: &DVector<f64>, mask: &[bool]| {
-                let a1 = (q1 - &q - &v * h) * (4.0 / (h * h)) - &a_k;
-                let v1 = &v + (&a_k + &a1) * (0.5 * h);
-                let fr1 = scene.frame(t1, q1, &v1);
-                let dslip: Vec<f64> = scene
-                    .contacts
-                    .iter()
-                    .enumerate()
-                    .map(|(i, c)| 0.5 * h * (slip_rate0[i] + scene.contact_kinematics_in(&fr1, c).slip_rate))
-                    .collect();
-                let (acc, _, pf) = accel(&s, t1, q1, &v1, &s.slip_spring, &dslip, Some(mask));
-                (a1.clone() - acc, a1, v1, pf)
-            };
-            let jacobian = |q1: &DVector<f64>, r: &DVector<f64>, mask: &[bool]| {
-                let mut jm = DMatrix::zeros(n, n);
-                for j in 0..n {
-                    let d = 1e-7 * (1.0 + q1[j].abs());
-                    let mut qp = q1.clone();
-                    qp[j] += d;
-                    let (rp, ..) = resid(&qp, mask);
-                    for i in 0..n {
-                        jm[(i, j)] = (rp[i] - r[i]) / d;
+            // Newmark; on failure the step is split into 2, 4, … 256 substeps
+            let mut done = newmark_step(&s, kc, &cd, s.t, h, &q, &v, &a_k, &s.slip_spring);
+            let mut m = 2usize;
+            while done.is_none() && m <= 256 {
+                let hs = h / m as f64;
+                let (mut qs, mut vs, mut as_) = (q.clone(), v.clone(), a_k.clone());
+                let mut slip = s.slip_spring.clone();
+                let mut last = None;
+                for j in 0..m {
+                    match newmark_step(&s, kc, &cd, s.t + j as f64 * hs, hs, &qs, &vs, &as_, &slip) {
+                        Some((q1, v1, a1, pf)) => {
+                            slip = pf.slip.clone();
+                            for (i, sl) in slip.iter_mut().enumerate() {
+                                if pf.lam_n[i] <= 0.0 {
+                                    *sl = 0.0;
+                                }
+                            }
+                            (qs, vs, as_) = (q1.clone(), v1.clone(), a1.clone());
+                            last = Some((q1, v1, a1, pf));
+                        }
+                        None => {
+                            last = None;
+                            break;
+                        }
                     }
                 }
-                jm.lu()
-            };
-            // active set of the gap elements: predicted, then corrected until it is consistent
-            // with the converged state (the element is linear within a fixed set)
-            let mut q1 = &q + &v * h + &a_k * (0.5 * h * h);
-            let mut mask: Vec<bool> = {
-                let fr = scene.frame(t1, &q1, &v);
-                scene.contacts.iter().map(|c| scene.contact_kinematics_in(&fr, c).gap < 0.0).collect()
-            };
-            let mut result = None;
-            let mut last_r = 0.0;
-            let mut converged_last = false;
-            'sets: for _set in 0..8 {
-                let (mut r, mut a1, mut v1, mut pf) = resid(&q1, &mask);
-                let mut lu = jacobian(&q1, &r, &mask);
-                let mut converged = false;
-                for it in 0..30 {
-                    if r.amax() <= 1e-10 * (1.0 + a1.amax()) {
-                        converged = true;
-                        break;
-                    }
-                    if it > 0 && it % 4 == 0 {
-                        lu = jacobian(&q1, &r, &mask);
-                    }
-                    let dq = lu.solve(&r).ok_or(SolverError::NonFinite { t: s.t })?;
-                    q1 -= &dq;
-                    (r, a1, v1, pf) = resid(&q1, &mask);
-                    if dq.amax() <= 1e-13 * (1.0 + q1.amax()) {
-                        // the update is at round-off: the residual is as small as it gets
-                        converged = true;
-                        break;
-                    }
+                done = last;
+                if done.is_some() {
+                    s.out.stats.steps_rejected += 1;
                 }
-                last_r = r.amax();
-                converged_last = converged;
-                if !converged {
-                    break 'sets;
-                }
-                // consistent set: compressed elements in, tensile ones out
-                let fr = scene.frame(t1, &q1, &v1);
-                let natural: Vec<bool> = scene
-                    .contacts
-                    .iter()
-                    .enumerate()
-                    .map(|(i, c)| {
-                        let k = scene.contact_kinematics_in(&fr, c);
-                        k.gap < 0.0 && -kc * k.gap - cd[i].0 * k.gap_rate > 0.0
-                    })
-                    .collect();
-                if natural == mask {
-                    result = Some((q1.clone(), v1, a1, pf));
-                    break 'sets;
-                }
-                mask = natural;
+                m *= 2;
             }
-            if result.is_none() && converged_last {
-                // the set cycles on the element's jump (c|ġ_N| at g_N = 0): take the last state
-                let (_, a1, v1, pf) = resid(&q1, &mask);
-                if q1.iter().all(|x| x.is_finite()) {
-                    result = Some((q1.clone(), v1, a1, pf));
-                }
-            }
-            match result {
+            match done {
                 Some(x) => x,
                 None => {
                     return Err(SolverError::NoConvergence {
                         t: s.t,
                         method: "penalty (Newmark)",
-                        detail: format!("residual {last_r:.3e}"),
+                        detail: "no convergence even with 256 substeps".into(),
                     });
                 }
             }
@@ -662,13 +604,18 @@ pub fn run_penalty(scene: &Scene, explicit: bool, observer: &mut dyn Observer) -
         let e_now = scene.kinetic_energy(&s.v) + scene.spring_energy(s.t, &s.q, &s.v) + contact_elastic;
         e_supplied = e_supplied.max(e_input_scale(&s));
         let bound = 10.0 * e_supplied + 1e-12;
-        if !finite || (explicit && e_now > bound && k > 10) {
+        if !finite || (e_now > bound && k > 10) {
             return Err(SolverError::Unstable {
                 t: s.t,
                 method: if explicit { "penalty-explicit" } else { "penalty" },
                 step: h,
                 detail: format!(
-                    "energy {e_now:.3e} exceeds 10 × the largest input {e_supplied:.3e} (explicit central difference is stable for h < 2/ω of the stiffest contact)"
+                    "energy {e_now:.3e} exceeds 10 × the largest input {e_supplied:.3e} ({})",
+                    if explicit {
+                        "explicit central difference is stable for h < 2/ω of the stiffest contact"
+                    } else {
+                        "the switching gap elements pump energy into the Newmark scheme at this step"
+                    }
                 ),
             });
         }
@@ -683,6 +630,134 @@ pub fn run_penalty(scene: &Scene, explicit: bool, observer: &mut dyn Observer) -
     }
     observer.batch(&s.out.samples[last_batch.0..], &s.out.events[last_batch.1..], s.t);
     Ok(s.finish(wall, contact_elastic))
+}
+
+/// Accelerations from smooth and penalty forces (trial laws, trial tangential springs).
+#[allow(clippy::too_many_arguments)]
+fn penalty_accel(
+    s: &Stepper,
+    kc: f64,
+    cd: &[(f64, f64)],
+    t: f64,
+    q: &DVector<f64>,
+    v: &DVector<f64>,
+    slip0: &[f64],
+    dslip: &[f64],
+    mask: Option<&[bool]>,
+) -> (DVector<f64>, PenaltyForces) {
+    let n = s.scene.ndof();
+    let mut f = DVector::zeros(n);
+    s.forces_trial(t, q, v, &mut f);
+    let fr = s.scene.frame(t, q, v);
+    let pf = penalty_forces(s.scene, &fr, kc, cd, slip0, dslip, mask);
+    ((f + &pf.f).component_mul(&s.minv), pf)
+}
+
+/// One Newmark average-acceleration step (β = ¼, γ = ½) of the penalty model: Newton on q₁
+/// with a finite-difference tangent within a fixed active set of gap elements, the set then
+/// corrected until consistent (compressed in, tensile out). None when it does not converge.
+#[allow(clippy::too_many_arguments)]
+fn newmark_step(
+    s: &Stepper,
+    kc: f64,
+    cd: &[(f64, f64)],
+    t0: f64,
+    h: f64,
+    q: &DVector<f64>,
+    v: &DVector<f64>,
+    a_k: &DVector<f64>,
+    slip0: &[f64],
+) -> Option<(DVector<f64>, DVector<f64>, DVector<f64>, PenaltyForces)> {
+    let scene = s.scene;
+    let n = scene.ndof();
+    let t1 = t0 + h;
+    let fr0 = scene.frame(t0, q, v);
+    let slip_rate0: Vec<f64> = scene
+        .contacts
+        .iter()
+        .map(|c| scene.contact_kinematics_in(&fr0, c).slip_rate)
+        .collect();
+    let resid = |q1: &DVector<f64>, mask: &[bool]| {
+        let a1 = (q1 - q - v * h) * (4.0 / (h * h)) - a_k;
+        let v1 = v + (a_k + &a1) * (0.5 * h);
+        let fr1 = scene.frame(t1, q1, &v1);
+        let dslip: Vec<f64> = scene
+            .contacts
+            .iter()
+            .enumerate()
+            .map(|(i, c)| 0.5 * h * (slip_rate0[i] + scene.contact_kinematics_in(&fr1, c).slip_rate))
+            .collect();
+        let (acc, pf) = penalty_accel(s, kc, cd, t1, q1, &v1, slip0, &dslip, Some(mask));
+        (a1.clone() - acc, a1, v1, pf)
+    };
+    let jacobian = |q1: &DVector<f64>, r: &DVector<f64>, mask: &[bool]| {
+        let mut jm = DMatrix::zeros(n, n);
+        for j in 0..n {
+            let d = 1e-7 * (1.0 + q1[j].abs());
+            let mut qp = q1.clone();
+            qp[j] += d;
+            let (rp, ..) = resid(&qp, mask);
+            for i in 0..n {
+                jm[(i, j)] = (rp[i] - r[i]) / d;
+            }
+        }
+        jm.lu()
+    };
+    let mut q1 = q + v * h + a_k * (0.5 * h * h);
+    let mut mask: Vec<bool> = {
+        let fr = scene.frame(t1, &q1, v);
+        scene.contacts.iter().map(|c| scene.contact_kinematics_in(&fr, c).gap < 0.0).collect()
+    };
+    let mut converged_last = false;
+    for _set in 0..8 {
+        let (mut r, mut a1, mut v1, mut pf) = resid(&q1, &mask);
+        let mut lu = jacobian(&q1, &r, &mask);
+        let mut converged = false;
+        for it in 0..30 {
+            if r.amax() <= 1e-10 * (1.0 + a1.amax()) {
+                converged = true;
+                break;
+            }
+            if it > 0 && it % 4 == 0 {
+                lu = jacobian(&q1, &r, &mask);
+            }
+            let dq = lu.solve(&r)?;
+            q1 -= &dq;
+            (r, a1, v1, pf) = resid(&q1, &mask);
+            if !r.iter().all(|x| x.is_finite()) {
+                return None;
+            }
+            // the update is at round-off and the residual at round-off of the 4/h² scaling
+            if dq.amax() <= 1e-13 * (1.0 + q1.amax()) && r.amax() <= 1e-6 * (1.0 + a1.amax()) {
+                converged = true;
+                break;
+            }
+        }
+        converged_last = converged;
+        if !converged {
+            return None;
+        }
+        let fr = scene.frame(t1, &q1, &v1);
+        let natural: Vec<bool> = scene
+            .contacts
+            .iter()
+            .enumerate()
+            .map(|(i, c)| {
+                let k = scene.contact_kinematics_in(&fr, c);
+                k.gap < 0.0 && -kc * k.gap - cd[i].0 * k.gap_rate > 0.0
+            })
+            .collect();
+        if natural == mask {
+            return Some((q1, v1, a1, pf));
+        }
+        mask = natural;
+    }
+    // the set cycles on the element's jump (c|ġ_N| at g_N = 0): take the last converged state
+    if converged_last {
+        let (_, a1, v1, pf) = resid(&q1, &mask);
+        return Some((q1, v1, a1, pf));
+    }
+    None
 }
 
 /// Run a scene with the method its settings name.
