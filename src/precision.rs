@@ -264,13 +264,26 @@ pub fn chart(points: &[Point], metric: &str, width: usize, height: usize) -> Str
 
 /// The cheapest knob of a method from which on every costlier knob also stays within `tol`
 /// (so a coarse run that lands near the reference by chance does not count).
+/// Penalty points form one family per contact stiffness.
 pub fn cheapest_within<'a>(points: &'a [Point], method: &str, metric: &str, tol: f64) -> Option<&'a Point> {
-    let mut mine: Vec<&Point> = points.iter().filter(|p| p.method == method).collect();
-    mine.sort_by(|a, b| a.cpu_s.total_cmp(&b.cpu_s));
+    let family = |p: &Point| p.knob.split_once(" k=").map(|(_, k)| k.to_string()).unwrap_or_default();
+    let mut families: Vec<String> = points.iter().filter(|p| p.method == method).map(family).collect();
+    families.sort();
+    families.dedup();
     let ok = |p: &Point| p.status == "ok" && p.error(metric) <= tol;
-    (0..mine.len())
-        .find(|&i| mine[i..].iter().all(|p| ok(p)))
-        .map(|i| mine[i])
+    families
+        .iter()
+        .filter_map(|f| {
+            // in the order the knobs were generated: coarse to fine
+            let mine: Vec<&Point> = points
+                .iter()
+                .filter(|p| p.method == method && family(p) == *f)
+                .collect();
+            (0..mine.len())
+                .find(|&i| mine[i..].iter().all(|p| ok(p)))
+                .map(|i| mine[i])
+        })
+        .min_by(|a, b| a.cpu_s.total_cmp(&b.cpu_s))
 }
 
 pub fn write_csv(points: &[Point], path: &Path) -> std::io::Result<()> {
@@ -291,15 +304,18 @@ pub fn write_csv(points: &[Point], path: &Path) -> std::io::Result<()> {
     w.flush()
 }
 
-/// Classify a point for the stability table.
+/// Classify a point for the stability table: the larger of the peak and the RMS history
+/// error against `tol` (a coarse run can hit the peak by chance, not the history).
 pub fn verdict(p: &Point, tol: f64) -> String {
+    let e = p.peak_error.max(p.rms_error);
+    let detail = format!("peak {:.2} %, history {:.2} %", 100.0 * p.peak_error, 100.0 * p.rms_error);
     if p.status.starts_with("unstable") {
-        "unstable".into()
+        "unstable (detected: energy growth)".into()
     } else if p.status != "ok" {
-        "failed".into()
-    } else if p.peak_error > tol || !p.peak_error.is_finite() {
-        format!("inaccurate ({:.0} %)", 100.0 * p.peak_error)
+        format!("failed: {}", p.status)
+    } else if e > tol || !e.is_finite() {
+        format!("inaccurate ({detail})")
     } else {
-        format!("ok ({:.2} %)", 100.0 * p.peak_error)
+        format!("ok ({detail})")
     }
 }

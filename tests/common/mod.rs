@@ -44,5 +44,8 @@ pub fn rel(a: f64, b: f64) -> f64 {
 #[track_caller]
 pub fn assert_rel(a: f64, b: f64, tol: f64, what: &str) {
     let e = rel(a, b);
+    if std::env::var("ORACLE_REPORT").is_ok() {
+        eprintln!("ORACLE {what}: {e:.2e}");
+    }
     assert!(e <= tol, "{what}: got {a:.15e}, expected {b:.15e}, rel err {e:.3e} > {tol:.1e}");
 }
