@@ -23,7 +23,11 @@ fn impact_lcp(n: usize) -> (DMatrix<f64>, DVector<f64>) {
     let q = DVector::zeros(3);
     let v = DVector::from_vec(vec![-0.3, 0.2, 0.01]);
     let minv = scene.mass.map(|m| 1.0 / m);
-    let kin: Vec<_> = scene.contacts.iter().map(|c| scene.contact_kinematics(c, &q, &v)).collect();
+    let kin: Vec<_> = scene
+        .contacts
+        .iter()
+        .map(|c| scene.contact_kinematics(c, &q, &v))
+        .collect();
     let nc = kin.len();
     let m3 = 3 * nc;
     let g = |a: &DVector<f64>, b: &DVector<f64>| a.component_mul(&minv).dot(b);
@@ -49,9 +53,11 @@ fn bench_lemke(c: &mut Criterion) {
     let mut group = c.benchmark_group("lemke impact LCP");
     for n in [4usize, 8, 12] {
         let (m, q) = impact_lcp(n);
-        group.bench_with_input(BenchmarkId::from_parameter(format!("{n} contacts")), &n, |b, _| {
-            b.iter(|| lemke(black_box(&m), black_box(&q), &LemkeOptions::default()).ok())
-        });
+        group.bench_with_input(
+            BenchmarkId::from_parameter(format!("{n} contacts")),
+            &n,
+            |b, _| b.iter(|| lemke(black_box(&m), black_box(&q), &LemkeOptions::default()).ok()),
+        );
     }
     group.finish();
 }
@@ -69,7 +75,11 @@ fn bench_steps(c: &mut Criterion) {
     c.bench_function("event-driven bridge, 0.1 s", |b| {
         b.iter(|| deckspin::simulate(black_box(&event), &mut deckspin::Silent).unwrap())
     });
-    let moreau = bridge(&["solver.method=\"moreau\"", "solver.step=0.001", "solver.t_end=0.1"]);
+    let moreau = bridge(&[
+        "solver.method=\"moreau\"",
+        "solver.step=0.001",
+        "solver.t_end=0.1",
+    ]);
     c.bench_function("Moreau–Jean bridge, 100 steps", |b| {
         b.iter(|| deckspin::simulate(black_box(&moreau), &mut deckspin::Silent).unwrap())
     });

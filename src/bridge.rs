@@ -252,8 +252,13 @@ pub fn compile(f: &BridgeFile, text: &str, path: &Path) -> Result<Scene, ModelEr
     col.law
         .validate()
         .map_err(|e| ck.err("column.law", e.to_string()))?;
-    ck.positive("damping.ratio", f.damping.ratio)
-        .or_else(|e| if f.damping.ratio == 0.0 { Ok(0.0) } else { Err(e) })?;
+    ck.positive("damping.ratio", f.damping.ratio).or_else(|e| {
+        if f.damping.ratio == 0.0 {
+            Ok(0.0)
+        } else {
+            Err(e)
+        }
+    })?;
     for (i, b) in f.bents.iter().enumerate() {
         ck.finite(&format!("bent.{i}.x"), b.x)?;
         ck.positive(&format!("bent.{i}.height"), b.height)?;
@@ -286,7 +291,9 @@ pub fn compile(f: &BridgeFile, text: &str, path: &Path) -> Result<Scene, ModelEr
             dofs: [Some(5), None, Some(6)],
         },
     ];
-    let mass = DVector::from_vec(vec![a.mass, a.inertia, d.mass, d.mass, d.inertia, a.mass, a.inertia]);
+    let mass = DVector::from_vec(vec![
+        a.mass, a.inertia, d.mass, d.mass, d.inertia, a.mass, a.inertia,
+    ]);
     let dof_names = [
         "left_abutment.x",
         "left_abutment.theta",
@@ -569,13 +576,20 @@ pub fn modes(scene: &Scene) -> Vec<Mode> {
             let w2 = eig.eigenvalues[i].max(0.0);
             let omega = w2.sqrt();
             let mut shape = eig.eigenvectors.column(i).component_mul(&s);
-            let big = shape.iter().cloned().fold(0.0f64, |m, x| if x.abs() > m.abs() { x } else { m });
+            let big = shape
+                .iter()
+                .cloned()
+                .fold(0.0f64, |m, x| if x.abs() > m.abs() { x } else { m });
             if big < 0.0 {
                 shape = -shape;
             }
             Mode {
                 omega,
-                period: if omega > 0.0 { 2.0 * std::f64::consts::PI / omega } else { f64::INFINITY },
+                period: if omega > 0.0 {
+                    2.0 * std::f64::consts::PI / omega
+                } else {
+                    f64::INFINITY
+                },
                 shape,
             }
         })
@@ -588,11 +602,18 @@ pub fn modes(scene: &Scene) -> Vec<Mode> {
 /// §11.4): a₀ = 2ζωᵢωⱼ/(ωᵢ+ωⱼ), a₁ = 2ζ/(ωᵢ+ωⱼ). The a₁K₀ part acts on element deformation
 /// rates, the a₀M part on velocities relative to the quasi-static motion of the supports, so
 /// damping forces vanish for rigid-body support motion.
-pub fn apply_rayleigh(scene: &mut Scene, zeta: f64, modes_ij: [usize; 2]) -> Result<(f64, f64), String> {
+pub fn apply_rayleigh(
+    scene: &mut Scene,
+    zeta: f64,
+    modes_ij: [usize; 2],
+) -> Result<(f64, f64), String> {
     let m = modes(scene);
     let [i, j] = modes_ij;
     if i == 0 || j == 0 || i > m.len() || j > m.len() || i == j {
-        return Err(format!("modes must be two different numbers in 1..={}", m.len()));
+        return Err(format!(
+            "modes must be two different numbers in 1..={}",
+            m.len()
+        ));
     }
     let (wi, wj) = (m[i - 1].omega, m[j - 1].omega);
     if wi <= 0.0 || wj <= 0.0 {

@@ -60,8 +60,12 @@ pub fn solve_impact(
         dv.axpy(lam_t[i], &kin[i].w_t, 1.0);
     }
     dv.component_mul_assign(minv);
-    let gap_rate_after = (0..nc).map(|i| kin[i].gap_rate + kin[i].w_n.dot(&dv)).collect();
-    let slip_rate_after = (0..nc).map(|i| kin[i].slip_rate + kin[i].w_t.dot(&dv)).collect();
+    let gap_rate_after = (0..nc)
+        .map(|i| kin[i].gap_rate + kin[i].w_n.dot(&dv))
+        .collect();
+    let slip_rate_after = (0..nc)
+        .map(|i| kin[i].slip_rate + kin[i].w_t.dot(&dv))
+        .collect();
     Ok(ImpactOutcome {
         velocity_jump: dv,
         normal_impulse: lam_n,

@@ -55,6 +55,9 @@ const D: [f64; 7] = [
     69997945.0 / 29380423.0,
 ];
 
+/// A right-hand side f(t, y) → out.
+pub type Rhs<'a, E> = dyn FnMut(f64, &DVector<f64>, &mut DVector<f64>) -> Result<(), E> + 'a;
+
 /// One attempted step with its dense output.
 #[derive(Clone, Debug)]
 pub struct Step {
@@ -100,7 +103,7 @@ impl Step {
 /// `n_err` components with weights atol + rtol·max(|y0|, |y1|).
 #[allow(clippy::too_many_arguments)]
 pub fn step<E>(
-    rhs: &mut dyn FnMut(f64, &DVector<f64>, &mut DVector<f64>) -> Result<(), E>,
+    rhs: &mut Rhs<'_, E>,
     t0: f64,
     y0: &DVector<f64>,
     f0: &DVector<f64>,

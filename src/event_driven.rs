@@ -146,7 +146,12 @@ impl<'a> Engine<'a> {
 
     /// `all`: kinematics of every contact (for output); otherwise only the closed ones are
     /// computed (open contacts get a placeholder and carry no force).
-    fn dynamics_with(&mut self, t: f64, y: &DVector<f64>, all: bool) -> Result<Dynamics, SolverError> {
+    fn dynamics_with(
+        &mut self,
+        t: f64,
+        y: &DVector<f64>,
+        all: bool,
+    ) -> Result<Dynamics, SolverError> {
         let n = self.n;
         let scene = self.scene;
         let q = y.rows(0, n).into_owned();
@@ -346,15 +351,21 @@ impl<'a> Engine<'a> {
                         ContactState::Slide(s) => s,
                         _ => 1.0,
                     };
-                    s * scene.contact_kinematics_in(&fr, &scene.contacts[i]).slip_rate
+                    s * scene
+                        .contact_kinematics_in(&fr, &scene.contacts[i])
+                        .slip_rate
                 }
                 EventFn::Lower(j) | EventFn::Upper(j) | EventFn::Reversal(j) => {
                     let (e, ed) = match defo[j] {
                         Some(d) => d,
                         None => {
                             let el = &scene.hysteretic[j];
-                            let (e, ed, _) =
-                                scene.deformation_in(&fr, &el.attachment, el.support, &mut self.jac);
+                            let (e, ed, _) = scene.deformation_in(
+                                &fr,
+                                &el.attachment,
+                                el.support,
+                                &mut self.jac,
+                            );
                             defo[j] = Some((e, ed));
                             (e, ed)
                         }
@@ -559,7 +570,9 @@ impl<'a> Engine<'a> {
                         (self.t - t1) < 0.999 * (t1 - t0)
                     }
                 };
-                let flight = self.last_impacts[i].last().map_or(f64::INFINITY, |t| self.t - t);
+                let flight = self.last_impacts[i]
+                    .last()
+                    .map_or(f64::INFINITY, |t| self.t - t);
                 let slow = speed < st.zeno_velocity || flight < st.min_event_spacing;
                 if st.accumulation_rule && eps[a] > 0.0 && slow && shrinking {
                     eps[a] = 0.0;
@@ -672,8 +685,8 @@ impl<'a> Engine<'a> {
                 })
                 .collect();
             let kin_set: Vec<&ContactKinematics> = closed.iter().map(|&i| &kin[i]).collect();
-            let outcome = solve_contact(&kin_set, &mu, &slide, &self.minv, &h, &st.lemke)
-                .map_err(|e| match e {
+            let outcome = solve_contact(&kin_set, &mu, &slide, &self.minv, &h, &st.lemke).map_err(
+                |e| match e {
                     LcpError::Ray { .. } if slide.iter().any(|s| s.is_some()) => {
                         SolverError::Painleve {
                             t: self.t,
@@ -690,7 +703,8 @@ impl<'a> Engine<'a> {
                         what: "contact",
                         source: e,
                     },
-                })?;
+                },
+            )?;
             self.out.stats.lcp_solves += 1;
             self.out.stats.lemke_pivots += outcome.pivots;
             for (a, &i) in closed.iter().enumerate() {
@@ -744,9 +758,7 @@ impl<'a> Engine<'a> {
                     Some(EventKind::Slip)
                 }
                 (ContactState::Slide(_), ContactState::Stick) => Some(EventKind::Stick),
-                (ContactState::Open, ContactState::Stick) if !impacted[i] => {
-                    Some(EventKind::Stick)
-                }
+                (ContactState::Open, ContactState::Stick) if !impacted[i] => Some(EventKind::Stick),
                 (ContactState::Open, ContactState::Slide(_)) if !impacted[i] => {
                     Some(EventKind::Slip)
                 }
@@ -832,10 +844,11 @@ fn solve_small(a: DMatrix<f64>, b: DVector<f64>) -> DVector<f64> {
         lo = lo.min(d);
         hi = hi.max(d);
     }
-    if hi > 0.0 && lo > 1e-9 * hi {
-        if let Some(x) = lu.solve(&b) {
-            return x;
-        }
+    if hi > 0.0
+        && lo > 1e-9 * hi
+        && let Some(x) = lu.solve(&b)
+    {
+        return x;
     }
     let scale = a.amax().max(1e-300);
     let svd = a.svd(true, true);
@@ -898,7 +911,8 @@ pub fn run(scene: &Scene, observer: &mut dyn Observer) -> Result<RunOutput, Solv
         let q = eng.q();
         let v = eng.v();
         for (j, el) in scene.hysteretic.iter().enumerate() {
-            let (e, ed, _) = scene.deformation(&el.attachment, el.support, 0.0, &q, &v, &mut eng.jac);
+            let (e, ed, _) =
+                scene.deformation(&el.attachment, el.support, 0.0, &q, &v, &mut eng.jac);
             laws[j].set_direction(e, if ed < 0.0 { -1.0 } else { 1.0 });
         }
     }
@@ -1154,7 +1168,9 @@ fn arm(eng: &mut Engine, fns: &[EventFn]) -> Result<Vec<bool>, SolverError> {
                 EventFn::Gap(i) => {
                     val > thr
                         || (val > -scene.settings.gap_tol
-                            && scene.contact_kinematics(&scene.contacts[i], &q, &v).gap_rate
+                            && scene
+                                .contact_kinematics(&scene.contacts[i], &q, &v)
+                                .gap_rate
                                 > scene.settings.velocity_tol)
                 }
                 EventFn::SlideStop(_)

@@ -27,6 +27,6 @@ pub mod timestepping;
 pub mod tui;
 
 pub use event_driven::{Observer, Silent, SolverError, run};
-pub use timestepping::simulate;
 pub use model::{ModelError, load};
 pub use output::RunOutput;
+pub use timestepping::simulate;

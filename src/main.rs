@@ -198,13 +198,23 @@ fn main() -> ExitCode {
 
 type CliResult = Result<(), Box<dyn std::error::Error>>;
 
-fn cmd_run(model: &std::path::Path, out: &std::path::Path, set: &[String], at: Option<f64>) -> CliResult {
+fn cmd_run(
+    model: &std::path::Path,
+    out: &std::path::Path,
+    set: &[String],
+    at: Option<f64>,
+) -> CliResult {
     let scene = deckspin::load(model, set)?;
     let run = deckspin::simulate(&scene, &mut deckspin::Silent)?;
     run.write_all(out)
         .map_err(|e| format!("{}: cannot write results: {e}", out.display()))?;
     let s = &run.summary;
-    println!("{} — t = {:.3} s ({})", s.title, s.t_end, scene.settings.method.name());
+    println!(
+        "{} — t = {:.3} s ({})",
+        s.title,
+        s.t_end,
+        scene.settings.method.name()
+    );
     println!(
         "  wall {:.1} ms, {} steps ({} rejected), {} RHS, {} LCPs",
         s.stats.wall_time * 1e3,
@@ -233,7 +243,10 @@ fn cmd_run(model: &std::path::Path, out: &std::path::Path, set: &[String], at: O
     if let Some(t) = at {
         print_state_at(&run, t);
     }
-    println!("  wrote {}/{{history.csv,events.csv,summary.json}}", out.display());
+    println!(
+        "  wrote {}/{{history.csv,events.csv,summary.json}}",
+        out.display()
+    );
     Ok(())
 }
 
@@ -273,14 +286,22 @@ fn cmd_modes(model: &std::path::Path, set: &[String]) -> CliResult {
     println!();
     for (i, m) in modes.iter().enumerate() {
         let big = m.shape.amax().max(1e-300);
-        print!("{:>5} {:>10.5} {:>10.4}", i + 1, m.period, m.omega / (2.0 * std::f64::consts::PI));
+        print!(
+            "{:>5} {:>10.5} {:>10.4}",
+            i + 1,
+            m.period,
+            m.omega / (2.0 * std::f64::consts::PI)
+        );
         for x in m.shape.iter() {
             print!(" {:>12.4}", x / big);
         }
         println!();
     }
     if scene.mass_damping.alpha != 0.0 {
-        println!("Rayleigh: a0 = {:.5e} 1/s (mass), element dashpots a1·k", scene.mass_damping.alpha);
+        println!(
+            "Rayleigh: a0 = {:.5e} 1/s (mass), element dashpots a1·k",
+            scene.mass_damping.alpha
+        );
     }
     Ok(())
 }
@@ -311,8 +332,17 @@ fn cmd_excitation(
     for h in &rec.header {
         println!("  | {h}");
     }
-    println!("{}: {} samples, dt = {} s (processed {} s)", file.display(), rec.accel_g.len(), rec.dt, g.dt);
-    println!("  PGA {:.4} g ({:.4} m/s²)   PGV {:.4} m/s   PGD {:.4} m", s.pga_g, s.pga, s.pgv, s.pgd);
+    println!(
+        "{}: {} samples, dt = {} s (processed {} s)",
+        file.display(),
+        rec.accel_g.len(),
+        rec.dt,
+        g.dt
+    );
+    println!(
+        "  PGA {:.4} g ({:.4} m/s²)   PGV {:.4} m/s   PGD {:.4} m",
+        s.pga_g, s.pga, s.pgv, s.pgd
+    );
     println!(
         "  duration {:.3} s, 5–95 % Arias duration {:.3} s, lag {:.3} s",
         s.duration, s.significant_duration, lag
@@ -334,9 +364,17 @@ fn cmd_excitation(
     Ok(())
 }
 
-fn cmd_sweep(model: &std::path::Path, set: &[String], fix: &[String], out: &std::path::Path) -> CliResult {
+fn cmd_sweep(
+    model: &std::path::Path,
+    set: &[String],
+    fix: &[String],
+    out: &std::path::Path,
+) -> CliResult {
     use deckspin::studies::{Study, parse_axis, table, write_csv};
-    let axes = set.iter().map(|s| parse_axis(s)).collect::<Result<Vec<_>, _>>()?;
+    let axes = set
+        .iter()
+        .map(|s| parse_axis(s))
+        .collect::<Result<Vec<_>, _>>()?;
     let study = Study::open(model, fix)?;
     let t0 = std::time::Instant::now();
     let rows = study.sweep(&axes);
@@ -346,14 +384,25 @@ fn cmd_sweep(model: &std::path::Path, set: &[String], fix: &[String], out: &std:
         std::fs::create_dir_all(dir)?;
     }
     write_csv(&rows, out)?;
-    println!("{} runs in {:.3} s on {} threads; wrote {}", rows.len(), wall, rayon::current_num_threads(), out.display());
+    println!(
+        "{} runs in {:.3} s on {} threads; wrote {}",
+        rows.len(),
+        wall,
+        rayon::current_num_threads(),
+        out.display()
+    );
     if rows.iter().any(|r| r.error.is_some()) {
         return Err("some runs failed (see the table)".into());
     }
     Ok(())
 }
 
-fn cmd_study(kind: &str, model: &std::path::Path, set: &[String], out: &std::path::Path) -> CliResult {
+fn cmd_study(
+    kind: &str,
+    model: &std::path::Path,
+    set: &[String],
+    out: &std::path::Path,
+) -> CliResult {
     use deckspin::studies::{Study, increase_vs_mu, rotation_vs_pga};
     use std::fmt::Write as _;
     let study = Study::open(model, set)?;
@@ -364,7 +413,11 @@ fn cmd_study(kind: &str, model: &std::path::Path, set: &[String], out: &std::pat
     match kind {
         "pga" => {
             writeln!(text, "Peak deck rotation vs target PGA (Fig. 7 analog)")?;
-            writeln!(text, "{:>4} {:>7} {:>7} {:>14} {:>14} {:>7} {:>8}", "run", "PGA x", "PGA y", "θ no contact", "θ contact", "ratio", "impacts")?;
+            writeln!(
+                text,
+                "{:>4} {:>7} {:>7} {:>14} {:>14} {:>7} {:>8}",
+                "run", "PGA x", "PGA y", "θ no contact", "θ contact", "ratio", "impacts"
+            )?;
             csv += "run,pga_x,pga_y,peak_rotation_no_contact,peak_rotation_contact,residual_rotation_contact,impacts\n";
             for (i, px, py, a, b) in rotation_vs_pga(&study) {
                 writeln!(
@@ -375,7 +428,11 @@ fn cmd_study(kind: &str, model: &std::path::Path, set: &[String], out: &std::pat
                     b.peak_rotation / a.peak_rotation,
                     b.impacts
                 )?;
-                writeln!(csv, "{i},{px},{py},{:.6e},{:.6e},{:.6e},{}", a.peak_rotation, b.peak_rotation, b.residual_rotation, b.impacts)?;
+                writeln!(
+                    csv,
+                    "{i},{px},{py},{:.6e},{:.6e},{:.6e},{}",
+                    a.peak_rotation, b.peak_rotation, b.residual_rotation, b.impacts
+                )?;
                 for r in [&a, &b] {
                     if let Some(e) = &r.error {
                         writeln!(text, "     error: {e}")?;
@@ -386,7 +443,10 @@ fn cmd_study(kind: &str, model: &std::path::Path, set: &[String], out: &std::pat
         _ => {
             let mus: Vec<f64> = (0..=7).map(|i| i as f64 / 10.0).collect();
             let m = increase_vs_mu(&study, &mus);
-            writeln!(text, "Percent increase of peak rotation over no contact vs μ (Fig. 8 analog)")?;
+            writeln!(
+                text,
+                "Percent increase of peak rotation over no contact vs μ (Fig. 8 analog)"
+            )?;
             write!(text, "{:>16}", "run (PGA x)")?;
             csv += "run,pga_x";
             for mu in &mus {
@@ -420,9 +480,18 @@ fn cmd_study(kind: &str, model: &std::path::Path, set: &[String], out: &std::pat
             }
         }
     }
-    writeln!(text, "({:.2} s wall on {} threads)", t0.elapsed().as_secs_f64(), rayon::current_num_threads())?;
+    writeln!(
+        text,
+        "({:.2} s wall on {} threads)",
+        t0.elapsed().as_secs_f64(),
+        rayon::current_num_threads()
+    )?;
     print!("{text}");
-    let stem = if kind == "pga" { "rotation_vs_pga" } else { "increase_vs_mu" };
+    let stem = if kind == "pga" {
+        "rotation_vs_pga"
+    } else {
+        "increase_vs_mu"
+    };
     std::fs::write(out.join(format!("{stem}.csv")), csv)?;
     std::fs::write(out.join(format!("{stem}.txt")), text)?;
     println!("wrote {}/{stem}.{{csv,txt}}", out.display());
@@ -456,8 +525,14 @@ fn cmd_bench(model: &std::path::Path, repeat: usize, sweeps: usize) -> CliResult
     let n = run_count(&study.text);
     if n > 0 {
         let axes = [
-            Axis { key: "contacts.mu".into(), values: (0..=7).map(|i| format!("{}", i as f64 / 10.0)).collect() },
-            Axis { key: "excitation.run".into(), values: (1..=n).map(|i| i.to_string()).collect() },
+            Axis {
+                key: "contacts.mu".into(),
+                values: (0..=7).map(|i| format!("{}", i as f64 / 10.0)).collect(),
+            },
+            Axis {
+                key: "excitation.run".into(),
+                values: (1..=n).map(|i| i.to_string()).collect(),
+            },
         ];
         let mut st = Vec::new();
         for _ in 0..sweeps.max(1) {
@@ -484,7 +559,13 @@ fn precision_points(
     methods: &[&str],
     set: &[String],
     quick: bool,
-) -> Result<(deckspin::precision::Reference, Vec<deckspin::precision::Point>), Box<dyn std::error::Error>> {
+) -> Result<
+    (
+        deckspin::precision::Reference,
+        Vec<deckspin::precision::Point>,
+    ),
+    Box<dyn std::error::Error>,
+> {
     use deckspin::precision::{Bench, knobs};
     let bench = Bench::open(model, set)?;
     let scene = deckspin::model::load_str(&bench.text, model, set)?;
@@ -495,9 +576,17 @@ fn precision_points(
     );
     let mut points = Vec::new();
     for m in methods {
-        for (label, ov) in knobs(m, scene.settings.t_end, scene.settings.contact_stiffness, quick) {
+        for (label, ov) in knobs(
+            m,
+            scene.settings.t_end,
+            scene.settings.contact_stiffness,
+            quick,
+        ) {
             let p = bench.measure(&reference, m, &label, &ov);
-            eprintln!("  {m:<17} {label:<22} {:>10.4} s  peak err {:.3e}  {}", p.cpu_s, p.peak_error, p.status);
+            eprintln!(
+                "  {m:<17} {label:<22} {:>10.4} s  peak err {:.3e}  {}",
+                p.cpu_s, p.peak_error, p.status
+            );
             points.push(p);
         }
     }
@@ -521,21 +610,37 @@ fn cmd_precision(
     }
     let (reference, points) = precision_points(model, &methods, set, quick)?;
     let metric = metric.unwrap_or_else(|| {
-        if reference.run.dof_names[reference.dof].ends_with("theta") { "peak".into() } else { "rms".into() }
+        if reference.run.dof_names[reference.dof].ends_with("theta") {
+            "peak".into()
+        } else {
+            "rms".into()
+        }
     });
     if !["peak", "rms", "impact"].contains(&metric.as_str()) {
         return Err(format!("unknown metric '{metric}' (peak, rms, impact)").into());
     }
     std::fs::create_dir_all(out)?;
-    let stem = model.file_stem().map_or("model".into(), |s| s.to_string_lossy().into_owned());
+    let stem = model
+        .file_stem()
+        .map_or("model".into(), |s| s.to_string_lossy().into_owned());
     let csv = out.join(format!("precision-{stem}.csv"));
     write_csv(&points, &csv)?;
     let mut text = String::new();
-    text += &format!("{:<17} {:<22} {:>10} {:>11} {:>11} {:>11} {:>8}  status\n", "method", "knob", "cpu s", "peak err", "rms err", "t1 err s", "steps");
+    text += &format!(
+        "{:<17} {:<22} {:>10} {:>11} {:>11} {:>11} {:>8}  status\n",
+        "method", "knob", "cpu s", "peak err", "rms err", "t1 err s", "steps"
+    );
     for p in &points {
         text += &format!(
             "{:<17} {:<22} {:>10.4} {:>11.3e} {:>11.3e} {:>11.3e} {:>8}  {}\n",
-            p.method, p.knob, p.cpu_s, p.peak_error, p.rms_error, p.impact_time_error, p.steps, p.status
+            p.method,
+            p.knob,
+            p.cpu_s,
+            p.peak_error,
+            p.rms_error,
+            p.impact_time_error,
+            p.steps,
+            p.status
         );
     }
     text += "\n";
@@ -547,7 +652,8 @@ fn cmd_precision(
     for m in &methods {
         match cheapest_within(&points, m, &metric, tol) {
             Some(p) => {
-                let ratio = event.map_or(String::new(), |e| format!(" ({:.1} × event)", p.cpu_s / e));
+                let ratio =
+                    event.map_or(String::new(), |e| format!(" ({:.1} × event)", p.cpu_s / e));
                 text += &format!("  {m:<17} {:<22} {:.4} s{ratio}\n", p.knob, p.cpu_s)
             }
             None => text += &format!("  {m:<17} none of the tried knobs reaches it\n"),
@@ -559,11 +665,21 @@ fn cmd_precision(
     Ok(())
 }
 
-fn cmd_stability(model: &std::path::Path, set: &[String], tolerance: f64, quick: bool) -> CliResult {
+fn cmd_stability(
+    model: &std::path::Path,
+    set: &[String],
+    tolerance: f64,
+    quick: bool,
+) -> CliResult {
     use deckspin::precision::verdict;
     let methods = ["event", "moreau", "penalty", "penalty-explicit"];
     let (_, points) = precision_points(model, &methods, set, quick)?;
-    println!("{:<17} {:<22} verdict (peak error limit {:.0} %)", "method", "knob", tolerance * 100.0);
+    println!(
+        "{:<17} {:<22} verdict (peak error limit {:.0} %)",
+        "method",
+        "knob",
+        tolerance * 100.0
+    );
     for p in &points {
         println!("{:<17} {:<22} {}", p.method, p.knob, verdict(p, tolerance));
     }

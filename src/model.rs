@@ -239,10 +239,12 @@ fn find_in_item(item: &toml_edit::Item, segs: &[&str], best: Span) -> Span {
     }
     match item {
         toml_edit::Item::Table(t) => find_in_table(t, segs, best),
-        toml_edit::Item::ArrayOfTables(a) => match segs[0].parse::<usize>().ok().and_then(|i| a.get(i)) {
-            Some(t) => find_in_table(t, &segs[1..], t.span().or(best)),
-            None => best,
-        },
+        toml_edit::Item::ArrayOfTables(a) => {
+            match segs[0].parse::<usize>().ok().and_then(|i| a.get(i)) {
+                Some(t) => find_in_table(t, &segs[1..], t.span().or(best)),
+                None => best,
+            }
+        }
         toml_edit::Item::Value(v) => find_in_value(v, segs, best),
         _ => best,
     }
@@ -268,7 +270,10 @@ fn find_in_value(v: &toml_edit::Value, segs: &[&str], best: Span) -> Span {
 fn line_col(text: &str, offset: usize) -> (usize, usize) {
     let before = &text[..offset.min(text.len())];
     let line = before.matches('\n').count() + 1;
-    let col = before.rfind('\n').map_or(before.len(), |p| before.len() - p - 1) + 1;
+    let col = before
+        .rfind('\n')
+        .map_or(before.len(), |p| before.len() - p - 1)
+        + 1;
     (line, col)
 }
 
@@ -278,12 +283,12 @@ pub fn apply_overrides(text: &str, overrides: &[String]) -> Result<String, Model
     if overrides.is_empty() {
         return Ok(text.to_string());
     }
-    let mut doc: toml_edit::DocumentMut = text.parse().map_err(|e: toml_edit::TomlError| {
-        ModelError::Override {
-            key: String::new(),
-            reason: e.to_string(),
-        }
-    })?;
+    let mut doc: toml_edit::DocumentMut =
+        text.parse()
+            .map_err(|e: toml_edit::TomlError| ModelError::Override {
+                key: String::new(),
+                reason: e.to_string(),
+            })?;
     for o in overrides {
         let (key, raw) = o.split_once('=').ok_or_else(|| ModelError::Override {
             key: o.clone(),
@@ -294,12 +299,11 @@ pub fn apply_overrides(text: &str, overrides: &[String]) -> Result<String, Model
             .parse()
             .unwrap_or_else(|_| toml_edit::Value::from(raw.trim()));
         let segs: Vec<&str> = key.trim().split('.').collect();
-        let n = set_path(doc.as_item_mut(), &segs, &value).map_err(|reason| {
-            ModelError::Override {
+        let n =
+            set_path(doc.as_item_mut(), &segs, &value).map_err(|reason| ModelError::Override {
                 key: key.to_string(),
                 reason,
-            }
-        })?;
+            })?;
         if n == 0 {
             return Err(ModelError::Override {
                 key: key.to_string(),
@@ -310,7 +314,11 @@ pub fn apply_overrides(text: &str, overrides: &[String]) -> Result<String, Model
     Ok(doc.to_string())
 }
 
-fn set_path(item: &mut toml_edit::Item, segs: &[&str], value: &toml_edit::Value) -> Result<usize, String> {
+fn set_path(
+    item: &mut toml_edit::Item,
+    segs: &[&str],
+    value: &toml_edit::Value,
+) -> Result<usize, String> {
     let Some((first, rest)) = segs.split_first() else {
         return Err("empty key".into());
     };
@@ -364,7 +372,11 @@ fn set_path(item: &mut toml_edit::Item, segs: &[&str], value: &toml_edit::Value)
 }
 
 /// Set a scalar inside an inline table or array (`law.stiffness`, `gaps.0`).
-fn set_in_value(v: &mut toml_edit::Value, segs: &[&str], value: &toml_edit::Value) -> Result<usize, String> {
+fn set_in_value(
+    v: &mut toml_edit::Value,
+    segs: &[&str],
+    value: &toml_edit::Value,
+) -> Result<usize, String> {
     let Some((first, rest)) = segs.split_first() else {
         return Err("empty key".into());
     };
@@ -374,7 +386,8 @@ fn set_in_value(v: &mut toml_edit::Value, segs: &[&str], value: &toml_edit::Valu
                 t.insert(*first, value.clone());
                 return Ok(1);
             }
-            t.get_mut(first).ok_or_else(|| format!("no key '{first}'"))?
+            t.get_mut(first)
+                .ok_or_else(|| format!("no key '{first}'"))?
         }
         toml_edit::Value::Array(a) => {
             let i: usize = first
@@ -387,7 +400,9 @@ fn set_in_value(v: &mut toml_edit::Value, segs: &[&str], value: &toml_edit::Valu
         _ => return Err(format!("cannot descend into '{first}'")),
     };
     if rest.is_empty() {
-        if child.is_inline_table() != value.is_inline_table() || child.is_array() != value.is_array() {
+        if child.is_inline_table() != value.is_inline_table()
+            || child.is_array() != value.is_array()
+        {
             return Err(format!("'{first}': give a value of the same kind"));
         }
         let decor = child.decor().clone();
@@ -575,12 +590,18 @@ pub fn compile(f: &SceneFile, text: &str, path: &Path) -> Result<Scene, ModelErr
     for (i, b) in f.bodies.iter().enumerate() {
         let fld = |k: &str| format!("body.{i}.{k}");
         if b.name.is_empty() || b.name == "ground" || names.contains_key(&b.name) {
-            return Err(ck.err(&fld("name"), format!("'{}' is empty, reserved or repeated", b.name)));
+            return Err(ck.err(
+                &fld("name"),
+                format!("'{}' is empty, reserved or repeated", b.name),
+            ));
         }
         ck.positive(&fld("mass"), b.mass)?;
         let mut dofs = [None; 3];
         if b.dofs.is_empty() {
-            return Err(ck.err(&fld("dofs"), "a body needs at least one of \"x\", \"y\", \"theta\""));
+            return Err(ck.err(
+                &fld("dofs"),
+                "a body needs at least one of \"x\", \"y\", \"theta\"",
+            ));
         }
         for d in &b.dofs {
             let a = axis_index(d)
@@ -652,10 +673,20 @@ pub fn compile(f: &SceneFile, text: &str, path: &Path) -> Result<Scene, ModelErr
         ck.finite(&fld("factor"), s.factor)?;
         let motion = match s.kind.as_str() {
             "harmonic" => Motion::Harmonic {
-                amplitude: ck.finite(&fld("amplitude"), s.amplitude.ok_or_else(|| ck.err(&fld("amplitude"), "required for a harmonic support"))?)?,
+                amplitude: ck.finite(
+                    &fld("amplitude"),
+                    s.amplitude.ok_or_else(|| {
+                        ck.err(&fld("amplitude"), "required for a harmonic support")
+                    })?,
+                )?,
                 omega: 2.0
                     * std::f64::consts::PI
-                    * ck.positive(&fld("frequency"), s.frequency.ok_or_else(|| ck.err(&fld("frequency"), "required for a harmonic support"))?)?,
+                    * ck.positive(
+                        &fld("frequency"),
+                        s.frequency.ok_or_else(|| {
+                            ck.err(&fld("frequency"), "required for a harmonic support")
+                        })?,
+                    )?,
                 phase: ck.finite(&fld("phase"), s.phase.unwrap_or(0.0))?,
             },
             "record" => {
@@ -667,7 +698,10 @@ pub fn compile(f: &SceneFile, text: &str, path: &Path) -> Result<Scene, ModelErr
                 Motion::Record(motion)
             }
             k => {
-                return Err(ck.err(&fld("kind"), format!("unknown support kind '{k}' (harmonic, record)")));
+                return Err(ck.err(
+                    &fld("kind"),
+                    format!("unknown support kind '{k}' (harmonic, record)"),
+                ));
             }
         };
         support_names.insert(s.name.clone(), i);
@@ -696,7 +730,10 @@ pub fn compile(f: &SceneFile, text: &str, path: &Path) -> Result<Scene, ModelErr
             return Err(ck.err(&fld("face_body"), "a body cannot touch itself"));
         }
         if pb == BodyRef::Ground {
-            return Err(ck.err(&fld("body"), "the contact point must be on a body (put the face on ground)"));
+            return Err(ck.err(
+                &fld("body"),
+                "the contact point must be on a body (put the face on ground)",
+            ));
         }
         let point = ck.vec2(&fld("point"), c.point)?;
         let normal = ck.unit(&fld("normal"), c.normal)?;
@@ -741,7 +778,8 @@ pub fn compile(f: &SceneFile, text: &str, path: &Path) -> Result<Scene, ModelErr
             }
             Ok(Attachment::Rotation { body: b })
         } else {
-            let d = direction.ok_or_else(|| ck.err(&fld("direction"), "required unless rotational = true"))?;
+            let d = direction
+                .ok_or_else(|| ck.err(&fld("direction"), "required unless rotational = true"))?;
             Ok(Attachment::Point {
                 body: b,
                 point: ck.vec2(&fld("point"), point)?,
@@ -763,8 +801,7 @@ pub fn compile(f: &SceneFile, text: &str, path: &Path) -> Result<Scene, ModelErr
     let mut hysteretic = Vec::new();
     for (i, s) in f.hysteretic.iter().enumerate() {
         let fld = |k: &str| format!("hysteretic.{i}.{k}");
-        let law = Hysteretic::new(s.law.clone())
-            .map_err(|e| ck.err(&fld("law"), e.to_string()))?;
+        let law = Hysteretic::new(s.law.clone()).map_err(|e| ck.err(&fld("law"), e.to_string()))?;
         hysteretic.push(HystereticElement {
             name: s.name.clone(),
             attachment: attachment(&fld, &s.body, s.point, s.direction, s.rotational)?,
@@ -794,7 +831,11 @@ pub fn compile(f: &SceneFile, text: &str, path: &Path) -> Result<Scene, ModelErr
 }
 
 /// Read and process a record named relative to the model file.
-pub fn load_motion(model: &Path, file: &str, p: Processing) -> Result<Arc<GroundMotion>, ModelError> {
+pub fn load_motion(
+    model: &Path,
+    file: &str,
+    p: Processing,
+) -> Result<Arc<GroundMotion>, ModelError> {
     let base = model.parent().unwrap_or(Path::new("."));
     let mut rp = base.join(file);
     if !rp.exists() {

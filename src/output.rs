@@ -244,7 +244,6 @@ impl RunOutput {
 
     /// Fill the summary from samples and events.
     pub fn finish(&mut self, energy_scale: f64) {
-        let nd = self.dof_names.len();
         let mut peaks: Vec<DofPeak> = self
             .dof_names
             .iter()
@@ -272,12 +271,12 @@ impl RunOutput {
         let mut closure: f64 = 0.0;
         let mut prev: Option<&Sample> = None;
         for s in &self.samples {
-            for k in 0..nd {
-                if s.q[k].abs() > peaks[k].max_abs {
-                    peaks[k].max_abs = s.q[k].abs();
-                    peaks[k].at = s.t;
+            for (k, p) in peaks.iter_mut().enumerate() {
+                if s.q[k].abs() > p.max_abs {
+                    p.max_abs = s.q[k].abs();
+                    p.at = s.t;
                 }
-                peaks[k].max_abs_velocity = peaks[k].max_abs_velocity.max(s.v[k].abs());
+                p.max_abs_velocity = p.max_abs_velocity.max(s.v[k].abs());
             }
             for (i, c) in s.contacts.iter().enumerate() {
                 contacts[i].min_gap = contacts[i].min_gap.min(c.gap);
@@ -295,8 +294,8 @@ impl RunOutput {
             prev = Some(s);
         }
         if let Some(last) = self.samples.last() {
-            for k in 0..nd {
-                peaks[k].residual = last.q[k];
+            for (p, q) in peaks.iter_mut().zip(&last.q) {
+                p.residual = *q;
             }
         }
         for e in &self.events {
@@ -306,10 +305,7 @@ impl RunOutput {
                     contacts[e.contact].max_normal_impulse.max(e.normal);
             }
         }
-        let max_penetration = contacts
-            .iter()
-            .map(|c| -c.min_gap)
-            .fold(0.0f64, f64::max);
+        let max_penetration = contacts.iter().map(|c| -c.min_gap).fold(0.0f64, f64::max);
         self.summary = Summary {
             title: self.title.clone(),
             t_end: self.samples.last().map_or(0.0, |s| s.t),

@@ -130,7 +130,13 @@ impl Bench {
         })
     }
 
-    pub fn measure(&self, reference: &Reference, method: &str, knob: &str, set: &[String]) -> Point {
+    pub fn measure(
+        &self,
+        reference: &Reference,
+        method: &str,
+        knob: &str,
+        set: &[String],
+    ) -> Point {
         let mut ov = vec![format!("solver.method=\"{method}\"")];
         ov.extend(set.iter().cloned());
         match self.run(&ov) {
@@ -189,7 +195,10 @@ pub fn knobs(method: &str, t_end: f64, k: f64, quick: bool) -> Vec<(String, Vec<
                 .map(|r| {
                     (
                         format!("rtol={r:.0e}"),
-                        vec![format!("solver.rtol={r:e}"), format!("solver.atol={:e}", r * 1e-3)],
+                        vec![
+                            format!("solver.rtol={r:e}"),
+                            format!("solver.atol={:e}", r * 1e-3),
+                        ],
                     )
                 })
                 .collect()
@@ -210,7 +219,10 @@ pub fn knobs(method: &str, t_end: f64, k: f64, quick: bool) -> Vec<(String, Vec<
                     let kk = k * f;
                     out.push((
                         format!("h={h:.1e} k={kk:.0e}"),
-                        vec![format!("solver.step={h:e}"), format!("solver.contact_stiffness={kk:e}")],
+                        vec![
+                            format!("solver.step={h:e}"),
+                            format!("solver.contact_stiffness={kk:e}"),
+                        ],
                     ));
                 }
             }
@@ -223,15 +235,29 @@ pub fn knobs(method: &str, t_end: f64, k: f64, quick: bool) -> Vec<(String, Vec<
 pub fn chart(points: &[Point], metric: &str, width: usize, height: usize) -> String {
     let good: Vec<&Point> = points
         .iter()
-        .filter(|p| p.status == "ok" && p.cpu_s > 0.0 && p.error(metric) > 0.0 && p.error(metric).is_finite())
+        .filter(|p| {
+            p.status == "ok"
+                && p.cpu_s > 0.0
+                && p.error(metric) > 0.0
+                && p.error(metric).is_finite()
+        })
         .collect();
     if good.is_empty() {
         return "(no points)\n".into();
     }
     let lx: Vec<f64> = good.iter().map(|p| p.cpu_s.log10()).collect();
-    let ly: Vec<f64> = good.iter().map(|p| p.error(metric).max(1e-16).log10()).collect();
-    let (x0, x1) = (lx.iter().cloned().fold(f64::INFINITY, f64::min).floor(), lx.iter().cloned().fold(f64::NEG_INFINITY, f64::max).ceil());
-    let (y0, y1) = (ly.iter().cloned().fold(f64::INFINITY, f64::min).floor(), ly.iter().cloned().fold(f64::NEG_INFINITY, f64::max).ceil());
+    let ly: Vec<f64> = good
+        .iter()
+        .map(|p| p.error(metric).max(1e-16).log10())
+        .collect();
+    let (x0, x1) = (
+        lx.iter().cloned().fold(f64::INFINITY, f64::min).floor(),
+        lx.iter().cloned().fold(f64::NEG_INFINITY, f64::max).ceil(),
+    );
+    let (y0, y1) = (
+        ly.iter().cloned().fold(f64::INFINITY, f64::min).floor(),
+        ly.iter().cloned().fold(f64::NEG_INFINITY, f64::max).ceil(),
+    );
     let (x1, y1) = (x1.max(x0 + 1.0), y1.max(y0 + 1.0));
     let mut grid = vec![vec![' '; width]; height];
     for (i, p) in good.iter().enumerate() {
@@ -245,7 +271,9 @@ pub fn chart(points: &[Point], metric: &str, width: usize, height: usize) -> Str
         };
         grid[cy.min(height - 1)][cx.min(width - 1)] = c;
     }
-    let mut s = format!("{metric} error (log10, {y1} at top … {y0} at bottom) against CPU time (log10 s, {x0} … {x1})\n");
+    let mut s = format!(
+        "{metric} error (log10, {y1} at top … {y0} at bottom) against CPU time (log10 s, {x0} … {x1})\n"
+    );
     for (r, row) in grid.iter().enumerate() {
         let label = if r == 0 {
             format!("1e{y1:<3}")
@@ -257,7 +285,10 @@ pub fn chart(points: &[Point], metric: &str, width: usize, height: usize) -> Str
         s += &format!("{label}|{}\n", row.iter().collect::<String>());
     }
     s += &format!("     +{}\n", "-".repeat(width));
-    s += &format!("      1e{x0}s{}1e{x1}s\n", " ".repeat(width.saturating_sub(12)));
+    s += &format!(
+        "      1e{x0}s{}1e{x1}s\n",
+        " ".repeat(width.saturating_sub(12))
+    );
     s += "      E event-driven  M Moreau–Jean  P penalty (Newmark)  X penalty (central difference)\n";
     s
 }
@@ -265,9 +296,23 @@ pub fn chart(points: &[Point], metric: &str, width: usize, height: usize) -> Str
 /// The cheapest knob of a method from which on every costlier knob also stays within `tol`
 /// (so a coarse run that lands near the reference by chance does not count).
 /// Penalty points form one family per contact stiffness.
-pub fn cheapest_within<'a>(points: &'a [Point], method: &str, metric: &str, tol: f64) -> Option<&'a Point> {
-    let family = |p: &Point| p.knob.split_once(" k=").map(|(_, k)| k.to_string()).unwrap_or_default();
-    let mut families: Vec<String> = points.iter().filter(|p| p.method == method).map(family).collect();
+pub fn cheapest_within<'a>(
+    points: &'a [Point],
+    method: &str,
+    metric: &str,
+    tol: f64,
+) -> Option<&'a Point> {
+    let family = |p: &Point| {
+        p.knob
+            .split_once(" k=")
+            .map(|(_, k)| k.to_string())
+            .unwrap_or_default()
+    };
+    let mut families: Vec<String> = points
+        .iter()
+        .filter(|p| p.method == method)
+        .map(family)
+        .collect();
     families.sort();
     families.dedup();
     let ok = |p: &Point| p.status == "ok" && p.error(metric) <= tol;
@@ -288,7 +333,16 @@ pub fn cheapest_within<'a>(points: &'a [Point], method: &str, metric: &str, tol:
 
 pub fn write_csv(points: &[Point], path: &Path) -> std::io::Result<()> {
     let mut w = csv::Writer::from_path(path)?;
-    w.write_record(["method", "knob", "cpu_s", "peak_error", "rms_error", "impact_time_error", "steps", "status"])?;
+    w.write_record([
+        "method",
+        "knob",
+        "cpu_s",
+        "peak_error",
+        "rms_error",
+        "impact_time_error",
+        "steps",
+        "status",
+    ])?;
     for p in points {
         w.write_record([
             p.method.clone(),
@@ -308,7 +362,11 @@ pub fn write_csv(points: &[Point], path: &Path) -> std::io::Result<()> {
 /// error against `tol` (a coarse run can hit the peak by chance, not the history).
 pub fn verdict(p: &Point, tol: f64) -> String {
     let e = p.peak_error.max(p.rms_error);
-    let detail = format!("peak {:.2} %, history {:.2} %", 100.0 * p.peak_error, 100.0 * p.rms_error);
+    let detail = format!(
+        "peak {:.2} %, history {:.2} %",
+        100.0 * p.peak_error,
+        100.0 * p.rms_error
+    );
     if p.status.starts_with("unstable") {
         "unstable (detected: energy growth)".into()
     } else if p.status != "ok" {

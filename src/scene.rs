@@ -303,7 +303,6 @@ pub fn perp(a: Vector2<f64>) -> Vector2<f64> {
     Vector2::new(-a.y, a.x)
 }
 
-
 /// Pose and velocity of a body (or ground) from q, q̇.
 #[derive(Clone, Copy, Debug)]
 pub struct BodyState {
@@ -431,7 +430,12 @@ impl Scene {
         self.contact_kinematics_of(c, fr.pose(c.point_body), fr.pose(c.face_body))
     }
 
-    fn contact_kinematics_of(&self, c: &Contact, a: &BodyState, b: &BodyState) -> ContactKinematics {
+    fn contact_kinematics_of(
+        &self,
+        c: &Contact,
+        a: &BodyState,
+        b: &BodyState,
+    ) -> ContactKinematics {
         let n_dof = self.ndof();
         let rho_a = a.rot(c.point);
         let p = a.position + rho_a;
@@ -544,7 +548,11 @@ impl Scene {
     }
 
     pub fn kinetic_energy(&self, v: &DVector<f64>) -> f64 {
-        0.5 * v.iter().zip(self.mass.iter()).map(|(a, m)| m * a * a).sum::<f64>()
+        0.5 * v
+            .iter()
+            .zip(self.mass.iter())
+            .map(|(a, m)| m * a * a)
+            .sum::<f64>()
     }
 
     /// Current branches of all hysteretic elements.

@@ -29,7 +29,7 @@ pub fn parse_axis(spec: &str) -> Result<Axis, String> {
                 .map_err(|_| format!("'{spec}': '{s}' is not a number"))
         };
         let (a, b, h) = (num(parts[0])?, num(parts[1])?, num(parts[2])?);
-        if !(h > 0.0) || !a.is_finite() || !b.is_finite() || b < a {
+        if h.is_nan() || h <= 0.0 || !a.is_finite() || !b.is_finite() || b < a {
             return Err(format!("'{spec}': need a ≤ b and step > 0"));
         }
         let n = ((b - a) / h + 1e-9).floor() as usize;
@@ -124,7 +124,9 @@ impl Study {
         ov.extend(set.iter().map(|(k, v)| format!("{k}={v}")));
         let res = model::load_str(&self.text, &self.path, &ov)
             .map_err(|e| e.to_string())
-            .and_then(|scene| crate::simulate(&scene, &mut crate::Silent).map_err(|e| e.to_string()));
+            .and_then(|scene| {
+                crate::simulate(&scene, &mut crate::Silent).map_err(|e| e.to_string())
+            });
         match res {
             Ok(r) => row_of(set.to_vec(), &r),
             Err(e) => Row {
@@ -299,7 +301,10 @@ impl MuStudy {
     }
     pub fn mean_increase(&self, mu: usize) -> f64 {
         let n = self.rows.len() as f64;
-        (0..self.rows.len()).map(|r| self.increase(r, mu)).sum::<f64>() / n
+        (0..self.rows.len())
+            .map(|r| self.increase(r, mu))
+            .sum::<f64>()
+            / n
     }
 }
 

@@ -42,7 +42,13 @@ struct Stepper<'a> {
     jac: DVector<f64>,
 }
 
-fn deformation_of(scene: &Scene, fr: &Frame, att: &Attachment, sup: Option<usize>, jac: &mut DVector<f64>) -> (f64, f64, f64) {
+fn deformation_of(
+    scene: &Scene,
+    fr: &Frame,
+    att: &Attachment,
+    sup: Option<usize>,
+    jac: &mut DVector<f64>,
+) -> (f64, f64, f64) {
     scene.deformation_in(fr, att, sup, jac)
 }
 
@@ -79,7 +85,13 @@ impl<'a> Stepper<'a> {
     }
 
     /// Smooth forces with the laws advanced (on clones) from their committed state to q.
-    fn forces_trial(&self, t: f64, q: &DVector<f64>, v: &DVector<f64>, h: &mut DVector<f64>) -> PowerTerms {
+    fn forces_trial(
+        &self,
+        t: f64,
+        q: &DVector<f64>,
+        v: &DVector<f64>,
+        h: &mut DVector<f64>,
+    ) -> PowerTerms {
         let scene = self.scene;
         let fr = scene.frame(t, q, v);
         let mut jac = DVector::zeros(scene.ndof());
@@ -183,7 +195,8 @@ impl<'a> Stepper<'a> {
             .iter()
             .enumerate()
             .map(|(j, el)| {
-                let (e, _, _) = deformation_of(scene, &fr, &el.attachment, el.support, &mut self.jac);
+                let (e, _, _) =
+                    deformation_of(scene, &fr, &el.attachment, el.support, &mut self.jac);
                 (e, self.laws[j].force(e))
             })
             .collect();
@@ -225,7 +238,8 @@ impl<'a> Stepper<'a> {
                 _ => None,
             };
             if let Some(kind) = kind {
-                let (pn, pt) = impulses.map_or((self.lam_n[i], self.lam_t[i]), |(n, t)| (n[i], t[i]));
+                let (pn, pt) =
+                    impulses.map_or((self.lam_n[i], self.lam_t[i]), |(n, t)| (n[i], t[i]));
                 self.out.stats.count(kind);
                 self.out.events.push(EventRecord {
                     t: self.t,
@@ -267,8 +281,9 @@ fn number_of_steps(scene: &Scene) -> Result<usize, SolverError> {
     Ok(n as usize)
 }
 
-/// Moreau–Jean θ-method: Ŵ = M + hθC + h²θ²K, v_free = v_k + Ŵ⁻¹ h[θ f(t_{k+1}, q_k, v_k)
-/// + (1−θ) f_k − hθ K v_k], LCP over contacts with g_N(q_k) + h/2 ġ_N ≤ 0 (Siconos' γ = ½),
+/// Moreau–Jean θ-method: Ŵ = M + hθC + h²θ²K,
+/// v_free = v_k + Ŵ⁻¹ h[θ f(t_{k+1}, q_k, v_k) + (1−θ) f_k − hθ K v_k],
+/// LCP over contacts with g_N(q_k) + h/2 ġ_N ≤ 0 (Siconos' γ = ½),
 /// v_{k+1} = v_free + Ŵ⁻¹(W_N P_N + W_T P_T), q_{k+1} = q_k + h(θ v_{k+1} + (1−θ) v_k).
 pub fn run_moreau(scene: &Scene, observer: &mut dyn Observer) -> Result<RunOutput, SolverError> {
     let wall = Instant::now();
@@ -291,13 +306,22 @@ pub fn run_moreau(scene: &Scene, observer: &mut dyn Observer) -> Result<RunOutpu
         let (kt, ct) = s.tangents(s.t);
         let mut w = DMatrix::from_diagonal(&scene.mass);
         w += &ct * (h * th) + &kt * (h * h * th * th);
-        let winv = w.clone().try_inverse().ok_or(SolverError::NonFinite { t: s.t })?;
+        let winv = w
+            .clone()
+            .try_inverse()
+            .ok_or(SolverError::NonFinite { t: s.t })?;
         let r = (&f_1 * th + &f_k * (1.0 - th) - &kt * &v * (h * th)) * h;
         let v_free = &v + &winv * r;
         // contacts predicted active
         let fr = scene.frame(s.t, &q, &v);
-        let kin: Vec<ContactKinematics> = scene.contacts.iter().map(|c| scene.contact_kinematics_in(&fr, c)).collect();
-        let active: Vec<usize> = (0..nc).filter(|&i| kin[i].gap + 0.5 * h * kin[i].gap_rate <= 0.0).collect();
+        let kin: Vec<ContactKinematics> = scene
+            .contacts
+            .iter()
+            .map(|c| scene.contact_kinematics_in(&fr, c))
+            .collect();
+        let active: Vec<usize> = (0..nc)
+            .filter(|&i| kin[i].gap + 0.5 * h * kin[i].gap_rate <= 0.0)
+            .collect();
         let before = s.state.clone();
         let mut v_new = v_free.clone();
         s.lam_n.iter_mut().for_each(|x| *x = 0.0);
@@ -310,13 +334,20 @@ pub fn run_moreau(scene: &Scene, observer: &mut dyn Observer) -> Result<RunOutpu
             let w_t: Vec<&DVector<f64>> = active.iter().map(|&i| &kin[i].w_t).collect();
             let q_n: Vec<f64> = active
                 .iter()
-                .map(|&i| kin[i].w_n.dot(&v_free) + scene.contacts[i].restitution * kin[i].gap_rate.min(0.0))
+                .map(|&i| {
+                    kin[i].w_n.dot(&v_free)
+                        + scene.contacts[i].restitution * kin[i].gap_rate.min(0.0)
+                })
                 .collect();
             let q_t: Vec<f64> = active.iter().map(|&i| kin[i].w_t.dot(&v_free)).collect();
             let mu: Vec<f64> = active.iter().map(|&i| scene.contacts[i].mu).collect();
             let g = |a: &DVector<f64>, b: &DVector<f64>| a.dot(&(&winv * b));
             let (pn, pt, piv) = frictional_velocity_lcp(&w_n, &w_t, &g, &q_n, &q_t, &mu, &st.lemke)
-                .map_err(|e| SolverError::Lcp { t: s.t, what: "Moreau–Jean", source: e })?;
+                .map_err(|e| SolverError::Lcp {
+                    t: s.t,
+                    what: "Moreau–Jean",
+                    source: e,
+                })?;
             s.out.stats.lcp_solves += 1;
             s.out.stats.lemke_pivots += piv;
             let mut imp = DVector::zeros(n);
@@ -339,7 +370,11 @@ pub fn run_moreau(scene: &Scene, observer: &mut dyn Observer) -> Result<RunOutpu
                 if scene.contacts[i].mu > 0.0 && gt.abs() <= 1e-9 {
                     ContactState::Stick
                 } else {
-                    ContactState::Slide(if scene.contacts[i].mu > 0.0 { gt.signum() } else { 0.0 })
+                    ContactState::Slide(if scene.contacts[i].mu > 0.0 {
+                        gt.signum()
+                    } else {
+                        0.0
+                    })
                 }
             } else {
                 ContactState::Open
@@ -363,13 +398,21 @@ pub fn run_moreau(scene: &Scene, observer: &mut dyn Observer) -> Result<RunOutpu
         s.log_transitions(&before, Some((&pn_all, &pt_all)));
         s.maybe_sample(0.0);
         if last_batch.2.elapsed().as_millis() >= 40 {
-            if !observer.batch(&s.out.samples[last_batch.0..], &s.out.events[last_batch.1..], s.t) {
+            if !observer.batch(
+                &s.out.samples[last_batch.0..],
+                &s.out.events[last_batch.1..],
+                s.t,
+            ) {
                 return Err(SolverError::Cancelled { t: s.t });
             }
             last_batch = (s.out.samples.len(), s.out.events.len(), Instant::now());
         }
     }
-    observer.batch(&s.out.samples[last_batch.0..], &s.out.events[last_batch.1..], s.t);
+    observer.batch(
+        &s.out.samples[last_batch.0..],
+        &s.out.events[last_batch.1..],
+        s.t,
+    );
     Ok(s.finish(wall, 0.0))
 }
 
@@ -476,7 +519,11 @@ fn dashpots(scene: &Scene, k: f64) -> Vec<(f64, f64)> {
 
 /// Penalty method: explicit central difference (`explicit`) or Newmark average acceleration.
 /// Explicit runs stop with [`SolverError::Unstable`] when the energy grows without a source.
-pub fn run_penalty(scene: &Scene, explicit: bool, observer: &mut dyn Observer) -> Result<RunOutput, SolverError> {
+pub fn run_penalty(
+    scene: &Scene,
+    explicit: bool,
+    observer: &mut dyn Observer,
+) -> Result<RunOutput, SolverError> {
     let wall = Instant::now();
     let st = &scene.settings;
     let n = scene.ndof();
@@ -487,7 +534,13 @@ pub fn run_penalty(scene: &Scene, explicit: bool, observer: &mut dyn Observer) -
     let cd = dashpots(scene, kc);
     let mut s = Stepper::new(scene);
     let zero = vec![0.0; nc];
-    let accel = |s: &Stepper, t: f64, q: &DVector<f64>, v: &DVector<f64>, slip0: &[f64], dslip: &[f64], mask: Option<&[bool]>| {
+    let accel = |s: &Stepper,
+                 t: f64,
+                 q: &DVector<f64>,
+                 v: &DVector<f64>,
+                 slip0: &[f64],
+                 dslip: &[f64],
+                 mask: Option<&[bool]>| {
         let mut f = DVector::zeros(n);
         let p = s.forces_trial(t, q, v, &mut f);
         let fr = scene.frame(t, q, v);
@@ -495,7 +548,15 @@ pub fn run_penalty(scene: &Scene, explicit: bool, observer: &mut dyn Observer) -
         let a = (f + &pf.f).component_mul(&s.minv);
         (a, p, pf)
     };
-    let (mut a_k, p0, pf0) = accel(&s, 0.0, &s.q.clone(), &s.v.clone(), &s.slip_spring.clone(), &zero, None);
+    let (mut a_k, p0, pf0) = accel(
+        &s,
+        0.0,
+        &s.q.clone(),
+        &s.v.clone(),
+        &s.slip_spring.clone(),
+        &zero,
+        None,
+    );
     s.prev_power = p0;
     let mut contact_elastic = pf0.elastic;
     s.maybe_sample(contact_elastic);
@@ -515,7 +576,11 @@ pub fn run_penalty(scene: &Scene, explicit: bool, observer: &mut dyn Observer) -
             let q1 = &q + &vh * h;
             // tangential increment over the step from the half-step velocity
             let fr_mid = scene.frame(s.t + 0.5 * h, &(&q + &vh * (0.5 * h)), &vh);
-            let dslip: Vec<f64> = scene.contacts.iter().map(|c| scene.contact_kinematics_in(&fr_mid, c).slip_rate * h).collect();
+            let dslip: Vec<f64> = scene
+                .contacts
+                .iter()
+                .map(|c| scene.contact_kinematics_in(&fr_mid, c).slip_rate * h)
+                .collect();
             let (a1, _, pf) = accel(&s, t1, &q1, &vh, &s.slip_spring.clone(), &dslip, None);
             let v1 = &vh + &a1 * (0.5 * h);
             v_half = vh;
@@ -530,7 +595,8 @@ pub fn run_penalty(scene: &Scene, explicit: bool, observer: &mut dyn Observer) -
                 let mut slip = s.slip_spring.clone();
                 let mut last = None;
                 for j in 0..m {
-                    match newmark_step(&s, kc, &cd, s.t + j as f64 * hs, hs, &qs, &vs, &as_, &slip) {
+                    match newmark_step(&s, kc, &cd, s.t + j as f64 * hs, hs, &qs, &vs, &as_, &slip)
+                    {
                         Some((q1, v1, a1, pf)) => {
                             slip = pf.slip.clone();
                             for (i, sl) in slip.iter_mut().enumerate() {
@@ -590,7 +656,11 @@ pub fn run_penalty(scene: &Scene, explicit: bool, observer: &mut dyn Observer) -
                 if c.mu > 0.0 && pf.lam_t[i].abs() < c.mu * pf.lam_n[i] * (1.0 - 1e-9) {
                     ContactState::Stick
                 } else {
-                    ContactState::Slide(if c.mu > 0.0 { -pf.lam_t[i].signum() } else { 0.0 })
+                    ContactState::Slide(if c.mu > 0.0 {
+                        -pf.lam_t[i].signum()
+                    } else {
+                        0.0
+                    })
                 }
             } else {
                 ContactState::Open
@@ -601,13 +671,18 @@ pub fn run_penalty(scene: &Scene, explicit: bool, observer: &mut dyn Observer) -
         let finite = s.q.iter().chain(s.v.iter()).all(|x| x.is_finite());
         // energy growth without a source: T + V (incl. contact springs) far above what the
         // initial state and the loads and supports could have supplied
-        let e_now = scene.kinetic_energy(&s.v) + scene.spring_energy(s.t, &s.q, &s.v) + contact_elastic;
+        let e_now =
+            scene.kinetic_energy(&s.v) + scene.spring_energy(s.t, &s.q, &s.v) + contact_elastic;
         e_supplied = e_supplied.max(e_input_scale(&s));
         let bound = 10.0 * e_supplied + 1e-12;
         if !finite || (e_now > bound && k > 10) {
             return Err(SolverError::Unstable {
                 t: s.t,
-                method: if explicit { "penalty-explicit" } else { "penalty" },
+                method: if explicit {
+                    "penalty-explicit"
+                } else {
+                    "penalty"
+                },
                 step: h,
                 detail: format!(
                     "energy {e_now:.3e} exceeds 10 × the largest input {e_supplied:.3e} ({})",
@@ -622,13 +697,21 @@ pub fn run_penalty(scene: &Scene, explicit: bool, observer: &mut dyn Observer) -
         s.log_transitions(&before, None);
         s.maybe_sample(contact_elastic);
         if last_batch.2.elapsed().as_millis() >= 40 {
-            if !observer.batch(&s.out.samples[last_batch.0..], &s.out.events[last_batch.1..], s.t) {
+            if !observer.batch(
+                &s.out.samples[last_batch.0..],
+                &s.out.events[last_batch.1..],
+                s.t,
+            ) {
                 return Err(SolverError::Cancelled { t: s.t });
             }
             last_batch = (s.out.samples.len(), s.out.events.len(), Instant::now());
         }
     }
-    observer.batch(&s.out.samples[last_batch.0..], &s.out.events[last_batch.1..], s.t);
+    observer.batch(
+        &s.out.samples[last_batch.0..],
+        &s.out.events[last_batch.1..],
+        s.t,
+    );
     Ok(s.finish(wall, contact_elastic))
 }
 
@@ -653,6 +736,9 @@ fn penalty_accel(
     ((f + &pf.f).component_mul(&s.minv), pf)
 }
 
+/// (q₁, v₁, a₁, contact forces) at the end of a step.
+type StepState = (DVector<f64>, DVector<f64>, DVector<f64>, PenaltyForces);
+
 /// One Newmark average-acceleration step (β = ¼, γ = ½) of the penalty model: Newton on q₁
 /// with a finite-difference tangent within a fixed active set of gap elements, the set then
 /// corrected until consistent (compressed in, tensile out). None when it does not converge.
@@ -667,7 +753,7 @@ fn newmark_step(
     v: &DVector<f64>,
     a_k: &DVector<f64>,
     slip0: &[f64],
-) -> Option<(DVector<f64>, DVector<f64>, DVector<f64>, PenaltyForces)> {
+) -> Option<StepState> {
     let scene = s.scene;
     let n = scene.ndof();
     let t1 = t0 + h;
@@ -685,7 +771,9 @@ fn newmark_step(
             .contacts
             .iter()
             .enumerate()
-            .map(|(i, c)| 0.5 * h * (slip_rate0[i] + scene.contact_kinematics_in(&fr1, c).slip_rate))
+            .map(|(i, c)| {
+                0.5 * h * (slip_rate0[i] + scene.contact_kinematics_in(&fr1, c).slip_rate)
+            })
             .collect();
         let (acc, pf) = penalty_accel(s, kc, cd, t1, q1, &v1, slip0, &dslip, Some(mask));
         (a1.clone() - acc, a1, v1, pf)
@@ -706,7 +794,11 @@ fn newmark_step(
     let mut q1 = q + v * h + a_k * (0.5 * h * h);
     let mut mask: Vec<bool> = {
         let fr = scene.frame(t1, &q1, v);
-        scene.contacts.iter().map(|c| scene.contact_kinematics_in(&fr, c).gap < 0.0).collect()
+        scene
+            .contacts
+            .iter()
+            .map(|c| scene.contact_kinematics_in(&fr, c).gap < 0.0)
+            .collect()
     };
     let mut converged_last = false;
     for _set in 0..8 {

@@ -17,7 +17,10 @@ fn longitudinal_period_matches_hand_formula() {
     let s = load(&["contacts.enabled=false"]);
     // deck x is carried by six columns in x: k(h) = k_ref (h_ref/h)³
     let k = 9320.0;
-    let kx: f64 = [1.83, 2.44, 1.52].iter().map(|h| 2.0 * k * (1.83f64 / h).powi(3)).sum();
+    let kx: f64 = [1.83, 2.44, 1.52]
+        .iter()
+        .map(|h| 2.0 * k * (1.83f64 / h).powi(3))
+        .sum();
     let t_long = 2.0 * std::f64::consts::PI * (140.5 / kx).sqrt();
     let modes = deckspin::bridge::modes(&s);
     let m = modes
@@ -136,7 +139,11 @@ fn linear_bridge_without_contact_matches_exact_solution() {
     let bc = h(0.0, &z, &z, &mut jac);
     let bs = h(std::f64::consts::PI / (2.0 * w), &z, &z, &mut jac);
     let r = deckspin::run(&scene, &mut deckspin::Silent).unwrap();
-    let grid: Vec<_> = r.samples.iter().filter(|s| s.kind == deckspin::output::SampleKind::Grid).collect();
+    let grid: Vec<_> = r
+        .samples
+        .iter()
+        .filter(|s| s.kind == deckspin::output::SampleKind::Grid)
+        .collect();
     let times: Vec<f64> = grid.iter().map(|s| s.t).collect();
     let exact = exact_linear(&scene.mass, &k, &c, &bc, &bs, w, &times);
     let mut worst = 0.0f64;
@@ -169,7 +176,11 @@ fn symmetric_bridge_without_friction_does_not_rotate_and_asymmetric_gap_does() {
     set.push("contacts.mu=0.0");
     let r = deckspin::run(&load(&set), &mut deckspin::Silent).unwrap();
     assert!(r.summary.stats.impacts > 0, "the deck pounds");
-    assert!(r.summary.peaks[4].max_abs < 1e-12, "θ = {}", r.summary.peaks[4].max_abs);
+    assert!(
+        r.summary.peaks[4].max_abs < 1e-12,
+        "θ = {}",
+        r.summary.peaks[4].max_abs
+    );
     // with friction and a smaller gap at corner 1 (left, +y), the first left impact is at
     // that corner: its normal impulse (+x at y = +1.2 m) spins the deck clockwise
     let mut set: Vec<&str> = base.to_vec();
@@ -182,11 +193,22 @@ fn symmetric_bridge_without_friction_does_not_rotate_and_asymmetric_gap_does() {
         .find(|e| e.kind == EventKind::Impact && r.contact_names[e.contact].starts_with("left"))
         .expect("a left impact");
     assert_eq!(r.contact_names[first.contact], "left_top");
-    let before = r.samples.iter().filter(|s| s.t < first.t).map(|s| s.q[4].abs()).fold(0.0, f64::max);
-    assert!(before < 1e-12, "no rotation before the first asymmetric impact");
+    let before = r
+        .samples
+        .iter()
+        .filter(|s| s.t < first.t)
+        .map(|s| s.q[4].abs())
+        .fold(0.0, f64::max);
+    assert!(
+        before < 1e-12,
+        "no rotation before the first asymmetric impact"
+    );
     let after = post_event(&r, first.t);
     assert!(after.v[4] < 0.0, "clockwise spin, θ̇ = {}", after.v[4]);
-    eprintln!("asymmetric gap: peak rotation {:.3e}", r.summary.peaks[4].max_abs);
+    eprintln!(
+        "asymmetric gap: peak rotation {:.3e}",
+        r.summary.peaks[4].max_abs
+    );
     assert!(r.summary.peaks[4].max_abs > 1e-6);
 }
 
@@ -225,9 +247,21 @@ fn damping_vanishes_for_rigid_body_support_motion() {
 fn bridge_run_closes_energy_and_never_penetrates() {
     let r = run(FOUR_SPAN, &["solver.t_end=6.0"]);
     let s = &r.summary;
-    assert!(s.stats.impacts > 10 && s.stats.sticks > 0 && s.stats.slips > 0, "{:?}", s.stats);
-    assert!(s.energy_closure_rel < 1e-6, "closure {:.3e}", s.energy_closure_rel);
-    assert!(s.max_penetration < 1e-11, "penetration {:.3e}", s.max_penetration);
+    assert!(
+        s.stats.impacts > 10 && s.stats.sticks > 0 && s.stats.slips > 0,
+        "{:?}",
+        s.stats
+    );
+    assert!(
+        s.energy_closure_rel < 1e-6,
+        "closure {:.3e}",
+        s.energy_closure_rel
+    );
+    assert!(
+        s.max_penetration < 1e-11,
+        "penetration {:.3e}",
+        s.max_penetration
+    );
     // every event instant appears in the history (pre and post)
     for e in r.events.iter().take(20) {
         post_event(&r, e.t);
@@ -239,9 +273,12 @@ fn bridge_run_closes_energy_and_never_penetrates() {
 
 #[test]
 fn bad_excitation_input_is_a_clear_error() {
-    let e = deckspin::load(&model(FOUR_SPAN), &["excitation.longitudinal=../excitations/nope.AT2".into()])
-        .unwrap_err()
-        .to_string();
+    let e = deckspin::load(
+        &model(FOUR_SPAN),
+        &["excitation.longitudinal=../excitations/nope.AT2".into()],
+    )
+    .unwrap_err()
+    .to_string();
     assert!(e.contains("nope.AT2"), "{e}");
     let e = deckspin::load(
         &model(FOUR_SPAN),
@@ -249,17 +286,30 @@ fn bad_excitation_input_is_a_clear_error() {
     )
     .unwrap_err()
     .to_string();
-    assert!(e.contains("bad_npts.AT2") && e.to_lowercase().contains("npts"), "{e}");
+    assert!(
+        e.contains("bad_npts.AT2") && e.to_lowercase().contains("npts"),
+        "{e}"
+    );
     let e = deckspin::load(
         &model(FOUR_SPAN),
         &["excitation.longitudinal=../tests/fixtures/excitation/non_numeric.AT2".into()],
     )
     .unwrap_err()
     .to_string();
-    assert!(e.contains("non_numeric.AT2:6:") && e.contains("8.0x-03"), "{e}");
-    let e = deckspin::load(&model(FOUR_SPAN), &["excitation.run=9".into()]).unwrap_err().to_string();
-    assert!(e.contains("excitation.run") && e.contains("four-span.toml:"), "{e}");
-    let e = deckspin::load(&model(FOUR_SPAN), &["deck.mass=-1".into()]).unwrap_err().to_string();
+    assert!(
+        e.contains("non_numeric.AT2:6:") && e.contains("8.0x-03"),
+        "{e}"
+    );
+    let e = deckspin::load(&model(FOUR_SPAN), &["excitation.run=9".into()])
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("excitation.run") && e.contains("four-span.toml:"),
+        "{e}"
+    );
+    let e = deckspin::load(&model(FOUR_SPAN), &["deck.mass=-1".into()])
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("deck.mass"), "{e}");
 }
 

@@ -47,14 +47,20 @@ fn fixed_step_event_times_converge_with_fifth_order() {
         .collect();
     let p1 = (errs[0] / errs[1]).log2();
     let p2 = (errs[1] / errs[2]).log2();
-    assert!(p1 > 4.0 && p2 > 4.0, "observed orders {p1:.2}, {p2:.2}, errors {errs:?}");
+    assert!(
+        p1 > 4.0 && p2 > 4.0,
+        "observed orders {p1:.2}, {p2:.2}, errors {errs:?}"
+    );
 }
 
 #[test]
 fn peak_value_converges_to_closed_form() {
     // bouncing ball with a coarse output step: the peak between the first two impacts
     // comes from the dense output; the apex height of flight k is (ε^k V)²/(2g)
-    let r = run("models/validation/bouncing-ball.toml", &["solver.output_dt=0.001"]);
+    let r = run(
+        "models/validation/bouncing-ball.toml",
+        &["solver.output_dt=0.001"],
+    );
     let v: f64 = (2.0 * 9.81f64).sqrt();
     let apex = (0.8 * v).powi(2) / (2.0 * 9.81);
     let t1 = v / 9.81;
@@ -66,5 +72,8 @@ fn peak_value_converges_to_closed_form() {
         .map(|s| s.q[0])
         .fold(0.0, f64::max);
     // grid sampling error ≤ g·(dt/2)²/2
-    assert!((peak - apex).abs() <= 9.81 * 0.0005f64.powi(2) / 2.0 + 1e-12, "peak {peak}, apex {apex}");
+    assert!(
+        (peak - apex).abs() <= 9.81 * 0.0005f64.powi(2) / 2.0 + 1e-12,
+        "peak {peak}, apex {apex}"
+    );
 }

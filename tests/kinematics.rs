@@ -48,7 +48,11 @@ fn jacobians_and_bias_match_finite_differences() {
         qm[j] -= h;
         let d = (s.contact_kinematics(c, &qp, &v).gap - s.contact_kinematics(c, &qm, &v).gap)
             / (2.0 * h);
-        assert!((d - k.w_n[j]).abs() < 1e-8, "W_N[{j}]: fd {d}, exact {}", k.w_n[j]);
+        assert!(
+            (d - k.w_n[j]).abs() < 1e-8,
+            "W_N[{j}]: fd {d}, exact {}",
+            k.w_n[j]
+        );
     }
     assert!((k.gap_rate - k.w_n.dot(&v)).abs() < 1e-14);
     assert!((k.slip_rate - k.w_t.dot(&v)).abs() < 1e-14);
@@ -61,8 +65,14 @@ fn jacobians_and_bias_match_finite_differences() {
     let dt = 1e-6;
     let gdd_n = (at(dt).gap_rate - at(-dt).gap_rate) / (2.0 * dt);
     let gdd_t = (at(dt).slip_rate - at(-dt).slip_rate) / (2.0 * dt);
-    assert!((gdd_n - (k.w_n.dot(&a) + k.bias_n)).abs() < 1e-7, "g̈_N {gdd_n}");
-    assert!((gdd_t - (k.w_t.dot(&a) + k.bias_t)).abs() < 1e-7, "g̈_T {gdd_t}");
+    assert!(
+        (gdd_n - (k.w_n.dot(&a) + k.bias_n)).abs() < 1e-7,
+        "g̈_N {gdd_n}"
+    );
+    assert!(
+        (gdd_t - (k.w_t.dot(&a) + k.bias_t)).abs() < 1e-7,
+        "g̈_T {gdd_t}"
+    );
     assert!(k.bias_n.abs() > 1e-3, "the test exercises nonzero ŵ");
 }
 
@@ -78,7 +88,10 @@ fn gap_at_reference_is_the_declared_gap_and_exact_in_rotation() {
     let mut q = DVector::zeros(6);
     q[2] = th;
     let r = nalgebra::Vector2::new(-5.0, 1.2);
-    let rr = nalgebra::Vector2::new(th.cos() * r.x - th.sin() * r.y, th.sin() * r.x + th.cos() * r.y);
+    let rr = nalgebra::Vector2::new(
+        th.cos() * r.x - th.sin() * r.y,
+        th.sin() * r.x + th.cos() * r.y,
+    );
     let n = nalgebra::Vector2::new(0.9659258262890683, 0.25881904510252074);
     let exact = 0.05 + n.dot(&(rr - r));
     let g = s.contact_kinematics(c, &q, &z).gap;

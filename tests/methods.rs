@@ -29,8 +29,14 @@ fn ball_penalty(h: f64, k: f64) -> Result<deckspin::RunOutput, SolverError> {
 fn explicit_penalty_instability_is_detected_within_10_percent_of_2_over_omega() {
     let k: f64 = 1e6;
     let limit = 2.0 / k.sqrt();
-    assert!(ball_penalty(0.5 * limit, k).is_ok(), "stable at half the limit");
-    assert!(matches!(ball_penalty(1.5 * limit, k), Err(SolverError::Unstable { .. })));
+    assert!(
+        ball_penalty(0.5 * limit, k).is_ok(),
+        "stable at half the limit"
+    );
+    assert!(matches!(
+        ball_penalty(1.5 * limit, k),
+        Err(SolverError::Unstable { .. })
+    ));
     // bisection on the step for the measured limit
     let (mut lo, mut hi) = (0.5 * limit, 1.5 * limit);
     for _ in 0..12 {
@@ -43,14 +49,21 @@ fn explicit_penalty_instability_is_detected_within_10_percent_of_2_over_omega() 
     }
     let measured = 0.5 * (lo + hi);
     eprintln!("explicit penalty: measured stability limit {measured:.4e} s, 2/ω = {limit:.4e} s");
-    assert!((measured / limit - 1.0).abs() < 0.10, "measured {measured:.4e}, 2/ω {limit:.4e}");
+    assert!(
+        (measured / limit - 1.0).abs() < 0.10,
+        "measured {measured:.4e}, 2/ω {limit:.4e}"
+    );
 }
 
 #[test]
 fn penalty_converges_to_event_driven_as_stiffness_grows() {
     // deck corner impact, elastic and frictionless (the limit the gap element tends to):
     // rotation 0.2 s after the impact
-    let common = ["solver.t_end=0.2", "contact.0.mu=0.0", "contact.0.restitution=1.0"];
+    let common = [
+        "solver.t_end=0.2",
+        "contact.0.mu=0.0",
+        "contact.0.restitution=1.0",
+    ];
     let event = simulate("models/validation/corner-impact.toml", &common).unwrap();
     let th_event = event.summary.peaks[2].max_abs;
     let mut errs = Vec::new();
@@ -69,14 +82,21 @@ fn penalty_converges_to_event_driven_as_stiffness_grows() {
         )
         .unwrap();
         let e = rel(r.summary.peaks[2].max_abs, th_event);
-        eprintln!("penalty k = {k:.0e} N/m: rotation at 0.2 s off by {:.3} %", 100.0 * e);
+        eprintln!(
+            "penalty k = {k:.0e} N/m: rotation at 0.2 s off by {:.3} %",
+            100.0 * e
+        );
         errs.push(e);
     }
     for w in errs.windows(2) {
         assert!(w[1] < w[0], "errors do not decrease with k: {errs:?}");
     }
     assert!(errs[3] < 0.02, "k = 1e8: {:.3e}", errs[3]);
-    assert!(errs[0] > 0.1, "a soft gap element is far off: {:.3e}", errs[0]);
+    assert!(
+        errs[0] > 0.1,
+        "a soft gap element is far off: {:.3e}",
+        errs[0]
+    );
     // the error falls like k^(−1/2) (the contact lasts π/ω ∝ k^(−1/2))
     let rate = (errs[1] / errs[3]).log10() / 2.0;
     assert!(rate > 0.35 && rate < 0.7, "rate {rate}");
@@ -91,7 +111,11 @@ fn moreau_jean_impact_times_converge_with_first_order() {
     for h in hs {
         let r = simulate(
             "models/validation/bouncing-ball.toml",
-            &["solver.method=\"moreau\"", &format!("solver.step={h}"), "solver.t_end=1.0"],
+            &[
+                "solver.method=\"moreau\"",
+                &format!("solver.step={h}"),
+                "solver.t_end=1.0",
+            ],
         )
         .unwrap();
         let first = impacts(&r)[0].t;
@@ -107,22 +131,38 @@ fn moreau_jean_impact_times_converge_with_first_order() {
 fn moreau_jean_runs_through_the_zeno_accumulation() {
     let r = simulate(
         "models/validation/bouncing-ball.toml",
-        &["solver.method=\"moreau\"", "solver.step=1e-3", "solver.t_end=5.0"],
+        &[
+            "solver.method=\"moreau\"",
+            "solver.step=1e-3",
+            "solver.t_end=5.0",
+        ],
     )
     .unwrap();
     let last = r.samples.last().unwrap();
-    assert!(last.q[0].abs() < 1e-3 && last.v[0].abs() < 1e-2, "ball at rest: {:?}", (last.q[0], last.v[0]));
+    assert!(
+        last.q[0].abs() < 1e-3 && last.v[0].abs() < 1e-2,
+        "ball at rest: {:?}",
+        (last.q[0], last.v[0])
+    );
     // the energy never grows: frictionless, ε ≤ 1
     let e0 = r.samples[0].energy.kinetic + 9.81;
     for s in &r.samples {
-        assert!(s.energy.kinetic + 9.81 * s.q[0] <= e0 * (1.0 + 1e-9), "t = {}", s.t);
+        assert!(
+            s.energy.kinetic + 9.81 * s.q[0] <= e0 * (1.0 + 1e-9),
+            "t = {}",
+            s.t
+        );
     }
 }
 
 #[test]
 fn all_methods_agree_on_the_oscillator_against_a_stop() {
     let omega = 2.0 * std::f64::consts::PI;
-    for (m, h, tol) in [("moreau", 2e-4, 2e-3), ("penalty", 1e-4, 5e-3), ("penalty-explicit", 5e-5, 5e-3)] {
+    for (m, h, tol) in [
+        ("moreau", 2e-4, 2e-3),
+        ("penalty", 1e-4, 5e-3),
+        ("penalty-explicit", 5e-5, 5e-3),
+    ] {
         let r = simulate(
             "models/validation/oscillator-stop.toml",
             &[
@@ -142,7 +182,11 @@ fn all_methods_agree_on_the_oscillator_against_a_stop() {
 #[test]
 fn stability_report_for_the_bridge_flags_failures_and_passes_the_event_method() {
     use deckspin::precision::{Bench, knobs, verdict};
-    let bench = Bench::open(&model("models/four-span.toml"), &["solver.t_end=4.0".into()]).unwrap();
+    let bench = Bench::open(
+        &model("models/four-span.toml"),
+        &["solver.t_end=4.0".into()],
+    )
+    .unwrap();
     let reference = bench.reference(1e-9).unwrap();
     let mut table = Vec::new();
     for m in ["event", "penalty-explicit"] {
@@ -158,6 +202,9 @@ fn stability_report_for_the_bridge_flags_failures_and_passes_the_event_method() 
         }
     }
     // 4 s / 100 steps = 0.04 s ≫ 2/ω of a 1e6 kN/m gap element on a 0.65 t abutment
-    let coarse = table.iter().find(|(m, l, _)| *m == "penalty-explicit" && l.starts_with("h=4.0e-2")).unwrap();
+    let coarse = table
+        .iter()
+        .find(|(m, l, _)| *m == "penalty-explicit" && l.starts_with("h=4.0e-2"))
+        .unwrap();
     assert!(coarse.2.starts_with("unstable"), "{coarse:?}");
 }

@@ -35,7 +35,10 @@ fn negative_mass_names_the_field_and_line() {
 fn nan_is_rejected() {
     let (e, msg) = load_err("tests/fixtures/models/nan-mu.toml", &[]);
     assert!(matches!(e, ModelError::Invalid { line: 13, .. }), "{msg}");
-    assert!(msg.contains("contact.0.mu") && msg.contains("finite"), "{msg}");
+    assert!(
+        msg.contains("contact.0.mu") && msg.contains("finite"),
+        "{msg}"
+    );
 }
 
 #[test]
@@ -48,14 +51,21 @@ fn missing_file_names_the_path() {
 #[test]
 fn unknown_body_reference_names_the_field() {
     let (_, msg) = load_err("tests/fixtures/models/unknown-body.toml", &[]);
-    assert!(msg.contains(":11: contact.0.body") && msg.contains("ballx"), "{msg}");
+    assert!(
+        msg.contains(":11: contact.0.body") && msg.contains("ballx"),
+        "{msg}"
+    );
 }
 
 #[test]
 fn overrides_set_scalars_by_path_index_name_and_wildcard() {
     let s = deckspin::load(
         &model("models/validation/elastic-rattle.toml"),
-        &["contact.*.mu=0.3".into(), "contact.left-top.restitution=0.5".into(), "solver.t_end=2".into()],
+        &[
+            "contact.*.mu=0.3".into(),
+            "contact.left-top.restitution=0.5".into(),
+            "solver.t_end=2".into(),
+        ],
     )
     .unwrap();
     assert!(s.contacts.iter().all(|c| c.mu == 0.3));
@@ -63,17 +73,31 @@ fn overrides_set_scalars_by_path_index_name_and_wildcard() {
     assert_eq!(s.contacts[0].restitution, 1.0);
     assert_eq!(s.settings.t_end, 2.0);
     // bad overrides
-    for bad in ["contact.*.mu", "nosuch.key=1", "contact.9.mu=0.1", "body.0.dofs=1"] {
-        let r = deckspin::load(&model("models/validation/elastic-rattle.toml"), &[bad.into()]);
+    for bad in [
+        "contact.*.mu",
+        "nosuch.key=1",
+        "contact.9.mu=0.1",
+        "body.0.dofs=1",
+    ] {
+        let r = deckspin::load(
+            &model("models/validation/elastic-rattle.toml"),
+            &[bad.into()],
+        );
         assert!(r.is_err(), "{bad} accepted");
     }
     // an override that makes the model invalid is reported as such
-    let e = deckspin::load(&model("models/validation/elastic-rattle.toml"), &["body.0.mass=-3".into()])
-        .unwrap_err();
+    let e = deckspin::load(
+        &model("models/validation/elastic-rattle.toml"),
+        &["body.0.mass=-3".into()],
+    )
+    .unwrap_err();
     assert!(e.to_string().contains("body.0.mass"), "{e}");
     // an override that adds an unknown key is rejected by the schema
-    let e = deckspin::load(&model("models/validation/elastic-rattle.toml"), &["solver.rtoll=1e-3".into()])
-        .unwrap_err();
+    let e = deckspin::load(
+        &model("models/validation/elastic-rattle.toml"),
+        &["solver.rtoll=1e-3".into()],
+    )
+    .unwrap_err();
     assert!(e.to_string().contains("rtoll"), "{e}");
 }
 
@@ -82,10 +106,22 @@ fn invalid_values_in_scene_text_are_rejected_not_panicking() {
     let cases = [
         ("[[body]]\nname='b'\nmass=1.0\ndofs=['q']\n", "unknown DOF"),
         ("[[body]]\nname='b'\nmass=1.0\ndofs=['theta']\n", "inertia"),
-        ("[[body]]\nname='b'\nmass=1.0\ndofs=['x']\n[[contact]]\nname='c'\nbody='b'\nnormal=[0.0,0.0]\ngap=0.0\n", "nonzero"),
-        ("[[body]]\nname='b'\nmass=1.0\ndofs=['x']\n[[contact]]\nname='c'\nbody='b'\nnormal=[1.0,0.0]\ngap=0.0\nrestitution=1.5\n", "[0, 1]"),
-        ("[[body]]\nname='b'\nmass=1.0\ndofs=['x']\n[solver]\nt_end=-1.0\n", "solver.t_end"),
-        ("[[body]]\nname='b'\nmass=1.0\ndofs=['x']\ninitial_displacement=[0.0,1.0,0.0]\n", "no such DOF"),
+        (
+            "[[body]]\nname='b'\nmass=1.0\ndofs=['x']\n[[contact]]\nname='c'\nbody='b'\nnormal=[0.0,0.0]\ngap=0.0\n",
+            "nonzero",
+        ),
+        (
+            "[[body]]\nname='b'\nmass=1.0\ndofs=['x']\n[[contact]]\nname='c'\nbody='b'\nnormal=[1.0,0.0]\ngap=0.0\nrestitution=1.5\n",
+            "[0, 1]",
+        ),
+        (
+            "[[body]]\nname='b'\nmass=1.0\ndofs=['x']\n[solver]\nt_end=-1.0\n",
+            "solver.t_end",
+        ),
+        (
+            "[[body]]\nname='b'\nmass=1.0\ndofs=['x']\ninitial_displacement=[0.0,1.0,0.0]\n",
+            "no such DOF",
+        ),
         ("", "no degrees of freedom"),
     ];
     for (text, want) in cases {
@@ -111,12 +147,22 @@ fn cli_exits_nonzero_with_message_on_bad_input() {
 fn cli_run_writes_history_events_and_summary() {
     let dir = std::env::temp_dir().join(format!("deckspin-cli-{}", std::process::id()));
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_deckspin"))
-        .args(["run", "models/validation/bouncing-ball.toml", "--set", "solver.t_end=1.0", "--out"])
+        .args([
+            "run",
+            "models/validation/bouncing-ball.toml",
+            "--set",
+            "solver.t_end=1.0",
+            "--out",
+        ])
         .arg(&dir)
         .current_dir(root())
         .output()
         .unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let hist = std::fs::read_to_string(dir.join("history.csv")).unwrap();
     assert!(hist.lines().count() > 100);
     assert!(hist.lines().any(|l| l.contains("pre-event")));

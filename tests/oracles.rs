@@ -17,7 +17,12 @@ fn bouncing_ball_impacts_rebounds_and_accumulation() {
     let mut speed = v;
     for (k, e) in imp.iter().take(30).enumerate() {
         assert_rel(e.t, t, 1e-8, &format!("impact {k} time"));
-        assert_rel(-e.gap_rate_before, speed, 1e-8, &format!("impact {k} speed"));
+        assert_rel(
+            -e.gap_rate_before,
+            speed,
+            1e-8,
+            &format!("impact {k} speed"),
+        );
         assert_rel(e.gap_rate_after, eps * speed, 1e-8, &format!("rebound {k}"));
         assert_rel(e.normal, (1.0 + eps) * speed, 1e-8, &format!("impulse {k}"));
         t += 2.0 * eps * speed / G;
@@ -31,7 +36,12 @@ fn bouncing_ball_impacts_rebounds_and_accumulation() {
     assert!((last.t - 5.0).abs() < 1e-12);
     assert!(last.q[0].abs() < 1e-12 && last.v[0].abs() < 1e-9);
     assert_eq!(last.contacts[0].state, ContactState::Slide(0.0));
-    assert_rel(last.contacts[0].normal_force, G, 1e-10, "resting contact force m g");
+    assert_rel(
+        last.contacts[0].normal_force,
+        G,
+        1e-10,
+        "resting contact force m g",
+    );
 }
 
 #[test]
@@ -45,9 +55,15 @@ fn zeno_without_accumulation_rule_is_caught_by_the_guard() {
     match deckspin::run(&scene, &mut deckspin::Silent) {
         Err(deckspin::SolverError::StepCollapse { t, .. }) => {
             let t_inf = (2.0 * G).sqrt() / G * (1.0 + 2.0 * 0.8 / 0.2);
-            assert!(t < t_inf && t > t_inf - 1e-3, "collapse at {t}, t∞ = {t_inf}");
+            assert!(
+                t < t_inf && t > t_inf - 1e-3,
+                "collapse at {t}, t∞ = {t_inf}"
+            );
         }
-        other => panic!("expected a step collapse, got {:?}", other.map(|r| r.summary.stats)),
+        other => panic!(
+            "expected a step collapse, got {:?}",
+            other.map(|r| r.summary.stats)
+        ),
     }
 }
 
@@ -55,7 +71,11 @@ fn zeno_without_accumulation_rule_is_caught_by_the_guard() {
 fn block_on_rough_plane_stops_at_closed_form_time_and_distance() {
     let r = run("models/validation/block-on-plane.toml", &[]);
     let (v0, mu) = (3.0, 0.3);
-    let stick: Vec<_> = r.events.iter().filter(|e| e.kind == EventKind::Stick).collect();
+    let stick: Vec<_> = r
+        .events
+        .iter()
+        .filter(|e| e.kind == EventKind::Stick)
+        .collect();
     assert_eq!(stick.len(), 1);
     assert_rel(stick[0].t, v0 / (mu * G), 1e-10, "stop time");
     let s = post_event(&r, stick[0].t);
@@ -65,7 +85,12 @@ fn block_on_rough_plane_stops_at_closed_form_time_and_distance() {
     assert_eq!(last.contacts[0].state, ContactState::Stick);
     // sliding friction force μ m g during the slide
     let mid = r.samples.iter().find(|s| s.t > 0.5).unwrap();
-    assert_rel(mid.contacts[0].tangential_force, -mu * 2.0 * G, 1e-10, "friction");
+    assert_rel(
+        mid.contacts[0].tangential_force,
+        -mu * 2.0 * G,
+        1e-10,
+        "friction",
+    );
 }
 
 fn incline(angle_deg: f64, mu: f64) -> deckspin::RunOutput {
@@ -101,7 +126,11 @@ fn block_on_incline_sticks_iff_tan_theta_le_mu() {
     for angle in [crit - 1.0, crit - 0.01] {
         let r = incline(angle, mu);
         let last = r.samples.last().unwrap();
-        assert!(last.q[0].abs() < 1e-12, "angle {angle}: moved {}", last.q[0]);
+        assert!(
+            last.q[0].abs() < 1e-12,
+            "angle {angle}: moved {}",
+            last.q[0]
+        );
         assert_eq!(last.contacts[0].state, ContactState::Stick);
     }
     for angle in [crit + 0.01, crit + 5.0] {
@@ -124,7 +153,12 @@ fn oscillator_against_stop_flights_last_pi_over_omega() {
     for (k, e) in imp.iter().enumerate() {
         let t = (k as f64 + 1.0) * std::f64::consts::PI / omega;
         assert_rel(e.t, t, 1e-8, &format!("impact {k} time"));
-        assert_rel(-e.gap_rate_before, speed, 1e-8, &format!("impact {k} speed"));
+        assert_rel(
+            -e.gap_rate_before,
+            speed,
+            1e-8,
+            &format!("impact {k} speed"),
+        );
         speed *= 0.5;
     }
     // peak of the first flight: V/ω
@@ -157,7 +191,10 @@ fn corner_run(mu: f64) -> (deckspin::RunOutput, Corner) {
 #[test]
 fn corner_impact_sticks_with_closed_form_spin() {
     let (r, c) = corner_run(0.5);
-    assert!((c.rx * c.ry).abs() <= 0.5 * (c.i / c.m + c.rx * c.rx), "oracle: stick case");
+    assert!(
+        (c.rx * c.ry).abs() <= 0.5 * (c.i / c.m + c.rx * c.rx),
+        "oracle: stick case"
+    );
     let imp = impacts(&r);
     assert_eq!(imp.len(), 1);
     assert_eq!(imp[0].sticks, Some(true));
@@ -177,10 +214,18 @@ fn corner_impact_sticks_with_closed_form_spin() {
 fn corner_impact_slips_below_the_stick_limit() {
     let mu = 0.05;
     let (r, c) = corner_run(mu);
-    assert!((c.rx * c.ry).abs() > mu * (c.i / c.m + c.rx * c.rx), "oracle: slip case");
+    assert!(
+        (c.rx * c.ry).abs() > mu * (c.i / c.m + c.rx * c.rx),
+        "oracle: slip case"
+    );
     let imp = impacts(&r);
     assert_eq!(imp[0].sticks, Some(false));
-    assert_rel(imp[0].tangential.abs(), mu * imp[0].normal, 1e-10, "|Λ_T| = μ Λ_N");
+    assert_rel(
+        imp[0].tangential.abs(),
+        mu * imp[0].normal,
+        1e-10,
+        "|Λ_T| = μ Λ_N",
+    );
     assert!(imp[0].gap_rate_after.abs() < 1e-12, "ε = 0: ġ_N⁺ = 0");
     // closed form with Λ_T = σ μ Λ_N, σ opposite to the post-impact slip
     // Λ_T = −P_y along t = (0, −1); P_y = σ μ P_x with σ = sign(ġ_T⁺)
@@ -188,14 +233,24 @@ fn corner_impact_slips_below_the_stick_limit() {
     let px = c.v / (1.0 / c.m + c.ry * (c.ry - sigma * mu * c.rx) / c.i);
     assert_rel(imp[0].normal, px, 1e-10, "Λ_N slip");
     let s = post_event(&r, 0.0);
-    assert_rel(s.v[2], px * (sigma * mu * c.rx - c.ry) / c.i, 1e-10, "θ̇⁺ slip");
+    assert_rel(
+        s.v[2],
+        px * (sigma * mu * c.rx - c.ry) / c.i,
+        1e-10,
+        "θ̇⁺ slip",
+    );
 }
 
 #[test]
 fn corner_impact_frictionless() {
     let (r, c) = corner_run(0.0);
     let s = post_event(&r, 0.0);
-    assert_rel(s.v[2], -c.m * c.ry * c.v / (c.i + c.m * c.ry * c.ry), 1e-10, "θ̇⁺");
+    assert_rel(
+        s.v[2],
+        -c.m * c.ry * c.v / (c.i + c.m * c.ry * c.ry),
+        1e-10,
+        "θ̇⁺",
+    );
     assert!(s.v[1].abs() < 1e-14, "no lateral velocity without friction");
 }
 
@@ -208,8 +263,18 @@ fn rod_on_floor_stick_impulses() {
     assert!(0.8 >= limit);
     let imp = impacts(&r);
     assert_eq!(imp[0].sticks, Some(true));
-    assert_rel(imp[0].normal, m * v * (1.0 + eps) * (1.0 + 3.0 * s * s) / 4.0, 1e-10, "P_N");
-    assert_rel(imp[0].tangential, 3.0 * m * v * (1.0 + eps) * s * c / 4.0, 1e-10, "P_T");
+    assert_rel(
+        imp[0].normal,
+        m * v * (1.0 + eps) * (1.0 + 3.0 * s * s) / 4.0,
+        1e-10,
+        "P_N",
+    );
+    assert_rel(
+        imp[0].tangential,
+        3.0 * m * v * (1.0 + eps) * s * c / 4.0,
+        1e-10,
+        "P_T",
+    );
     assert_rel(imp[0].gap_rate_after, eps * v, 1e-10, "ġ_N⁺ = εV");
     // just below the limit it slips
     let r = run(
@@ -218,7 +283,12 @@ fn rod_on_floor_stick_impulses() {
     );
     let imp = impacts(&r);
     assert_eq!(imp[0].sticks, Some(false));
-    assert_rel(imp[0].tangential.abs(), limit * 0.99 * imp[0].normal, 1e-10, "|P_T| = μ P_N");
+    assert_rel(
+        imp[0].tangential.abs(),
+        limit * 0.99 * imp[0].normal,
+        1e-10,
+        "|P_T| = μ P_N",
+    );
 }
 
 #[test]
@@ -230,7 +300,11 @@ fn symmetric_double_impact_produces_no_rotation() {
     assert_rel(imp[0].t, 0.01 / 0.3, 1e-10, "impact time");
     assert_rel(imp[0].normal, imp[1].normal, 1e-10, "equal impulses");
     let last = r.samples.last().unwrap();
-    assert!(last.q[2].abs() < 1e-14 && last.v[2].abs() < 1e-14, "θ = {}", last.q[2]);
+    assert!(
+        last.q[2].abs() < 1e-14 && last.v[2].abs() < 1e-14,
+        "θ = {}",
+        last.q[2]
+    );
     assert!(last.q[1].abs() < 1e-14);
     assert_rel(last.v[0], 0.3 * 0.3, 1e-10, "rebound ε v");
 }
@@ -239,10 +313,16 @@ fn symmetric_double_impact_produces_no_rotation() {
 fn painleve_configuration_is_reported() {
     let scene = deckspin::load(&model("models/validation/painleve.toml"), &[]).unwrap();
     let (s, c, mu) = (3f64.sqrt() / 2.0, 0.5, 2.0);
-    assert!(1.0 + 3.0 * c * c - 3.0 * mu * s * c < 0.0, "oracle: Painlevé condition");
+    assert!(
+        1.0 + 3.0 * c * c - 3.0 * mu * s * c < 0.0,
+        "oracle: Painlevé condition"
+    );
     match deckspin::run(&scene, &mut deckspin::Silent) {
         Err(deckspin::SolverError::Painleve { contacts, .. }) => assert_eq!(contacts, "end"),
-        other => panic!("expected Painlevé, got {:?}", other.map(|r| r.summary.stats)),
+        other => panic!(
+            "expected Painlevé, got {:?}",
+            other.map(|r| r.summary.stats)
+        ),
     }
     // sliding the other way, friction presses the end down: 1 + 3c² + 3μsc > 0, no Painlevé
     let scene = deckspin::load(
@@ -251,7 +331,11 @@ fn painleve_configuration_is_reported() {
     )
     .unwrap();
     let r = deckspin::run(&scene, &mut deckspin::Silent).unwrap();
-    assert!(r.summary.stats.sticks == 1, "slides to a stop: {:?}", r.summary.stats);
+    assert!(
+        r.summary.stats.sticks == 1,
+        "slides to a stop: {:?}",
+        r.summary.stats
+    );
 }
 
 #[test]
@@ -282,8 +366,18 @@ fn energy_ledger_closes_and_nothing_penetrates_on_every_validation_scene() {
         };
         n += 1;
         let s = &r.summary;
-        assert!(s.energy_closure_rel < 1e-8, "{}: closure {:.3e}", p.display(), s.energy_closure_rel);
-        assert!(s.max_penetration < 1e-12, "{}: penetration {:.3e}", p.display(), s.max_penetration);
+        assert!(
+            s.energy_closure_rel < 1e-8,
+            "{}: closure {:.3e}",
+            p.display(),
+            s.energy_closure_rel
+        );
+        assert!(
+            s.max_penetration < 1e-12,
+            "{}: penetration {:.3e}",
+            p.display(),
+            s.max_penetration
+        );
         // frictionless impacts with ε ≤ 1 never create energy
         assert!(s.energy_final.impact_normal > -1e-9 * s.energy_final.initial.max(1.0));
     }

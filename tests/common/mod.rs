@@ -17,8 +17,7 @@ pub fn run(rel: &str, set: &[&str]) -> RunOutput {
 }
 
 pub fn run_text(text: &str, name: &str) -> Result<RunOutput, String> {
-    let scene =
-        deckspin::model::load_str(text, Path::new(name), &[]).map_err(|e| e.to_string())?;
+    let scene = deckspin::model::load_str(text, Path::new(name), &[]).map_err(|e| e.to_string())?;
     deckspin::run(&scene, &mut deckspin::Silent).map_err(|e| e.to_string())
 }
 
@@ -47,5 +46,8 @@ pub fn assert_rel(a: f64, b: f64, tol: f64, what: &str) {
     if std::env::var("ORACLE_REPORT").is_ok() {
         eprintln!("ORACLE {what}: {e:.2e}");
     }
-    assert!(e <= tol, "{what}: got {a:.15e}, expected {b:.15e}, rel err {e:.3e} > {tol:.1e}");
+    assert!(
+        e <= tol,
+        "{what}: got {a:.15e}, expected {b:.15e}, rel err {e:.3e} > {tol:.1e}"
+    );
 }
