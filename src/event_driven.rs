@@ -1016,6 +1016,7 @@ pub fn run(scene: &Scene, observer: &mut dyn Observer) -> Result<RunOutput, Solv
         // event search on the dense output
         let found = locate_event(&mut eng, &step, &fns, &mut armed)?;
         let t1 = found.map_or(step.t1(), |(t, _)| t);
+        track_peaks(&mut eng.out, &step, t1, n);
         // grid output inside (t0, t1]
         while (next_out as f64) * st.output_dt <= t1 * (1.0 + 1e-14) && eng.t < st.t_end {
             let tg = (next_out as f64) * st.output_dt;
@@ -1142,6 +1143,44 @@ fn due_now(
         }
     }
     Ok(None)
+}
+
+/// Peaks of |q| over the step [t0, t1] from the dense output: the ends, and any interior
+/// extremum (a sign change of q̇, located by bisection), so peaks do not depend on the output
+/// step.
+fn track_peaks(out: &mut RunOutput, step: &dopri::Step, t1: f64, n: usize) {
+    if out.step_peaks.len() != n {
+        out.step_peaks = vec![(0.0, 0.0); n];
+    }
+    let y1 = if t1 >= step.t1() {
+        step.y1.clone()
+    } else {
+        step.dense(t1)
+    };
+    for k in 0..n {
+        let mut consider = |t: f64, q: f64| {
+            if q.abs() > out.step_peaks[k].0 {
+                out.step_peaks[k] = (q.abs(), t);
+            }
+        };
+        consider(step.t0, step.y0[k]);
+        consider(t1, y1[k]);
+        let (v0, v1) = (step.y0[n + k], y1[n + k]);
+        if v0 * v1 < 0.0 {
+            let (mut a, mut b) = (step.t0, t1);
+            for _ in 0..40 {
+                let m = 0.5 * (a + b);
+                let vm = step.dense(m)[n + k];
+                if vm * v0 > 0.0 {
+                    a = m;
+                } else {
+                    b = m;
+                }
+            }
+            let tm = 0.5 * (a + b);
+            consider(tm, step.dense(tm)[k]);
+        }
+    }
 }
 
 fn y_len(n: usize) -> usize {

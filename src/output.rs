@@ -218,6 +218,9 @@ pub struct RunOutput {
     pub stats: RunStats,
     pub accumulation_times: Vec<(usize, f64)>,
     pub final_laws: Vec<Hysteretic>,
+    /// (max |q|, time) per DOF over every step, dense output included (empty for fixed-step
+    /// methods, whose samples are their steps).
+    pub step_peaks: Vec<(f64, f64)>,
     pub summary: Summary,
 }
 
@@ -233,6 +236,7 @@ impl RunOutput {
             stats: RunStats::default(),
             accumulation_times: Vec::new(),
             final_laws: Vec::new(),
+            step_peaks: Vec::new(),
             summary: Summary::default(),
         }
     }
@@ -296,6 +300,12 @@ impl RunOutput {
         if let Some(last) = self.samples.last() {
             for (p, q) in peaks.iter_mut().zip(&last.q) {
                 p.residual = *q;
+            }
+        }
+        for (p, &(m, t)) in peaks.iter_mut().zip(&self.step_peaks) {
+            if m > p.max_abs {
+                p.max_abs = m;
+                p.at = t;
             }
         }
         for e in &self.events {

@@ -245,7 +245,19 @@ fn damping_vanishes_for_rigid_body_support_motion() {
 
 #[test]
 fn bridge_run_closes_energy_and_never_penetrates() {
-    let r = run(FOUR_SPAN, &["solver.t_end=6.0"]);
+    // at the model's own tolerance (rtol 1e-4) a closed corner drifts by the integration error
+    // inside a step (re-projected at every step end): nanometres
+    let loose = run(FOUR_SPAN, &["solver.t_end=6.0"]);
+    assert!(
+        loose.summary.max_penetration < 1e-8,
+        "{:.3e}",
+        loose.summary.max_penetration
+    );
+    assert!(loose.summary.energy_closure_rel < 1e-5);
+    let r = run(
+        FOUR_SPAN,
+        &["solver.t_end=6.0", "solver.rtol=1e-6", "solver.atol=1e-9"],
+    );
     let s = &r.summary;
     assert!(
         s.stats.impacts > 10 && s.stats.sticks > 0 && s.stats.slips > 0,

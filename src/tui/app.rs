@@ -374,6 +374,17 @@ impl RunData {
         }
         self.t_sim = out.summary.t_end.max(self.t_sim);
         self.steps = Some(out.summary.stats.steps_accepted);
+        // the engine's peak also sees the dense output between samples
+        if let Some(p) = out
+            .summary
+            .peaks
+            .iter()
+            .find(|p| p.name == self.digest.rot_name)
+            && p.max_abs > self.digest.peak_rot
+        {
+            self.digest.peak_rot = p.max_abs;
+            self.digest.peak_rot_at = p.at;
+        }
         self.summary = Some(out.summary);
         self.status = RunStatus::Finished;
     }

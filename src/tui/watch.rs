@@ -14,7 +14,7 @@ use std::sync::mpsc::Sender;
 use std::time::{Duration, SystemTime};
 
 /// Debounce window of the notify watcher.
-pub const DEBOUNCE: Duration = Duration::from_millis(150);
+pub const DEBOUNCE: Duration = Duration::from_millis(50);
 /// Polling period of the fallback.
 pub const POLL: Duration = Duration::from_secs(1);
 
