@@ -245,7 +245,9 @@ impl<'a> Engine<'a> {
             }
             let lam = solve_small(a, b);
             for (r, &(i, tangential)) in slots.iter().enumerate() {
-                qdd.axpy(lam[r], &forces[r].component_mul(&self.minv), 1.0);
+                for (j, x) in qdd.iter_mut().enumerate() {
+                    *x += lam[r] * forces[r][j] * self.minv[j];
+                }
                 if tangential {
                     lam_t[i] = lam[r];
                 } else {
@@ -409,13 +411,13 @@ impl<'a> Engine<'a> {
                 state: self.state[i],
             })
             .collect();
+        let fr = scene.frame(self.t, &q, &v);
         let elements = scene
             .hysteretic
             .iter()
             .enumerate()
             .map(|(j, el)| {
-                let (e, _, _) =
-                    scene.deformation(&el.attachment, el.support, self.t, &q, &v, &mut self.jac);
+                let (e, _, _) = scene.deformation_in(&fr, &el.attachment, el.support, &mut self.jac);
                 (e, self.laws[j].force(e))
             })
             .collect();
