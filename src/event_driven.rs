@@ -83,6 +83,49 @@ impl Observer for Silent {
     }
 }
 
+/// Streams what a run adds to an [`Observer`]: every 256 samples or 40 ms, and at the end.
+pub(crate) struct Batcher {
+    samples: usize,
+    events: usize,
+    at: Instant,
+}
+
+impl Batcher {
+    pub(crate) fn new() -> Self {
+        Self {
+            samples: 0,
+            events: 0,
+            at: Instant::now(),
+        }
+    }
+
+    /// Hand over the new results when due; `Cancelled` when the observer says stop.
+    pub(crate) fn maybe(
+        &mut self,
+        out: &RunOutput,
+        t: f64,
+        observer: &mut dyn Observer,
+    ) -> Result<(), SolverError> {
+        if out.samples.len() - self.samples >= 256 || self.at.elapsed().as_millis() >= 40 {
+            let go = self.flush(out, t, observer);
+            if !go {
+                return Err(SolverError::Cancelled { t });
+            }
+        }
+        Ok(())
+    }
+
+    pub(crate) fn flush(&mut self, out: &RunOutput, t: f64, observer: &mut dyn Observer) -> bool {
+        let go = observer.batch(&out.samples[self.samples..], &out.events[self.events..], t);
+        *self = Self {
+            samples: out.samples.len(),
+            events: out.events.len(),
+            at: Instant::now(),
+        };
+        go
+    }
+}
+
 /// Constrained accelerations at one state (the mode's Lagrange multipliers).
 struct Dynamics {
     qdd: DVector<f64>,
@@ -417,7 +460,8 @@ impl<'a> Engine<'a> {
             .iter()
             .enumerate()
             .map(|(j, el)| {
-                let (e, _, _) = scene.deformation_in(&fr, &el.attachment, el.support, &mut self.jac);
+                let (e, _, _) =
+                    scene.deformation_in(&fr, &el.attachment, el.support, &mut self.jac);
                 (e, self.laws[j].force(e))
             })
             .collect();
@@ -624,7 +668,7 @@ impl<'a> Engine<'a> {
                         hist.remove(0);
                     }
                     let sticks = imp.slip_rate_after[a].abs() <= st.velocity_tol.max(1e-12);
-                    self.log(EventRecord {
+                    let record = EventRecord {
                         t: self.t,
                         contact: i,
                         kind: EventKind::Impact,
@@ -635,20 +679,14 @@ impl<'a> Engine<'a> {
                         slip_rate_after: imp.slip_rate_after[a],
                         sticks: (scene.contacts[i].mu > 0.0).then_some(sticks),
                         info: f64::NAN,
-                    })?;
+                    };
+                    self.log(record.clone())?;
                     if let Some(est) = accumulated[a] {
                         self.out.accumulation_times.push((i, est));
                         self.log(EventRecord {
-                            t: self.t,
-                            contact: i,
                             kind: EventKind::Accumulation,
-                            normal: imp.normal_impulse[a],
-                            tangential: imp.tangential_impulse[a],
-                            gap_rate_before: kin[i].gap_rate,
-                            gap_rate_after: imp.gap_rate_after[a],
-                            slip_rate_after: imp.slip_rate_after[a],
-                            sticks: Some(sticks),
                             info: est,
+                            ..record
                         })?;
                     }
                 }
@@ -968,7 +1006,7 @@ pub fn run(scene: &Scene, observer: &mut dyn Observer) -> Result<RunOutput, Solv
         h = h.min(st.h_max);
     }
     let h_min = 1e-14 * st.t_end.max(1.0);
-    let mut last_batch = (0usize, 0usize, Instant::now());
+    let mut batcher = Batcher::new();
     let mut fns = eng.event_fns();
     let mut armed = arm(&mut eng, &fns)?;
     while eng.t < st.t_end {
@@ -1065,26 +1103,12 @@ pub fn run(scene: &Scene, observer: &mut dyn Observer) -> Result<RunOutput, Solv
         } else {
             f0 = step.f1.clone();
         }
-        if eng.out.samples.len() - last_batch.0 >= 256 || last_batch.2.elapsed().as_millis() >= 40 {
-            let cont = observer.batch(
-                &eng.out.samples[last_batch.0..],
-                &eng.out.events[last_batch.1..],
-                eng.t,
-            );
-            last_batch = (eng.out.samples.len(), eng.out.events.len(), Instant::now());
-            if !cont {
-                return Err(SolverError::Cancelled { t: eng.t });
-            }
-        }
+        batcher.maybe(&eng.out, eng.t, observer)?;
     }
     if eng.out.samples.last().is_none_or(|s| s.t < st.t_end) {
         eng.record_sample(SampleKind::Grid)?;
     }
-    observer.batch(
-        &eng.out.samples[last_batch.0..],
-        &eng.out.events[last_batch.1..],
-        eng.t,
-    );
+    batcher.flush(&eng.out, eng.t, observer);
     eng.out.stats.rhs_evals = rhs_evals.get();
     eng.out.stats.wall_time = wall.elapsed().as_secs_f64();
     eng.out.final_laws = eng.laws.clone();

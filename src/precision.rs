@@ -2,10 +2,9 @@
 //! against the error from a converged event-driven reference (Hairer & Wanner's work–precision
 //! diagrams); and where each method fails (stability table).
 
-use crate::event_driven::SolverError;
 use crate::model;
 use crate::output::{EventKind, RunOutput, SampleKind};
-use crate::studies::rotation_dof;
+use crate::studies::{Study, rotation_dof};
 use serde::Serialize;
 use std::path::Path;
 
@@ -80,35 +79,18 @@ fn interp(t: &[f64], y: &[f64], x: f64) -> f64 {
 
 /// A model read once and run with knob overrides.
 pub struct Bench {
-    pub path: std::path::PathBuf,
-    pub text: String,
-    pub base: Vec<String>,
+    pub study: Study,
 }
 
 impl Bench {
     pub fn open(path: &Path, base: &[String]) -> Result<Self, model::ModelError> {
-        let text = std::fs::read_to_string(path).map_err(|e| model::ModelError::Io {
-            path: path.to_path_buf(),
-            source: e,
-        })?;
-        model::load_str(&text, path, base)?;
         Ok(Self {
-            path: path.to_path_buf(),
-            text,
-            base: base.to_vec(),
+            study: Study::open(path, base)?,
         })
     }
 
     pub fn run(&self, set: &[String]) -> Result<(RunOutput, f64), String> {
-        let mut ov = self.base.clone();
-        ov.extend(set.iter().cloned());
-        let scene = model::load_str(&self.text, &self.path, &ov).map_err(|e| e.to_string())?;
-        let t0 = std::time::Instant::now();
-        let r = crate::simulate(&scene, &mut crate::Silent).map_err(|e| match e {
-            SolverError::Unstable { .. } => format!("unstable: {e}"),
-            e => format!("failed: {e}"),
-        })?;
-        Ok((r, t0.elapsed().as_secs_f64()))
+        self.study.simulate(set)
     }
 
     /// The converged event-driven reference.

@@ -118,16 +118,24 @@ impl Study {
         })
     }
 
+    /// Run with extra `key=value` overrides: the output and the wall time of the integration.
+    /// Errors are text ("unstable: …" for a detected instability, "failed: …" otherwise).
+    pub fn simulate(&self, set: &[String]) -> Result<(RunOutput, f64), String> {
+        let mut ov = self.base.clone();
+        ov.extend(set.iter().cloned());
+        let scene = model::load_str(&self.text, &self.path, &ov).map_err(|e| e.to_string())?;
+        let t0 = std::time::Instant::now();
+        let r = crate::simulate(&scene, &mut crate::Silent).map_err(|e| match e {
+            crate::SolverError::Unstable { .. } => format!("unstable: {e}"),
+            e => format!("failed: {e}"),
+        })?;
+        Ok((r, t0.elapsed().as_secs_f64()))
+    }
+
     /// Run with extra overrides.
     pub fn run(&self, set: &[(String, String)]) -> Row {
-        let mut ov = self.base.clone();
-        ov.extend(set.iter().map(|(k, v)| format!("{k}={v}")));
-        let res = model::load_str(&self.text, &self.path, &ov)
-            .map_err(|e| e.to_string())
-            .and_then(|scene| {
-                crate::simulate(&scene, &mut crate::Silent).map_err(|e| e.to_string())
-            });
-        match res {
+        let ov: Vec<String> = set.iter().map(|(k, v)| format!("{k}={v}")).collect();
+        match self.simulate(&ov).map(|(r, _)| r) {
             Ok(r) => row_of(set.to_vec(), &r),
             Err(e) => Row {
                 settings: set.to_vec(),

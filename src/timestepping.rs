@@ -8,7 +8,7 @@
 //!   explicit central-difference scheme (stable for h < 2/ω).
 
 use crate::contact::frictional_velocity_lcp;
-use crate::event_driven::{Observer, SolverError};
+use crate::event_driven::{Batcher, Observer, SolverError};
 use crate::hysteresis::Hysteretic;
 use crate::output::{
     ContactSample, ContactState, EnergySample, EventKind, EventRecord, RunOutput, Sample,
@@ -297,7 +297,7 @@ pub fn run_moreau(scene: &Scene, observer: &mut dyn Observer) -> Result<RunOutpu
     let mut f_k = DVector::zeros(n);
     s.prev_power = s.forces_trial(0.0, &s.q.clone(), &s.v.clone(), &mut f_k);
     s.maybe_sample(0.0);
-    let mut last_batch = (0usize, 0usize, Instant::now());
+    let mut batcher = Batcher::new();
     for k in 0..steps {
         let t1 = (k + 1) as f64 * h;
         let mut f_1 = DVector::zeros(n);
@@ -397,22 +397,9 @@ pub fn run_moreau(scene: &Scene, observer: &mut dyn Observer) -> Result<RunOutpu
         s.out.stats.steps_accepted += 1;
         s.log_transitions(&before, Some((&pn_all, &pt_all)));
         s.maybe_sample(0.0);
-        if last_batch.2.elapsed().as_millis() >= 40 {
-            if !observer.batch(
-                &s.out.samples[last_batch.0..],
-                &s.out.events[last_batch.1..],
-                s.t,
-            ) {
-                return Err(SolverError::Cancelled { t: s.t });
-            }
-            last_batch = (s.out.samples.len(), s.out.events.len(), Instant::now());
-        }
+        batcher.maybe(&s.out, s.t, observer)?;
     }
-    observer.batch(
-        &s.out.samples[last_batch.0..],
-        &s.out.events[last_batch.1..],
-        s.t,
-    );
+    batcher.flush(&s.out, s.t, observer);
     Ok(s.finish(wall, 0.0))
 }
 
@@ -560,7 +547,7 @@ pub fn run_penalty(
     s.prev_power = p0;
     let mut contact_elastic = pf0.elastic;
     s.maybe_sample(contact_elastic);
-    let mut last_batch = (0usize, 0usize, Instant::now());
+    let mut batcher = Batcher::new();
     // explicit: velocity at the half step
     let mut v_half = &s.v - &a_k * (0.5 * h);
     let e_input_scale = |s: &Stepper| s.e0.abs() + s.ledger[0].abs() + s.ledger[1].abs();
@@ -696,22 +683,9 @@ pub fn run_penalty(
         }
         s.log_transitions(&before, None);
         s.maybe_sample(contact_elastic);
-        if last_batch.2.elapsed().as_millis() >= 40 {
-            if !observer.batch(
-                &s.out.samples[last_batch.0..],
-                &s.out.events[last_batch.1..],
-                s.t,
-            ) {
-                return Err(SolverError::Cancelled { t: s.t });
-            }
-            last_batch = (s.out.samples.len(), s.out.events.len(), Instant::now());
-        }
+        batcher.maybe(&s.out, s.t, observer)?;
     }
-    observer.batch(
-        &s.out.samples[last_batch.0..],
-        &s.out.events[last_batch.1..],
-        s.t,
-    );
+    batcher.flush(&s.out, s.t, observer);
     Ok(s.finish(wall, contact_elastic))
 }
 
