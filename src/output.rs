@@ -206,6 +206,35 @@ pub struct Summary {
     pub stats: RunStats,
 }
 
+/// The event log as CSV (events.csv): one row per event, impulses for impacts.
+pub fn events_csv(events: &[EventRecord], contact_names: &[String]) -> String {
+    use std::fmt::Write as _;
+    let mut out = String::from(
+        "t,contact,kind,normal_impulse,tangential_impulse,gap_rate_before,gap_rate_after,slip_rate_after,sticks,accumulation_time\n",
+    );
+    for e in events {
+        let _ = writeln!(
+            out,
+            "{:.15e},{},{},{:.12e},{:.12e},{:.12e},{:.12e},{:.12e},{},{}",
+            e.t,
+            contact_names.get(e.contact).map_or("?", String::as_str),
+            e.kind.label(),
+            e.normal,
+            e.tangential,
+            e.gap_rate_before,
+            e.gap_rate_after,
+            e.slip_rate_after,
+            e.sticks.map_or("", |s| if s { "stick" } else { "slip" }),
+            if e.info.is_finite() {
+                format!("{:.15e}", e.info)
+            } else {
+                String::new()
+            }
+        );
+    }
+    out
+}
+
 /// Everything a run produces.
 #[derive(Clone, Debug)]
 pub struct RunOutput {
@@ -430,32 +459,7 @@ impl RunOutput {
     }
 
     pub fn write_events(&self, path: &Path) -> std::io::Result<()> {
-        let mut w = std::io::BufWriter::new(std::fs::File::create(path)?);
-        writeln!(
-            w,
-            "t,contact,kind,normal_impulse,tangential_impulse,gap_rate_before,gap_rate_after,slip_rate_after,sticks,accumulation_time"
-        )?;
-        for e in &self.events {
-            writeln!(
-                w,
-                "{:.15e},{},{},{:.12e},{:.12e},{:.12e},{:.12e},{:.12e},{},{}",
-                e.t,
-                self.contact_names[e.contact],
-                e.kind.label(),
-                e.normal,
-                e.tangential,
-                e.gap_rate_before,
-                e.gap_rate_after,
-                e.slip_rate_after,
-                e.sticks.map_or("", |s| if s { "stick" } else { "slip" }),
-                if e.info.is_finite() {
-                    format!("{:.15e}", e.info)
-                } else {
-                    String::new()
-                }
-            )?;
-        }
-        w.flush()
+        std::fs::write(path, events_csv(&self.events, &self.contact_names))
     }
 
     pub fn write_summary(&self, path: &Path) -> std::io::Result<()> {

@@ -1263,29 +1263,7 @@ pub fn export_csv(run: &RunData, window: (f64, f64), element: usize) -> (String,
         }
         chart.push('\n');
     }
-    let mut ev = String::from(
-        "t,contact,kind,normal_impulse,tangential_impulse,gap_rate_before,gap_rate_after,slip_rate_after,sticks,accumulation_time\n",
-    );
-    for e in &run.events {
-        let _ = writeln!(
-            ev,
-            "{:.15e},{},{},{:.12e},{:.12e},{:.12e},{:.12e},{:.12e},{},{}",
-            e.t,
-            run.contact_names.get(e.contact).map_or("?", String::as_str),
-            e.kind.label(),
-            e.normal,
-            e.tangential,
-            e.gap_rate_before,
-            e.gap_rate_after,
-            e.slip_rate_after,
-            e.sticks.map_or("", |s| if s { "stick" } else { "slip" }),
-            if e.info.is_finite() {
-                format!("{:.15e}", e.info)
-            } else {
-                String::new()
-            }
-        );
-    }
+    let ev = crate::output::events_csv(&run.events, &run.contact_names);
     (chart, ev)
 }
 
