@@ -218,9 +218,14 @@ impl<'a> Engine<'a> {
         let mut lam_n = vec![0.0; nc];
         let mut lam_t = vec![0.0; nc];
         // force directions F and constraint rows C
-        let mut forces: Vec<DVector<f64>> = Vec::new();
-        let mut rows: Vec<(&DVector<f64>, f64)> = Vec::new();
-        let mut slots: Vec<(usize, bool)> = Vec::new();
+        let cap = 2 * self
+            .state
+            .iter()
+            .filter(|s| **s != ContactState::Open)
+            .count();
+        let mut forces: Vec<DVector<f64>> = Vec::with_capacity(cap);
+        let mut rows: Vec<(&DVector<f64>, f64)> = Vec::with_capacity(cap);
+        let mut slots: Vec<(usize, bool)> = Vec::with_capacity(cap);
         for (i, st) in self.state.iter().enumerate() {
             let c = &scene.contacts[i];
             match *st {
@@ -867,28 +872,74 @@ fn smooth_forces_laws(
 /// conditioned; otherwise the minimum-norm least-squares solution (SVD), which splits forces
 /// equally between redundant constraints.
 fn solve_small(a: DMatrix<f64>, b: DVector<f64>) -> DVector<f64> {
+    const N: usize = 12;
     let n = a.nrows();
-    if n == 1 {
-        let d = a[(0, 0)];
-        return if d.abs() > 1e-300 {
-            DVector::from_element(1, b[0] / d)
-        } else {
-            DVector::zeros(1)
-        };
-    }
-    let lu = a.clone().full_piv_lu();
-    let u = lu.u();
-    let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
-    for i in 0..n {
-        let d = u[(i, i)].abs();
-        lo = lo.min(d);
-        hi = hi.max(d);
-    }
-    if hi > 0.0
-        && lo > 1e-9 * hi
-        && let Some(x) = lu.solve(&b)
-    {
-        return x;
+    if n <= N {
+        // Gaussian elimination with complete pivoting on the stack
+        let mut m = [[0.0f64; N]; N];
+        let mut r = [0.0f64; N];
+        let mut perm = [0usize; N];
+        for i in 0..n {
+            for j in 0..n {
+                m[i][j] = a[(i, j)];
+            }
+            r[i] = b[i];
+            perm[i] = i;
+        }
+        let mut hi = 0.0f64;
+        let mut lo = f64::INFINITY;
+        let mut ok = true;
+        for k in 0..n {
+            let (mut pi, mut pj, mut best) = (k, k, 0.0f64);
+            for (i, row) in m.iter().enumerate().take(n).skip(k) {
+                for (j, x) in row.iter().enumerate().take(n).skip(k) {
+                    if x.abs() > best {
+                        (pi, pj, best) = (i, j, x.abs());
+                    }
+                }
+            }
+            hi = hi.max(best);
+            lo = lo.min(best);
+            if best == 0.0 || lo <= 1e-9 * hi {
+                ok = false;
+                break;
+            }
+            m.swap(k, pi);
+            r.swap(k, pi);
+            if pj != k {
+                for row in m.iter_mut().take(n) {
+                    row.swap(k, pj);
+                }
+                perm.swap(k, pj);
+            }
+            let pivot_row = m[k];
+            for i in k + 1..n {
+                let f = m[i][k] / pivot_row[k];
+                if f != 0.0 {
+                    for (x, p) in m[i][k..n].iter_mut().zip(&pivot_row[k..n]) {
+                        *x -= f * p;
+                    }
+                    r[i] -= f * r[k];
+                }
+            }
+        }
+        if ok {
+            let mut x = [0.0f64; N];
+            for k in (0..n).rev() {
+                let mut acc = r[k];
+                for j in k + 1..n {
+                    acc -= m[k][j] * x[j];
+                }
+                x[k] = acc / m[k][k];
+            }
+            let mut out = DVector::zeros(n);
+            for k in 0..n {
+                out[perm[k]] = x[k];
+            }
+            if out.iter().all(|v| v.is_finite()) {
+                return out;
+            }
+        }
     }
     let scale = a.amax().max(1e-300);
     let svd = a.svd(true, true);
