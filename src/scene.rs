@@ -518,6 +518,56 @@ impl Scene {
         }
     }
 
+    /// [`Scene::deformation_in`] with the Jacobian as (dof, coefficient) pairs (at most 3),
+    /// for the force loop of the right-hand side.
+    pub fn deformation_sparse(
+        &self,
+        fr: &Frame,
+        att: &Attachment,
+        support: Option<usize>,
+    ) -> (f64, f64, f64, [(usize, f64); 3], usize) {
+        let (ug, vg, _) = support.map_or((0.0, 0.0, 0.0), |s| fr.supports[s]);
+        let mut jac = [(0usize, 0.0f64); 3];
+        let mut nj = 0;
+        match att {
+            Attachment::Point {
+                body,
+                point,
+                direction,
+            } => {
+                let s = fr.poses[*body];
+                let rho = s.rot(*point);
+                let disp = s.position - self.bodies[*body].reference + rho - point;
+                let vel = s.velocity + s.omega * perp(rho);
+                let dofs = &self.bodies[*body].dofs;
+                for (a, c) in [direction.x, direction.y, direction.dot(&perp(rho))]
+                    .into_iter()
+                    .enumerate()
+                {
+                    if let Some(k) = dofs[a] {
+                        jac[nj] = (k, c);
+                        nj += 1;
+                    }
+                }
+                (
+                    direction.dot(&disp) - ug,
+                    direction.dot(&vel) - vg,
+                    vg,
+                    jac,
+                    nj,
+                )
+            }
+            Attachment::Rotation { body } => {
+                let s = fr.poses[*body];
+                if let Some(k) = self.bodies[*body].dofs[2] {
+                    jac[0] = (k, 1.0);
+                    nj = 1;
+                }
+                (s.angle - ug, s.omega - vg, vg, jac, nj)
+            }
+        }
+    }
+
     /// Time instants where the right-hand side is not smooth in t (record samples).
     pub fn breakpoints(&self) -> Vec<f64> {
         let mut out = Vec::new();
@@ -600,7 +650,7 @@ pub fn smooth_forces_in(
     _q: &DVector<f64>,
     v: &DVector<f64>,
     h: &mut DVector<f64>,
-    jac: &mut DVector<f64>,
+    _jac: &mut DVector<f64>,
 ) -> PowerTerms {
     h.copy_from(&scene.loads);
     let mut p = PowerTerms {
@@ -608,17 +658,21 @@ pub fn smooth_forces_in(
         ..Default::default()
     };
     for s in &scene.springs {
-        let (e, ed, vg) = scene.deformation_in(fr, &s.attachment, s.support, jac);
+        let (e, ed, vg, jj, nj) = scene.deformation_sparse(fr, &s.attachment, s.support);
         let f = s.stiffness * e + s.damping * ed;
-        h.axpy(-f, jac, 1.0);
+        for &(k, c) in &jj[..nj] {
+            h[k] -= f * c;
+        }
         p.supports -= f * vg;
         p.damping += s.damping * ed * ed;
     }
     for (j, el) in scene.hysteretic.iter().enumerate() {
-        let (e, ed, vg) = scene.deformation_in(fr, &el.attachment, el.support, jac);
+        let (e, ed, vg, jj, nj) = scene.deformation_sparse(fr, &el.attachment, el.support);
         let fh = laws.map_or(&el.law, |l| &l[j]).force(e);
         let f = fh + el.damping * ed;
-        h.axpy(-f, jac, 1.0);
+        for &(k, c) in &jj[..nj] {
+            h[k] -= f * c;
+        }
         p.supports -= f * vg;
         p.damping += el.damping * ed * ed;
         p.hysteretic += fh * ed;
