@@ -167,6 +167,20 @@ struct Engine<'a> {
     jac: DVector<f64>,
     /// Event function values at the end of the last step (reused at the next step's start).
     last_event_values: Option<(f64, Vec<f64>)>,
+    /// Reused storage of the right-hand side (q, q̇, h, poses, contact kinematics).
+    scratch: Scratch,
+    /// Reused storage of the event functions.
+    event_frame: crate::scene::Frame,
+    event_qv: (DVector<f64>, DVector<f64>),
+}
+
+#[derive(Default)]
+struct Scratch {
+    q: DVector<f64>,
+    v: DVector<f64>,
+    h: DVector<f64>,
+    fr: crate::scene::Frame,
+    kin: Vec<ContactKinematics>,
 }
 
 fn sgn(x: f64) -> f64 {
@@ -197,23 +211,30 @@ impl<'a> Engine<'a> {
     ) -> Result<Dynamics, SolverError> {
         let n = self.n;
         let scene = self.scene;
-        let q = y.rows(0, n).into_owned();
-        let v = y.rows(n, n).into_owned();
-        let mut h = DVector::zeros(n);
-        let fr = scene.frame(t, &q, &v);
+        let Scratch {
+            mut q,
+            mut v,
+            mut h,
+            mut fr,
+            mut kin,
+        } = std::mem::take(&mut self.scratch);
+        if q.len() != n {
+            (q, v, h) = (DVector::zeros(n), DVector::zeros(n), DVector::zeros(n));
+        }
+        q.copy_from(&y.rows(0, n));
+        v.copy_from(&y.rows(n, n));
+        scene.frame_into(&mut fr, t, &q, &v);
         let power = smooth_forces_in(scene, Some(&self.laws), &fr, &q, &v, &mut h, &mut self.jac);
-        let kin: Vec<ContactKinematics> = scene
-            .contacts
-            .iter()
-            .zip(&self.state)
-            .map(|(c, st)| {
-                if all || *st != ContactState::Open {
-                    scene.contact_kinematics_in(&fr, c)
-                } else {
-                    ContactKinematics::placeholder()
-                }
-            })
-            .collect();
+        kin.resize_with(scene.contacts.len(), ContactKinematics::placeholder);
+        for ((c, st), k) in scene.contacts.iter().zip(&self.state).zip(kin.iter_mut()) {
+            if all || *st != ContactState::Open {
+                scene.contact_kinematics_into(&fr, c, k);
+            } else {
+                k.gap = f64::INFINITY;
+                k.gap_rate = 0.0;
+                k.slip_rate = 0.0;
+            }
+        }
         let nc = kin.len();
         let mut lam_n = vec![0.0; nc];
         let mut lam_t = vec![0.0; nc];
@@ -306,6 +327,13 @@ impl<'a> Engine<'a> {
                 }
             }
         }
+        self.scratch = Scratch {
+            q,
+            v,
+            h,
+            fr,
+            kin: Vec::new(),
+        };
         Ok(Dynamics {
             qdd,
             lam_n,
@@ -331,6 +359,7 @@ impl<'a> Engine<'a> {
         out[2 * n + 2] = d.power.damping;
         out[2 * n + 3] = d.power.hysteretic;
         out[2 * n + 4] = contact_loss;
+        self.scratch.kin = d.kin;
         Ok(())
     }
 
@@ -379,19 +408,23 @@ impl<'a> Engine<'a> {
             .any(|f| matches!(f, EventFn::Release(_) | EventFn::StickSlip(_)));
         let n = self.n;
         let scene = self.scene;
-        let q = y.rows(0, n).into_owned();
-        let v = y.rows(n, n).into_owned();
         let dynamics = if needs_forces {
             Some(self.dynamics_with(t, y, false)?)
         } else {
             None
         };
-        let fr = scene.frame(t, &q, &v);
+        let mut fr = std::mem::take(&mut self.event_frame);
+        if self.event_qv.0.len() != n {
+            self.event_qv = (DVector::zeros(n), DVector::zeros(n));
+        }
+        self.event_qv.0.copy_from(&y.rows(0, n));
+        self.event_qv.1.copy_from(&y.rows(n, n));
+        scene.frame_into(&mut fr, t, &self.event_qv.0, &self.event_qv.1);
         let mut defo: Vec<Option<(f64, f64)>> = vec![None; scene.hysteretic.len()];
         let mut vals = Vec::with_capacity(fns.len());
         for f in fns {
             let val = match *f {
-                EventFn::Gap(i) => scene.contact_kinematics_in(&fr, &scene.contacts[i]).gap,
+                EventFn::Gap(i) => scene.contact_rates_in(&fr, &scene.contacts[i]).0,
                 EventFn::Release(i) => dynamics.as_ref().map_or(0.0, |d| d.lam_n[i]),
                 EventFn::StickSlip(i) => dynamics.as_ref().map_or(0.0, |d| {
                     scene.contacts[i].mu * d.lam_n[i] - d.lam_t[i].abs()
@@ -401,21 +434,15 @@ impl<'a> Engine<'a> {
                         ContactState::Slide(s) => s,
                         _ => 1.0,
                     };
-                    s * scene
-                        .contact_kinematics_in(&fr, &scene.contacts[i])
-                        .slip_rate
+                    s * scene.contact_rates_in(&fr, &scene.contacts[i]).2
                 }
                 EventFn::Lower(j) | EventFn::Upper(j) | EventFn::Reversal(j) => {
                     let (e, ed) = match defo[j] {
                         Some(d) => d,
                         None => {
                             let el = &scene.hysteretic[j];
-                            let (e, ed, _) = scene.deformation_in(
-                                &fr,
-                                &el.attachment,
-                                el.support,
-                                &mut self.jac,
-                            );
+                            let (e, ed, ..) =
+                                scene.deformation_sparse(&fr, &el.attachment, el.support);
                             defo[j] = Some((e, ed));
                             (e, ed)
                         }
@@ -429,6 +456,10 @@ impl<'a> Engine<'a> {
                 }
             };
             vals.push(val);
+        }
+        self.event_frame = fr;
+        if let Some(d) = dynamics {
+            self.scratch.kin = d.kin;
         }
         Ok(vals)
     }
@@ -526,10 +557,11 @@ impl<'a> Engine<'a> {
             .filter(|&i| self.state[i] != ContactState::Open)
             .collect();
         // closed contacts, and open ones that penetrate (after an event located past g_N = 0)
+        let fr = scene.frame(self.t, &q, &v);
         let held: Vec<usize> = (0..self.state.len())
             .filter(|&i| {
                 self.state[i] != ContactState::Open
-                    || scene.contact_kinematics(&scene.contacts[i], &q, &v).gap < 0.0
+                    || scene.contact_rates_in(&fr, &scene.contacts[i]).0 < 0.0
             })
             .collect();
         if held.is_empty() {
@@ -996,6 +1028,9 @@ pub fn run(scene: &Scene, observer: &mut dyn Observer) -> Result<RunOutput, Solv
         force_scale: 0.0,
         jac: DVector::zeros(n),
         last_event_values: None,
+        scratch: Scratch::default(),
+        event_frame: Default::default(),
+        event_qv: (DVector::zeros(0), DVector::zeros(0)),
     };
     // initial hysteretic directions from the initial deformation rates
     {
@@ -1275,6 +1310,7 @@ fn arm(eng: &mut Engine, fns: &[EventFn]) -> Result<Vec<bool>, SolverError> {
     let q = y.rows(0, n).into_owned();
     let v = y.rows(n, n).into_owned();
     let scene = eng.scene;
+    let fr = scene.frame(eng.t, &q, &v);
     Ok(fns
         .iter()
         .zip(vals)
@@ -1284,9 +1320,7 @@ fn arm(eng: &mut Engine, fns: &[EventFn]) -> Result<Vec<bool>, SolverError> {
                 EventFn::Gap(i) => {
                     val > thr
                         || (val > -scene.settings.gap_tol
-                            && scene
-                                .contact_kinematics(&scene.contacts[i], &q, &v)
-                                .gap_rate
+                            && scene.contact_rates_in(&fr, &scene.contacts[i]).1
                                 > scene.settings.velocity_tol)
                 }
                 EventFn::SlideStop(_)

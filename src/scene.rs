@@ -323,9 +323,21 @@ impl BodyState {
     }
 }
 
+impl Default for BodyState {
+    fn default() -> Self {
+        Self {
+            position: Vector2::zeros(),
+            angle: 0.0,
+            velocity: Vector2::zeros(),
+            omega: 0.0,
+            cs: (1.0, 0.0),
+        }
+    }
+}
+
 /// Everything position- and time-dependent that several elements share, computed once per
 /// evaluation: body poses and support motions.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Default)]
 pub struct Frame {
     pub poses: Vec<BodyState>,
     pub ground: BodyState,
@@ -425,6 +437,16 @@ impl Scene {
         }
     }
 
+    /// [`Scene::frame`] written into `fr`, reusing its storage.
+    pub fn frame_into(&self, fr: &mut Frame, t: f64, q: &DVector<f64>, v: &DVector<f64>) {
+        fr.poses.clear();
+        fr.poses
+            .extend((0..self.bodies.len()).map(|i| self.body_state(BodyRef::Body(i), q, v)));
+        fr.ground = self.body_state(BodyRef::Ground, q, v);
+        fr.supports.clear();
+        fr.supports.extend(self.supports.iter().map(|s| s.at(t)));
+    }
+
     /// [`Scene::contact_kinematics`] from precomputed poses.
     pub fn contact_kinematics_in(&self, fr: &Frame, c: &Contact) -> ContactKinematics {
         self.contact_kinematics_of(c, fr.pose(c.point_body), fr.pose(c.face_body))
@@ -436,6 +458,36 @@ impl Scene {
         a: &BodyState,
         b: &BodyState,
     ) -> ContactKinematics {
+        let mut out = ContactKinematics::placeholder();
+        self.contact_kinematics_fill(c, a, b, &mut out);
+        out
+    }
+
+    /// (g_N, ġ_N, ġ_T) of a contact without its Jacobians (event functions).
+    pub fn contact_rates_in(&self, fr: &Frame, c: &Contact) -> (f64, f64, f64) {
+        let (a, b) = (fr.pose(c.point_body), fr.pose(c.face_body));
+        let rho_a = a.rot(c.point);
+        let p = a.position + rho_a;
+        let n = b.rot(c.face_normal);
+        let t = Vector2::new(n.y, -n.x);
+        let o = b.position + b.rot(c.face_point);
+        let v_rel =
+            a.velocity + a.omega * perp(rho_a) - b.velocity - b.omega * perp(p - b.position);
+        (n.dot(&(p - o)), n.dot(&v_rel), t.dot(&v_rel))
+    }
+
+    /// [`Scene::contact_kinematics_in`] written into `out`, reusing its Jacobian storage.
+    pub fn contact_kinematics_into(&self, fr: &Frame, c: &Contact, out: &mut ContactKinematics) {
+        self.contact_kinematics_fill(c, fr.pose(c.point_body), fr.pose(c.face_body), out);
+    }
+
+    fn contact_kinematics_fill(
+        &self,
+        c: &Contact,
+        a: &BodyState,
+        b: &BodyState,
+        out: &mut ContactKinematics,
+    ) {
         let n_dof = self.ndof();
         let rho_a = a.rot(c.point);
         let p = a.position + rho_a;
@@ -448,8 +500,15 @@ impl Scene {
         let v_p = a.velocity + a.omega * perp(rho_a);
         let v_bmat = b.velocity + b.omega * perp(arm_b);
         let v_rel = v_p - v_bmat;
-        let mut w_n = DVector::zeros(n_dof);
-        let mut w_t = DVector::zeros(n_dof);
+        let mut w_n = std::mem::replace(&mut out.w_n, DVector::zeros(0));
+        let mut w_t = std::mem::replace(&mut out.w_t, DVector::zeros(0));
+        if w_n.len() != n_dof {
+            w_n = DVector::zeros(n_dof);
+            w_t = DVector::zeros(n_dof);
+        } else {
+            w_n.fill(0.0);
+            w_t.fill(0.0);
+        }
         self.add_point_jacobian(&mut w_n, c.point_body, rho_a, n, 1.0);
         self.add_point_jacobian(&mut w_n, c.face_body, arm_b, n, -1.0);
         self.add_point_jacobian(&mut w_t, c.point_body, rho_a, t, 1.0);
@@ -458,7 +517,7 @@ impl Scene {
         let common = -a.omega * a.omega * rho_a - b.omega * perp(v_p - b.velocity);
         let bias_n = -b.omega * t.dot(&v_rel) + n.dot(&common);
         let bias_t = b.omega * n.dot(&v_rel) + t.dot(&common);
-        ContactKinematics {
+        *out = ContactKinematics {
             gap,
             gap_rate: n.dot(&v_rel),
             slip_rate: t.dot(&v_rel),
@@ -468,7 +527,7 @@ impl Scene {
             bias_t,
             point: p,
             normal: n,
-        }
+        };
     }
 
     /// Deformation e, rate ė and generalized direction J = ∂e/∂q of an attachment.
