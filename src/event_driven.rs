@@ -904,79 +904,97 @@ fn smooth_forces_laws(
 /// conditioned; otherwise the minimum-norm least-squares solution (SVD), which splits forces
 /// equally between redundant constraints.
 fn solve_small(a: DMatrix<f64>, b: DVector<f64>) -> DVector<f64> {
-    const N: usize = 12;
-    let n = a.nrows();
-    if n <= N {
-        // Gaussian elimination with complete pivoting on the stack
-        let mut m = [[0.0f64; N]; N];
-        let mut r = [0.0f64; N];
-        let mut perm = [0usize; N];
-        for i in 0..n {
-            for j in 0..n {
-                m[i][j] = a[(i, j)];
-            }
-            r[i] = b[i];
-            perm[i] = i;
-        }
-        let mut hi = 0.0f64;
-        let mut lo = f64::INFINITY;
-        let mut ok = true;
-        for k in 0..n {
-            let (mut pi, mut pj, mut best) = (k, k, 0.0f64);
-            for (i, row) in m.iter().enumerate().take(n).skip(k) {
-                for (j, x) in row.iter().enumerate().take(n).skip(k) {
-                    if x.abs() > best {
-                        (pi, pj, best) = (i, j, x.abs());
-                    }
-                }
-            }
-            hi = hi.max(best);
-            lo = lo.min(best);
-            if best == 0.0 || lo <= 1e-9 * hi {
-                ok = false;
-                break;
-            }
-            m.swap(k, pi);
-            r.swap(k, pi);
-            if pj != k {
-                for row in m.iter_mut().take(n) {
-                    row.swap(k, pj);
-                }
-                perm.swap(k, pj);
-            }
-            let pivot_row = m[k];
-            for i in k + 1..n {
-                let f = m[i][k] / pivot_row[k];
-                if f != 0.0 {
-                    for (x, p) in m[i][k..n].iter_mut().zip(&pivot_row[k..n]) {
-                        *x -= f * p;
-                    }
-                    r[i] -= f * r[k];
-                }
-            }
-        }
-        if ok {
-            let mut x = [0.0f64; N];
-            for k in (0..n).rev() {
-                let mut acc = r[k];
-                for j in k + 1..n {
-                    acc -= m[k][j] * x[j];
-                }
-                x[k] = acc / m[k][k];
-            }
-            let mut out = DVector::zeros(n);
-            for k in 0..n {
-                out[perm[k]] = x[k];
-            }
-            if out.iter().all(|v| v.is_finite()) {
-                return out;
-            }
+    if let Some(x) = eliminate(&a, &b) {
+        return x;
+    }
+    // rank-deficient (redundant constraints): λ = Aᵀ(AAᵀ + δI)⁻¹ b, the minimum-norm
+    // solution of a consistent system as δ → 0; SVD if that does not reproduce b
+    let aat = &a * a.transpose();
+    let delta = 1e-12 * aat.diagonal().amax().max(1e-300);
+    let mut reg = aat.clone();
+    for i in 0..reg.nrows() {
+        reg[(i, i)] += delta;
+    }
+    if let Some(y) = eliminate_tol(&reg, &b, 1e-15) {
+        let x = a.transpose() * y;
+        if (&a * &x - &b).amax() <= 1e-9 * (1.0 + b.amax()) {
+            return x;
         }
     }
     let scale = a.amax().max(1e-300);
     let svd = a.svd(true, true);
     svd.solve(&b, 1e-9 * scale)
         .unwrap_or_else(|_| DVector::zeros(b.len()))
+}
+
+/// Gaussian elimination with complete pivoting on the stack (n ≤ 12); None when a pivot falls
+/// below 1e-9 of the largest (rank-deficient).
+fn eliminate(a: &DMatrix<f64>, b: &DVector<f64>) -> Option<DVector<f64>> {
+    eliminate_tol(a, b, 1e-9)
+}
+
+fn eliminate_tol(a: &DMatrix<f64>, b: &DVector<f64>, tol: f64) -> Option<DVector<f64>> {
+    const N: usize = 12;
+    let n = a.nrows();
+    if n > N {
+        return a.clone().full_piv_lu().solve(b);
+    }
+    let mut m = [[0.0f64; N]; N];
+    let mut r = [0.0f64; N];
+    let mut perm = [0usize; N];
+    for i in 0..n {
+        for j in 0..n {
+            m[i][j] = a[(i, j)];
+        }
+        r[i] = b[i];
+        perm[i] = i;
+    }
+    let mut hi = 0.0f64;
+    for k in 0..n {
+        let (mut pi, mut pj, mut best) = (k, k, 0.0f64);
+        for (i, row) in m.iter().enumerate().take(n).skip(k) {
+            for (j, x) in row.iter().enumerate().take(n).skip(k) {
+                if x.abs() > best {
+                    (pi, pj, best) = (i, j, x.abs());
+                }
+            }
+        }
+        hi = hi.max(best);
+        if best == 0.0 || best <= tol * hi {
+            return None;
+        }
+        m.swap(k, pi);
+        r.swap(k, pi);
+        if pj != k {
+            for row in m.iter_mut().take(n) {
+                row.swap(k, pj);
+            }
+            perm.swap(k, pj);
+        }
+        let pivot_row = m[k];
+        for i in k + 1..n {
+            let f = m[i][k] / pivot_row[k];
+            if f != 0.0 {
+                for (x, p) in m[i][k..n].iter_mut().zip(&pivot_row[k..n]) {
+                    *x -= f * p;
+                }
+                r[i] -= f * r[k];
+            }
+        }
+    }
+    let mut x = [0.0f64; N];
+    for k in (0..n).rev() {
+        let mut acc = r[k];
+        for j in k + 1..n {
+            acc -= m[k][j] * x[j];
+        }
+        x[k] = acc / m[k][k];
+    }
+    let mut out = DVector::zeros(n);
+    for k in 0..n {
+        out[perm[k]] = x[k];
+    }
+    out.iter().all(|v| v.is_finite()).then_some(out)
 }
 
 /// δ = M⁻¹Jᵀ (J M⁻¹ Jᵀ)⁺ r: the minimum-M-norm correction with J δ = r.

@@ -444,7 +444,21 @@ impl Scene {
             .extend((0..self.bodies.len()).map(|i| self.body_state(BodyRef::Body(i), q, v)));
         fr.ground = self.body_state(BodyRef::Ground, q, v);
         fr.supports.clear();
-        fr.supports.extend(self.supports.iter().map(|s| s.at(t)));
+        for (i, s) in self.supports.iter().enumerate() {
+            // supports driven by the same processed record are evaluated once
+            let same = match &s.motion {
+                Motion::Record(g) => self.supports[..i].iter().position(|o| {
+                    matches!(&o.motion, Motion::Record(h) if Arc::ptr_eq(g, h))
+                        && o.factor == s.factor
+                }),
+                Motion::Harmonic { .. } => None,
+            };
+            let val = match same {
+                Some(j) => fr.supports[j],
+                None => s.at(t),
+            };
+            fr.supports.push(val);
+        }
     }
 
     /// [`Scene::contact_kinematics`] from precomputed poses.
