@@ -1297,18 +1297,20 @@ fn track_peaks(out: &mut RunOutput, step: &dopri::Step, t1: f64, n: usize) {
         consider(t1, y1[k]);
         let (v0, v1) = (step.y0[n + k], y1[n + k]);
         if v0 * v1 < 0.0 {
-            let (mut a, mut b) = (step.t0, t1);
-            for _ in 0..40 {
+            let mut buf = step.y0.clone();
+            let (mut a, mut b) = (0.0, (t1 - step.t0) / step.h);
+            for _ in 0..30 {
                 let m = 0.5 * (a + b);
-                let vm = step.dense(m)[n + k];
-                if vm * v0 > 0.0 {
+                step.dense_into(m, &mut buf);
+                if buf[n + k] * v0 > 0.0 {
                     a = m;
                 } else {
                     b = m;
                 }
             }
-            let tm = 0.5 * (a + b);
-            consider(tm, step.dense(tm)[k]);
+            let th = 0.5 * (a + b);
+            step.dense_into(th, &mut buf);
+            consider(step.t0 + th * step.h, buf[k]);
         }
     }
 }
