@@ -753,7 +753,15 @@ pub fn smooth_forces_in(
     let md = &scene.mass_damping;
     if md.alpha != 0.0 {
         // v_ref from supports; F = −a₀ M (v − v_ref)
-        let mut vref = vec![0.0; scene.ndof()];
+        let n = scene.ndof();
+        let mut stack = [0.0f64; 16];
+        let mut heap = Vec::new();
+        let vref: &mut [f64] = if n <= 16 {
+            &mut stack[..n]
+        } else {
+            heap.resize(n, 0.0);
+            &mut heap
+        };
         for &(k, s, f) in &md.reference {
             vref[k] += f * fr.supports[s].1;
         }
