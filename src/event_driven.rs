@@ -171,6 +171,8 @@ struct Engine<'a> {
     scratch: Scratch,
     /// Reused storage of the event functions.
     event_frame: crate::scene::Frame,
+    /// Event function values computed by the last `arm` (for `due_now` at the same instant).
+    arm_values: Vec<f64>,
     event_qv: (DVector<f64>, DVector<f64>),
 }
 
@@ -1048,6 +1050,7 @@ pub fn run(scene: &Scene, observer: &mut dyn Observer) -> Result<RunOutput, Solv
         last_event_values: None,
         scratch: Scratch::default(),
         event_frame: Default::default(),
+        arm_values: Vec::new(),
         event_qv: (DVector::zeros(0), DVector::zeros(0)),
     };
     // initial hysteretic directions from the initial deformation rates
@@ -1251,13 +1254,18 @@ fn process_event(eng: &mut Engine, f: EventFn) -> Result<(), SolverError> {
 
 /// A function already past its threshold at the current instant (it crossed together with
 /// the event just processed). Gaps count only while closing.
+/// Uses the values [`arm`] has just computed at this instant.
 fn due_now(
     eng: &mut Engine,
     fns: &[EventFn],
     done: &[EventFn],
 ) -> Result<Option<EventFn>, SolverError> {
     let y = eng.y.clone();
-    let vals = eng.event_values(eng.t, &y, fns)?;
+    let vals = if eng.arm_values.len() == fns.len() {
+        std::mem::take(&mut eng.arm_values)
+    } else {
+        eng.event_values(eng.t, &y, fns)?
+    };
     let n = eng.n;
     let q = y.rows(0, n).into_owned();
     let v = y.rows(n, n).into_owned();
@@ -1326,6 +1334,7 @@ fn arm(eng: &mut Engine, fns: &[EventFn]) -> Result<Vec<bool>, SolverError> {
     eng.last_event_values = None;
     let y = eng.y.clone();
     let vals = eng.event_values(eng.t, &y, fns)?;
+    eng.arm_values = vals.clone();
     let n = eng.n;
     let q = y.rows(0, n).into_owned();
     let v = y.rows(n, n).into_owned();
@@ -1442,6 +1451,9 @@ fn illinois(
     let tol = eng.scene.settings.event_time_tol;
     let one = [fns[k]];
     let mut side = 0i32;
+    let mut y = step.y0.clone();
+    let scene = eng.scene;
+    let n = eng.n;
     for _ in 0..200 {
         if tb - ta <= tol.max(4.0 * f64::EPSILON * tb.abs()) {
             break;
@@ -1450,8 +1462,29 @@ fn illinois(
         if !(tm > ta && tm < tb) {
             tm = 0.5 * (ta + tb);
         }
-        let y = step.dense(tm);
-        let mut fm = eng.event_values(tm, &y, &one)?[0];
+        step.dense_into((tm - step.t0) / step.h, &mut y);
+        let mut fm = match fns[k] {
+            // a branch function needs only its element: one body pose, one support
+            EventFn::Lower(j) | EventFn::Upper(j) | EventFn::Reversal(j) => {
+                let el = &scene.hysteretic[j];
+                let body = match el.attachment {
+                    crate::scene::Attachment::Point { body, .. }
+                    | crate::scene::Attachment::Rotation { body } => body,
+                };
+                let pose = scene.body_state_from(body, &y, n);
+                let sup = el
+                    .support
+                    .map_or((0.0, 0.0, 0.0), |s| scene.supports[s].at(tm));
+                let (e, ed, ..) = scene.deformation_at(&el.attachment, &pose, sup);
+                let b = eng.laws[j].branch();
+                match fns[k] {
+                    EventFn::Lower(_) => e - b.lower,
+                    EventFn::Upper(_) => b.upper - e,
+                    _ => b.direction * ed,
+                }
+            }
+            _ => eng.event_values(tm, &y, &one)?[0],
+        };
         if !armed {
             fm += thr;
         }

@@ -599,7 +599,21 @@ impl Scene {
         att: &Attachment,
         support: Option<usize>,
     ) -> (f64, f64, f64, [(usize, f64); 3], usize) {
-        let (ug, vg, _) = support.map_or((0.0, 0.0, 0.0), |s| fr.supports[s]);
+        let body = match att {
+            Attachment::Point { body, .. } | Attachment::Rotation { body } => *body,
+        };
+        let sup = support.map_or((0.0, 0.0, 0.0), |s| fr.supports[s]);
+        self.deformation_at(att, &fr.poses[body], sup)
+    }
+
+    /// Deformation, rate, support velocity and sparse Jacobian of an attachment from the pose of
+    /// its body and the motion (u_g, u̇_g, ü_g) of its support.
+    pub fn deformation_at(
+        &self,
+        att: &Attachment,
+        s: &BodyState,
+        (ug, vg, _): (f64, f64, f64),
+    ) -> (f64, f64, f64, [(usize, f64); 3], usize) {
         let mut jac = [(0usize, 0.0f64); 3];
         let mut nj = 0;
         match att {
@@ -608,7 +622,6 @@ impl Scene {
                 point,
                 direction,
             } => {
-                let s = fr.poses[*body];
                 let rho = s.rot(*point);
                 let disp = s.position - self.bodies[*body].reference + rho - point;
                 let vel = s.velocity + s.omega * perp(rho);
@@ -631,13 +644,31 @@ impl Scene {
                 )
             }
             Attachment::Rotation { body } => {
-                let s = fr.poses[*body];
                 if let Some(k) = self.bodies[*body].dofs[2] {
                     jac[0] = (k, 1.0);
                     nj = 1;
                 }
                 (s.angle - ug, s.omega - vg, vg, jac, nj)
             }
+        }
+    }
+
+    /// Pose of body `i` from a state vector y = [q; q̇] with n DOFs.
+    pub fn body_state_from(&self, i: usize, y: &DVector<f64>, n: usize) -> BodyState {
+        let body = &self.bodies[i];
+        let get = |a: usize, off: usize| body.dofs[a].map_or(0.0, |k| y[off + k]);
+        let angle = get(2, 0);
+        BodyState {
+            position: body.reference + Vector2::new(get(0, 0), get(1, 0)),
+            angle,
+            velocity: Vector2::new(get(0, n), get(1, n)),
+            omega: get(2, n),
+            cs: if angle == 0.0 {
+                (1.0, 0.0)
+            } else {
+                let (s, c) = angle.sin_cos();
+                (c, s)
+            },
         }
     }
 
