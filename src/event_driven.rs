@@ -197,6 +197,17 @@ impl<'a> Engine<'a> {
         self.y.rows(self.n, self.n).into_owned()
     }
 
+    /// Kinematics of every contact at the current state.
+    fn all_kinematics(&self) -> Vec<ContactKinematics> {
+        let (q, v) = (self.q(), self.v());
+        let fr = self.scene.frame(self.t, &q, &v);
+        self.scene
+            .contacts
+            .iter()
+            .map(|c| self.scene.contact_kinematics_in(&fr, c))
+            .collect()
+    }
+
     /// Constrained dynamics in the current mode: M q̈ = h + Σ W λ with g̈_N = 0 (closed),
     /// g̈_T = 0 (stick), λ_T = −μ s λ_N (slide).
     fn dynamics(&mut self, t: f64, y: &DVector<f64>) -> Result<Dynamics, SolverError> {
@@ -624,13 +635,7 @@ impl<'a> Engine<'a> {
         let before = self.state.clone();
         let mut impacted = vec![false; nc];
         for _pass in 0..8 {
-            let q = self.q();
-            let v = self.v();
-            let kin: Vec<ContactKinematics> = scene
-                .contacts
-                .iter()
-                .map(|c| scene.contact_kinematics(c, &q, &v))
-                .collect();
+            let kin = self.all_kinematics();
             let set: Vec<usize> = (0..nc).filter(|&i| kin[i].gap <= st.gap_tol).collect();
             let approaching: Vec<usize> = set
                 .iter()
@@ -732,13 +737,8 @@ impl<'a> Engine<'a> {
             }
         }
         // acceleration level
-        let q = self.q();
-        let v = self.v();
-        let kin: Vec<ContactKinematics> = scene
-            .contacts
-            .iter()
-            .map(|c| scene.contact_kinematics(c, &q, &v))
-            .collect();
+        let (q, v) = (self.q(), self.v());
+        let kin = self.all_kinematics();
         let closed: Vec<usize> = (0..nc)
             .filter(|&i| kin[i].gap <= st.gap_tol && kin[i].gap_rate.abs() <= st.velocity_tol)
             .collect();

@@ -369,23 +369,7 @@ impl Scene {
                 omega: 0.0,
                 cs: (1.0, 0.0),
             },
-            BodyRef::Body(i) => {
-                let body = &self.bodies[i];
-                let get = |a: usize, x: &DVector<f64>| body.dofs[a].map_or(0.0, |k| x[k]);
-                let angle = get(2, q);
-                BodyState {
-                    position: body.reference + Vector2::new(get(0, q), get(1, q)),
-                    angle,
-                    velocity: Vector2::new(get(0, v), get(1, v)),
-                    omega: get(2, v),
-                    cs: if angle == 0.0 {
-                        (1.0, 0.0)
-                    } else {
-                        let (s, c) = angle.sin_cos();
-                        (c, s)
-                    },
-                }
-            }
+            BodyRef::Body(i) => self.pose_of(i, |k| q[k], |k| v[k]),
         }
     }
 
@@ -655,14 +639,19 @@ impl Scene {
 
     /// Pose of body `i` from a state vector y = [q; q̇] with n DOFs.
     pub fn body_state_from(&self, i: usize, y: &DVector<f64>, n: usize) -> BodyState {
+        self.pose_of(i, |k| y[k], |k| y[n + k])
+    }
+
+    /// Pose of body `i` with DOF values read by `q(k)` and rates by `v(k)`.
+    fn pose_of(&self, i: usize, q: impl Fn(usize) -> f64, v: impl Fn(usize) -> f64) -> BodyState {
         let body = &self.bodies[i];
-        let get = |a: usize, off: usize| body.dofs[a].map_or(0.0, |k| y[off + k]);
-        let angle = get(2, 0);
+        let get = |a: usize, x: &dyn Fn(usize) -> f64| body.dofs[a].map_or(0.0, x);
+        let angle = get(2, &q);
         BodyState {
-            position: body.reference + Vector2::new(get(0, 0), get(1, 0)),
+            position: body.reference + Vector2::new(get(0, &q), get(1, &q)),
             angle,
-            velocity: Vector2::new(get(0, n), get(1, n)),
-            omega: get(2, n),
+            velocity: Vector2::new(get(0, &v), get(1, &v)),
+            omega: get(2, &v),
             cs: if angle == 0.0 {
                 (1.0, 0.0)
             } else {
