@@ -83,15 +83,29 @@ impl Step {
         }
     }
 
+    /// Component i of y(t0 + θh).
+    #[inline]
+    pub fn dense_component(&self, theta: f64, i: usize) -> f64 {
+        let th1 = 1.0 - theta;
+        let [r3, r4, r5] = &self.cont;
+        let r2 = self.y1[i] - self.y0[i];
+        self.y0[i] + theta * (r2 + th1 * (r3[i] + theta * (r4[i] + th1 * r5[i])))
+    }
+
     pub fn dense(&self, t: f64) -> DVector<f64> {
         let mut out = self.y0.clone();
+        self.dense_at_into(t, &mut out);
+        out
+    }
+
+    /// y(t) for t in [t0, t0 + h], written into `out`.
+    pub fn dense_at_into(&self, t: f64, out: &mut DVector<f64>) {
         let theta = if self.h == 0.0 {
             0.0
         } else {
             ((t - self.t0) / self.h).clamp(0.0, 1.0)
         };
-        self.dense_into(theta, &mut out);
-        out
+        self.dense_into(theta, out);
     }
 
     pub fn t1(&self) -> f64 {
@@ -112,10 +126,62 @@ pub fn step<E>(
     atol: f64,
     n_err: usize,
 ) -> Result<Step, E> {
+    let mut ws = Workspace::default();
+    step_into(&mut ws, rhs, t0, y0, f0, h, rtol, atol, n_err)?;
+    Ok(ws.step)
+}
+
+/// Reusable storage of [`step_into`]: the stages and the last step.
+#[derive(Clone, Debug)]
+pub struct Workspace {
+    k: [DVector<f64>; 7],
+    pub step: Step,
+}
+
+impl Default for Workspace {
+    fn default() -> Self {
+        let z = || DVector::zeros(0);
+        Self {
+            k: std::array::from_fn(|_| z()),
+            step: Step {
+                t0: 0.0,
+                h: 0.0,
+                y0: z(),
+                y1: z(),
+                f1: z(),
+                error: 0.0,
+                cont: [z(), z(), z()],
+            },
+        }
+    }
+}
+
+/// [`step`] without allocation: the result is `ws.step`.
+#[allow(clippy::too_many_arguments)]
+pub fn step_into<E>(
+    ws: &mut Workspace,
+    rhs: &mut Rhs<'_, E>,
+    t0: f64,
+    y0: &DVector<f64>,
+    f0: &DVector<f64>,
+    h: f64,
+    rtol: f64,
+    atol: f64,
+    n_err: usize,
+) -> Result<(), E> {
     let n = y0.len();
-    let mut k: [DVector<f64>; 7] = std::array::from_fn(|_| DVector::zeros(n));
+    let Workspace { k, step } = ws;
+    if k[0].len() != n {
+        for ks in k.iter_mut() {
+            *ks = DVector::zeros(n);
+        }
+        step.y0 = DVector::zeros(n);
+        step.y1 = DVector::zeros(n);
+        step.f1 = DVector::zeros(n);
+        step.cont = std::array::from_fn(|_| DVector::zeros(n));
+    }
     k[0].copy_from(f0);
-    let mut y = y0.clone();
+    let y = &mut step.y1;
     for s in 1..7 {
         y.copy_from(y0);
         for (j, kj) in k.iter().enumerate().take(s) {
@@ -124,12 +190,11 @@ pub fn step<E>(
                 y.axpy(h * a, kj, 1.0);
             }
         }
-        let (done, rest) = k.split_at_mut(s);
-        let _ = done;
-        rhs(t0 + C[s] * h, &y, &mut rest[0])?;
+        let (_, rest) = k.split_at_mut(s);
+        rhs(t0 + C[s] * h, y, &mut rest[0])?;
     }
     // y (stage 7 argument) is the 5th-order solution y1 (FSAL: k[6] = f(t1, y1)).
-    let y1 = y;
+    let y1 = &step.y1;
     let mut err = 0.0;
     for i in 0..n_err.min(n) {
         let mut e = 0.0;
@@ -140,14 +205,12 @@ pub fn step<E>(
         let r = h * e / sc;
         err += r * r;
     }
-    let error = if n_err == 0 {
+    step.error = if n_err == 0 {
         0.0
     } else {
         (err / n_err.min(n) as f64).sqrt()
     };
-    let mut r3 = DVector::zeros(n);
-    let mut r4 = DVector::zeros(n);
-    let mut r5 = DVector::zeros(n);
+    let [r3, r4, r5] = &mut step.cont;
     for i in 0..n {
         let r2 = y1[i] - y0[i];
         r3[i] = h * k[0][i] - r2;
@@ -158,16 +221,11 @@ pub fn step<E>(
         }
         r5[i] = h * d;
     }
-    let f1 = std::mem::replace(&mut k[6], DVector::zeros(0));
-    Ok(Step {
-        t0,
-        h,
-        y0: y0.clone(),
-        y1,
-        f1,
-        error,
-        cont: [r3, r4, r5],
-    })
+    step.f1.copy_from(&k[6]);
+    step.y0.copy_from(y0);
+    step.t0 = t0;
+    step.h = h;
+    Ok(())
 }
 
 /// Step-size controller (PI, Hairer's DOPRI5 defaults): new h from the error of the last step.

@@ -10,9 +10,7 @@ use crate::output::{
     ContactSample, ContactState, EnergySample, EventKind, EventRecord, RunOutput, Sample,
     SampleKind,
 };
-use crate::scene::{
-    ContactKinematics, LEDGER_TERMS, PowerTerms, Scene, smooth_forces, smooth_forces_in,
-};
+use crate::scene::{ContactKinematics, ForceModel, LEDGER_TERMS, PowerTerms, Scene, smooth_forces};
 use nalgebra::{DMatrix, DVector};
 use std::time::Instant;
 
@@ -126,15 +124,6 @@ impl Batcher {
     }
 }
 
-/// Constrained accelerations at one state (the mode's Lagrange multipliers).
-struct Dynamics {
-    qdd: DVector<f64>,
-    lam_n: Vec<f64>,
-    lam_t: Vec<f64>,
-    kin: Vec<ContactKinematics>,
-    power: PowerTerms,
-}
-
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum EventFn {
     Gap(usize),
@@ -174,6 +163,10 @@ struct Engine<'a> {
     /// Event function values computed by the last `arm` (for `due_now` at the same instant).
     arm_values: Vec<f64>,
     event_qv: (DVector<f64>, DVector<f64>),
+    /// (e, ė) of each hysteretic element at the instant of `event_values` (NaN: not yet).
+    defo: Vec<(f64, f64)>,
+    locate: LocateScratch,
+    forces: ForceModel,
 }
 
 #[derive(Default)]
@@ -183,6 +176,36 @@ struct Scratch {
     h: DVector<f64>,
     fr: crate::scene::Frame,
     kin: Vec<ContactKinematics>,
+    qdd: DVector<f64>,
+    lam_n: Vec<f64>,
+    lam_t: Vec<f64>,
+    power: PowerTerms,
+    /// Closed-contact constraint slots (contact, tangential) and their force directions.
+    slots: Vec<(usize, bool)>,
+    forces: DMatrix<f64>,
+    a: DMatrix<f64>,
+    b: DVector<f64>,
+    lam: DVector<f64>,
+    /// (e, ė) of each hysteretic element.
+    elements: Vec<(f64, f64)>,
+    /// The (t, y, all) of the values held, while no law or contact state has changed since.
+    at: Option<(f64, bool)>,
+    at_y: DVector<f64>,
+}
+
+impl Scratch {
+    fn hold(&mut self, t: f64, y: &DVector<f64>, all: bool) {
+        if self.at_y.len() != y.len() {
+            self.at_y = DVector::zeros(y.len());
+        }
+        self.at_y.copy_from(y);
+        self.at = Some((t, all));
+    }
+
+    /// The held evaluation is of (t, y) (with all contacts' kinematics if `all`).
+    fn holds(&self, t: f64, y: &DVector<f64>, all: bool) -> bool {
+        matches!(self.at, Some((ta, alla)) if ta == t && (alla || !all)) && self.at_y == *y
+    }
 }
 
 fn sgn(x: f64) -> f64 {
@@ -208,157 +231,165 @@ impl<'a> Engine<'a> {
             .collect()
     }
 
-    /// Constrained dynamics in the current mode: M q̈ = h + Σ W λ with g̈_N = 0 (closed),
-    /// g̈_T = 0 (stick), λ_T = −μ s λ_N (slide).
-    fn dynamics(&mut self, t: f64, y: &DVector<f64>) -> Result<Dynamics, SolverError> {
-        self.dynamics_with(t, y, true)
-    }
-
-    /// `all`: kinematics of every contact (for output); otherwise only the closed ones are
-    /// computed (open contacts get a placeholder and carry no force).
-    fn dynamics_with(
-        &mut self,
-        t: f64,
-        y: &DVector<f64>,
-        all: bool,
-    ) -> Result<Dynamics, SolverError> {
+    /// Constrained dynamics in the current mode, M q̈ = h + Σ W λ with g̈_N = 0 (closed),
+    /// g̈_T = 0 (stick), λ_T = −μ s λ_N (slide), into `self.scratch` (qdd, lam_n, lam_t, kin,
+    /// power), without allocation once the buffers have their sizes. `all`: kinematics of
+    /// every contact (for output); otherwise only the closed ones are computed (open contacts
+    /// get a placeholder and carry no force).
+    fn dynamics_into(&mut self, t: f64, y: &DVector<f64>, all: bool) -> Result<(), SolverError> {
         let n = self.n;
         let scene = self.scene;
-        let Scratch {
-            mut q,
-            mut v,
-            mut h,
-            mut fr,
-            mut kin,
-        } = std::mem::take(&mut self.scratch);
-        if q.len() != n {
-            (q, v, h) = (DVector::zeros(n), DVector::zeros(n), DVector::zeros(n));
+        let nc = scene.contacts.len();
+        let sc = &mut self.scratch;
+        if sc.holds(t, y, all) {
+            return Ok(());
         }
-        q.copy_from(&y.rows(0, n));
-        v.copy_from(&y.rows(n, n));
-        scene.frame_into(&mut fr, t, &q, &v);
-        let power = smooth_forces_in(scene, Some(&self.laws), &fr, &q, &v, &mut h, &mut self.jac);
-        kin.resize_with(scene.contacts.len(), ContactKinematics::placeholder);
-        for ((c, st), k) in scene.contacts.iter().zip(&self.state).zip(kin.iter_mut()) {
+        sc.at = None;
+        if sc.q.len() != n {
+            sc.q = DVector::zeros(n);
+            sc.v = DVector::zeros(n);
+            sc.h = DVector::zeros(n);
+            sc.qdd = DVector::zeros(n);
+        }
+        sc.q.copy_from(&y.rows(0, n));
+        sc.v.copy_from(&y.rows(n, n));
+        scene.frame_into(&mut sc.fr, t, &sc.q, &sc.v);
+        sc.elements.resize(scene.hysteretic.len(), (0.0, 0.0));
+        sc.power = self.forces.eval(
+            scene,
+            &self.laws,
+            &sc.fr,
+            &sc.v,
+            &mut sc.h,
+            &mut sc.elements,
+        );
+        sc.kin.resize_with(nc, ContactKinematics::placeholder);
+        for ((c, st), k) in scene
+            .contacts
+            .iter()
+            .zip(&self.state)
+            .zip(sc.kin.iter_mut())
+        {
             if all || *st != ContactState::Open {
-                scene.contact_kinematics_into(&fr, c, k);
+                scene.contact_kinematics_into(&sc.fr, c, k);
             } else {
                 k.gap = f64::INFINITY;
                 k.gap_rate = 0.0;
                 k.slip_rate = 0.0;
             }
         }
-        let nc = kin.len();
-        let mut lam_n = vec![0.0; nc];
-        let mut lam_t = vec![0.0; nc];
-        // force directions F and constraint rows C
-        let cap = 2 * self
-            .state
-            .iter()
-            .filter(|s| **s != ContactState::Open)
-            .count();
-        let mut forces: Vec<DVector<f64>> = Vec::with_capacity(cap);
-        let mut rows: Vec<(&DVector<f64>, f64)> = Vec::with_capacity(cap);
-        let mut slots: Vec<(usize, bool)> = Vec::with_capacity(cap);
+        sc.lam_n.clear();
+        sc.lam_n.resize(nc, 0.0);
+        sc.lam_t.clear();
+        sc.lam_t.resize(nc, 0.0);
+        for i in 0..n {
+            sc.qdd[i] = sc.h[i] * self.minv[i];
+        }
+        // constraint rows C (W_N or W_T of a closed contact) and force directions F
+        sc.slots.clear();
         for (i, st) in self.state.iter().enumerate() {
-            let c = &scene.contacts[i];
             match *st {
                 ContactState::Open => {}
-                ContactState::Slide(s) => {
-                    let f = if c.mu > 0.0 && s != 0.0 {
-                        &kin[i].w_n - &kin[i].w_t * (c.mu * s)
-                    } else {
-                        kin[i].w_n.clone()
-                    };
-                    forces.push(f);
-                    rows.push((&kin[i].w_n, kin[i].bias_n));
-                    slots.push((i, false));
-                }
+                ContactState::Slide(_) => sc.slots.push((i, false)),
                 ContactState::Stick => {
-                    forces.push(kin[i].w_n.clone());
-                    rows.push((&kin[i].w_n, kin[i].bias_n));
-                    slots.push((i, false));
-                    forces.push(kin[i].w_t.clone());
-                    rows.push((&kin[i].w_t, kin[i].bias_t));
-                    slots.push((i, true));
+                    sc.slots.push((i, false));
+                    sc.slots.push((i, true));
                 }
             }
         }
-        let mut qdd = h.component_mul(&self.minv);
-        let k = forces.len();
-        if k > 0 {
-            let mut a = DMatrix::zeros(k, k);
-            let mut b = DVector::zeros(k);
-            for r in 0..k {
-                for c in 0..k {
-                    a[(r, c)] = rows[r]
-                        .0
-                        .iter()
-                        .zip(self.minv.iter())
-                        .zip(forces[c].iter())
-                        .map(|((x, m), f)| x * m * f)
-                        .sum();
-                }
-                b[r] = -(rows[r].0.dot(&qdd) + rows[r].1);
-            }
-            // Painlevé: a sliding contact whose normal Delassus entry is not positive.
-            for (r, &(i, tangential)) in slots.iter().enumerate() {
-                if !tangential
-                    && matches!(self.state[i], ContactState::Slide(s) if s != 0.0)
-                    && scene.contacts[i].mu > 0.0
-                {
-                    let g = rows[r]
-                        .0
-                        .iter()
-                        .zip(self.minv.iter())
-                        .map(|(x, m)| x * m * x)
-                        .sum::<f64>();
-                    if a[(r, r)] <= 1e-12 * g {
-                        return Err(SolverError::Painleve {
-                            t,
-                            contacts: scene.contacts[i].name.clone(),
-                            detail: format!(
-                                "W_Nᵀ M⁻¹ (W_N − μ s W_T) = {:.4e} ≤ 0 while sliding",
-                                a[(r, r)]
-                            ),
-                        });
+        let k = sc.slots.len();
+        if k == 0 {
+            sc.hold(t, y, all);
+            return Ok(());
+        }
+        if sc.forces.nrows() != n || sc.forces.ncols() < k {
+            sc.forces = DMatrix::zeros(n, k.max(2 * nc));
+        }
+        for (r, &(i, tangential)) in sc.slots.iter().enumerate() {
+            let kin = &sc.kin[i];
+            let mut col = sc.forces.column_mut(r);
+            match self.state[i] {
+                ContactState::Slide(s) if scene.contacts[i].mu > 0.0 && s != 0.0 => {
+                    let mu_s = scene.contacts[i].mu * s;
+                    for j in 0..n {
+                        col[j] = kin.w_n[j] - mu_s * kin.w_t[j];
                     }
                 }
+                _ => col.copy_from(if tangential { &kin.w_t } else { &kin.w_n }),
             }
-            let lam = solve_small(a, b);
-            for (r, &(i, tangential)) in slots.iter().enumerate() {
-                for (j, x) in qdd.iter_mut().enumerate() {
-                    *x += lam[r] * forces[r][j] * self.minv[j];
+        }
+        fn row(kin: &[ContactKinematics], (i, tangential): (usize, bool)) -> (&DVector<f64>, f64) {
+            let c = &kin[i];
+            if tangential {
+                (&c.w_t, c.bias_t)
+            } else {
+                (&c.w_n, c.bias_n)
+            }
+        }
+        if sc.a.nrows() != k {
+            sc.a = DMatrix::zeros(k, k);
+            sc.b = DVector::zeros(k);
+        }
+        for r in 0..k {
+            let (w, bias) = row(&sc.kin, sc.slots[r]);
+            for c in 0..k {
+                let f = sc.forces.column(c);
+                let mut acc = 0.0;
+                for j in 0..n {
+                    acc += w[j] * self.minv[j] * f[j];
                 }
-                if tangential {
-                    lam_t[i] = lam[r];
-                } else {
-                    lam_n[i] = lam[r];
-                    if let ContactState::Slide(s) = self.state[i] {
-                        lam_t[i] = -scene.contacts[i].mu * s * lam[r];
-                    }
+                sc.a[(r, c)] = acc;
+            }
+            sc.b[r] = -(w.dot(&sc.qdd) + bias);
+        }
+        // Painlevé: a sliding contact whose normal Delassus entry is not positive.
+        for (r, &(i, tangential)) in sc.slots.iter().enumerate() {
+            if !tangential
+                && matches!(self.state[i], ContactState::Slide(s) if s != 0.0)
+                && scene.contacts[i].mu > 0.0
+            {
+                let w = &sc.kin[i].w_n;
+                let g = w
+                    .iter()
+                    .zip(self.minv.iter())
+                    .map(|(x, m)| x * m * x)
+                    .sum::<f64>();
+                if sc.a[(r, r)] <= 1e-12 * g {
+                    return Err(SolverError::Painleve {
+                        t,
+                        contacts: scene.contacts[i].name.clone(),
+                        detail: format!(
+                            "W_Nᵀ M⁻¹ (W_N − μ s W_T) = {:.4e} ≤ 0 while sliding",
+                            sc.a[(r, r)]
+                        ),
+                    });
                 }
             }
         }
-        self.scratch = Scratch {
-            q,
-            v,
-            h,
-            fr,
-            kin: Vec::new(),
-        };
-        Ok(Dynamics {
-            qdd,
-            lam_n,
-            lam_t,
-            kin,
-            power,
-        })
+        solve_small_into(&sc.a, &sc.b, &mut sc.lam);
+        for (r, &(i, tangential)) in sc.slots.iter().enumerate() {
+            let lr = sc.lam[r];
+            let f = sc.forces.column(r);
+            for j in 0..n {
+                sc.qdd[j] += lr * f[j] * self.minv[j];
+            }
+            if tangential {
+                sc.lam_t[i] = lr;
+            } else {
+                sc.lam_n[i] = lr;
+                if let ContactState::Slide(s) = self.state[i] {
+                    sc.lam_t[i] = -scene.contacts[i].mu * s * lr;
+                }
+            }
+        }
+        sc.hold(t, y, all);
+        Ok(())
     }
 
     fn rhs(&mut self, t: f64, y: &DVector<f64>, out: &mut DVector<f64>) -> Result<(), SolverError> {
         let n = self.n;
-        let d = self.dynamics_with(t, y, false)?;
+        self.dynamics_into(t, y, false)?;
+        let d = &self.scratch;
         for i in 0..n {
             out[i] = y[n + i];
             out[n + i] = d.qdd[i];
@@ -372,7 +403,6 @@ impl<'a> Engine<'a> {
         out[2 * n + 2] = d.power.damping;
         out[2 * n + 3] = d.power.hysteretic;
         out[2 * n + 4] = contact_loss;
-        self.scratch.kin = d.kin;
         Ok(())
     }
 
@@ -416,32 +446,50 @@ impl<'a> Engine<'a> {
         y: &DVector<f64>,
         fns: &[EventFn],
     ) -> Result<Vec<f64>, SolverError> {
+        let mut vals = Vec::with_capacity(fns.len());
+        self.event_values_into(t, y, fns, &mut vals)?;
+        Ok(vals)
+    }
+
+    /// [`Engine::event_values`] into `vals` (cleared first).
+    fn event_values_into(
+        &mut self,
+        t: f64,
+        y: &DVector<f64>,
+        fns: &[EventFn],
+        vals: &mut Vec<f64>,
+    ) -> Result<(), SolverError> {
         let needs_forces = fns
             .iter()
             .any(|f| matches!(f, EventFn::Release(_) | EventFn::StickSlip(_)));
         let n = self.n;
         let scene = self.scene;
-        let dynamics = if needs_forces {
-            Some(self.dynamics_with(t, y, false)?)
-        } else {
-            None
-        };
         let mut fr = std::mem::take(&mut self.event_frame);
-        if self.event_qv.0.len() != n {
-            self.event_qv = (DVector::zeros(n), DVector::zeros(n));
+        let held = needs_forces || self.scratch.holds(t, y, false);
+        let mut defo = std::mem::take(&mut self.defo);
+        if held {
+            // the dynamics leave the frame and the element deformations of (t, y) in the scratch
+            self.dynamics_into(t, y, false)?;
+            std::mem::swap(&mut fr, &mut self.scratch.fr);
+            defo.clear();
+            defo.extend_from_slice(&self.scratch.elements);
+        } else {
+            if self.event_qv.0.len() != n {
+                self.event_qv = (DVector::zeros(n), DVector::zeros(n));
+            }
+            self.event_qv.0.copy_from(&y.rows(0, n));
+            self.event_qv.1.copy_from(&y.rows(n, n));
+            scene.frame_into(&mut fr, t, &self.event_qv.0, &self.event_qv.1);
+            defo.clear();
+            defo.resize(scene.hysteretic.len(), (f64::NAN, f64::NAN));
         }
-        self.event_qv.0.copy_from(&y.rows(0, n));
-        self.event_qv.1.copy_from(&y.rows(n, n));
-        scene.frame_into(&mut fr, t, &self.event_qv.0, &self.event_qv.1);
-        let mut defo: Vec<Option<(f64, f64)>> = vec![None; scene.hysteretic.len()];
-        let mut vals = Vec::with_capacity(fns.len());
+        vals.clear();
+        let d = &self.scratch;
         for f in fns {
             let val = match *f {
                 EventFn::Gap(i) => scene.contact_rates_in(&fr, &scene.contacts[i]).0,
-                EventFn::Release(i) => dynamics.as_ref().map_or(0.0, |d| d.lam_n[i]),
-                EventFn::StickSlip(i) => dynamics.as_ref().map_or(0.0, |d| {
-                    scene.contacts[i].mu * d.lam_n[i] - d.lam_t[i].abs()
-                }),
+                EventFn::Release(i) => d.lam_n[i],
+                EventFn::StickSlip(i) => scene.contacts[i].mu * d.lam_n[i] - d.lam_t[i].abs(),
                 EventFn::SlideStop(i) => {
                     let s = match self.state[i] {
                         ContactState::Slide(s) => s,
@@ -450,16 +498,12 @@ impl<'a> Engine<'a> {
                     s * scene.contact_rates_in(&fr, &scene.contacts[i]).2
                 }
                 EventFn::Lower(j) | EventFn::Upper(j) | EventFn::Reversal(j) => {
-                    let (e, ed) = match defo[j] {
-                        Some(d) => d,
-                        None => {
-                            let el = &scene.hysteretic[j];
-                            let (e, ed, ..) =
-                                scene.deformation_sparse(&fr, &el.attachment, el.support);
-                            defo[j] = Some((e, ed));
-                            (e, ed)
-                        }
-                    };
+                    if defo[j].0.is_nan() {
+                        let el = &scene.hysteretic[j];
+                        let (e, ed, ..) = scene.deformation_sparse(&fr, &el.attachment, el.support);
+                        defo[j] = (e, ed);
+                    }
+                    let (e, ed) = defo[j];
                     let b = self.laws[j].branch();
                     match *f {
                         EventFn::Lower(_) => e - b.lower,
@@ -470,11 +514,12 @@ impl<'a> Engine<'a> {
             };
             vals.push(val);
         }
-        self.event_frame = fr;
-        if let Some(d) = dynamics {
-            self.scratch.kin = d.kin;
+        if held {
+            std::mem::swap(&mut fr, &mut self.scratch.fr);
         }
-        Ok(vals)
+        self.event_frame = fr;
+        self.defo = defo;
+        Ok(())
     }
 
     fn threshold(&self, f: EventFn) -> f64 {
@@ -488,11 +533,13 @@ impl<'a> Engine<'a> {
     }
 
     fn record_sample(&mut self, kind: SampleKind) -> Result<(), SolverError> {
-        let y = self.y.clone();
-        let d = self.dynamics(self.t, &y)?;
-        let q = self.q();
-        let v = self.v();
+        let n = self.n;
+        let y = std::mem::take(&mut self.y);
+        let r = self.dynamics_into(self.t, &y, true);
+        self.y = y;
+        r?;
         let scene = self.scene;
+        let d = &self.scratch;
         let contacts = (0..scene.contacts.len())
             .map(|i| ContactSample {
                 gap: d.kin[i].gap,
@@ -503,26 +550,27 @@ impl<'a> Engine<'a> {
                 state: self.state[i],
             })
             .collect();
-        let fr = scene.frame(self.t, &q, &v);
-        let elements = scene
-            .hysteretic
+        let elements = d
+            .elements
             .iter()
-            .enumerate()
-            .map(|(j, el)| {
-                let (e, _, _) =
-                    scene.deformation_in(&fr, &el.attachment, el.support, &mut self.jac);
-                (e, self.laws[j].force(e))
-            })
+            .zip(&self.laws)
+            .map(|(&(e, _), law)| (e, law.force(e)))
             .collect();
-        let energy = self.energy(&q, &v);
+        let q = &self.y.as_slice()[..n];
+        let v = &self.y.as_slice()[n..2 * n];
+        let kinetic = 0.5
+            * v.iter()
+                .zip(scene.mass.iter())
+                .map(|(a, m)| m * a * a)
+                .sum::<f64>();
+        let mut energy = self.energy_terms(kinetic, self.forces.spring_energy(&d.fr));
         self.energy_scale = self.energy_scale.max(energy.scale());
-        let mut energy = energy;
         energy.closure = energy.balance();
         self.out.samples.push(Sample {
             t: self.t,
             kind,
-            q: q.as_slice().to_vec(),
-            v: v.as_slice().to_vec(),
+            q: q.to_vec(),
+            v: v.to_vec(),
             contacts,
             elements,
             energy,
@@ -530,11 +578,11 @@ impl<'a> Engine<'a> {
         Ok(())
     }
 
-    fn energy(&mut self, q: &DVector<f64>, v: &DVector<f64>) -> EnergySample {
+    fn energy_terms(&self, kinetic: f64, elastic: f64) -> EnergySample {
         let n = self.n;
         EnergySample {
-            kinetic: self.scene.kinetic_energy(v),
-            elastic: self.scene.spring_energy(self.t, q, v),
+            kinetic,
+            elastic,
             loads: self.y[2 * n],
             supports: self.y[2 * n + 1],
             damping: self.y[2 * n + 2],
@@ -629,6 +677,7 @@ impl<'a> Engine<'a> {
     /// Decide the contact states at the current instant: impacts (eq. 5) until no closed
     /// contact approaches, then the acceleration LCP (eq. 8) for the closed ones.
     fn resolve(&mut self) -> Result<(), SolverError> {
+        self.scratch.at = None;
         let scene = self.scene;
         let st = &scene.settings;
         let nc = scene.contacts.len();
@@ -929,6 +978,16 @@ fn solve_small(a: DMatrix<f64>, b: DVector<f64>) -> DVector<f64> {
         .unwrap_or_else(|_| DVector::zeros(b.len()))
 }
 
+/// [`solve_small`] into `x`; no allocation on the well-conditioned path.
+fn solve_small_into(a: &DMatrix<f64>, b: &DVector<f64>, x: &mut DVector<f64>) {
+    if x.len() != b.len() {
+        *x = DVector::zeros(b.len());
+    }
+    if !eliminate_into(a, b, 1e-9, x.as_mut_slice()) {
+        x.copy_from(&solve_small(a.clone(), b.clone()));
+    }
+}
+
 /// Gaussian elimination with complete pivoting on the stack (n ≤ 12); None when a pivot falls
 /// below 1e-9 of the largest (rank-deficient).
 fn eliminate(a: &DMatrix<f64>, b: &DVector<f64>) -> Option<DVector<f64>> {
@@ -936,10 +995,22 @@ fn eliminate(a: &DMatrix<f64>, b: &DVector<f64>) -> Option<DVector<f64>> {
 }
 
 fn eliminate_tol(a: &DMatrix<f64>, b: &DVector<f64>, tol: f64) -> Option<DVector<f64>> {
+    let mut out = DVector::zeros(b.len());
+    eliminate_into(a, b, tol, out.as_mut_slice()).then_some(out)
+}
+
+/// [`eliminate_tol`] into `out`; false when rank-deficient or not finite.
+fn eliminate_into(a: &DMatrix<f64>, b: &DVector<f64>, tol: f64, out: &mut [f64]) -> bool {
     const N: usize = 12;
     let n = a.nrows();
     if n > N {
-        return a.clone().full_piv_lu().solve(b);
+        return match a.clone().full_piv_lu().solve(b) {
+            Some(x) => {
+                out.copy_from_slice(x.as_slice());
+                true
+            }
+            None => false,
+        };
     }
     let mut m = [[0.0f64; N]; N];
     let mut r = [0.0f64; N];
@@ -963,7 +1034,7 @@ fn eliminate_tol(a: &DMatrix<f64>, b: &DVector<f64>, tol: f64) -> Option<DVector
         }
         hi = hi.max(best);
         if best == 0.0 || best <= tol * hi {
-            return None;
+            return false;
         }
         m.swap(k, pi);
         r.swap(k, pi);
@@ -992,11 +1063,10 @@ fn eliminate_tol(a: &DMatrix<f64>, b: &DVector<f64>, tol: f64) -> Option<DVector
         }
         x[k] = acc / m[k][k];
     }
-    let mut out = DVector::zeros(n);
     for k in 0..n {
         out[perm[k]] = x[k];
     }
-    out.iter().all(|v| v.is_finite()).then_some(out)
+    out.iter().all(|v| v.is_finite())
 }
 
 /// δ = M⁻¹Jᵀ (J M⁻¹ Jᵀ)⁺ r: the minimum-M-norm correction with J δ = r.
@@ -1052,6 +1122,9 @@ pub fn run(scene: &Scene, observer: &mut dyn Observer) -> Result<RunOutput, Solv
         event_frame: Default::default(),
         arm_values: Vec::new(),
         event_qv: (DVector::zeros(0), DVector::zeros(0)),
+        defo: Vec::new(),
+        locate: LocateScratch::default(),
+        forces: ForceModel::new(scene),
     };
     // initial hysteretic directions from the initial deformation rates
     {
@@ -1114,6 +1187,8 @@ pub fn run(scene: &Scene, observer: &mut dyn Observer) -> Result<RunOutput, Solv
     }
     let h_min = 1e-14 * st.t_end.max(1.0);
     let mut batcher = Batcher::new();
+    let mut ws = dopri::Workspace::default();
+    let mut y0 = DVector::zeros(y_len(n));
     let mut fns = eng.event_fns();
     let mut armed = arm(&mut eng, &fns)?;
     while eng.t < st.t_end {
@@ -1138,9 +1213,20 @@ pub fn run(scene: &Scene, observer: &mut dyn Observer) -> Result<RunOutput, Solv
         if t_stop - eng.t - hh < 1e-12 * hh {
             hh = t_stop - eng.t;
         }
-        let y0 = eng.y.clone();
+        y0.copy_from(&eng.y);
         let t0 = eng.t;
-        let step = dopri::step(&mut rhs_of!(eng), t0, &y0, &f0, hh, st.rtol, st.atol, 2 * n)?;
+        dopri::step_into(
+            &mut ws,
+            &mut rhs_of!(eng),
+            t0,
+            &y0,
+            &f0,
+            hh,
+            st.rtol,
+            st.atol,
+            2 * n,
+        )?;
+        let step = &ws.step;
         let finite = step.y1.iter().all(|x| x.is_finite());
         if !finite || step.error > 1.0 {
             eng.out.stats.steps_rejected += 1;
@@ -1161,9 +1247,9 @@ pub fn run(scene: &Scene, observer: &mut dyn Observer) -> Result<RunOutput, Solv
         eng.out.stats.steps_accepted += 1;
         h = ctrl.next_h(hh, step.error, true);
         // event search on the dense output
-        let found = locate_event(&mut eng, &step, &fns, &mut armed)?;
+        let found = locate_event(&mut eng, step, &fns, &mut armed)?;
         let t1 = found.map_or(step.t1(), |(t, _)| t);
-        track_peaks(&mut eng.out, &step, t1, n);
+        track_peaks(&mut eng.out, step, t1, n, &mut y0);
         // grid output inside (t0, t1]
         while (next_out as f64) * st.output_dt <= t1 * (1.0 + 1e-14) && eng.t < st.t_end {
             let tg = (next_out as f64) * st.output_dt;
@@ -1171,16 +1257,16 @@ pub fn run(scene: &Scene, observer: &mut dyn Observer) -> Result<RunOutput, Solv
                 break;
             }
             eng.t = tg.min(st.t_end);
-            eng.y = step.dense(eng.t);
+            step.dense_at_into(eng.t, &mut eng.y);
             eng.record_sample(SampleKind::Grid)?;
             next_out += 1;
         }
         eng.t = t1;
-        eng.y = if found.is_some() {
-            step.dense(t1)
+        if found.is_some() {
+            step.dense_at_into(t1, &mut eng.y);
         } else {
-            step.y1.clone()
-        };
+            eng.y.copy_from(&step.y1);
+        }
         let mut restart = false;
         if let Some((_, f)) = found {
             eng.out.stats.events_located += 1;
@@ -1208,7 +1294,7 @@ pub fn run(scene: &Scene, observer: &mut dyn Observer) -> Result<RunOutput, Solv
                 armed = arm(&mut eng, &fns)?;
             }
         } else {
-            f0 = step.f1.clone();
+            f0.copy_from(&ws.step.f1);
         }
         batcher.maybe(&eng.out, eng.t, observer)?;
     }
@@ -1227,6 +1313,7 @@ pub fn run(scene: &Scene, observer: &mut dyn Observer) -> Result<RunOutput, Solv
 /// or a contact event (the LCPs decide the new state).
 fn process_event(eng: &mut Engine, f: EventFn) -> Result<(), SolverError> {
     let scene = eng.scene;
+    eng.scratch.at = None;
     match f {
         EventFn::Lower(j) | EventFn::Upper(j) | EventFn::Reversal(j) => {
             let b = *eng.laws[j].branch();
@@ -1286,15 +1373,15 @@ fn due_now(
 /// Peaks of |q| over the step [t0, t1] from the dense output: the ends, and any interior
 /// extremum (a sign change of q̇, located by bisection), so peaks do not depend on the output
 /// step.
-fn track_peaks(out: &mut RunOutput, step: &dopri::Step, t1: f64, n: usize) {
+fn track_peaks(out: &mut RunOutput, step: &dopri::Step, t1: f64, n: usize, y1: &mut DVector<f64>) {
     if out.step_peaks.len() != n {
         out.step_peaks = vec![(0.0, 0.0); n];
     }
-    let y1 = if t1 >= step.t1() {
-        step.y1.clone()
+    if t1 >= step.t1() {
+        y1.copy_from(&step.y1);
     } else {
-        step.dense(t1)
-    };
+        step.dense_at_into(t1, y1);
+    }
     for k in 0..n {
         let mut consider = |t: f64, q: f64| {
             if q.abs() > out.step_peaks[k].0 {
@@ -1305,20 +1392,17 @@ fn track_peaks(out: &mut RunOutput, step: &dopri::Step, t1: f64, n: usize) {
         consider(t1, y1[k]);
         let (v0, v1) = (step.y0[n + k], y1[n + k]);
         if v0 * v1 < 0.0 {
-            let mut buf = step.y0.clone();
             let (mut a, mut b) = (0.0, (t1 - step.t0) / step.h);
             for _ in 0..30 {
                 let m = 0.5 * (a + b);
-                step.dense_into(m, &mut buf);
-                if buf[n + k] * v0 > 0.0 {
+                if step.dense_component(m, n + k) * v0 > 0.0 {
                     a = m;
                 } else {
                     b = m;
                 }
             }
             let th = 0.5 * (a + b);
-            step.dense_into(th, &mut buf);
-            consider(step.t0 + th * step.h, buf[k]);
+            consider(step.t0 + th * step.h, step.dense_component(th, k));
         }
     }
 }
@@ -1374,13 +1458,49 @@ fn locate_event(
     if fns.is_empty() {
         return Ok(None);
     }
-    let thr: Vec<f64> = fns.iter().map(|f| eng.threshold(*f)).collect();
+    let mut ls = std::mem::take(&mut eng.locate);
+    let r = locate_event_in(eng, step, fns, armed, &mut ls);
+    eng.locate = ls;
+    r
+}
+
+/// Reused storage of [`locate_event`].
+#[derive(Default)]
+struct LocateScratch {
+    thr: Vec<f64>,
+    v_prev: Vec<f64>,
+    t_prev: Vec<f64>,
+    gaps: Vec<usize>,
+    gap_fns: Vec<EventFn>,
+    vals: Vec<f64>,
+    y: DVector<f64>,
+}
+
+fn locate_event_in(
+    eng: &mut Engine,
+    step: &dopri::Step,
+    fns: &[EventFn],
+    armed: &mut [bool],
+    ls: &mut LocateScratch,
+) -> Result<Option<(f64, EventFn)>, SolverError> {
+    let LocateScratch {
+        thr,
+        v_prev,
+        t_prev,
+        gaps,
+        gap_fns,
+        vals,
+        y,
+    } = ls;
+    thr.clear();
+    thr.extend(fns.iter().map(|f| eng.threshold(*f)));
     let shifted = |v: f64, k: usize, armed: &[bool]| if armed[k] { v } else { v + thr[k] };
-    let mut v_prev = match eng.last_event_values.take() {
-        Some((t, v)) if t == step.t0 && v.len() == fns.len() => v,
-        _ => eng.event_values(step.t0, &step.y0, fns)?,
+    match eng.last_event_values.take() {
+        Some((t, v)) if t == step.t0 && v.len() == fns.len() => *v_prev = v,
+        _ => eng.event_values_into(step.t0, &step.y0, fns, v_prev)?,
     };
-    let mut t_prev = vec![step.t0; fns.len()];
+    t_prev.clear();
+    t_prev.resize(fns.len(), step.t0);
     for (k, v) in v_prev.iter_mut().enumerate() {
         if armed[k] && *v <= 0.0 {
             // positive just after t0 by construction
@@ -1389,28 +1509,33 @@ fn locate_event(
     }
     // gaps (cheap, and a corner may graze through in part of a step) at θ = ¼, ½, ¾, 1;
     // everything else at ½ and 1
-    let gaps: Vec<usize> = (0..fns.len())
-        .filter(|&k| matches!(fns[k], EventFn::Gap(_)))
-        .collect();
-    let gap_fns: Vec<EventFn> = gaps.iter().map(|&k| fns[k]).collect();
+    gaps.clear();
+    gaps.extend((0..fns.len()).filter(|&k| matches!(fns[k], EventFn::Gap(_))));
+    gap_fns.clear();
+    gap_fns.extend(gaps.iter().map(|&k| fns[k]));
+    if y.len() != step.y0.len() {
+        *y = DVector::zeros(step.y0.len());
+    }
     for theta in [0.25, 0.5, 0.75, 1.0] {
         let full = theta == 0.5 || theta == 1.0;
         if !full && gaps.is_empty() {
             continue;
         }
         let t = step.t0 + theta * step.h;
-        let y = if theta == 1.0 {
-            step.y1.clone()
+        if theta == 1.0 {
+            y.copy_from(&step.y1);
         } else {
-            step.dense(t)
-        };
-        let (idx, vals): (Vec<usize>, Vec<f64>) = if full {
-            ((0..fns.len()).collect(), eng.event_values(t, &y, fns)?)
+            step.dense_at_into(t, y);
+        }
+        if full {
+            eng.event_values_into(t, y, fns, vals)?;
         } else {
-            (gaps.clone(), eng.event_values(t, &y, &gap_fns)?)
-        };
+            eng.event_values_into(t, y, gap_fns, vals)?;
+        }
+        let index = |m: usize| if full { m } else { gaps[m] };
         let mut best: Option<(f64, EventFn)> = None;
-        for (&k, &val) in idx.iter().zip(&vals) {
+        for (m, &val) in vals.iter().enumerate() {
+            let k = index(m);
             let a = shifted(v_prev[k], k, armed);
             let b = shifted(val, k, armed);
             if a > 0.0 && b <= 0.0 {
@@ -1423,7 +1548,8 @@ fn locate_event(
         if best.is_some() {
             return Ok(best);
         }
-        for (&k, &val) in idx.iter().zip(&vals) {
+        for (m, &val) in vals.iter().enumerate() {
+            let k = index(m);
             if !armed[k] && val > thr[k] {
                 armed[k] = true;
             }
@@ -1431,7 +1557,7 @@ fn locate_event(
             t_prev[k] = t;
         }
     }
-    eng.last_event_values = Some((step.t1(), v_prev));
+    eng.last_event_values = Some((step.t1(), std::mem::take(v_prev)));
     Ok(None)
 }
 

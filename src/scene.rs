@@ -343,6 +343,8 @@ pub struct Frame {
     pub ground: BodyState,
     /// (u_g, u̇_g, ü_g) per support.
     pub supports: Vec<(f64, f64, f64)>,
+    /// Per support, an earlier support driven by the same record and factor (evaluated once).
+    alias: Vec<Option<usize>>,
 }
 
 impl Frame {
@@ -418,6 +420,7 @@ impl Scene {
                 .collect(),
             ground: self.body_state(BodyRef::Ground, q, v),
             supports: self.supports.iter().map(|s| s.at(t)).collect(),
+            alias: Vec::new(),
         }
     }
 
@@ -427,17 +430,23 @@ impl Scene {
         fr.poses
             .extend((0..self.bodies.len()).map(|i| self.body_state(BodyRef::Body(i), q, v)));
         fr.ground = self.body_state(BodyRef::Ground, q, v);
+        if fr.alias.len() != self.supports.len() {
+            fr.alias = self
+                .supports
+                .iter()
+                .enumerate()
+                .map(|(i, s)| match &s.motion {
+                    Motion::Record(g) => self.supports[..i].iter().position(|o| {
+                        matches!(&o.motion, Motion::Record(h) if Arc::ptr_eq(g, h))
+                            && o.factor == s.factor
+                    }),
+                    Motion::Harmonic { .. } => None,
+                })
+                .collect();
+        }
         fr.supports.clear();
-        for (i, s) in self.supports.iter().enumerate() {
-            // supports driven by the same processed record are evaluated once
-            let same = match &s.motion {
-                Motion::Record(g) => self.supports[..i].iter().position(|o| {
-                    matches!(&o.motion, Motion::Record(h) if Arc::ptr_eq(g, h))
-                        && o.factor == s.factor
-                }),
-                Motion::Harmonic { .. } => None,
-            };
-            let val = match same {
+        for (s, alias) in self.supports.iter().zip(&fr.alias) {
+            let val = match *alias {
                 Some(j) => fr.supports[j],
                 None => s.at(t),
             };
@@ -645,13 +654,13 @@ impl Scene {
     /// Pose of body `i` with DOF values read by `q(k)` and rates by `v(k)`.
     fn pose_of(&self, i: usize, q: impl Fn(usize) -> f64, v: impl Fn(usize) -> f64) -> BodyState {
         let body = &self.bodies[i];
-        let get = |a: usize, x: &dyn Fn(usize) -> f64| body.dofs[a].map_or(0.0, x);
-        let angle = get(2, &q);
+        let [dx, dy, dt] = body.dofs;
+        let angle = dt.map_or(0.0, &q);
         BodyState {
-            position: body.reference + Vector2::new(get(0, &q), get(1, &q)),
+            position: body.reference + Vector2::new(dx.map_or(0.0, &q), dy.map_or(0.0, &q)),
             angle,
-            velocity: Vector2::new(get(0, &v), get(1, &v)),
-            omega: get(2, &v),
+            velocity: Vector2::new(dx.map_or(0.0, &v), dy.map_or(0.0, &v)),
+            omega: dt.map_or(0.0, &v),
             cs: if angle == 0.0 {
                 (1.0, 0.0)
             } else {
@@ -731,19 +740,20 @@ pub fn smooth_forces(
     h: &mut DVector<f64>,
     jac: &mut DVector<f64>,
 ) -> PowerTerms {
+    let _ = (q, jac);
     let fr = scene.frame(t, q, v);
-    smooth_forces_in(scene, laws, &fr, q, v, h, jac)
+    smooth_forces_in(scene, laws, &fr, v, h, None)
 }
 
-/// [`smooth_forces`] from a precomputed [`Frame`].
+/// [`smooth_forces`] from a precomputed [`Frame`]; `elements` receives (e, ė) of each
+/// hysteretic element.
 pub fn smooth_forces_in(
     scene: &Scene,
     laws: Option<&[Hysteretic]>,
     fr: &Frame,
-    _q: &DVector<f64>,
     v: &DVector<f64>,
     h: &mut DVector<f64>,
-    _jac: &mut DVector<f64>,
+    mut elements: Option<&mut [(f64, f64)]>,
 ) -> PowerTerms {
     h.copy_from(&scene.loads);
     let mut p = PowerTerms {
@@ -761,6 +771,9 @@ pub fn smooth_forces_in(
     }
     for (j, el) in scene.hysteretic.iter().enumerate() {
         let (e, ed, vg, jj, nj) = scene.deformation_sparse(fr, &el.attachment, el.support);
+        if let Some(out) = elements.as_deref_mut() {
+            out[j] = (e, ed);
+        }
         let fh = laws.map_or(&el.law, |l| &l[j]).force(e);
         let f = fh + el.damping * ed;
         for &(k, c) in &jj[..nj] {
@@ -794,4 +807,189 @@ pub fn smooth_forces_in(
         }
     }
     p
+}
+
+/// Sentinel of a missing DOF or support in [`ForceModel`].
+const NONE: usize = usize::MAX;
+
+/// One element of a [`ForceModel`]: e = d·(X − X₀ + R(θ)p − p) − u_g (point) or θ − u_g
+/// (rotation), with generalized direction J = ∂e/∂q.
+#[derive(Clone, Debug)]
+struct FlatElement {
+    body: usize,
+    rotation: bool,
+    point: Vector2<f64>,
+    direction: Vector2<f64>,
+    /// DOF of x, y, θ of the body (NONE if fixed).
+    dofs: [usize; 3],
+    support: usize,
+    stiffness: f64,
+    damping: f64,
+}
+
+impl FlatElement {
+    fn new(scene: &Scene, att: &Attachment, support: Option<usize>, k: f64, c: f64) -> Self {
+        let (body, rotation, point, direction) = match *att {
+            Attachment::Point {
+                body,
+                point,
+                direction,
+            } => (body, false, point, direction),
+            Attachment::Rotation { body } => (body, true, Vector2::zeros(), Vector2::zeros()),
+        };
+        Self {
+            body,
+            rotation,
+            point,
+            direction,
+            dofs: scene.bodies[body].dofs.map(|d| d.unwrap_or(NONE)),
+            support: support.unwrap_or(NONE),
+            stiffness: k,
+            damping: c,
+        }
+    }
+
+    /// Same deformation measure: springs on it add up.
+    fn same_as(&self, o: &Self) -> bool {
+        self.body == o.body
+            && self.rotation == o.rotation
+            && self.point == o.point
+            && self.direction == o.direction
+            && self.support == o.support
+    }
+
+    /// (e, ė, u̇_g, J over x, y, θ).
+    #[inline]
+    fn deformation(&self, fr: &Frame, reference: Vector2<f64>) -> (f64, f64, f64, [f64; 3]) {
+        let s = &fr.poses[self.body];
+        let (ug, vg) = if self.support == NONE {
+            (0.0, 0.0)
+        } else {
+            let (u, v, _) = fr.supports[self.support];
+            (u, v)
+        };
+        if self.rotation {
+            return (s.angle - ug, s.omega - vg, vg, [0.0, 0.0, 1.0]);
+        }
+        let d = self.direction;
+        let rho = s.rot(self.point);
+        let disp = s.position - reference + rho - self.point;
+        let arm = d.x * -rho.y + d.y * rho.x; // d·perp(ρ)
+        let e = d.dot(&disp) - ug;
+        let ed = d.dot(&s.velocity) + s.omega * arm - vg;
+        (e, ed, vg, [d.x, d.y, arm])
+    }
+}
+
+/// The smooth forces of a scene flattened for repeated evaluation: the same h(t, q, q̇) and
+/// power terms as [`smooth_forces_in`], with linear springs of identical attachment and support
+/// merged (their stiffnesses and dampings add).
+#[derive(Clone, Debug)]
+pub struct ForceModel {
+    springs: Vec<FlatElement>,
+    elements: Vec<FlatElement>,
+    references: Vec<Vector2<f64>>,
+}
+
+impl ForceModel {
+    pub fn new(scene: &Scene) -> Self {
+        let mut springs: Vec<FlatElement> = Vec::new();
+        for s in &scene.springs {
+            let f = FlatElement::new(scene, &s.attachment, s.support, s.stiffness, s.damping);
+            match springs.iter_mut().find(|o| o.same_as(&f)) {
+                Some(o) => {
+                    o.stiffness += f.stiffness;
+                    o.damping += f.damping;
+                }
+                None => springs.push(f),
+            }
+        }
+        let elements = scene
+            .hysteretic
+            .iter()
+            .map(|h| FlatElement::new(scene, &h.attachment, h.support, 0.0, h.damping))
+            .collect();
+        Self {
+            springs,
+            elements,
+            references: scene.bodies.iter().map(|b| b.reference).collect(),
+        }
+    }
+
+    /// h(t, q, q̇) into `h` (eq. 1: F_D + F_S + loads) and the ledger's power terms; (e, ė) of
+    /// each hysteretic element into `elements`.
+    pub fn eval(
+        &self,
+        scene: &Scene,
+        laws: &[Hysteretic],
+        fr: &Frame,
+        v: &DVector<f64>,
+        h: &mut DVector<f64>,
+        elements: &mut [(f64, f64)],
+    ) -> PowerTerms {
+        h.copy_from(&scene.loads);
+        let n = h.len();
+        let mut p = PowerTerms {
+            loads: scene.loads.dot(v),
+            ..Default::default()
+        };
+        let apply = |el: &FlatElement, f: f64, jac: [f64; 3], h: &mut DVector<f64>| {
+            for (&k, c) in el.dofs.iter().zip(jac) {
+                if k < n {
+                    h[k] -= f * c;
+                }
+            }
+        };
+        for s in &self.springs {
+            let (e, ed, vg, jac) = s.deformation(fr, self.references[s.body]);
+            let f = s.stiffness * e + s.damping * ed;
+            apply(s, f, jac, h);
+            p.supports -= f * vg;
+            p.damping += s.damping * ed * ed;
+        }
+        for ((el, law), out) in self.elements.iter().zip(laws).zip(elements.iter_mut()) {
+            let (e, ed, vg, jac) = el.deformation(fr, self.references[el.body]);
+            *out = (e, ed);
+            let fh = law.force(e);
+            let f = fh + el.damping * ed;
+            apply(el, f, jac, h);
+            p.supports -= f * vg;
+            p.damping += el.damping * ed * ed;
+            p.hysteretic += fh * ed;
+        }
+        let md = &scene.mass_damping;
+        if md.alpha != 0.0 {
+            // v_ref from supports; F = −a₀ M (v − v_ref)
+            let mut stack = [0.0f64; 16];
+            let mut heap = Vec::new();
+            let vref: &mut [f64] = if n <= 16 {
+                &mut stack[..n]
+            } else {
+                heap.resize(n, 0.0);
+                &mut heap
+            };
+            for &(k, s, f) in &md.reference {
+                vref[k] += f * fr.supports[s].1;
+            }
+            for k in 0..n {
+                let rel = v[k] - vref[k];
+                let f = md.alpha * scene.mass[k] * rel;
+                h[k] -= f;
+                p.damping += f * rel;
+                p.supports -= f * vref[k];
+            }
+        }
+        p
+    }
+
+    /// Elastic energy of the linear springs, Σ ½ k e².
+    pub fn spring_energy(&self, fr: &Frame) -> f64 {
+        self.springs
+            .iter()
+            .map(|s| {
+                let e = s.deformation(fr, self.references[s.body]).0;
+                0.5 * s.stiffness * e * e
+            })
+            .sum()
+    }
 }

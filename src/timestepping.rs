@@ -100,7 +100,7 @@ impl<'a> Stepper<'a> {
             let (e, _, _) = deformation_of(scene, &fr, &el.attachment, el.support, &mut jac);
             laws[j].drive(&[e]);
         }
-        crate::scene::smooth_forces_in(scene, Some(&laws), &fr, q, v, h, &mut jac)
+        crate::scene::smooth_forces_in(scene, Some(&laws), &fr, v, h, None)
     }
 
     /// Move the laws along to the committed state q.
