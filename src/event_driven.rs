@@ -167,6 +167,8 @@ struct Engine<'a> {
     defo: Vec<(f64, f64)>,
     locate: LocateScratch,
     forces: ForceModel,
+    /// The events of the instant [`locate_event`] returned.
+    cluster: Vec<EventFn>,
 }
 
 #[derive(Default)]
@@ -978,14 +980,60 @@ fn solve_small(a: DMatrix<f64>, b: DVector<f64>) -> DVector<f64> {
         .unwrap_or_else(|_| DVector::zeros(b.len()))
 }
 
-/// [`solve_small`] into `x`; no allocation on the well-conditioned path.
+/// [`solve_small`] into `x`; no allocation for n ≤ 12 unless the SVD is needed.
 fn solve_small_into(a: &DMatrix<f64>, b: &DVector<f64>, x: &mut DVector<f64>) {
-    if x.len() != b.len() {
-        *x = DVector::zeros(b.len());
+    const N: usize = ELIM_N;
+    let k = b.len();
+    if x.len() != k {
+        *x = DVector::zeros(k);
     }
-    if !eliminate_into(a, b, 1e-9, x.as_mut_slice()) {
-        x.copy_from(&solve_small(a.clone(), b.clone()));
+    if eliminate_into(a, b, 1e-9, x.as_mut_slice()) {
+        return;
     }
+    if k <= N {
+        // the regularized minimum-norm solution of solve_small, on the stack
+        let mut m = [[0.0f64; N]; N];
+        let mut dmax = 0.0f64;
+        for r in 0..k {
+            for c in 0..k {
+                let mut acc = 0.0;
+                for j in 0..k {
+                    acc += a[(r, j)] * a[(c, j)];
+                }
+                m[r][c] = acc;
+            }
+            dmax = dmax.max(m[r][r].abs());
+        }
+        let delta = 1e-12 * dmax.max(1e-300);
+        for (r, row) in m.iter_mut().enumerate().take(k) {
+            row[r] += delta;
+        }
+        let mut rhs = [0.0f64; N];
+        rhs[..k].copy_from_slice(b.as_slice());
+        let mut yv = [0.0f64; N];
+        if eliminate_stack(&mut m, &mut rhs, k, 1e-15, &mut yv[..k]) {
+            let mut ok = true;
+            for j in 0..k {
+                let mut acc = 0.0;
+                for r in 0..k {
+                    acc += a[(r, j)] * yv[r];
+                }
+                x[j] = acc;
+            }
+            let bmax = b.amax();
+            for r in 0..k {
+                let mut acc = 0.0;
+                for j in 0..k {
+                    acc += a[(r, j)] * x[j];
+                }
+                ok &= (acc - b[r]).abs() <= 1e-9 * (1.0 + bmax);
+            }
+            if ok {
+                return;
+            }
+        }
+    }
+    x.copy_from(&solve_small(a.clone(), b.clone()));
 }
 
 /// Gaussian elimination with complete pivoting on the stack (n ≤ 12); None when a pivot falls
@@ -1000,8 +1048,11 @@ fn eliminate_tol(a: &DMatrix<f64>, b: &DVector<f64>, tol: f64) -> Option<DVector
 }
 
 /// [`eliminate_tol`] into `out`; false when rank-deficient or not finite.
+/// Largest system solved on the stack.
+const ELIM_N: usize = 12;
+
 fn eliminate_into(a: &DMatrix<f64>, b: &DVector<f64>, tol: f64, out: &mut [f64]) -> bool {
-    const N: usize = 12;
+    const N: usize = ELIM_N;
     let n = a.nrows();
     if n > N {
         return match a.clone().full_piv_lu().solve(b) {
@@ -1014,13 +1065,27 @@ fn eliminate_into(a: &DMatrix<f64>, b: &DVector<f64>, tol: f64, out: &mut [f64])
     }
     let mut m = [[0.0f64; N]; N];
     let mut r = [0.0f64; N];
-    let mut perm = [0usize; N];
     for i in 0..n {
         for j in 0..n {
             m[i][j] = a[(i, j)];
         }
         r[i] = b[i];
-        perm[i] = i;
+    }
+    eliminate_stack(&mut m, &mut r, n, tol, out)
+}
+
+/// Complete-pivoting elimination of the leading n × n block of `m` with right side `r`.
+fn eliminate_stack(
+    m: &mut [[f64; ELIM_N]; ELIM_N],
+    r: &mut [f64; ELIM_N],
+    n: usize,
+    tol: f64,
+    out: &mut [f64],
+) -> bool {
+    const N: usize = ELIM_N;
+    let mut perm = [0usize; N];
+    for (i, p) in perm.iter_mut().enumerate() {
+        *p = i;
     }
     let mut hi = 0.0f64;
     for k in 0..n {
@@ -1125,6 +1190,7 @@ pub fn run(scene: &Scene, observer: &mut dyn Observer) -> Result<RunOutput, Solv
         defo: Vec::new(),
         locate: LocateScratch::default(),
         forces: ForceModel::new(scene),
+        cluster: Vec::new(),
     };
     // initial hysteretic directions from the initial deformation rates
     {
@@ -1248,7 +1314,7 @@ pub fn run(scene: &Scene, observer: &mut dyn Observer) -> Result<RunOutput, Solv
         h = ctrl.next_h(hh, step.error, true);
         // event search on the dense output
         let found = locate_event(&mut eng, step, &fns, &mut armed)?;
-        let t1 = found.map_or(step.t1(), |(t, _)| t);
+        let t1 = found.unwrap_or(step.t1());
         track_peaks(&mut eng.out, step, t1, n, &mut y0);
         // grid output inside (t0, t1]
         while (next_out as f64) * st.output_dt <= t1 * (1.0 + 1e-14) && eng.t < st.t_end {
@@ -1268,9 +1334,13 @@ pub fn run(scene: &Scene, observer: &mut dyn Observer) -> Result<RunOutput, Solv
             eng.y.copy_from(&step.y1);
         }
         let mut restart = false;
-        if let Some((_, f)) = found {
-            eng.out.stats.events_located += 1;
-            process_event(&mut eng, f)?;
+        if found.is_some() {
+            let cluster = std::mem::take(&mut eng.cluster);
+            for &f in &cluster {
+                eng.out.stats.events_located += 1;
+                process_event(&mut eng, f)?;
+            }
+            eng.cluster = cluster;
             restart = true;
         } else if eng.state.iter().any(|s| *s != ContactState::Open) {
             restart = eng.project() > 0.0;
@@ -1447,14 +1517,15 @@ fn arm(eng: &mut Engine, fns: &[EventFn]) -> Result<Vec<bool>, SolverError> {
 }
 
 /// First event in the step: sample the dense output at θ = ¼, ½, ¾, 1, then Illinois on the
-/// bracketing interval down to `event_time_tol`. Returns (t_event, function), t_event being
-/// the bracket end where the function has crossed. Updates the armed flags.
+/// bracketing interval down to `event_time_tol`. Returns t_event, the bracket end where the
+/// function has crossed, with the events to apply there in `eng.cluster` ([`coalesce`]).
+/// Updates the armed flags.
 fn locate_event(
     eng: &mut Engine,
     step: &dopri::Step,
     fns: &[EventFn],
     armed: &mut [bool],
-) -> Result<Option<(f64, EventFn)>, SolverError> {
+) -> Result<Option<f64>, SolverError> {
     if fns.is_empty() {
         return Ok(None);
     }
@@ -1473,7 +1544,9 @@ struct LocateScratch {
     gaps: Vec<usize>,
     gap_fns: Vec<EventFn>,
     vals: Vec<f64>,
+    v_end: Vec<f64>,
     y: DVector<f64>,
+    roots: Vec<(f64, EventFn)>,
 }
 
 fn locate_event_in(
@@ -1482,7 +1555,7 @@ fn locate_event_in(
     fns: &[EventFn],
     armed: &mut [bool],
     ls: &mut LocateScratch,
-) -> Result<Option<(f64, EventFn)>, SolverError> {
+) -> Result<Option<f64>, SolverError> {
     let LocateScratch {
         thr,
         v_prev,
@@ -1490,7 +1563,9 @@ fn locate_event_in(
         gaps,
         gap_fns,
         vals,
+        v_end,
         y,
+        roots,
     } = ls;
     thr.clear();
     thr.extend(fns.iter().map(|f| eng.threshold(*f)));
@@ -1516,6 +1591,9 @@ fn locate_event_in(
     if y.len() != step.y0.len() {
         *y = DVector::zeros(step.y0.len());
     }
+    // the end values first: the last stage evaluated the dynamics there (FSAL), which the
+    // interior samples would overwrite
+    eng.event_values_into(step.t1(), &step.y1, fns, v_end)?;
     for theta in [0.25, 0.5, 0.75, 1.0] {
         let full = theta == 0.5 || theta == 1.0;
         if !full && gaps.is_empty() {
@@ -1523,30 +1601,30 @@ fn locate_event_in(
         }
         let t = step.t0 + theta * step.h;
         if theta == 1.0 {
-            y.copy_from(&step.y1);
+            std::mem::swap(vals, v_end);
         } else {
             step.dense_at_into(t, y);
-        }
-        if full {
-            eng.event_values_into(t, y, fns, vals)?;
-        } else {
-            eng.event_values_into(t, y, gap_fns, vals)?;
+            if full {
+                eng.event_values_into(t, y, fns, vals)?;
+            } else {
+                eng.event_values_into(t, y, gap_fns, vals)?;
+            }
         }
         let index = |m: usize| if full { m } else { gaps[m] };
-        let mut best: Option<(f64, EventFn)> = None;
+        roots.clear();
         for (m, &val) in vals.iter().enumerate() {
             let k = index(m);
             let a = shifted(v_prev[k], k, armed);
             let b = shifted(val, k, armed);
             if a > 0.0 && b <= 0.0 {
                 let root = illinois(eng, step, fns, k, t_prev[k], t, a, b, armed[k], thr[k])?;
-                if best.is_none_or(|(tb, _)| root < tb) {
-                    best = Some((root, fns[k]));
-                }
+                roots.push((root, fns[k]));
             }
         }
-        if best.is_some() {
-            return Ok(best);
+        if !roots.is_empty() {
+            roots.sort_by(|a, b| a.0.total_cmp(&b.0));
+            let window = eng.scene.settings.branch_window;
+            return Ok(Some(coalesce(roots, window, &mut eng.cluster)));
         }
         for (m, &val) in vals.iter().enumerate() {
             let k = index(m);
@@ -1559,6 +1637,37 @@ fn locate_event_in(
     }
     eng.last_event_values = Some((step.t1(), std::mem::take(v_prev)));
     Ok(None)
+}
+
+/// The events applied at once from the roots found in one sub-interval (sorted by time):
+/// the first, and the branch events of other elements that follow it by at most `window` with
+/// no contact event between (all at the time of the last of them, so that each element's
+/// branch end has been reached when it changes branch). Returns that time; the events go into
+/// `cluster`.
+fn coalesce(roots: &[(f64, EventFn)], window: f64, cluster: &mut Vec<EventFn>) -> f64 {
+    let element = |f: EventFn| match f {
+        EventFn::Lower(j) | EventFn::Upper(j) | EventFn::Reversal(j) => Some(j),
+        _ => None,
+    };
+    cluster.clear();
+    let (t0, f0) = roots[0];
+    cluster.push(f0);
+    let mut t = t0;
+    if element(f0).is_none() || window <= 0.0 {
+        return t;
+    }
+    for &(tr, f) in &roots[1..] {
+        let Some(j) = element(f) else { break };
+        if tr - t0 > window {
+            break;
+        }
+        if cluster.iter().any(|&g| element(g) == Some(j)) {
+            continue;
+        }
+        cluster.push(f);
+        t = tr;
+    }
+    t
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -1588,7 +1697,7 @@ fn illinois(
         if !(tm > ta && tm < tb) {
             tm = 0.5 * (ta + tb);
         }
-        step.dense_into((tm - step.t0) / step.h, &mut y);
+        let theta = (tm - step.t0) / step.h;
         let mut fm = match fns[k] {
             // a branch function needs only its element: one body pose, one support
             EventFn::Lower(j) | EventFn::Upper(j) | EventFn::Reversal(j) => {
@@ -1597,6 +1706,10 @@ fn illinois(
                     crate::scene::Attachment::Point { body, .. }
                     | crate::scene::Attachment::Rotation { body } => body,
                 };
+                for d in scene.bodies[body].dofs.into_iter().flatten() {
+                    y[d] = step.dense_component(theta, d);
+                    y[n + d] = step.dense_component(theta, n + d);
+                }
                 let pose = scene.body_state_from(body, &y, n);
                 let sup = el
                     .support
@@ -1609,7 +1722,10 @@ fn illinois(
                     _ => b.direction * ed,
                 }
             }
-            _ => eng.event_values(tm, &y, &one)?[0],
+            _ => {
+                step.dense_into(theta, &mut y);
+                eng.event_values(tm, &y, &one)?[0]
+            }
         };
         if !armed {
             fm += thr;

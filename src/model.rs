@@ -78,6 +78,8 @@ pub struct SolverSpec {
     pub max_events: Option<usize>,
     pub max_steps: Option<usize>,
     pub stop_at_samples: Option<bool>,
+    /// Window (s) within which hysteretic branch events are applied together.
+    pub branch_window: Option<f64>,
     pub lemke_max_pivots: Option<usize>,
     /// Fixed step of time-stepping / penalty methods.
     pub step: Option<f64>,
@@ -523,6 +525,9 @@ pub fn settings(s: &SolverSpec, ck: &Check) -> Result<Settings, ModelError> {
     pos!(min_event_spacing);
     if let Some(x) = s.h_max {
         out.h_max = ck.nonneg("solver.h_max", x)?;
+    }
+    if let Some(x) = s.branch_window {
+        out.branch_window = ck.nonneg("solver.branch_window", x)?;
     }
     if let Some(b) = s.accumulation_rule {
         out.accumulation_rule = b;

@@ -207,6 +207,9 @@ pub struct Settings {
     pub max_steps: usize,
     /// Never step over the sample instants of recorded support motions.
     pub stop_at_samples: bool,
+    /// Hysteretic branch events that follow the first event located in a step by at most this
+    /// (s) are applied together at the last of them; 0 applies each at its own instant.
+    pub branch_window: f64,
     pub lemke: LemkeOptions,
 }
 
@@ -231,6 +234,7 @@ impl Default for Settings {
             max_events: 200_000,
             max_steps: 5_000_000,
             stop_at_samples: false,
+            branch_window: 0.0,
             // the Moreau–Jean Delassus Wᵀ Ŵ⁻¹ W of light abutments on stiff actuators is badly
             // scaled: accept solutions whose relative residual is below 1e-7
             lemke: LemkeOptions {
