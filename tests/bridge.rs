@@ -368,8 +368,9 @@ fn branch_window_groups_column_events_without_moving_the_response() {
     assert!((pe - pg).abs() < 1e-4 * pe, "peak θ {pe:.6e} vs {pg:.6e}");
     assert!(grouped.summary.energy_closure_rel < 1e-5);
     // a negative window is bad input
-    let err = deckspin::load(&model(FOUR_SPAN), &["solver.branch_window=-1".into()])
-        .err()
-        .expect("negative window accepted");
+    let err = match deckspin::load(&model(FOUR_SPAN), &["solver.branch_window=-1".into()]) {
+        Ok(_) => panic!("negative window accepted"),
+        Err(e) => e,
+    };
     assert!(err.to_string().contains("branch_window"), "{err}");
 }
