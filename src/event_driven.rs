@@ -1683,7 +1683,14 @@ fn illinois(
     armed: bool,
     thr: f64,
 ) -> Result<f64, SolverError> {
-    let tol = eng.scene.settings.event_time_tol;
+    let st = &eng.scene.settings;
+    // a branch change applied up to `branch_window` late needs its instant no closer than that
+    let tol = match fns[k] {
+        EventFn::Lower(_) | EventFn::Upper(_) | EventFn::Reversal(_) => {
+            st.event_time_tol.max(1e-6 * st.branch_window)
+        }
+        _ => st.event_time_tol,
+    };
     let one = [fns[k]];
     let mut side = 0i32;
     let mut y = step.y0.clone();
