@@ -964,30 +964,36 @@ impl ForceModel {
             loads: scene.loads.dot(v),
             ..Default::default()
         };
-        let apply = |el: &FlatElement, f: f64, jac: [f64; 3], h: &mut DVector<f64>| {
-            for (&k, c) in el.dofs.iter().zip(jac) {
-                if k < n {
-                    h[k] -= f * c;
+        let hs = h.as_mut_slice();
+        #[inline(always)]
+        fn apply(hs: &mut [f64], dofs: &[usize; 3], f: f64, jac: [f64; 3]) {
+            for (&k, c) in dofs.iter().zip(jac) {
+                if let Some(x) = hs.get_mut(k) {
+                    *x -= f * c;
                 }
             }
-        };
+        }
         for s in &self.springs {
             let (e, ed, vg, jac) = s.deformation(fr, self.references[s.body]);
             let f = s.stiffness * e + s.damping * ed;
-            apply(s, f, jac, h);
+            apply(hs, &s.dofs, f, jac);
             p.supports -= f * vg;
             p.damping += s.damping * ed * ed;
         }
+        let (mut supports, mut damping, mut hysteretic) = (0.0, 0.0, 0.0);
         for ((el, law), out) in self.elements.iter().zip(laws).zip(elements.iter_mut()) {
             let (e, ed, vg, jac) = el.deformation(fr, self.references[el.body]);
             *out = (e, ed);
             let fh = law.force(e);
             let f = fh + el.damping * ed;
-            apply(el, f, jac, h);
-            p.supports -= f * vg;
-            p.damping += el.damping * ed * ed;
-            p.hysteretic += fh * ed;
+            apply(hs, &el.dofs, f, jac);
+            supports -= f * vg;
+            damping += el.damping * ed * ed;
+            hysteretic += fh * ed;
         }
+        p.supports += supports;
+        p.damping += damping;
+        p.hysteretic += hysteretic;
         let md = &scene.mass_damping;
         if md.alpha != 0.0 {
             // v_ref from supports; F = −a₀ M (v − v_ref)
