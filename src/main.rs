@@ -128,6 +128,13 @@ enum Command {
 }
 
 fn main() -> ExitCode {
+    // a closed pipe (`deckspin bench | head -1`) ends the process quietly, as for other tools,
+    // instead of a panic in println!
+    #[cfg(unix)]
+    // SAFETY: restoring the default disposition of SIGPIPE before any thread starts.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
     let cli = Cli::parse();
     let result = match cli.command {
         Some(Command::Run {
