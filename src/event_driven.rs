@@ -1110,8 +1110,9 @@ fn eliminate_stack(
             perm.swap(k, pj);
         }
         let pivot_row = m[k];
+        let inv = 1.0 / pivot_row[k];
         for i in k + 1..n {
-            let f = m[i][k] / pivot_row[k];
+            let f = m[i][k] * inv;
             if f != 0.0 {
                 for (x, p) in m[i][k..n].iter_mut().zip(&pivot_row[k..n]) {
                     *x -= f * p;
@@ -1462,13 +1463,32 @@ fn track_peaks(out: &mut RunOutput, step: &dopri::Step, t1: f64, n: usize, y1: &
         consider(t1, y1[k]);
         let (v0, v1) = (step.y0[n + k], y1[n + k]);
         if v0 * v1 < 0.0 {
+            // the extremum: q̇ = 0 by Illinois on the dense output, to 1e-9 of the step (q is
+            // flat there: its error is of order q̈ (1e-9 h)²)
             let (mut a, mut b) = (0.0, (t1 - step.t0) / step.h);
-            for _ in 0..30 {
-                let m = 0.5 * (a + b);
-                if step.dense_component(m, n + k) * v0 > 0.0 {
-                    a = m;
+            let (mut fa, mut fb) = (v0, v1);
+            let mut side = 0;
+            while b - a > 1e-9 {
+                let mut m = (a * fb - b * fa) / (fb - fa);
+                if !(m > a && m < b) {
+                    m = 0.5 * (a + b);
+                }
+                let fm = step.dense_component(m, n + k);
+                if fm * v0 > 0.0 {
+                    (a, fa) = (m, fm);
+                    if side == -1 {
+                        fb *= 0.5;
+                    }
+                    side = -1;
                 } else {
-                    b = m;
+                    (b, fb) = (m, fm);
+                    if side == 1 {
+                        fa *= 0.5;
+                    }
+                    side = 1;
+                }
+                if fm == 0.0 {
+                    break;
                 }
             }
             let th = 0.5 * (a + b);

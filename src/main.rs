@@ -521,11 +521,13 @@ fn cmd_bench(model: &std::path::Path, repeat: usize, sweeps: usize) -> CliResult
         times.push(t0.elapsed().as_secs_f64());
         steps = r.summary.stats.steps_accepted;
     }
+    let min = times.iter().copied().fold(f64::INFINITY, f64::min);
     println!(
-        "single run ({}): median {:.1} ms over {} runs ({} steps)",
+        "single run ({}): median {:.1} ms over {} runs (fastest {:.1} ms; {} steps)",
         scene.title,
         median(times.clone()) * 1e3,
         times.len(),
+        min * 1e3,
         steps
     );
     let study = Study::open(model, &[])?;
@@ -551,11 +553,12 @@ fn cmd_bench(model: &std::path::Path, repeat: usize, sweeps: usize) -> CliResult
             }
         }
         println!(
-            "μ × runs sweep ({} runs, {} threads): median {:.3} s over {} sweeps",
+            "μ × runs sweep ({} runs, {} threads): median {:.3} s over {} sweeps (fastest {:.3} s)",
             8 * n,
             rayon::current_num_threads(),
             median(st.clone()),
-            st.len()
+            st.len(),
+            st.iter().copied().fold(f64::INFINITY, f64::min)
         );
     }
     Ok(())

@@ -430,10 +430,10 @@ impl Scene {
 
     /// [`Scene::frame`] written into `fr`, reusing its storage.
     pub fn frame_into(&self, fr: &mut Frame, t: f64, q: &DVector<f64>, v: &DVector<f64>) {
+        let (qs, vs) = (q.as_slice(), v.as_slice());
         fr.poses.clear();
         fr.poses
-            .extend((0..self.bodies.len()).map(|i| self.body_state(BodyRef::Body(i), q, v)));
-        fr.ground = self.body_state(BodyRef::Ground, q, v);
+            .extend((0..self.bodies.len()).map(|i| self.pose_of(i, |k| qs[k], |k| vs[k])));
         if fr.alias.len() != self.supports.len() {
             fr.alias = self
                 .supports
@@ -965,32 +965,46 @@ impl ForceModel {
             ..Default::default()
         };
         let hs = h.as_mut_slice();
-        #[inline(always)]
-        fn apply(hs: &mut [f64], dofs: &[usize; 3], f: f64, jac: [f64; 3]) {
-            for (&k, c) in dofs.iter().zip(jac) {
+        // generalized forces summed per body in registers (consecutive elements mostly act on
+        // the same body), then subtracted from h once per run of elements
+        let flush = |hs: &mut [f64], dofs: &[usize; 3], acc: [f64; 3]| {
+            for (&k, a) in dofs.iter().zip(acc) {
                 if let Some(x) = hs.get_mut(k) {
-                    *x -= f * c;
+                    *x -= a;
                 }
             }
-        }
+        };
+        let (mut supports, mut damping, mut hysteretic) = (0.0, 0.0, 0.0);
+        let mut dofs = [NONE; 3];
+        let mut acc = [0.0f64; 3];
+        let mut add = |hs: &mut [f64], el: &FlatElement, f: f64, jac: [f64; 3]| {
+            if el.dofs != dofs {
+                flush(hs, &dofs, acc);
+                dofs = el.dofs;
+                acc = [0.0; 3];
+            }
+            acc[0] += f * jac[0];
+            acc[1] += f * jac[1];
+            acc[2] += f * jac[2];
+        };
         for s in &self.springs {
             let (e, ed, vg, jac) = s.deformation(fr, self.references[s.body]);
             let f = s.stiffness * e + s.damping * ed;
-            apply(hs, &s.dofs, f, jac);
-            p.supports -= f * vg;
-            p.damping += s.damping * ed * ed;
+            add(hs, s, f, jac);
+            supports -= f * vg;
+            damping += s.damping * ed * ed;
         }
-        let (mut supports, mut damping, mut hysteretic) = (0.0, 0.0, 0.0);
         for ((el, law), out) in self.elements.iter().zip(laws).zip(elements.iter_mut()) {
             let (e, ed, vg, jac) = el.deformation(fr, self.references[el.body]);
             *out = (e, ed);
             let fh = law.force(e);
             let f = fh + el.damping * ed;
-            apply(hs, &el.dofs, f, jac);
+            add(hs, el, f, jac);
             supports -= f * vg;
             damping += el.damping * ed * ed;
             hysteretic += fh * ed;
         }
+        flush(hs, &dofs, acc);
         p.supports += supports;
         p.damping += damping;
         p.hysteretic += hysteretic;
