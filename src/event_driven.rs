@@ -169,6 +169,18 @@ struct Engine<'a> {
     forces: ForceModel,
     /// The events of the instant [`locate_event`] returned.
     cluster: Vec<EventFn>,
+    proj: ProjectScratch,
+}
+
+/// Reused storage of [`Engine::project`].
+#[derive(Default)]
+struct ProjectScratch {
+    q: DVector<f64>,
+    v: DVector<f64>,
+    fr: crate::scene::Frame,
+    kin: Vec<ContactKinematics>,
+    held: Vec<usize>,
+    res: Vec<f64>,
 }
 
 #[derive(Default)]
@@ -220,6 +232,29 @@ impl<'a> Engine<'a> {
     }
     fn v(&self) -> DVector<f64> {
         self.y.rows(self.n, self.n).into_owned()
+    }
+
+    /// (e, ė) of hysteretic element j at the current state (its body's pose and support only).
+    fn element_deformation(&self, j: usize) -> (f64, f64) {
+        let scene = self.scene;
+        let el = &scene.hysteretic[j];
+        let body = match el.attachment {
+            crate::scene::Attachment::Point { body, .. }
+            | crate::scene::Attachment::Rotation { body } => body,
+        };
+        let pose = scene.body_state_from(body, &self.y, self.n);
+        let sup = el
+            .support
+            .map_or((0.0, 0.0, 0.0), |s| scene.supports[s].at(self.t));
+        let (e, ed, ..) = scene.deformation_at(&el.attachment, &pose, sup);
+        (e, ed)
+    }
+
+    /// Kinematics of contact i at the current state.
+    fn contact_kinematics_now(&self, i: usize) -> ContactKinematics {
+        let (q, v) = (self.q(), self.v());
+        self.scene
+            .contact_kinematics(&self.scene.contacts[i], &q, &v)
     }
 
     /// Kinematics of every contact at the current state.
@@ -614,65 +649,79 @@ impl<'a> Engine<'a> {
     fn project(&mut self) -> f64 {
         let n = self.n;
         let scene = self.scene;
-        let q = self.q();
-        let v = self.v();
-        let closed: Vec<usize> = (0..self.state.len())
-            .filter(|&i| self.state[i] != ContactState::Open)
-            .collect();
+        let mut ps = std::mem::take(&mut self.proj);
+        if ps.q.len() != n {
+            ps.q = DVector::zeros(n);
+            ps.v = DVector::zeros(n);
+        }
+        ps.kin
+            .resize_with(scene.contacts.len(), ContactKinematics::placeholder);
+        let load = |ps: &mut ProjectScratch, y: &DVector<f64>, t: f64| {
+            ps.q.copy_from(&y.rows(0, n));
+            ps.v.copy_from(&y.rows(n, n));
+            scene.frame_into(&mut ps.fr, t, &ps.q, &ps.v);
+        };
         // closed contacts, and open ones that penetrate (after an event located past g_N = 0)
-        let fr = scene.frame(self.t, &q, &v);
-        let held: Vec<usize> = (0..self.state.len())
-            .filter(|&i| {
-                self.state[i] != ContactState::Open
-                    || scene.contact_rates_in(&fr, &scene.contacts[i]).0 < 0.0
-            })
-            .collect();
-        if held.is_empty() {
-            return 0.0;
+        load(&mut ps, &self.y, self.t);
+        ps.held.clear();
+        for i in 0..self.state.len() {
+            if self.state[i] != ContactState::Open
+                || scene.contact_rates_in(&ps.fr, &scene.contacts[i]).0 < 0.0
+            {
+                ps.held.push(i);
+            }
         }
         let mut moved = 0.0f64;
-        for _ in 0..3 {
-            let q = self.q();
-            let v = self.v();
-            let kin: Vec<_> = held
-                .iter()
-                .map(|&i| scene.contact_kinematics(&scene.contacts[i], &q, &v))
-                .collect();
-            let rows: Vec<&DVector<f64>> = kin.iter().map(|k| &k.w_n).collect();
-            let res: Vec<f64> = kin.iter().map(|k| k.gap).collect();
-            if res.iter().all(|r| r.abs() < 1e-15) {
-                break;
+        if !ps.held.is_empty() {
+            for _ in 0..3 {
+                load(&mut ps, &self.y, self.t);
+                let ProjectScratch {
+                    fr, kin, held, res, ..
+                } = &mut ps;
+                res.clear();
+                for &i in held.iter() {
+                    scene.contact_kinematics_into(fr, &scene.contacts[i], &mut kin[i]);
+                    res.push(kin[i].gap);
+                }
+                if res.iter().all(|r| r.abs() < 1e-15) {
+                    break;
+                }
+                let rows: Vec<&DVector<f64>> = held.iter().map(|&i| &kin[i].w_n).collect();
+                let dq = min_norm_correction(&rows, res, &self.minv);
+                moved = moved.max(dq.amax());
+                for i in 0..n {
+                    self.y[i] -= dq[i];
+                }
             }
-            let dq = min_norm_correction(&rows, &res, &self.minv);
-            moved = moved.max(dq.amax());
+        }
+        let closed = self.state.iter().any(|s| *s != ContactState::Open);
+        if closed {
+            load(&mut ps, &self.y, self.t);
+            let ProjectScratch { fr, kin, res, .. } = &mut ps;
+            res.clear();
+            for (i, st) in self.state.iter().enumerate() {
+                if *st != ContactState::Open {
+                    scene.contact_kinematics_into(fr, &scene.contacts[i], &mut kin[i]);
+                }
+            }
+            let mut rows: Vec<&DVector<f64>> = Vec::with_capacity(8);
+            for (i, st) in self.state.iter().enumerate() {
+                if *st != ContactState::Open {
+                    rows.push(&kin[i].w_n);
+                    res.push(kin[i].gap_rate);
+                    if *st == ContactState::Stick {
+                        rows.push(&kin[i].w_t);
+                        res.push(kin[i].slip_rate);
+                    }
+                }
+            }
+            let dv = min_norm_correction(&rows, res, &self.minv);
+            moved = moved.max(dv.amax());
             for i in 0..n {
-                self.y[i] -= dq[i];
+                self.y[n + i] -= dv[i];
             }
         }
-        let q = self.q();
-        let v = self.v();
-        let mut rows = Vec::new();
-        let mut res = Vec::new();
-        let kin: Vec<_> = closed
-            .iter()
-            .map(|&i| scene.contact_kinematics(&scene.contacts[i], &q, &v))
-            .collect();
-        for (a, &i) in closed.iter().enumerate() {
-            rows.push(&kin[a].w_n);
-            res.push(kin[a].gap_rate);
-            if self.state[i] == ContactState::Stick {
-                rows.push(&kin[a].w_t);
-                res.push(kin[a].slip_rate);
-            }
-        }
-        if rows.is_empty() {
-            return moved;
-        }
-        let dv = min_norm_correction(&rows, &res, &self.minv);
-        moved = moved.max(dv.amax());
-        for i in 0..n {
-            self.y[n + i] -= dv[i];
-        }
+        self.proj = ps;
         moved
     }
 
@@ -1192,6 +1241,7 @@ pub fn run(scene: &Scene, observer: &mut dyn Observer) -> Result<RunOutput, Solv
         locate: LocateScratch::default(),
         forces: ForceModel::new(scene),
         cluster: Vec::new(),
+        proj: ProjectScratch::default(),
     };
     // initial hysteretic directions from the initial deformation rates
     {
@@ -1383,16 +1433,11 @@ pub fn run(scene: &Scene, observer: &mut dyn Observer) -> Result<RunOutput, Solv
 /// Apply one located event at the current instant: a branch change of a hysteretic element,
 /// or a contact event (the LCPs decide the new state).
 fn process_event(eng: &mut Engine, f: EventFn) -> Result<(), SolverError> {
-    let scene = eng.scene;
     eng.scratch.at = None;
     match f {
         EventFn::Lower(j) | EventFn::Upper(j) | EventFn::Reversal(j) => {
             let b = *eng.laws[j].branch();
-            let el = &scene.hysteretic[j];
-            let q = eng.q();
-            let v = eng.v();
-            let (e, _, _) =
-                scene.deformation(&el.attachment, el.support, eng.t, &q, &v, &mut eng.jac);
+            let e = eng.element_deformation(j).0;
             let (e_at, dir) = match f {
                 EventFn::Lower(_) => (b.lower, -1.0),
                 EventFn::Upper(_) => (b.upper, 1.0),
@@ -1418,26 +1463,27 @@ fn due_now(
     fns: &[EventFn],
     done: &[EventFn],
 ) -> Result<Option<EventFn>, SolverError> {
-    let y = eng.y.clone();
-    let vals = if eng.arm_values.len() == fns.len() {
-        std::mem::take(&mut eng.arm_values)
-    } else {
-        eng.event_values(eng.t, &y, fns)?
-    };
-    let n = eng.n;
-    let q = y.rows(0, n).into_owned();
-    let v = y.rows(n, n).into_owned();
-    for (f, val) in fns.iter().zip(vals) {
-        if val < -eng.threshold(*f) && !done.contains(f) {
+    if eng.arm_values.len() != fns.len() {
+        let y = std::mem::take(&mut eng.y);
+        let mut vals = std::mem::take(&mut eng.arm_values);
+        let r = eng.event_values_into(eng.t, &y, fns, &mut vals);
+        eng.y = y;
+        eng.arm_values = vals;
+        r?;
+    }
+    for (k, f) in fns.iter().enumerate() {
+        if eng.arm_values[k] < -eng.threshold(*f) && !done.contains(f) {
             if let EventFn::Gap(i) = *f {
-                let k = eng.scene.contact_kinematics(&eng.scene.contacts[i], &q, &v);
-                if k.gap_rate >= -eng.scene.settings.velocity_tol {
+                let gap_rate = eng.contact_kinematics_now(i).gap_rate;
+                if gap_rate >= -eng.scene.settings.velocity_tol {
                     continue;
                 }
             }
+            eng.arm_values.clear();
             return Ok(Some(*f));
         }
     }
+    eng.arm_values.clear();
     Ok(None)
 }
 
@@ -1506,25 +1552,24 @@ fn y_len(n: usize) -> usize {
 /// begun). Unarmed ones trigger only below −threshold (an inconsistent state the LCP repairs).
 fn arm(eng: &mut Engine, fns: &[EventFn]) -> Result<Vec<bool>, SolverError> {
     eng.last_event_values = None;
-    let y = eng.y.clone();
-    let vals = eng.event_values(eng.t, &y, fns)?;
-    eng.arm_values = vals.clone();
-    let n = eng.n;
-    let q = y.rows(0, n).into_owned();
-    let v = y.rows(n, n).into_owned();
+    let y = std::mem::take(&mut eng.y);
+    let mut vals = std::mem::take(&mut eng.arm_values);
+    let r = eng.event_values_into(eng.t, &y, fns, &mut vals);
+    eng.y = y;
+    r?;
     let scene = eng.scene;
-    let fr = scene.frame(eng.t, &q, &v);
-    Ok(fns
+    let st = &scene.settings;
+    let armed = fns
         .iter()
-        .zip(vals)
-        .map(|(f, val)| {
+        .zip(&vals)
+        .map(|(f, &val)| {
             let thr = eng.threshold(*f);
             match *f {
+                // a gap at zero counts as positive if it opens
                 EventFn::Gap(i) => {
                     val > thr
-                        || (val > -scene.settings.gap_tol
-                            && scene.contact_rates_in(&fr, &scene.contacts[i]).1
-                                > scene.settings.velocity_tol)
+                        || (val > -st.gap_tol
+                            && eng.contact_kinematics_now(i).gap_rate > st.velocity_tol)
                 }
                 EventFn::SlideStop(_)
                 | EventFn::Reversal(_)
@@ -1533,7 +1578,9 @@ fn arm(eng: &mut Engine, fns: &[EventFn]) -> Result<Vec<bool>, SolverError> {
                 EventFn::Release(_) | EventFn::StickSlip(_) => val > thr,
             }
         })
-        .collect())
+        .collect();
+    eng.arm_values = vals;
+    Ok(armed)
 }
 
 /// First event in the step: sample the dense output at θ = ¼, ½, ¾, 1, then Illinois on the
