@@ -920,6 +920,8 @@ pub struct ForceModel {
     springs: Vec<FlatElement>,
     elements: Vec<FlatElement>,
     references: Vec<Vector2<f64>>,
+    /// (dof, support, factor) of q̇_ref with supports that move alike merged.
+    mass_reference: Vec<(usize, usize, f64)>,
 }
 
 impl ForceModel {
@@ -940,10 +942,38 @@ impl ForceModel {
             .iter()
             .map(|h| FlatElement::new(scene, &h.attachment, h.support, 0.0, h.damping))
             .collect();
+        // supports driven by the same record with the same factor move alike
+        let alias: Vec<usize> = scene
+            .supports
+            .iter()
+            .enumerate()
+            .map(|(i, s)| match &s.motion {
+                Motion::Record(g) => scene.supports[..i]
+                    .iter()
+                    .position(|o| {
+                        matches!(&o.motion, Motion::Record(h) if Arc::ptr_eq(g, h))
+                            && o.factor == s.factor
+                    })
+                    .unwrap_or(i),
+                Motion::Harmonic { .. } => i,
+            })
+            .collect();
+        let mut mass_reference: Vec<(usize, usize, f64)> = Vec::new();
+        for &(k, s, f) in &scene.mass_damping.reference {
+            let root = alias.get(s).copied().unwrap_or(s);
+            match mass_reference
+                .iter_mut()
+                .find(|(k2, s2, _)| *k2 == k && *s2 == root)
+            {
+                Some(e) => e.2 += f,
+                None => mass_reference.push((k, root, f)),
+            }
+        }
         Self {
             springs,
             elements,
             references: scene.bodies.iter().map(|b| b.reference).collect(),
+            mass_reference,
         }
     }
 
@@ -1019,16 +1049,19 @@ impl ForceModel {
                 heap.resize(n, 0.0);
                 &mut heap
             };
-            for &(k, s, f) in &md.reference {
+            for &(k, s, f) in &self.mass_reference {
                 vref[k] += f * fr.supports[s].1;
             }
+            let (mut damping, mut supports) = (0.0, 0.0);
             for k in 0..n {
                 let rel = v[k] - vref[k];
                 let f = md.alpha * scene.mass[k] * rel;
                 h[k] -= f;
-                p.damping += f * rel;
-                p.supports -= f * vref[k];
+                damping += f * rel;
+                supports -= f * vref[k];
             }
+            p.damping += damping;
+            p.supports += supports;
         }
         p
     }
