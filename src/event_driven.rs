@@ -208,6 +208,15 @@ struct Scratch {
 }
 
 impl Scratch {
+    /// Buffers for n DOFs.
+    fn size(&mut self, n: usize) {
+        for b in [&mut self.q, &mut self.v, &mut self.h, &mut self.qdd] {
+            if b.len() != n {
+                *b = DVector::zeros(n);
+            }
+        }
+    }
+
     fn hold(&mut self, t: f64, y: &DVector<f64>, all: bool) {
         if self.at_y.len() != y.len() {
             self.at_y = DVector::zeros(y.len());
@@ -282,12 +291,7 @@ impl<'a> Engine<'a> {
             return Ok(());
         }
         sc.at = None;
-        if sc.q.len() != n {
-            sc.q = DVector::zeros(n);
-            sc.v = DVector::zeros(n);
-            sc.h = DVector::zeros(n);
-            sc.qdd = DVector::zeros(n);
-        }
+        sc.size(n);
         sc.q.copy_from(&y.rows(0, n));
         sc.v.copy_from(&y.rows(n, n));
         scene.frame_into(&mut sc.fr, t, &sc.q, &sc.v);
@@ -571,11 +575,32 @@ impl<'a> Engine<'a> {
 
     fn record_sample(&mut self, kind: SampleKind) -> Result<(), SolverError> {
         let n = self.n;
-        let y = std::mem::take(&mut self.y);
-        let r = self.dynamics_into(self.t, &y, true);
-        self.y = y;
-        r?;
         let scene = self.scene;
+        if self.state.iter().all(|s| *s == ContactState::Open) {
+            // no contact force to solve for: kinematics and element deformations only
+            let sc = &mut self.scratch;
+            sc.at = None;
+            sc.size(n);
+            sc.q.copy_from(&self.y.rows(0, n));
+            sc.v.copy_from(&self.y.rows(n, n));
+            scene.frame_into(&mut sc.fr, self.t, &sc.q, &sc.v);
+            sc.kin
+                .resize_with(scene.contacts.len(), ContactKinematics::placeholder);
+            for (c, k) in scene.contacts.iter().zip(sc.kin.iter_mut()) {
+                scene.contact_kinematics_into(&sc.fr, c, k);
+            }
+            sc.lam_n.clear();
+            sc.lam_n.resize(scene.contacts.len(), 0.0);
+            sc.lam_t.clear();
+            sc.lam_t.resize(scene.contacts.len(), 0.0);
+            sc.elements.resize(scene.hysteretic.len(), (0.0, 0.0));
+            self.forces.deformations(&sc.fr, &mut sc.elements);
+        } else {
+            let y = std::mem::take(&mut self.y);
+            let r = self.dynamics_into(self.t, &y, true);
+            self.y = y;
+            r?;
+        }
         let d = &self.scratch;
         let contacts = (0..scene.contacts.len())
             .map(|i| ContactSample {
@@ -1271,6 +1296,9 @@ pub fn run(scene: &Scene, observer: &mut dyn Observer) -> Result<RunOutput, Solv
         smooth_forces_laws(scene, &eng.laws, 0.0, &q, &v, &mut h, &mut eng.jac);
         eng.force_scale = h.amax().max(scene.mass.amax() * 1e-6);
     }
+    // the output grid, and room for the rows around events
+    let grid = (st.t_end / st.output_dt).ceil().min(1e7) as usize;
+    eng.out.samples.reserve(grid + grid / 8 + 16);
     let n_events = eng.out.events.len();
     eng.record_sample(SampleKind::PreEvent)?;
     eng.resolve()?;

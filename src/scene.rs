@@ -1066,6 +1066,14 @@ impl ForceModel {
         p
     }
 
+    /// (e, ė) of each hysteretic element, as [`ForceModel::eval`] writes them.
+    pub fn deformations(&self, fr: &Frame, elements: &mut [(f64, f64)]) {
+        for (el, out) in self.elements.iter().zip(elements.iter_mut()) {
+            let (e, ed, ..) = el.deformation(fr, self.references[el.body]);
+            *out = (e, ed);
+        }
+    }
+
     /// Elastic energy of the linear springs, Σ ½ k e².
     pub fn spring_energy(&self, fr: &Frame) -> f64 {
         self.springs
