@@ -1607,6 +1607,8 @@ fn arm(eng: &mut Engine, fns: &[EventFn]) -> Result<Vec<bool>, SolverError> {
             }
         })
         .collect();
+    // they are also the start values of the next step's event search
+    eng.last_event_values = Some((eng.t, vals.clone()));
     eng.arm_values = vals;
     Ok(armed)
 }
@@ -1665,6 +1667,9 @@ fn locate_event_in(
     thr.clear();
     thr.extend(fns.iter().map(|f| eng.threshold(*f)));
     let shifted = |v: f64, k: usize, armed: &[bool]| if armed[k] { v } else { v + thr[k] };
+    // the end values first: the last stage evaluated the dynamics there (FSAL), which any
+    // other evaluation would overwrite
+    eng.event_values_into(step.t1(), &step.y1, fns, v_end)?;
     match eng.last_event_values.take() {
         Some((t, v)) if t == step.t0 && v.len() == fns.len() => *v_prev = v,
         _ => eng.event_values_into(step.t0, &step.y0, fns, v_prev)?,
@@ -1686,9 +1691,6 @@ fn locate_event_in(
     if y.len() != step.y0.len() {
         *y = DVector::zeros(step.y0.len());
     }
-    // the end values first: the last stage evaluated the dynamics there (FSAL), which the
-    // interior samples would overwrite
-    eng.event_values_into(step.t1(), &step.y1, fns, v_end)?;
     for theta in [0.25, 0.5, 0.75, 1.0] {
         let full = theta == 0.5 || theta == 1.0;
         if !full && gaps.is_empty() {
