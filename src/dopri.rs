@@ -183,11 +183,15 @@ pub fn step_into<E>(
     k[0].copy_from(f0);
     let y = &mut step.y1;
     for s in 1..7 {
-        y.copy_from(y0);
+        let ys = y.as_mut_slice();
+        ys.copy_from_slice(y0.as_slice());
         for (j, kj) in k.iter().enumerate().take(s) {
             let a = A[s][j];
             if a != 0.0 {
-                y.axpy(h * a, kj, 1.0);
+                let c = h * a;
+                for (yi, ki) in ys.iter_mut().zip(kj.as_slice()) {
+                    *yi += c * ki;
+                }
             }
         }
         let (_, rest) = k.split_at_mut(s);

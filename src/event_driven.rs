@@ -587,7 +587,8 @@ impl<'a> Engine<'a> {
             sc.kin
                 .resize_with(scene.contacts.len(), ContactKinematics::placeholder);
             for (c, k) in scene.contacts.iter().zip(sc.kin.iter_mut()) {
-                scene.contact_kinematics_into(&sc.fr, c, k);
+                // gap and rates only: no Jacobians needed without forces
+                (k.gap, k.gap_rate, k.slip_rate) = scene.contact_rates_in(&sc.fr, c);
             }
             sc.lam_n.clear();
             sc.lam_n.resize(scene.contacts.len(), 0.0);
