@@ -902,13 +902,16 @@ impl FlatElement {
         if self.rotation {
             return (s.angle - ug, s.omega - vg, vg, [0.0, 0.0, 1.0]);
         }
-        let d = self.direction;
-        let rho = s.rot(self.point);
-        let disp = s.position - reference + rho - self.point;
-        let arm = d.x * -rho.y + d.y * rho.x; // d·perp(ρ)
-        let e = d.dot(&disp) - ug;
-        let ed = d.dot(&s.velocity) + s.omega * arm - vg;
-        (e, ed, vg, [d.x, d.y, arm])
+        let (dx, dy) = (self.direction.x, self.direction.y);
+        let (px, py) = (self.point.x, self.point.y);
+        let (c, sn) = s.cs;
+        let (rx, ry) = (c * px - sn * py, sn * px + c * py);
+        let ux = s.position.x - reference.x + rx - px;
+        let uy = s.position.y - reference.y + ry - py;
+        let arm = dx * -ry + dy * rx; // d·perp(ρ)
+        let e = dx * ux + dy * uy - ug;
+        let ed = dx * s.velocity.x + dy * s.velocity.y + s.omega * arm - vg;
+        (e, ed, vg, [dx, dy, arm])
     }
 }
 
