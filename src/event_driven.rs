@@ -205,6 +205,8 @@ struct Scratch {
     /// The (t, y, all) of the values held, while no law or contact state has changed since.
     at: Option<(f64, bool)>,
     at_y: DVector<f64>,
+    /// The constraints of the current contact mode are redundant (cleared on mode changes).
+    mode_singular: bool,
 }
 
 impl Scratch {
@@ -407,7 +409,7 @@ impl<'a> Engine<'a> {
                 }
             }
         }
-        solve_small_into(&sc.a, &sc.b, &mut sc.lam);
+        solve_small_into(&sc.a, &sc.b, &mut sc.lam, &mut sc.mode_singular);
         for (r, &(i, tangential)) in sc.slots.iter().enumerate() {
             let lr = sc.lam[r];
             let f = sc.forces.column(r);
@@ -755,6 +757,7 @@ impl<'a> Engine<'a> {
     /// contact approaches, then the acceleration LCP (eq. 8) for the closed ones.
     fn resolve(&mut self) -> Result<(), SolverError> {
         self.scratch.at = None;
+        self.scratch.mode_singular = false;
         let scene = self.scene;
         let st = &scene.settings;
         let nc = scene.contacts.len();
@@ -1056,14 +1059,19 @@ fn solve_small(a: DMatrix<f64>, b: DVector<f64>) -> DVector<f64> {
 }
 
 /// [`solve_small`] into `x`; no allocation for n ≤ 12 unless the SVD is needed.
-fn solve_small_into(a: &DMatrix<f64>, b: &DVector<f64>, x: &mut DVector<f64>) {
+/// `singular`: the system is known to be rank-deficient (skip the direct attempt); set when
+/// the direct elimination fails.
+fn solve_small_into(a: &DMatrix<f64>, b: &DVector<f64>, x: &mut DVector<f64>, singular: &mut bool) {
     const N: usize = ELIM_N;
     let k = b.len();
     if x.len() != k {
         *x = DVector::zeros(k);
     }
-    if eliminate_into(a, b, 1e-9, x.as_mut_slice()) {
-        return;
+    if !*singular {
+        if eliminate_into(a, b, 1e-9, x.as_mut_slice()) {
+            return;
+        }
+        *singular = true;
     }
     if k <= N {
         // the regularized minimum-norm solution of solve_small, on the stack
@@ -1303,6 +1311,7 @@ pub fn run(scene: &Scene, observer: &mut dyn Observer) -> Result<RunOutput, Solv
     let n_events = eng.out.events.len();
     eng.record_sample(SampleKind::PreEvent)?;
     eng.resolve()?;
+    eng.scratch.mode_singular = false;
     if eng.out.events.len() > n_events {
         eng.record_sample(SampleKind::PostEvent)?;
     } else {
@@ -1478,6 +1487,8 @@ fn process_event(eng: &mut Engine, f: EventFn) -> Result<(), SolverError> {
         _ => {
             eng.record_sample(SampleKind::PreEvent)?;
             eng.resolve()?;
+            // a new contact mode: its constraints may or may not be redundant
+            eng.scratch.mode_singular = false;
             eng.record_sample(SampleKind::PostEvent)?;
         }
     }
