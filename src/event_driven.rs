@@ -451,6 +451,13 @@ impl<'a> Engine<'a> {
 
     fn event_fns(&self) -> Vec<EventFn> {
         let mut f = Vec::new();
+        self.event_fns_into(&mut f);
+        f
+    }
+
+    /// [`Engine::event_fns`] into `f` (cleared first).
+    fn event_fns_into(&self, f: &mut Vec<EventFn>) {
+        f.clear();
         for (i, st) in self.state.iter().enumerate() {
             match st {
                 ContactState::Open => f.push(EventFn::Gap(i)),
@@ -478,7 +485,6 @@ impl<'a> Engine<'a> {
                 f.push(EventFn::Reversal(j));
             }
         }
-        f
     }
 
     /// Values of the event functions (an event is a crossing from > 0 to ≤ 0) and their
@@ -522,7 +528,18 @@ impl<'a> Engine<'a> {
             }
             self.event_qv.0.copy_from(&y.rows(0, n));
             self.event_qv.1.copy_from(&y.rows(n, n));
-            scene.frame_into(&mut fr, t, &self.event_qv.0, &self.event_qv.1);
+            let branch = fns.iter().any(|f| {
+                matches!(
+                    f,
+                    EventFn::Lower(_) | EventFn::Upper(_) | EventFn::Reversal(_)
+                )
+            });
+            if branch {
+                scene.frame_into(&mut fr, t, &self.event_qv.0, &self.event_qv.1);
+            } else {
+                // contact functions need the poses only
+                scene.poses_into(&mut fr, &self.event_qv.0, &self.event_qv.1);
+            }
             defo.clear();
             defo.resize(scene.hysteretic.len(), (f64::NAN, f64::NAN));
         }
@@ -1438,8 +1455,8 @@ pub fn run(scene: &Scene, observer: &mut dyn Observer) -> Result<RunOutput, Solv
             let y1 = eng.y.clone();
             let t = eng.t;
             (rhs_of!(eng))(t, &y1, &mut f0)?;
-            fns = eng.event_fns();
-            armed = arm(&mut eng, &fns)?;
+            eng.event_fns_into(&mut fns);
+            arm_into(&mut eng, &fns, &mut armed)?;
             // events already due at this instant (simultaneous crossings, e.g. symmetric
             // columns reversing together): process them now, before any step
             let mut done: Vec<EventFn> = Vec::new();
@@ -1449,8 +1466,8 @@ pub fn run(scene: &Scene, observer: &mut dyn Observer) -> Result<RunOutput, Solv
                 let y1 = eng.y.clone();
                 let t = eng.t;
                 (rhs_of!(eng))(t, &y1, &mut f0)?;
-                fns = eng.event_fns();
-                armed = arm(&mut eng, &fns)?;
+                eng.event_fns_into(&mut fns);
+                arm_into(&mut eng, &fns, &mut armed)?;
             }
         } else {
             f0.copy_from(&ws.step.f1);
@@ -1591,6 +1608,13 @@ fn y_len(n: usize) -> usize {
 /// phase — clearly positive, or zero and moving up (a separating gap, a slide or branch just
 /// begun). Unarmed ones trigger only below −threshold (an inconsistent state the LCP repairs).
 fn arm(eng: &mut Engine, fns: &[EventFn]) -> Result<Vec<bool>, SolverError> {
+    let mut armed = Vec::new();
+    arm_into(eng, fns, &mut armed)?;
+    Ok(armed)
+}
+
+/// [`arm`] into `armed`.
+fn arm_into(eng: &mut Engine, fns: &[EventFn], armed: &mut Vec<bool>) -> Result<(), SolverError> {
     eng.last_event_values = None;
     let y = std::mem::take(&mut eng.y);
     let mut vals = std::mem::take(&mut eng.arm_values);
@@ -1599,30 +1623,27 @@ fn arm(eng: &mut Engine, fns: &[EventFn]) -> Result<Vec<bool>, SolverError> {
     r?;
     let scene = eng.scene;
     let st = &scene.settings;
-    let armed = fns
-        .iter()
-        .zip(&vals)
-        .map(|(f, &val)| {
-            let thr = eng.threshold(*f);
-            match *f {
-                // a gap at zero counts as positive if it opens
-                EventFn::Gap(i) => {
-                    val > thr
-                        || (val > -st.gap_tol
-                            && eng.contact_kinematics_now(i).gap_rate > st.velocity_tol)
-                }
-                EventFn::SlideStop(_)
-                | EventFn::Reversal(_)
-                | EventFn::Lower(_)
-                | EventFn::Upper(_) => val > -thr,
-                EventFn::Release(_) | EventFn::StickSlip(_) => val > thr,
+    armed.clear();
+    armed.extend(fns.iter().zip(&vals).map(|(f, &val)| {
+        let thr = eng.threshold(*f);
+        match *f {
+            // a gap at zero counts as positive if it opens
+            EventFn::Gap(i) => {
+                val > thr
+                    || (val > -st.gap_tol
+                        && eng.contact_kinematics_now(i).gap_rate > st.velocity_tol)
             }
-        })
-        .collect();
+            EventFn::SlideStop(_)
+            | EventFn::Reversal(_)
+            | EventFn::Lower(_)
+            | EventFn::Upper(_) => val > -thr,
+            EventFn::Release(_) | EventFn::StickSlip(_) => val > thr,
+        }
+    }));
     // they are also the start values of the next step's event search
     eng.last_event_values = Some((eng.t, vals.clone()));
     eng.arm_values = vals;
-    Ok(armed)
+    Ok(())
 }
 
 /// First event in the step: sample the dense output at θ = ¼, ½, ¾, 1, then Illinois on the

@@ -430,10 +430,7 @@ impl Scene {
 
     /// [`Scene::frame`] written into `fr`, reusing its storage.
     pub fn frame_into(&self, fr: &mut Frame, t: f64, q: &DVector<f64>, v: &DVector<f64>) {
-        let (qs, vs) = (q.as_slice(), v.as_slice());
-        fr.poses.clear();
-        fr.poses
-            .extend((0..self.bodies.len()).map(|i| self.pose_of(i, |k| qs[k], |k| vs[k])));
+        self.poses_into(fr, q, v);
         if fr.alias.len() != self.supports.len() {
             fr.alias = self
                 .supports
@@ -456,6 +453,15 @@ impl Scene {
             };
             fr.supports.push(val);
         }
+    }
+
+    /// The poses of [`Scene::frame_into`] alone (the support motions are left as they were):
+    /// enough for contact kinematics.
+    pub fn poses_into(&self, fr: &mut Frame, q: &DVector<f64>, v: &DVector<f64>) {
+        let (qs, vs) = (q.as_slice(), v.as_slice());
+        fr.poses.clear();
+        fr.poses
+            .extend((0..self.bodies.len()).map(|i| self.pose_of(i, |k| qs[k], |k| vs[k])));
     }
 
     /// [`Scene::contact_kinematics`] from precomputed poses.
