@@ -170,6 +170,8 @@ struct Engine<'a> {
     /// The events of the instant [`locate_event`] returned.
     cluster: Vec<EventFn>,
     proj: ProjectScratch,
+    /// Counts the event-function lists made (a list's identity for cached per-list data).
+    fns_generation: u64,
 }
 
 /// Reused storage of [`Engine::project`].
@@ -449,14 +451,15 @@ impl<'a> Engine<'a> {
         Ok(())
     }
 
-    fn event_fns(&self) -> Vec<EventFn> {
+    fn event_fns(&mut self) -> Vec<EventFn> {
         let mut f = Vec::new();
         self.event_fns_into(&mut f);
         f
     }
 
     /// [`Engine::event_fns`] into `f` (cleared first).
-    fn event_fns_into(&self, f: &mut Vec<EventFn>) {
+    fn event_fns_into(&mut self, f: &mut Vec<EventFn>) {
+        self.fns_generation += 1;
         f.clear();
         for (i, st) in self.state.iter().enumerate() {
             match st {
@@ -1293,6 +1296,7 @@ pub fn run(scene: &Scene, observer: &mut dyn Observer) -> Result<RunOutput, Solv
         forces: ForceModel::new(scene),
         cluster: Vec::new(),
         proj: ProjectScratch::default(),
+        fns_generation: 0,
     };
     // initial hysteretic directions from the initial deformation rates
     {
@@ -1677,6 +1681,8 @@ struct LocateScratch {
     v_end: Vec<f64>,
     y: DVector<f64>,
     roots: Vec<(f64, EventFn)>,
+    /// `Engine::fns_generation` of the list `thr` and `gaps` were made for.
+    listed: u64,
 }
 
 fn locate_event_in(
@@ -1696,9 +1702,19 @@ fn locate_event_in(
         v_end,
         y,
         roots,
+        listed,
     } = ls;
-    thr.clear();
-    thr.extend(fns.iter().map(|f| eng.threshold(*f)));
+    // thresholds and the gap subset change only with the list of functions
+    let fresh = *listed != eng.fns_generation || thr.len() != fns.len();
+    if fresh {
+        *listed = eng.fns_generation;
+        thr.clear();
+        thr.extend(fns.iter().map(|f| eng.threshold(*f)));
+        gaps.clear();
+        gaps.extend((0..fns.len()).filter(|&k| matches!(fns[k], EventFn::Gap(_))));
+        gap_fns.clear();
+        gap_fns.extend(gaps.iter().map(|&k| fns[k]));
+    }
     let shifted = |v: f64, k: usize, armed: &[bool]| if armed[k] { v } else { v + thr[k] };
     // the end values first: the last stage evaluated the dynamics there (FSAL), which any
     // other evaluation would overwrite
@@ -1717,10 +1733,6 @@ fn locate_event_in(
     }
     // gaps (cheap, and a corner may graze through in part of a step) at θ = ¼, ½, ¾, 1;
     // everything else at ½ and 1
-    gaps.clear();
-    gaps.extend((0..fns.len()).filter(|&k| matches!(fns[k], EventFn::Gap(_))));
-    gap_fns.clear();
-    gap_fns.extend(gaps.iter().map(|&k| fns[k]));
     if y.len() != step.y0.len() {
         *y = DVector::zeros(step.y0.len());
     }
