@@ -1262,231 +1262,462 @@ fn min_norm_correction(rows: &[&DVector<f64>], res: &[f64], minv: &DVector<f64>)
 
 /// Run the event-driven integration of a scene.
 pub fn run(scene: &Scene, observer: &mut dyn Observer) -> Result<RunOutput, SolverError> {
-    let wall = Instant::now();
-    let n = scene.ndof();
-    let st = &scene.settings;
-    let mut y = DVector::zeros(2 * n + LEDGER_TERMS);
-    y.rows_mut(0, n).copy_from(&scene.q0);
-    y.rows_mut(n, n).copy_from(&scene.v0);
-    let mut laws: Vec<Hysteretic> = scene.hysteretic.iter().map(|h| h.law.clone()).collect();
-    let mut eng = Engine {
-        scene,
-        laws: Vec::new(),
-        state: vec![ContactState::Open; scene.contacts.len()],
-        minv: scene.mass.map(|m| 1.0 / m),
-        n,
-        t: 0.0,
-        y,
-        impact_normal: 0.0,
-        impact_tangential: 0.0,
-        e0: 0.0,
-        energy_scale: 0.0,
-        out: RunOutput::new(scene),
-        last_impacts: vec![Vec::new(); scene.contacts.len()],
-        burst: vec![(f64::NEG_INFINITY, 0); scene.contacts.len()],
-        force_scale: 0.0,
-        jac: DVector::zeros(n),
-        last_event_values: None,
-        scratch: Scratch::default(),
-        event_frame: Default::default(),
-        arm_values: Vec::new(),
-        event_qv: (DVector::zeros(0), DVector::zeros(0)),
-        defo: Vec::new(),
-        locate: LocateScratch::default(),
-        forces: ForceModel::new(scene),
-        cluster: Vec::new(),
-        proj: ProjectScratch::default(),
-        fns_generation: 0,
+    let mut it = Integration::start(scene)?;
+    it.advance(observer, false)?;
+    Ok(it.finish(observer))
+}
+
+/// Runs of scenes that differ only in their contacts' friction coefficients are the same motion
+/// until the first contact event (μ enters nowhere else): that part is integrated once, and
+/// each variant continues from there. The outputs are those of separate runs.
+pub struct FrictionFork<'a> {
+    shared: Integration<'a>,
+    /// A contact event was reached (else the shared run is already the whole run).
+    paused: bool,
+}
+
+impl<'a> FrictionFork<'a> {
+    /// Integrate `scene` up to its first contact event. An error here is each variant's own
+    /// error: run them separately then.
+    pub fn new(scene: &'a Scene) -> Result<Self, SolverError> {
+        let mut shared = Integration::start(scene)?;
+        let paused = shared.advance(&mut Silent, true)?;
+        Ok(Self { shared, paused })
+    }
+
+    /// The run of `scene` from the shared part; None if `scene` differs from the shared one in
+    /// more than contact friction, or is integrated by another method. The shared part counts
+    /// in its wall time.
+    pub fn run(&self, scene: &Scene) -> Option<Result<RunOutput, SolverError>> {
+        if scene.settings.method != crate::scene::Method::Event
+            || !differs_only_in_friction(self.shared.eng.scene, scene)
+        {
+            return None;
+        }
+        let mut it = self.shared.fork(scene);
+        if self.paused
+            && let Err(e) = it.advance(&mut Silent, false)
+        {
+            return Some(Err(e));
+        }
+        Some(Ok(it.finish(&mut Silent)))
+    }
+}
+
+/// `b` is `a` with other contact friction coefficients (nothing else differs).
+fn differs_only_in_friction(a: &Scene, b: &Scene) -> bool {
+    let contacts = |s: &Scene| {
+        let mut c = s.contacts.clone();
+        for x in &mut c {
+            x.mu = 0.0;
+        }
+        format!("{c:?}")
     };
-    // initial hysteretic directions from the initial deformation rates
-    {
-        let q = eng.q();
-        let v = eng.v();
-        for (j, el) in scene.hysteretic.iter().enumerate() {
-            let (e, ed, _) =
-                scene.deformation(&el.attachment, el.support, 0.0, &q, &v, &mut eng.jac);
-            laws[j].set_direction(e, if ed < 0.0 { -1.0 } else { 1.0 });
-        }
-    }
-    eng.laws = laws;
-    {
-        let q = eng.q();
-        let v = eng.v();
-        for c in &scene.contacts {
-            let k = scene.contact_kinematics(c, &q, &v);
-            if k.gap < -st.gap_tol {
-                return Err(SolverError::InitialPenetration {
-                    contact: c.name.clone(),
-                    gap: k.gap,
-                });
-            }
-        }
-        eng.e0 = scene.kinetic_energy(&v) + scene.spring_energy(0.0, &q, &v);
-        let mut h = DVector::zeros(n);
-        smooth_forces_laws(scene, &eng.laws, 0.0, &q, &v, &mut h, &mut eng.jac);
-        eng.force_scale = h.amax().max(scene.mass.amax() * 1e-6);
-    }
-    // the output grid, and room for the rows around events
-    let grid = (st.t_end / st.output_dt).ceil().min(1e7) as usize;
-    eng.out.samples.reserve(grid + grid / 8 + 16);
-    let n_events = eng.out.events.len();
-    eng.record_sample(SampleKind::PreEvent)?;
-    eng.resolve()?;
-    eng.scratch.mode_singular = false;
-    if eng.out.events.len() > n_events {
-        eng.record_sample(SampleKind::PostEvent)?;
-    } else {
-        eng.out.samples.pop();
-        eng.record_sample(SampleKind::Grid)?;
-    }
-    let breakpoints = scene.breakpoints();
-    let mut bp = 0usize;
-    let mut next_out = 1usize;
-    let mut ctrl = Controller::default();
-    let mut f0 = DVector::zeros(y_len(n));
-    let rhs_evals = std::cell::Cell::new(0usize);
-    macro_rules! rhs_of {
-        ($eng:expr) => {
-            |t: f64, y: &DVector<f64>, out: &mut DVector<f64>| {
-                rhs_evals.set(rhs_evals.get() + 1);
-                $eng.rhs(t, y, out)
-            }
+    let records_equal = a.supports.len() == b.supports.len()
+        && a.supports.iter().zip(&b.supports).all(|(x, y)| {
+            x.name == y.name
+                && x.factor == y.factor
+                && match (&x.motion, &y.motion) {
+                    (crate::scene::Motion::Record(g), crate::scene::Motion::Record(h)) => {
+                        std::sync::Arc::ptr_eq(g, h) || **g == **h
+                    }
+                    (m1, m2) => format!("{m1:?}") == format!("{m2:?}"),
+                }
+        });
+    records_equal
+        && contacts(a) == contacts(b)
+        && format!("{:?}", a.bodies) == format!("{:?}", b.bodies)
+        && format!("{:?}", a.springs) == format!("{:?}", b.springs)
+        && format!("{:?}", a.hysteretic) == format!("{:?}", b.hysteretic)
+        && format!("{:?}", a.mass_damping) == format!("{:?}", b.mass_damping)
+        && format!("{:?}", a.settings) == format!("{:?}", b.settings)
+        && a.mass == b.mass
+        && a.loads == b.loads
+        && a.q0 == b.q0
+        && a.v0 == b.v0
+}
+
+/// A run in progress: the engine and the integrator's state between steps.
+struct Integration<'a> {
+    eng: Engine<'a>,
+    breakpoints: Vec<f64>,
+    bp: usize,
+    next_out: usize,
+    ctrl: Controller,
+    f0: DVector<f64>,
+    h: f64,
+    h_min: f64,
+    batcher: Batcher,
+    ws: dopri::Workspace,
+    y0: DVector<f64>,
+    fns: Vec<EventFn>,
+    armed: Vec<bool>,
+    rhs_evals: usize,
+    /// Seconds spent so far.
+    wall: f64,
+    /// Events located at `eng.t` (in `eng.cluster`) and not applied yet: the run paused there.
+    pending: bool,
+}
+
+impl<'a> Integration<'a> {
+    /// The initial state, its contact resolution and the first step's data.
+    fn start(scene: &'a Scene) -> Result<Self, SolverError> {
+        let wall = Instant::now();
+        let n = scene.ndof();
+        let st = &scene.settings;
+        let mut y = DVector::zeros(2 * n + LEDGER_TERMS);
+        y.rows_mut(0, n).copy_from(&scene.q0);
+        y.rows_mut(n, n).copy_from(&scene.v0);
+        let mut laws: Vec<Hysteretic> = scene.hysteretic.iter().map(|h| h.law.clone()).collect();
+        let mut eng = Engine {
+            scene,
+            laws: Vec::new(),
+            state: vec![ContactState::Open; scene.contacts.len()],
+            minv: scene.mass.map(|m| 1.0 / m),
+            n,
+            t: 0.0,
+            y,
+            impact_normal: 0.0,
+            impact_tangential: 0.0,
+            e0: 0.0,
+            energy_scale: 0.0,
+            out: RunOutput::new(scene),
+            last_impacts: vec![Vec::new(); scene.contacts.len()],
+            burst: vec![(f64::NEG_INFINITY, 0); scene.contacts.len()],
+            force_scale: 0.0,
+            jac: DVector::zeros(n),
+            last_event_values: None,
+            scratch: Scratch::default(),
+            event_frame: Default::default(),
+            arm_values: Vec::new(),
+            event_qv: (DVector::zeros(0), DVector::zeros(0)),
+            defo: Vec::new(),
+            locate: LocateScratch::default(),
+            forces: ForceModel::new(scene),
+            cluster: Vec::new(),
+            proj: ProjectScratch::default(),
+            fns_generation: 0,
         };
-    }
-    {
-        let y0 = eng.y.clone();
-        (rhs_of!(eng))(0.0, &y0, &mut f0)?;
-    }
-    let mut h = dopri::initial_h(&eng.y, &f0, st.rtol, st.atol, 2 * n).min(st.t_end / 10.0);
-    if st.h_max > 0.0 {
-        h = h.min(st.h_max);
-    }
-    let h_min = 1e-14 * st.t_end.max(1.0);
-    let mut batcher = Batcher::new();
-    let mut ws = dopri::Workspace::default();
-    let mut y0 = DVector::zeros(y_len(n));
-    let mut fns = eng.event_fns();
-    let mut armed = arm(&mut eng, &fns)?;
-    while eng.t < st.t_end {
-        if eng.out.stats.steps_accepted + eng.out.stats.steps_rejected >= st.max_steps {
-            return Err(SolverError::TooManySteps {
-                t: eng.t,
-                limit: st.max_steps,
-            });
+        // initial hysteretic directions from the initial deformation rates
+        {
+            let q = eng.q();
+            let v = eng.v();
+            for (j, el) in scene.hysteretic.iter().enumerate() {
+                let (e, ed, _) =
+                    scene.deformation(&el.attachment, el.support, 0.0, &q, &v, &mut eng.jac);
+                laws[j].set_direction(e, if ed < 0.0 { -1.0 } else { 1.0 });
+            }
         }
-        while bp < breakpoints.len() && breakpoints[bp] <= eng.t * (1.0 + 1e-15) {
-            bp += 1;
+        eng.laws = laws;
+        {
+            let q = eng.q();
+            let v = eng.v();
+            for c in &scene.contacts {
+                let k = scene.contact_kinematics(c, &q, &v);
+                if k.gap < -st.gap_tol {
+                    return Err(SolverError::InitialPenetration {
+                        contact: c.name.clone(),
+                        gap: k.gap,
+                    });
+                }
+            }
+            eng.e0 = scene.kinetic_energy(&v) + scene.spring_energy(0.0, &q, &v);
+            let mut h = DVector::zeros(n);
+            smooth_forces_laws(scene, &eng.laws, 0.0, &q, &v, &mut h, &mut eng.jac);
+            eng.force_scale = h.amax().max(scene.mass.amax() * 1e-6);
         }
-        let t_stop = if bp < breakpoints.len() {
-            breakpoints[bp].min(st.t_end)
+        // the output grid, and room for the rows around events
+        let grid = (st.t_end / st.output_dt).ceil().min(1e7) as usize;
+        eng.out.samples.reserve(grid + grid / 8 + 16);
+        let n_events = eng.out.events.len();
+        eng.record_sample(SampleKind::PreEvent)?;
+        eng.resolve()?;
+        eng.scratch.mode_singular = false;
+        if eng.out.events.len() > n_events {
+            eng.record_sample(SampleKind::PostEvent)?;
         } else {
-            st.t_end
-        };
-        let mut hh = h.min(t_stop - eng.t);
-        if st.h_max > 0.0 {
-            hh = hh.min(st.h_max);
-        }
-        if t_stop - eng.t - hh < 1e-12 * hh {
-            hh = t_stop - eng.t;
-        }
-        y0.copy_from(&eng.y);
-        let t0 = eng.t;
-        dopri::step_into(
-            &mut ws,
-            &mut rhs_of!(eng),
-            t0,
-            &y0,
-            &f0,
-            hh,
-            st.rtol,
-            st.atol,
-            2 * n,
-        )?;
-        let step = &ws.step;
-        let finite = step.y1.iter().all(|x| x.is_finite());
-        if !finite || step.error > 1.0 {
-            eng.out.stats.steps_rejected += 1;
-            h = if finite {
-                ctrl.next_h(hh, step.error, false)
-            } else {
-                hh * 0.25
-            };
-            if h < h_min {
-                return Err(if finite {
-                    SolverError::StepTooSmall { t: eng.t, h }
-                } else {
-                    SolverError::NonFinite { t: eng.t }
-                });
-            }
-            continue;
-        }
-        eng.out.stats.steps_accepted += 1;
-        h = ctrl.next_h(hh, step.error, true);
-        // event search on the dense output
-        let found = locate_event(&mut eng, step, &fns, &mut armed)?;
-        let t1 = found.unwrap_or(step.t1());
-        track_peaks(&mut eng.out, step, t1, n, &mut y0);
-        // grid output inside (t0, t1]
-        while (next_out as f64) * st.output_dt <= t1 * (1.0 + 1e-14) && eng.t < st.t_end {
-            let tg = (next_out as f64) * st.output_dt;
-            if tg > t1 {
-                break;
-            }
-            eng.t = tg.min(st.t_end);
-            step.dense_at_into(eng.t, &mut eng.y);
+            eng.out.samples.pop();
             eng.record_sample(SampleKind::Grid)?;
-            next_out += 1;
         }
-        eng.t = t1;
-        if found.is_some() {
-            step.dense_at_into(t1, &mut eng.y);
-        } else {
-            eng.y.copy_from(&step.y1);
+        let mut f0 = DVector::zeros(y_len(n));
+        {
+            let y0 = eng.y.clone();
+            eng.rhs(0.0, &y0, &mut f0)?;
         }
-        let mut restart = false;
-        if found.is_some() {
-            let cluster = std::mem::take(&mut eng.cluster);
-            for &f in &cluster {
-                eng.out.stats.events_located += 1;
-                process_event(&mut eng, f)?;
+        let mut h = dopri::initial_h(&eng.y, &f0, st.rtol, st.atol, 2 * n).min(st.t_end / 10.0);
+        if st.h_max > 0.0 {
+            h = h.min(st.h_max);
+        }
+        let fns = eng.event_fns();
+        let armed = arm(&mut eng, &fns)?;
+        Ok(Self {
+            eng,
+            breakpoints: scene.breakpoints(),
+            bp: 0,
+            next_out: 1,
+            ctrl: Controller::default(),
+            f0,
+            h,
+            h_min: 1e-14 * st.t_end.max(1.0),
+            batcher: Batcher::new(),
+            ws: dopri::Workspace::default(),
+            y0: DVector::zeros(y_len(n)),
+            fns,
+            armed,
+            rhs_evals: 1,
+            wall: wall.elapsed().as_secs_f64(),
+            pending: false,
+        })
+    }
+
+    /// The same state continued with `scene`, which differs from this run's only in contact
+    /// friction ([`differs_only_in_friction`]); caches are left behind.
+    fn fork<'b>(&self, scene: &'b Scene) -> Integration<'b> {
+        let e = &self.eng;
+        let eng = Engine {
+            scene,
+            laws: e.laws.clone(),
+            state: e.state.clone(),
+            minv: e.minv.clone(),
+            n: e.n,
+            t: e.t,
+            y: e.y.clone(),
+            impact_normal: e.impact_normal,
+            impact_tangential: e.impact_tangential,
+            e0: e.e0,
+            energy_scale: e.energy_scale,
+            out: e.out.clone(),
+            last_impacts: e.last_impacts.clone(),
+            burst: e.burst.clone(),
+            force_scale: e.force_scale,
+            jac: e.jac.clone(),
+            last_event_values: e.last_event_values.clone(),
+            scratch: Scratch::default(),
+            event_frame: Default::default(),
+            arm_values: e.arm_values.clone(),
+            event_qv: (DVector::zeros(0), DVector::zeros(0)),
+            defo: Vec::new(),
+            locate: LocateScratch::default(),
+            forces: ForceModel::new(scene),
+            cluster: e.cluster.clone(),
+            proj: ProjectScratch::default(),
+            fns_generation: e.fns_generation,
+        };
+        Integration {
+            eng,
+            breakpoints: self.breakpoints.clone(),
+            bp: self.bp,
+            next_out: self.next_out,
+            ctrl: self.ctrl.clone(),
+            f0: self.f0.clone(),
+            h: self.h,
+            h_min: self.h_min,
+            batcher: Batcher::new(),
+            ws: dopri::Workspace::default(),
+            y0: self.y0.clone(),
+            fns: self.fns.clone(),
+            armed: self.armed.clone(),
+            rhs_evals: self.rhs_evals,
+            wall: self.wall,
+            pending: self.pending,
+        }
+    }
+
+    /// Integrate to the end, or, with `pause_at_contact`, until a contact event is located
+    /// (returns true, the event not yet applied).
+    fn advance(
+        &mut self,
+        observer: &mut dyn Observer,
+        pause_at_contact: bool,
+    ) -> Result<bool, SolverError> {
+        let wall = Instant::now();
+        let r = self.advance_in(observer, pause_at_contact);
+        self.wall += wall.elapsed().as_secs_f64();
+        r
+    }
+
+    fn advance_in(
+        &mut self,
+        observer: &mut dyn Observer,
+        pause_at_contact: bool,
+    ) -> Result<bool, SolverError> {
+        let Integration {
+            eng,
+            breakpoints,
+            bp,
+            next_out,
+            ctrl,
+            f0,
+            h,
+            h_min,
+            batcher,
+            ws,
+            y0,
+            fns,
+            armed,
+            rhs_evals,
+            pending,
+            ..
+        } = self;
+        let scene = eng.scene;
+        let st = &scene.settings;
+        let n = eng.n;
+        macro_rules! rhs_of {
+            ($eng:expr) => {
+                |t: f64, y: &DVector<f64>, out: &mut DVector<f64>| {
+                    *rhs_evals += 1;
+                    $eng.rhs(t, y, out)
+                }
+            };
+        }
+        loop {
+            let found;
+            if *pending {
+                *pending = false;
+                found = Some(eng.t);
+            } else {
+                if eng.t >= st.t_end {
+                    return Ok(false);
+                }
+                if eng.out.stats.steps_accepted + eng.out.stats.steps_rejected >= st.max_steps {
+                    return Err(SolverError::TooManySteps {
+                        t: eng.t,
+                        limit: st.max_steps,
+                    });
+                }
+                while *bp < breakpoints.len() && breakpoints[*bp] <= eng.t * (1.0 + 1e-15) {
+                    *bp += 1;
+                }
+                let t_stop = if *bp < breakpoints.len() {
+                    breakpoints[*bp].min(st.t_end)
+                } else {
+                    st.t_end
+                };
+                let mut hh = h.min(t_stop - eng.t);
+                if st.h_max > 0.0 {
+                    hh = hh.min(st.h_max);
+                }
+                if t_stop - eng.t - hh < 1e-12 * hh {
+                    hh = t_stop - eng.t;
+                }
+                y0.copy_from(&eng.y);
+                let t0 = eng.t;
+                dopri::step_into(
+                    ws,
+                    &mut rhs_of!(eng),
+                    t0,
+                    y0,
+                    f0,
+                    hh,
+                    st.rtol,
+                    st.atol,
+                    2 * n,
+                )?;
+                let step = &ws.step;
+                let finite = step.y1.iter().all(|x| x.is_finite());
+                if !finite || step.error > 1.0 {
+                    eng.out.stats.steps_rejected += 1;
+                    *h = if finite {
+                        ctrl.next_h(hh, step.error, false)
+                    } else {
+                        hh * 0.25
+                    };
+                    if *h < *h_min {
+                        return Err(if finite {
+                            SolverError::StepTooSmall { t: eng.t, h: *h }
+                        } else {
+                            SolverError::NonFinite { t: eng.t }
+                        });
+                    }
+                    continue;
+                }
+                eng.out.stats.steps_accepted += 1;
+                *h = ctrl.next_h(hh, step.error, true);
+                // event search on the dense output
+                found = locate_event(eng, step, fns, armed)?;
+                let t1 = found.unwrap_or(step.t1());
+                track_peaks(&mut eng.out, step, t1, n, y0);
+                // grid output inside (t0, t1]
+                while (*next_out as f64) * st.output_dt <= t1 * (1.0 + 1e-14) && eng.t < st.t_end {
+                    let tg = (*next_out as f64) * st.output_dt;
+                    if tg > t1 {
+                        break;
+                    }
+                    eng.t = tg.min(st.t_end);
+                    step.dense_at_into(eng.t, &mut eng.y);
+                    eng.record_sample(SampleKind::Grid)?;
+                    *next_out += 1;
+                }
+                eng.t = t1;
+                if found.is_some() {
+                    step.dense_at_into(t1, &mut eng.y);
+                } else {
+                    eng.y.copy_from(&step.y1);
+                }
+                let contact = eng.cluster.iter().any(|f| {
+                    !matches!(
+                        f,
+                        EventFn::Lower(_) | EventFn::Upper(_) | EventFn::Reversal(_)
+                    )
+                });
+                if found.is_some() && pause_at_contact && contact {
+                    *pending = true;
+                    return Ok(true);
+                }
             }
-            eng.cluster = cluster;
-            restart = true;
-        } else if eng.state.iter().any(|s| *s != ContactState::Open) {
-            restart = eng.project() > 0.0;
-        }
-        if restart {
-            let y1 = eng.y.clone();
-            let t = eng.t;
-            (rhs_of!(eng))(t, &y1, &mut f0)?;
-            eng.event_fns_into(&mut fns);
-            arm_into(&mut eng, &fns, &mut armed)?;
-            // events already due at this instant (simultaneous crossings, e.g. symmetric
-            // columns reversing together): process them now, before any step
-            let mut done: Vec<EventFn> = Vec::new();
-            while let Some(f) = due_now(&mut eng, &fns, &done)? {
-                done.push(f);
-                process_event(&mut eng, f)?;
+            let mut restart = false;
+            if found.is_some() {
+                let cluster = std::mem::take(&mut eng.cluster);
+                for &f in &cluster {
+                    eng.out.stats.events_located += 1;
+                    process_event(eng, f)?;
+                }
+                eng.cluster = cluster;
+                restart = true;
+            } else if eng.state.iter().any(|s| *s != ContactState::Open) {
+                restart = eng.project() > 0.0;
+            }
+            if restart {
                 let y1 = eng.y.clone();
                 let t = eng.t;
-                (rhs_of!(eng))(t, &y1, &mut f0)?;
-                eng.event_fns_into(&mut fns);
-                arm_into(&mut eng, &fns, &mut armed)?;
+                (rhs_of!(eng))(t, &y1, f0)?;
+                eng.event_fns_into(fns);
+                arm_into(eng, fns, armed)?;
+                // events already due at this instant (simultaneous crossings, e.g. symmetric
+                // columns reversing together): process them now, before any step
+                let mut done: Vec<EventFn> = Vec::new();
+                while let Some(f) = due_now(eng, fns, &done)? {
+                    done.push(f);
+                    process_event(eng, f)?;
+                    let y1 = eng.y.clone();
+                    let t = eng.t;
+                    (rhs_of!(eng))(t, &y1, f0)?;
+                    eng.event_fns_into(fns);
+                    arm_into(eng, fns, armed)?;
+                }
+            } else {
+                f0.copy_from(&ws.step.f1);
             }
-        } else {
-            f0.copy_from(&ws.step.f1);
+            batcher.maybe(&eng.out, eng.t, observer)?;
         }
-        batcher.maybe(&eng.out, eng.t, observer)?;
     }
-    if eng.out.samples.last().is_none_or(|s| s.t < st.t_end) {
-        eng.record_sample(SampleKind::Grid)?;
+
+    /// The output, with the final sample, statistics and summary.
+    fn finish(mut self, observer: &mut dyn Observer) -> RunOutput {
+        let wall = Instant::now();
+        let eng = &mut self.eng;
+        let st = &eng.scene.settings;
+        if eng.out.samples.last().is_none_or(|s| s.t < st.t_end) {
+            // a failure here leaves the last sample where it was
+            let _ = eng.record_sample(SampleKind::Grid);
+        }
+        self.batcher.flush(&eng.out, eng.t, observer);
+        eng.out.stats.rhs_evals = self.rhs_evals;
+        eng.out.final_laws = eng.laws.clone();
+        eng.out.stats.wall_time = self.wall + wall.elapsed().as_secs_f64();
+        eng.out.finish(eng.energy_scale);
+        std::mem::replace(&mut eng.out, RunOutput::new(eng.scene))
     }
-    batcher.flush(&eng.out, eng.t, observer);
-    eng.out.stats.rhs_evals = rhs_evals.get();
-    eng.out.stats.wall_time = wall.elapsed().as_secs_f64();
-    eng.out.final_laws = eng.laws.clone();
-    eng.out.finish(eng.energy_scale);
-    Ok(eng.out)
 }
 
 /// Apply one located event at the current instant: a branch change of a hysteretic element,

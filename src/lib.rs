@@ -26,7 +26,7 @@ pub mod studies;
 pub mod timestepping;
 pub mod tui;
 
-pub use event_driven::{Observer, Silent, SolverError, run};
+pub use event_driven::{FrictionFork, Observer, Silent, SolverError, run};
 pub use model::{ModelError, load};
 pub use output::RunOutput;
 pub use timestepping::simulate;

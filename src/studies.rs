@@ -2,6 +2,7 @@
 //! peak deck rotation against PGA with and without contact (Fig. 7), and the increase of peak
 //! rotation with μ (Fig. 8).
 
+use crate::FrictionFork;
 use crate::model::{self, ModelError};
 use crate::output::RunOutput;
 use rayon::prelude::*;
@@ -125,10 +126,7 @@ impl Study {
         ov.extend(set.iter().cloned());
         let scene = model::load_str(&self.text, &self.path, &ov).map_err(|e| e.to_string())?;
         let t0 = std::time::Instant::now();
-        let r = crate::simulate(&scene, &mut crate::Silent).map_err(|e| match e {
-            crate::SolverError::Unstable { .. } => format!("unstable: {e}"),
-            e => format!("failed: {e}"),
-        })?;
+        let r = crate::simulate(&scene, &mut crate::Silent).map_err(solver_error_text)?;
         Ok((r, t0.elapsed().as_secs_f64()))
     }
 
@@ -137,18 +135,7 @@ impl Study {
         let ov: Vec<String> = set.iter().map(|(k, v)| format!("{k}={v}")).collect();
         match self.simulate(&ov).map(|(r, _)| r) {
             Ok(r) => row_of(set.to_vec(), &r),
-            Err(e) => Row {
-                settings: set.to_vec(),
-                peak_rotation: f64::NAN,
-                residual_rotation: f64::NAN,
-                peak_x: f64::NAN,
-                peak_y: f64::NAN,
-                impacts: 0,
-                stick_time: f64::NAN,
-                energy_closure_rel: f64::NAN,
-                wall_time: f64::NAN,
-                error: Some(e),
-            },
+            Err(e) => error_row(set.to_vec(), e),
         }
     }
 
@@ -167,7 +154,93 @@ impl Study {
                 })
                 .collect();
         }
-        combos.par_iter().map(|c| self.run(c)).collect()
+        // μ variants of one run share their motion until the first contact event
+        let mu = FRICTION_KEY;
+        if !axes.iter().any(|a| a.key == mu && a.values.len() > 1) {
+            return combos.par_iter().map(|c| self.run(c)).collect();
+        }
+        let mut groups: Vec<Vec<usize>> = Vec::new();
+        let others = |c: &[(String, String)]| -> Vec<(String, String)> {
+            c.iter().filter(|(k, _)| k != mu).cloned().collect()
+        };
+        for (i, c) in combos.iter().enumerate() {
+            match groups
+                .iter_mut()
+                .find(|g| others(&combos[g[0]]) == others(c))
+            {
+                Some(g) => g.push(i),
+                None => groups.push(vec![i]),
+            }
+        }
+        let mut rows: Vec<(usize, Row)> = groups
+            .par_iter()
+            .flat_map(|g| self.run_friction_group(&combos, g))
+            .collect();
+        rows.sort_by_key(|(i, _)| *i);
+        rows.into_iter().map(|(_, r)| r).collect()
+    }
+
+    /// Runs that differ only in `contacts.mu`, through a [`FrictionFork`] when they allow it.
+    fn run_friction_group(
+        &self,
+        combos: &[Vec<(String, String)>],
+        group: &[usize],
+    ) -> Vec<(usize, Row)> {
+        let scenes: Vec<Option<crate::scene::Scene>> = group
+            .iter()
+            .map(|&i| {
+                let mut ov = self.base.clone();
+                ov.extend(combos[i].iter().map(|(k, v)| format!("{k}={v}")));
+                model::load_str(&self.text, &self.path, &ov).ok()
+            })
+            .collect();
+        let fork = scenes
+            .iter()
+            .flatten()
+            .next()
+            .filter(|_| group.len() > 1)
+            .and_then(|s| FrictionFork::new(s).ok());
+        group
+            .par_iter()
+            .zip(scenes.par_iter())
+            .map(|(&i, scene)| {
+                let forked = match (&fork, scene) {
+                    (Some(f), Some(s)) => f.run(s),
+                    _ => None,
+                };
+                let row = match forked {
+                    Some(Ok(r)) => row_of(combos[i].clone(), &r),
+                    Some(Err(e)) => error_row(combos[i].clone(), solver_error_text(e)),
+                    None => self.run(&combos[i]),
+                };
+                (i, row)
+            })
+            .collect()
+    }
+}
+
+/// The sweep key whose variants share their motion until the first contact ([`FrictionFork`]).
+pub const FRICTION_KEY: &str = "contacts.mu";
+
+fn solver_error_text(e: crate::SolverError) -> String {
+    match e {
+        crate::SolverError::Unstable { .. } => format!("unstable: {e}"),
+        e => format!("failed: {e}"),
+    }
+}
+
+fn error_row(settings: Vec<(String, String)>, e: String) -> Row {
+    Row {
+        settings,
+        peak_rotation: f64::NAN,
+        residual_rotation: f64::NAN,
+        peak_x: f64::NAN,
+        peak_y: f64::NAN,
+        impacts: 0,
+        stick_time: f64::NAN,
+        energy_closure_rel: f64::NAN,
+        wall_time: f64::NAN,
+        error: Some(e),
     }
 }
 

@@ -374,3 +374,57 @@ fn branch_window_groups_column_events_without_moving_the_response() {
     };
     assert!(err.to_string().contains("branch_window"), "{err}");
 }
+
+#[test]
+fn friction_sweep_shares_the_precontact_motion_and_matches_separate_runs() {
+    use deckspin::studies::{Axis, Study};
+    let study = Study::open(
+        &model(FOUR_SPAN),
+        &["solver.t_end=7.0".into(), "excitation.run=4".into()],
+    )
+    .unwrap();
+    let mus = ["0", "0.3", "0.7"];
+    let axes = [
+        Axis {
+            key: "contacts.mu".into(),
+            values: mus.iter().map(|s| s.to_string()).collect(),
+        },
+        Axis {
+            key: "contacts.restitution".into(),
+            values: vec!["0".into(), "0.2".into()],
+        },
+    ];
+    let shared = study.sweep(&axes);
+    assert_eq!(shared.len(), 6);
+    for row in &shared {
+        // the same run on its own
+        let alone = study.run(&row.settings);
+        assert!(row.error.is_none() && alone.error.is_none());
+        assert!(row.impacts > 0, "{:?}", row.settings);
+        assert_eq!(row.peak_rotation, alone.peak_rotation, "{:?}", row.settings);
+        assert_eq!(row.residual_rotation, alone.residual_rotation);
+        assert_eq!(row.peak_x, alone.peak_x);
+        assert_eq!(row.impacts, alone.impacts);
+        assert_eq!(row.stick_time, alone.stick_time);
+        assert_eq!(row.energy_closure_rel, alone.energy_closure_rel);
+    }
+    // friction matters after contact: the variants differ
+    assert_ne!(shared[0].peak_rotation, shared[4].peak_rotation);
+    // the fork itself: taken for another μ, refused for any other difference
+    let set = |mu: &str, eps: &str| {
+        load(&[
+            "solver.t_end=7.0",
+            &format!("contacts.mu={mu}"),
+            &format!("contacts.restitution={eps}"),
+        ])
+    };
+    let (a, b, c) = (set("0.3", "0"), set("0.7", "0"), set("0.7", "0.2"));
+    let fork = deckspin::FrictionFork::new(&a).unwrap();
+    let forked = fork.run(&b).expect("friction variant refused").unwrap();
+    let alone = deckspin::run(&b, &mut deckspin::Silent).unwrap();
+    assert_eq!(forked.samples.len(), alone.samples.len());
+    assert_eq!(forked.events.len(), alone.events.len());
+    let last = |r: &deckspin::RunOutput| r.samples.last().unwrap().q.clone();
+    assert_eq!(last(&forked), last(&alone));
+    assert!(fork.run(&c).is_none(), "a restitution change was forked");
+}
