@@ -1252,7 +1252,14 @@ fn min_norm_correction(rows: &[&DVector<f64>], res: &[f64], minv: &DVector<f64>)
                 .sum();
         }
     }
-    let lam = solve_small(a, DVector::from_column_slice(res));
+    let mut lam = DVector::zeros(k);
+    let mut singular = false;
+    solve_small_into(
+        &a,
+        &DVector::from_column_slice(res),
+        &mut lam,
+        &mut singular,
+    );
     let mut d = DVector::zeros(minv.len());
     for r in 0..k {
         d.axpy(lam[r], rows[r], 1.0);
