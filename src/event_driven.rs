@@ -183,6 +183,10 @@ struct ProjectScratch {
     kin: Vec<ContactKinematics>,
     held: Vec<usize>,
     res: Vec<f64>,
+    /// The position and velocity constraints of the current contact mode are redundant
+    /// (cleared on mode changes, like `Scratch::mode_singular`).
+    pos_singular: bool,
+    vel_singular: bool,
 }
 
 #[derive(Default)]
@@ -724,7 +728,12 @@ impl<'a> Engine<'a> {
             for _ in 0..3 {
                 load(&mut ps, &self.y, self.t);
                 let ProjectScratch {
-                    fr, kin, held, res, ..
+                    fr,
+                    kin,
+                    held,
+                    res,
+                    pos_singular,
+                    ..
                 } = &mut ps;
                 res.clear();
                 for &i in held.iter() {
@@ -735,7 +744,7 @@ impl<'a> Engine<'a> {
                     break;
                 }
                 let rows: Vec<&DVector<f64>> = held.iter().map(|&i| &kin[i].w_n).collect();
-                let dq = min_norm_correction(&rows, res, &self.minv);
+                let dq = min_norm_correction(&rows, res, &self.minv, pos_singular);
                 moved = moved.max(dq.amax());
                 for i in 0..n {
                     self.y[i] -= dq[i];
@@ -745,7 +754,13 @@ impl<'a> Engine<'a> {
         let closed = self.state.iter().any(|s| *s != ContactState::Open);
         if closed {
             load(&mut ps, &self.y, self.t);
-            let ProjectScratch { fr, kin, res, .. } = &mut ps;
+            let ProjectScratch {
+                fr,
+                kin,
+                res,
+                vel_singular,
+                ..
+            } = &mut ps;
             res.clear();
             for (i, st) in self.state.iter().enumerate() {
                 if *st != ContactState::Open {
@@ -763,7 +778,7 @@ impl<'a> Engine<'a> {
                     }
                 }
             }
-            let dv = min_norm_correction(&rows, res, &self.minv);
+            let dv = min_norm_correction(&rows, res, &self.minv, vel_singular);
             moved = moved.max(dv.amax());
             for i in 0..n {
                 self.y[n + i] -= dv[i];
@@ -778,6 +793,7 @@ impl<'a> Engine<'a> {
     fn resolve(&mut self) -> Result<(), SolverError> {
         self.scratch.at = None;
         self.scratch.mode_singular = false;
+        (self.proj.pos_singular, self.proj.vel_singular) = (false, false);
         let scene = self.scene;
         let st = &scene.settings;
         let nc = scene.contacts.len();
@@ -1239,7 +1255,13 @@ fn eliminate_stack(
 }
 
 /// δ = M⁻¹Jᵀ (J M⁻¹ Jᵀ)⁺ r: the minimum-M-norm correction with J δ = r.
-fn min_norm_correction(rows: &[&DVector<f64>], res: &[f64], minv: &DVector<f64>) -> DVector<f64> {
+/// `singular` as in [`solve_small_into`].
+fn min_norm_correction(
+    rows: &[&DVector<f64>],
+    res: &[f64],
+    minv: &DVector<f64>,
+    singular: &mut bool,
+) -> DVector<f64> {
     let k = rows.len();
     let mut a = DMatrix::zeros(k, k);
     for r in 0..k {
@@ -1253,13 +1275,7 @@ fn min_norm_correction(rows: &[&DVector<f64>], res: &[f64], minv: &DVector<f64>)
         }
     }
     let mut lam = DVector::zeros(k);
-    let mut singular = false;
-    solve_small_into(
-        &a,
-        &DVector::from_column_slice(res),
-        &mut lam,
-        &mut singular,
-    );
+    solve_small_into(&a, &DVector::from_column_slice(res), &mut lam, singular);
     let mut d = DVector::zeros(minv.len());
     for r in 0..k {
         d.axpy(lam[r], rows[r], 1.0);
@@ -1440,6 +1456,7 @@ impl<'a> Integration<'a> {
         eng.record_sample(SampleKind::PreEvent)?;
         eng.resolve()?;
         eng.scratch.mode_singular = false;
+        (eng.proj.pos_singular, eng.proj.vel_singular) = (false, false);
         if eng.out.events.len() > n_events {
             eng.record_sample(SampleKind::PostEvent)?;
         } else {
@@ -1748,6 +1765,7 @@ fn process_event(eng: &mut Engine, f: EventFn) -> Result<(), SolverError> {
             eng.resolve()?;
             // a new contact mode: its constraints may or may not be redundant
             eng.scratch.mode_singular = false;
+            (eng.proj.pos_singular, eng.proj.vel_singular) = (false, false);
             eng.record_sample(SampleKind::PostEvent)?;
         }
     }
