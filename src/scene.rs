@@ -788,30 +788,46 @@ pub fn smooth_forces_in(
         p.damping += el.damping * ed * ed;
         p.hysteretic += fh * ed;
     }
-    let md = &scene.mass_damping;
-    if md.alpha != 0.0 {
-        // v_ref from supports; F = −a₀ M (v − v_ref)
-        let n = scene.ndof();
-        let mut stack = [0.0f64; 16];
-        let mut heap = Vec::new();
-        let vref: &mut [f64] = if n <= 16 {
-            &mut stack[..n]
-        } else {
-            heap.resize(n, 0.0);
-            &mut heap
-        };
-        for &(k, s, f) in &md.reference {
-            vref[k] += f * fr.supports[s].1;
-        }
-        for k in 0..scene.ndof() {
-            let rel = v[k] - vref[k];
-            let f = md.alpha * scene.mass[k] * rel;
-            h[k] -= f;
-            p.damping += f * rel;
-            p.supports -= f * vref[k];
-        }
-    }
+    let (damping, supports) = mass_damping(scene, &scene.mass_damping.reference, fr, v, h);
+    p.damping += damping;
+    p.supports += supports;
     p
+}
+
+/// Mass-proportional damping −a₀ M (q̇ − q̇_ref) added to h, with q̇_ref from the (dof,
+/// support, factor) terms `reference`; returns its dissipation rate and the support power.
+fn mass_damping(
+    scene: &Scene,
+    reference: &[(usize, usize, f64)],
+    fr: &Frame,
+    v: &DVector<f64>,
+    h: &mut DVector<f64>,
+) -> (f64, f64) {
+    let alpha = scene.mass_damping.alpha;
+    if alpha == 0.0 {
+        return (0.0, 0.0);
+    }
+    let n = h.len();
+    let mut stack = [0.0f64; 16];
+    let mut heap = Vec::new();
+    let vref: &mut [f64] = if n <= 16 {
+        &mut stack[..n]
+    } else {
+        heap.resize(n, 0.0);
+        &mut heap
+    };
+    for &(k, s, f) in reference {
+        vref[k] += f * fr.supports[s].1;
+    }
+    let (mut damping, mut supports) = (0.0, 0.0);
+    for k in 0..n {
+        let rel = v[k] - vref[k];
+        let f = alpha * scene.mass[k] * rel;
+        h[k] -= f;
+        damping += f * rel;
+        supports -= f * vref[k];
+    }
+    (damping, supports)
 }
 
 /// (cos a, sin a). For |a| ≤ 0.1 (decks and abutments turn by milliradians) by their Taylor
@@ -998,7 +1014,6 @@ impl ForceModel {
         elements: &mut [(f64, f64)],
     ) -> PowerTerms {
         h.copy_from(&scene.loads);
-        let n = h.len();
         let mut p = PowerTerms {
             loads: scene.loads.dot(v),
             ..Default::default()
@@ -1047,31 +1062,9 @@ impl ForceModel {
         p.supports += supports;
         p.damping += damping;
         p.hysteretic += hysteretic;
-        let md = &scene.mass_damping;
-        if md.alpha != 0.0 {
-            // v_ref from supports; F = −a₀ M (v − v_ref)
-            let mut stack = [0.0f64; 16];
-            let mut heap = Vec::new();
-            let vref: &mut [f64] = if n <= 16 {
-                &mut stack[..n]
-            } else {
-                heap.resize(n, 0.0);
-                &mut heap
-            };
-            for &(k, s, f) in &self.mass_reference {
-                vref[k] += f * fr.supports[s].1;
-            }
-            let (mut damping, mut supports) = (0.0, 0.0);
-            for k in 0..n {
-                let rel = v[k] - vref[k];
-                let f = md.alpha * scene.mass[k] * rel;
-                h[k] -= f;
-                damping += f * rel;
-                supports -= f * vref[k];
-            }
-            p.damping += damping;
-            p.supports += supports;
-        }
+        let (damping, supports) = mass_damping(scene, &self.mass_reference, fr, v, h);
+        p.damping += damping;
+        p.supports += supports;
         p
     }
 
