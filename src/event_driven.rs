@@ -253,16 +253,25 @@ impl<'a> Engine<'a> {
 
     /// (e, ė) of hysteretic element j at the current state (its body's pose and support only).
     fn element_deformation(&self, j: usize) -> (f64, f64) {
-        let scene = self.scene;
-        let el = &scene.hysteretic[j];
-        let body = match el.attachment {
+        self.element_deformation_in(j, self.t, &self.y)
+    }
+
+    /// The body a hysteretic element is attached to.
+    fn element_body(&self, j: usize) -> usize {
+        match self.scene.hysteretic[j].attachment {
             crate::scene::Attachment::Point { body, .. }
             | crate::scene::Attachment::Rotation { body } => body,
-        };
-        let pose = scene.body_state_from(body, &self.y, self.n);
+        }
+    }
+
+    /// (e, ė) of hysteretic element j at (t, y): only its body's entries of y are read.
+    fn element_deformation_in(&self, j: usize, t: f64, y: &DVector<f64>) -> (f64, f64) {
+        let scene = self.scene;
+        let el = &scene.hysteretic[j];
+        let pose = scene.body_state_from(self.element_body(j), y, self.n);
         let sup = el
             .support
-            .map_or((0.0, 0.0, 0.0), |s| scene.supports[s].at(self.t));
+            .map_or((0.0, 0.0, 0.0), |s| scene.supports[s].at(t));
         let (e, ed, ..) = scene.deformation_at(&el.attachment, &pose, sup);
         (e, ed)
     }
@@ -1805,7 +1814,7 @@ fn due_now(
 }
 
 /// Peaks of |q| over the step [t0, t1] from the dense output: the ends, and any interior
-/// extremum (a sign change of q̇, located by bisection), so peaks do not depend on the output
+/// extremum (a sign change of q̇, located by Illinois), so peaks do not depend on the output
 /// step.
 fn track_peaks(out: &mut RunOutput, step: &dopri::Step, t1: f64, n: usize, y1: &mut DVector<f64>) {
     if out.step_peaks.len() != n {
@@ -1828,32 +1837,15 @@ fn track_peaks(out: &mut RunOutput, step: &dopri::Step, t1: f64, n: usize, y1: &
         if v0 * v1 < 0.0 {
             // the extremum: q̇ = 0 by Illinois on the dense output, to 1e-9 of the step (q is
             // flat there: its error is of order q̈ (1e-9 h)²)
-            let (mut a, mut b) = (0.0, (t1 - step.t0) / step.h);
-            let (mut fa, mut fb) = (v0, v1);
-            let mut side = 0;
-            while b - a > 1e-9 {
-                let mut m = (a * fb - b * fa) / (fb - fa);
-                if !(m > a && m < b) {
-                    m = 0.5 * (a + b);
-                }
-                let fm = step.dense_component(m, n + k);
-                if fm * v0 > 0.0 {
-                    (a, fa) = (m, fm);
-                    if side == -1 {
-                        fb *= 0.5;
-                    }
-                    side = -1;
-                } else {
-                    (b, fb) = (m, fm);
-                    if side == 1 {
-                        fa *= 0.5;
-                    }
-                    side = 1;
-                }
-                if fm == 0.0 {
-                    break;
-                }
-            }
+            let sign = v0.signum();
+            let Ok::<_, std::convert::Infallible>((a, b)) = bracket_root(
+                0.0,
+                (t1 - step.t0) / step.h,
+                v0 * sign,
+                v1 * sign,
+                1e-9,
+                |m| Ok(step.dense_component(m, n + k) * sign),
+            );
             let th = 0.5 * (a + b);
             consider(step.t0 + th * step.h, step.dense_component(th, k));
         }
@@ -2074,10 +2066,10 @@ fn illinois(
     step: &dopri::Step,
     fns: &[EventFn],
     k: usize,
-    mut ta: f64,
-    mut tb: f64,
-    mut fa: f64,
-    mut fb: f64,
+    ta: f64,
+    tb: f64,
+    fa: f64,
+    fb: f64,
     armed: bool,
     thr: f64,
 ) -> Result<f64, SolverError> {
@@ -2090,36 +2082,22 @@ fn illinois(
         _ => st.event_time_tol,
     };
     let one = [fns[k]];
-    let mut side = 0i32;
     let mut y = step.y0.clone();
-    let scene = eng.scene;
     let n = eng.n;
-    for _ in 0..200 {
-        if tb - ta <= tol.max(4.0 * f64::EPSILON * tb.abs()) {
-            break;
-        }
-        let mut tm = (ta * fb - tb * fa) / (fb - fa);
-        if !(tm > ta && tm < tb) {
-            tm = 0.5 * (ta + tb);
-        }
+    let (_, tb) = bracket_root(ta, tb, fa, fb, tol, |tm| {
         let theta = (tm - step.t0) / step.h;
         let mut fm = match fns[k] {
             // a branch function needs only its element: one body pose, one support
             EventFn::Lower(j) | EventFn::Upper(j) | EventFn::Reversal(j) => {
-                let el = &scene.hysteretic[j];
-                let body = match el.attachment {
-                    crate::scene::Attachment::Point { body, .. }
-                    | crate::scene::Attachment::Rotation { body } => body,
-                };
-                for d in scene.bodies[body].dofs.into_iter().flatten() {
+                for d in eng.scene.bodies[eng.element_body(j)]
+                    .dofs
+                    .into_iter()
+                    .flatten()
+                {
                     y[d] = step.dense_component(theta, d);
                     y[n + d] = step.dense_component(theta, n + d);
                 }
-                let pose = scene.body_state_from(body, &y, n);
-                let sup = el
-                    .support
-                    .map_or((0.0, 0.0, 0.0), |s| scene.supports[s].at(tm));
-                let (e, ed, ..) = scene.deformation_at(&el.attachment, &pose, sup);
+                let (e, ed) = eng.element_deformation_in(j, tm, &y);
                 let b = eng.laws[j].branch();
                 match fns[k] {
                     EventFn::Lower(_) => e - b.lower,
@@ -2135,15 +2113,40 @@ fn illinois(
         if !armed {
             fm += thr;
         }
+        Ok(fm)
+    })?;
+    Ok(tb)
+}
+
+/// Illinois (modified regula falsi) on [a, b] with f(a) = fa > 0 ≥ fb = f(b), until the
+/// bracket is narrower than `tol` (or 4 ulp of b): the final bracket, b on the far side.
+fn bracket_root<E>(
+    mut a: f64,
+    mut b: f64,
+    mut fa: f64,
+    mut fb: f64,
+    tol: f64,
+    mut f: impl FnMut(f64) -> Result<f64, E>,
+) -> Result<(f64, f64), E> {
+    let mut side = 0i32;
+    for _ in 0..200 {
+        if b - a <= tol.max(4.0 * f64::EPSILON * b.abs()) {
+            break;
+        }
+        let mut m = (a * fb - b * fa) / (fb - fa);
+        if !(m > a && m < b) {
+            m = 0.5 * (a + b);
+        }
+        let fm = f(m)?;
         if fm > 0.0 {
-            ta = tm;
+            a = m;
             fa = fm;
             if side == -1 {
                 fb *= 0.5;
             }
             side = -1;
         } else {
-            tb = tm;
+            b = m;
             fb = fm;
             if side == 1 {
                 fa *= 0.5;
@@ -2154,5 +2157,5 @@ fn illinois(
             break;
         }
     }
-    Ok(tb)
+    Ok((a, b))
 }
