@@ -5,9 +5,9 @@
 //!
 //! Units: t, kN, m, s (1 t·m/s² = 1 kN).
 
-use crate::excitation::{Baseline, GroundMotion, Processing};
+use crate::excitation::{Baseline, Processing};
 use crate::hysteresis::{Hysteretic, Law};
-use crate::model::{Check, ModelError, SolverSpec, load_motion, parse, settings};
+use crate::model::{Check, ModelError, Motions, SolverSpec, parse, settings};
 use crate::scene::{
     Attachment, Body, BodyRef, Contact, HystereticElement, MassDamping, Motion, Scene, Spring,
     Support,
@@ -15,7 +15,6 @@ use crate::scene::{
 use nalgebra::{DMatrix, DVector, Vector2};
 use serde::Deserialize;
 use std::path::Path;
-use std::sync::Arc;
 
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -174,9 +173,9 @@ pub struct BridgeFile {
 }
 
 /// Compile a bridge model file's text into a scene.
-pub fn compile_str(text: &str, path: &Path) -> Result<Scene, ModelError> {
+pub fn compile_str(text: &str, path: &Path, motions: &Motions) -> Result<Scene, ModelError> {
     let f: BridgeFile = parse(text, path)?;
-    compile(&f, text, path)
+    compile(&f, text, path, motions)
 }
 
 /// Scale a column law from the reference height to height h (fixed–fixed: k ∝ h⁻³, V_y ∝ h⁻¹).
@@ -215,7 +214,12 @@ fn scale_law(law: &Law, kf: f64, ff: f64) -> Law {
 /// Names of the four corners (paper: point 1 is the left, upper corner).
 pub const CORNERS: [&str; 4] = ["left_top", "left_bottom", "right_top", "right_bottom"];
 
-pub fn compile(f: &BridgeFile, text: &str, path: &Path) -> Result<Scene, ModelError> {
+pub fn compile(
+    f: &BridgeFile,
+    text: &str,
+    path: &Path,
+    motions: &Motions,
+) -> Result<Scene, ModelError> {
     let ck = Check { text, path };
     let mut settings = settings(&f.solver, &ck)?;
     let d = &f.deck;
@@ -334,7 +338,7 @@ pub fn compile(f: &BridgeFile, text: &str, path: &Path) -> Result<Scene, ModelEr
     let mut supports = Vec::new();
     let ex = f.excitation.as_ref();
     if let Some(e) = ex {
-        supports = excitation_supports(e, &f.runs, nb, &ck, path, &mut settings)?;
+        supports = excitation_supports(e, &f.runs, nb, &ck, path, motions, &mut settings)?;
     }
     let has_supports = !supports.is_empty();
     let sup = |i: usize| if has_supports { Some(i) } else { None };
@@ -421,6 +425,7 @@ fn excitation_supports(
     nb: usize,
     ck: &Check,
     path: &Path,
+    motions: &Motions,
     settings: &mut crate::scene::Settings,
 ) -> Result<Vec<Support>, ModelError> {
     let lag_b = |i: usize| e.lag_bents.get(i).copied().unwrap_or(0.0);
@@ -474,7 +479,8 @@ fn excitation_supports(
                 taper: e.taper.unwrap_or(Processing::default().taper),
                 ..Processing::default()
             };
-            let motion = |file: &Option<String>, field: &str, pga: Option<f64>, lag: f64| {
+            // supports with the same record, PGA and lag share one motion
+            let get = |file: &Option<String>, field: &str, pga: Option<f64>, lag: f64| {
                 let file = file
                     .as_ref()
                     .ok_or_else(|| ck.err(field, "required for record input"))?;
@@ -483,17 +489,7 @@ fn excitation_supports(
                     lag,
                     ..base.clone()
                 };
-                load_motion(path, file, p)
-            };
-            let mut cache: Vec<(String, f64, Arc<GroundMotion>)> = Vec::new();
-            let mut get = |file: &Option<String>, field: &str, pga: Option<f64>, lag: f64| {
-                let key = format!("{file:?}{pga:?}");
-                if let Some((_, _, m)) = cache.iter().find(|(k, l, _)| *k == key && *l == lag) {
-                    return Ok(m.clone());
-                }
-                let m = motion(file, field, pga, lag)?;
-                cache.push((key, lag, m.clone()));
-                Ok::<_, ModelError>(m)
+                motions.get(path, file, p)
             };
             let mut t_max: f64 = 0.0;
             for b in 0..nb {

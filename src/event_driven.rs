@@ -8,7 +8,7 @@ use crate::hysteresis::Hysteretic;
 use crate::lemke::LcpError;
 use crate::output::{
     ContactSample, ContactState, EnergySample, EventKind, EventRecord, RunOutput, Sample,
-    SampleKind,
+    SampleKind, SampleView,
 };
 use crate::scene::{ContactKinematics, ForceModel, LEDGER_TERMS, PowerTerms, Scene, smooth_forces};
 use nalgebra::{DMatrix, DVector};
@@ -172,6 +172,8 @@ struct Engine<'a> {
     proj: ProjectScratch,
     /// Counts the event-function lists made (a list's identity for cached per-list data).
     fns_generation: u64,
+    /// Contact rows and element (deformation, force) of the sample being recorded.
+    sample_rows: (Vec<ContactSample>, Vec<(f64, f64)>),
 }
 
 /// Reused storage of [`Engine::project`].
@@ -638,22 +640,23 @@ impl<'a> Engine<'a> {
             r?;
         }
         let d = &self.scratch;
-        let contacts = (0..scene.contacts.len())
-            .map(|i| ContactSample {
-                gap: d.kin[i].gap,
-                gap_rate: d.kin[i].gap_rate,
-                slip_rate: d.kin[i].slip_rate,
-                normal_force: d.lam_n[i],
-                tangential_force: d.lam_t[i],
-                state: self.state[i],
-            })
-            .collect();
-        let elements = d
-            .elements
-            .iter()
-            .zip(&self.laws)
-            .map(|(&(e, _), law)| (e, law.force(e)))
-            .collect();
+        let (contacts, elements) = &mut self.sample_rows;
+        contacts.clear();
+        contacts.extend((0..scene.contacts.len()).map(|i| ContactSample {
+            gap: d.kin[i].gap,
+            gap_rate: d.kin[i].gap_rate,
+            slip_rate: d.kin[i].slip_rate,
+            normal_force: d.lam_n[i],
+            tangential_force: d.lam_t[i],
+            state: self.state[i],
+        }));
+        elements.clear();
+        elements.extend(
+            d.elements
+                .iter()
+                .zip(&self.laws)
+                .map(|(&(e, _), law)| (e, law.force(e))),
+        );
         let q = &self.y.as_slice()[..n];
         let v = &self.y.as_slice()[n..2 * n];
         let kinetic = 0.5
@@ -664,11 +667,12 @@ impl<'a> Engine<'a> {
         let mut energy = self.energy_terms(kinetic, self.forces.spring_energy(&d.fr));
         self.energy_scale = self.energy_scale.max(energy.scale());
         energy.closure = energy.balance();
-        self.out.samples.push(Sample {
+        let (contacts, elements) = &self.sample_rows;
+        self.out.record(SampleView {
             t: self.t,
             kind,
-            q: q.to_vec(),
-            v: v.to_vec(),
+            q,
+            v,
             contacts,
             elements,
             energy,
@@ -1429,6 +1433,7 @@ impl<'a> Integration<'a> {
             cluster: Vec::new(),
             proj: ProjectScratch::default(),
             fns_generation: 0,
+            sample_rows: Default::default(),
         };
         // initial hysteretic directions from the initial deformation rates
         {
@@ -1459,17 +1464,30 @@ impl<'a> Integration<'a> {
             eng.force_scale = h.amax().max(scene.mass.amax() * 1e-6);
         }
         // the output grid, and room for the rows around events
-        let grid = (st.t_end / st.output_dt).ceil().min(1e7) as usize;
-        eng.out.samples.reserve(grid + grid / 8 + 16);
+        eng.out.keep_history = st.keep_history;
+        if st.keep_history {
+            let grid = (st.t_end / st.output_dt).ceil().min(1e7) as usize;
+            eng.out.samples.reserve(grid + grid / 8 + 16);
+        }
+        // the initial instant is a pre-event sample if resolving it makes events, else a grid one
         let n_events = eng.out.events.len();
-        eng.record_sample(SampleKind::PreEvent)?;
+        let initial = {
+            let mut silent = RunOutput::new(scene);
+            std::mem::swap(&mut eng.out, &mut silent);
+            let r = eng.record_sample(SampleKind::PreEvent);
+            std::mem::swap(&mut eng.out, &mut silent);
+            r?;
+            silent.samples.pop()
+        };
         eng.resolve()?;
         eng.scratch.mode_singular = false;
         (eng.proj.pos_singular, eng.proj.vel_singular) = (false, false);
         if eng.out.events.len() > n_events {
+            if let Some(pre) = initial {
+                eng.out.record(pre.view());
+            }
             eng.record_sample(SampleKind::PostEvent)?;
         } else {
-            eng.out.samples.pop();
             eng.record_sample(SampleKind::Grid)?;
         }
         let mut f0 = DVector::zeros(y_len(n));
@@ -1535,6 +1553,7 @@ impl<'a> Integration<'a> {
             cluster: e.cluster.clone(),
             proj: ProjectScratch::default(),
             fns_generation: e.fns_generation,
+            sample_rows: Default::default(),
         };
         Integration {
             eng,
@@ -1740,7 +1759,7 @@ impl<'a> Integration<'a> {
         let wall = Instant::now();
         let eng = &mut self.eng;
         let st = &eng.scene.settings;
-        if eng.out.samples.last().is_none_or(|s| s.t < st.t_end) {
+        if eng.out.last_sample_time().is_none_or(|t| t < st.t_end) {
             // a failure here leaves the last sample where it was
             let _ = eng.record_sample(SampleKind::Grid);
         }

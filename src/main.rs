@@ -578,7 +578,7 @@ fn precision_points(
 > {
     use deckspin::precision::{Bench, knobs};
     let bench = Bench::open(model, set)?;
-    let scene = deckspin::model::load_str(&bench.study.text, model, set)?;
+    let scene = bench.study.scene(&[])?;
     let reference = bench.reference(1e-10)?;
     eprintln!(
         "reference: event-driven, rtol 1e-10: peak |{}| = {:.9e}",

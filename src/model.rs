@@ -427,13 +427,23 @@ pub fn load(path: &Path, overrides: &[String]) -> Result<Scene, ModelError> {
 
 /// As [`load`], from text already read (`path` names it in errors and resolves relative files).
 pub fn load_str(text: &str, path: &Path, overrides: &[String]) -> Result<Scene, ModelError> {
+    load_str_with(text, path, overrides, &Motions::default())
+}
+
+/// As [`load_str`], taking processed records from (and adding them to) `motions`.
+pub fn load_str_with(
+    text: &str,
+    path: &Path,
+    overrides: &[String],
+    motions: &Motions,
+) -> Result<Scene, ModelError> {
     let text = apply_overrides(text, overrides)?;
     let value: toml::Table = parse(&text, path)?;
     if value.contains_key("deck") {
-        return crate::bridge::compile_str(&text, path);
+        return crate::bridge::compile_str(&text, path, motions);
     }
     let file: SceneFile = parse(&text, path)?;
-    compile(&file, &text, path)
+    compile(&file, &text, path, motions)
 }
 
 /// Deserialize with file/line/column on error.
@@ -578,7 +588,12 @@ fn axis_index(s: &str) -> Option<usize> {
 }
 
 /// Validate and compile a general scene file.
-pub fn compile(f: &SceneFile, text: &str, path: &Path) -> Result<Scene, ModelError> {
+pub fn compile(
+    f: &SceneFile,
+    text: &str,
+    path: &Path,
+    motions: &Motions,
+) -> Result<Scene, ModelError> {
     let ck = Check { text, path };
     let settings = settings(&f.solver, &ck)?;
     let mut bodies = Vec::new();
@@ -699,7 +714,7 @@ pub fn compile(f: &SceneFile, text: &str, path: &Path) -> Result<Scene, ModelErr
                     .file
                     .as_ref()
                     .ok_or_else(|| ck.err(&fld("file"), "required for a record support"))?;
-                let motion = load_motion(path, file, s.processing.clone().unwrap_or_default())?;
+                let motion = motions.get(path, file, s.processing.clone().unwrap_or_default())?;
                 Motion::Record(motion)
             }
             k => {
@@ -841,22 +856,63 @@ pub fn load_motion(
     file: &str,
     p: Processing,
 ) -> Result<Arc<GroundMotion>, ModelError> {
+    Motions::default().get(model, file, p)
+}
+
+/// The record file a model names: relative to the model file, else to the working directory,
+/// else to a directory above the model (the project root above `models/`).
+fn resolve_record(model: &Path, file: &str) -> PathBuf {
     let base = model.parent().unwrap_or(Path::new("."));
-    let mut rp = base.join(file);
-    if !rp.exists() {
-        // also relative to the working directory, then to the project root above models/
-        let alt = PathBuf::from(file);
-        if alt.exists() {
-            rp = alt;
-        } else if let Some(root) = base.ancestors().find(|a| a.join(file).exists()) {
-            rp = root.join(file);
-        }
+    let rp = base.join(file);
+    if rp.exists() {
+        return rp;
     }
-    let err = |e| ModelError::Excitation {
-        path: model.to_path_buf(),
-        source: e,
-    };
-    let rec = crate::excitation::read_any(&rp).map_err(err)?;
-    let g = GroundMotion::from_record(&rec, &p).map_err(err)?;
-    Ok(Arc::new(g))
+    let alt = PathBuf::from(file);
+    if alt.exists() {
+        alt
+    } else if let Some(root) = base.ancestors().find(|a| a.join(file).exists()) {
+        root.join(file)
+    } else {
+        rp
+    }
+}
+
+/// Processed ground motions by (record file, processing): the supports of one model that share
+/// a record share one motion, and the loads of one study (its sweeps) read each record once.
+#[derive(Debug, Default)]
+pub struct Motions(std::sync::Mutex<Vec<(PathBuf, Processing, Arc<GroundMotion>)>>);
+
+impl Motions {
+    /// The motion of `file` (named relative to `model`) processed by `p`, read at first use.
+    pub fn get(
+        &self,
+        model: &Path,
+        file: &str,
+        p: Processing,
+    ) -> Result<Arc<GroundMotion>, ModelError> {
+        let rp = resolve_record(model, file);
+        let known = |list: &[(PathBuf, Processing, Arc<GroundMotion>)]| {
+            list.iter()
+                .find(|(f, q, _)| *f == rp && *q == p)
+                .map(|(_, _, m)| m.clone())
+        };
+        // a panic elsewhere while the list was held leaves it intact: use it anyway
+        let lock = || self.0.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some(m) = known(&lock()) {
+            return Ok(m);
+        }
+        let err = |e| ModelError::Excitation {
+            path: model.to_path_buf(),
+            source: e,
+        };
+        let rec = crate::excitation::read_any(&rp).map_err(err)?;
+        let g = Arc::new(GroundMotion::from_record(&rec, &p).map_err(err)?);
+        let mut list = lock();
+        // another thread may have read it meanwhile: keep one
+        if let Some(m) = known(&list) {
+            return Ok(m);
+        }
+        list.push((rp, p, g.clone()));
+        Ok(g)
+    }
 }

@@ -235,6 +235,102 @@ pub fn events_csv(events: &[EventRecord], contact_names: &[String]) -> String {
     out
 }
 
+/// One sample as the engine measures it, borrowed from its buffers.
+#[derive(Clone, Copy, Debug)]
+pub struct SampleView<'a> {
+    pub t: f64,
+    pub kind: SampleKind,
+    pub q: &'a [f64],
+    pub v: &'a [f64],
+    pub contacts: &'a [ContactSample],
+    pub elements: &'a [(f64, f64)],
+    pub energy: EnergySample,
+}
+
+impl Sample {
+    pub fn view(&self) -> SampleView<'_> {
+        SampleView {
+            t: self.t,
+            kind: self.kind,
+            q: &self.q,
+            v: &self.v,
+            contacts: &self.contacts,
+            elements: &self.elements,
+            energy: self.energy,
+        }
+    }
+}
+
+/// Running extremes of one contact over the samples.
+#[derive(Clone, Copy, Debug)]
+pub struct ContactTally {
+    pub min_gap: f64,
+    pub max_normal_force: f64,
+    pub stick_time: f64,
+    pub slide_time: f64,
+    /// State at the previous sample (it holds until the next one).
+    state: ContactState,
+}
+
+/// The summary of the samples recorded so far, updated sample by sample, so that a run that
+/// keeps no history (a sweep's) still reports its peaks, residuals and contact times.
+#[derive(Clone, Debug, Default)]
+pub struct Tally {
+    /// (max |q|, its time, max |q̇|) per DOF.
+    pub peaks: Vec<(f64, f64, f64)>,
+    pub contacts: Vec<ContactTally>,
+    /// Largest |energy balance| of a sample.
+    pub closure: f64,
+    pub last_t: Option<f64>,
+    pub last_q: Vec<f64>,
+    pub last_energy: EnergySample,
+}
+
+impl Tally {
+    pub fn add(&mut self, s: &SampleView) {
+        if self.peaks.len() != s.q.len() {
+            self.peaks.resize(s.q.len(), (0.0, 0.0, 0.0));
+        }
+        for ((p, q), v) in self.peaks.iter_mut().zip(s.q).zip(s.v) {
+            if q.abs() > p.0 {
+                p.0 = q.abs();
+                p.1 = s.t;
+            }
+            p.2 = p.2.max(v.abs());
+        }
+        if self.contacts.len() != s.contacts.len() {
+            self.contacts.resize(
+                s.contacts.len(),
+                ContactTally {
+                    min_gap: f64::INFINITY,
+                    max_normal_force: 0.0,
+                    stick_time: 0.0,
+                    slide_time: 0.0,
+                    state: ContactState::Open,
+                },
+            );
+        }
+        for (c, x) in self.contacts.iter_mut().zip(s.contacts) {
+            c.min_gap = c.min_gap.min(x.gap);
+            c.max_normal_force = c.max_normal_force.max(x.normal_force);
+            if let Some(t0) = self.last_t {
+                let dt = s.t - t0;
+                match c.state {
+                    ContactState::Stick => c.stick_time += dt,
+                    ContactState::Slide(_) => c.slide_time += dt,
+                    ContactState::Open => {}
+                }
+            }
+            c.state = x.state;
+        }
+        self.closure = self.closure.max(s.energy.closure.abs());
+        self.last_t = Some(s.t);
+        self.last_q.clear();
+        self.last_q.extend_from_slice(s.q);
+        self.last_energy = s.energy;
+    }
+}
+
 /// Everything a run produces.
 #[derive(Clone, Debug)]
 pub struct RunOutput {
@@ -250,6 +346,10 @@ pub struct RunOutput {
     /// (max |q|, time) per DOF over every step, dense output included (empty for fixed-step
     /// methods, whose samples are their steps).
     pub step_peaks: Vec<(f64, f64)>,
+    /// Store every sample in `samples` (else only the running summary is kept).
+    pub keep_history: bool,
+    /// The summary so far, over every recorded sample.
+    pub tally: Tally,
     pub summary: Summary,
 }
 
@@ -266,6 +366,8 @@ impl RunOutput {
             accumulation_times: Vec::new(),
             final_laws: Vec::new(),
             step_peaks: Vec::new(),
+            keep_history: true,
+            tally: Tally::default(),
             summary: Summary::default(),
         }
     }
@@ -275,62 +377,64 @@ impl RunOutput {
         self.dof_names.iter().position(|n| n == name)
     }
 
-    /// Fill the summary from samples and events.
+    /// Records one sample: it updates the running summary ([`Tally`]) and, when the output
+    /// keeps its history, is stored.
+    pub fn record(&mut self, s: SampleView) {
+        self.tally.add(&s);
+        if self.keep_history {
+            self.samples.push(Sample {
+                t: s.t,
+                kind: s.kind,
+                q: s.q.to_vec(),
+                v: s.v.to_vec(),
+                contacts: s.contacts.to_vec(),
+                elements: s.elements.to_vec(),
+                energy: s.energy,
+            });
+        }
+    }
+
+    /// Time of the last recorded sample.
+    pub fn last_sample_time(&self) -> Option<f64> {
+        self.tally.last_t
+    }
+
+    /// Fill the summary from the recorded samples and the events.
     pub fn finish(&mut self, energy_scale: f64) {
+        let tally = &self.tally;
         let mut peaks: Vec<DofPeak> = self
             .dof_names
             .iter()
-            .map(|n| DofPeak {
-                name: n.clone(),
-                max_abs: 0.0,
-                at: 0.0,
-                residual: 0.0,
-                max_abs_velocity: 0.0,
+            .enumerate()
+            .map(|(k, n)| {
+                let (max_abs, at, max_abs_velocity) =
+                    tally.peaks.get(k).copied().unwrap_or_default();
+                DofPeak {
+                    name: n.clone(),
+                    max_abs,
+                    at,
+                    residual: tally.last_q.get(k).copied().unwrap_or(0.0),
+                    max_abs_velocity,
+                }
             })
             .collect();
         let mut contacts: Vec<ContactSummary> = self
             .contact_names
             .iter()
-            .map(|n| ContactSummary {
-                name: n.clone(),
-                min_gap: f64::INFINITY,
-                max_normal_force: 0.0,
-                max_normal_impulse: 0.0,
-                impacts: 0,
-                stick_time: 0.0,
-                slide_time: 0.0,
+            .enumerate()
+            .map(|(i, n)| {
+                let c = tally.contacts.get(i);
+                ContactSummary {
+                    name: n.clone(),
+                    min_gap: c.map_or(f64::INFINITY, |c| c.min_gap),
+                    max_normal_force: c.map_or(0.0, |c| c.max_normal_force),
+                    max_normal_impulse: 0.0,
+                    impacts: 0,
+                    stick_time: c.map_or(0.0, |c| c.stick_time),
+                    slide_time: c.map_or(0.0, |c| c.slide_time),
+                }
             })
             .collect();
-        let mut closure: f64 = 0.0;
-        let mut prev: Option<&Sample> = None;
-        for s in &self.samples {
-            for (k, p) in peaks.iter_mut().enumerate() {
-                if s.q[k].abs() > p.max_abs {
-                    p.max_abs = s.q[k].abs();
-                    p.at = s.t;
-                }
-                p.max_abs_velocity = p.max_abs_velocity.max(s.v[k].abs());
-            }
-            for (i, c) in s.contacts.iter().enumerate() {
-                contacts[i].min_gap = contacts[i].min_gap.min(c.gap);
-                contacts[i].max_normal_force = contacts[i].max_normal_force.max(c.normal_force);
-                if let Some(p) = prev {
-                    let dt = s.t - p.t;
-                    match p.contacts[i].state {
-                        ContactState::Stick => contacts[i].stick_time += dt,
-                        ContactState::Slide(_) => contacts[i].slide_time += dt,
-                        ContactState::Open => {}
-                    }
-                }
-            }
-            closure = closure.max(s.energy.closure.abs());
-            prev = Some(s);
-        }
-        if let Some(last) = self.samples.last() {
-            for (p, q) in peaks.iter_mut().zip(&last.q) {
-                p.residual = *q;
-            }
-        }
         for (p, &(m, t)) in peaks.iter_mut().zip(&self.step_peaks) {
             if m > p.max_abs {
                 p.max_abs = m;
@@ -345,13 +449,14 @@ impl RunOutput {
             }
         }
         let max_penetration = contacts.iter().map(|c| -c.min_gap).fold(0.0f64, f64::max);
+        let closure = tally.closure;
         self.summary = Summary {
             title: self.title.clone(),
-            t_end: self.samples.last().map_or(0.0, |s| s.t),
+            t_end: tally.last_t.unwrap_or(0.0),
             peaks,
             contacts,
             max_penetration,
-            energy_final: self.samples.last().map(|s| s.energy).unwrap_or_default(),
+            energy_final: tally.last_energy,
             energy_closure_abs: closure,
             energy_closure_rel: if energy_scale > 0.0 {
                 closure / energy_scale

@@ -210,6 +210,8 @@ pub struct Settings {
     /// Hysteretic branch events that follow the first event located in a step by at most this
     /// (s) are applied together at the last of them; 0 applies each at its own instant.
     pub branch_window: f64,
+    /// Keep every output sample (else only the summary: sweeps).
+    pub keep_history: bool,
     pub lemke: LemkeOptions,
 }
 
@@ -235,6 +237,7 @@ impl Default for Settings {
             max_steps: 5_000_000,
             stop_at_samples: false,
             branch_window: 0.0,
+            keep_history: true,
             // the Moreau–Jean Delassus Wᵀ Ŵ⁻¹ W of light abutments on stiff actuators is badly
             // scaled: accept solutions whose relative residual is below 1e-7
             lemke: LemkeOptions {

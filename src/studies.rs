@@ -102,6 +102,8 @@ pub struct Study {
     pub path: PathBuf,
     pub text: String,
     pub base: Vec<String>,
+    /// The processed records, read once for all the runs.
+    pub motions: model::Motions,
 }
 
 impl Study {
@@ -110,31 +112,47 @@ impl Study {
             path: path.to_path_buf(),
             source: e,
         })?;
+        let motions = model::Motions::default();
         // validate once, so a bad model fails before any job starts
-        model::load_str(&text, path, base)?;
+        model::load_str_with(&text, path, base, &motions)?;
         Ok(Self {
             path: path.to_path_buf(),
             text,
             base: base.to_vec(),
+            motions,
         })
+    }
+
+    /// The scene with extra `key=value` overrides.
+    pub fn scene(&self, set: &[String]) -> Result<crate::scene::Scene, ModelError> {
+        let mut ov = self.base.clone();
+        ov.extend(set.iter().cloned());
+        model::load_str_with(&self.text, &self.path, &ov, &self.motions)
+    }
+
+    /// The scene of a sweep row: its summary is all a row needs, so no history is kept.
+    fn row_scene(&self, set: &[(String, String)]) -> Result<crate::scene::Scene, ModelError> {
+        let ov: Vec<String> = set.iter().map(|(k, v)| format!("{k}={v}")).collect();
+        let mut scene = self.scene(&ov)?;
+        scene.settings.keep_history = false;
+        Ok(scene)
     }
 
     /// Run with extra `key=value` overrides: the output and the wall time of the integration.
     /// Errors are text ("unstable: …" for a detected instability, "failed: …" otherwise).
     pub fn simulate(&self, set: &[String]) -> Result<(RunOutput, f64), String> {
-        let mut ov = self.base.clone();
-        ov.extend(set.iter().cloned());
-        let scene = model::load_str(&self.text, &self.path, &ov).map_err(|e| e.to_string())?;
-        let t0 = std::time::Instant::now();
-        let r = crate::simulate(&scene, &mut crate::Silent).map_err(solver_error_text)?;
-        Ok((r, t0.elapsed().as_secs_f64()))
+        let scene = self.scene(set).map_err(|e| e.to_string())?;
+        simulate_scene(&scene)
     }
 
-    /// Run with extra overrides.
+    /// Run with extra overrides: the row of its summary.
     pub fn run(&self, set: &[(String, String)]) -> Row {
-        let ov: Vec<String> = set.iter().map(|(k, v)| format!("{k}={v}")).collect();
-        match self.simulate(&ov).map(|(r, _)| r) {
-            Ok(r) => row_of(set.to_vec(), &r),
+        match self
+            .row_scene(set)
+            .map_err(|e| e.to_string())
+            .and_then(|s| simulate_scene(&s))
+        {
+            Ok((r, _)) => row_of(set.to_vec(), &r),
             Err(e) => error_row(set.to_vec(), e),
         }
     }
@@ -188,11 +206,7 @@ impl Study {
     ) -> Vec<(usize, Row)> {
         let scenes: Vec<Option<crate::scene::Scene>> = group
             .iter()
-            .map(|&i| {
-                let mut ov = self.base.clone();
-                ov.extend(combos[i].iter().map(|(k, v)| format!("{k}={v}")));
-                model::load_str(&self.text, &self.path, &ov).ok()
-            })
+            .map(|&i| self.row_scene(&combos[i]).ok())
             .collect();
         let fork = scenes
             .iter()
@@ -221,6 +235,12 @@ impl Study {
 
 /// The sweep key whose variants share their motion until the first contact ([`FrictionFork`]).
 pub const FRICTION_KEY: &str = "contacts.mu";
+
+fn simulate_scene(scene: &crate::scene::Scene) -> Result<(RunOutput, f64), String> {
+    let t0 = std::time::Instant::now();
+    let r = crate::simulate(scene, &mut crate::Silent).map_err(solver_error_text)?;
+    Ok((r, t0.elapsed().as_secs_f64()))
+}
 
 fn solver_error_text(e: crate::SolverError) -> String {
     match e {

@@ -11,8 +11,8 @@ use crate::contact::frictional_velocity_lcp;
 use crate::event_driven::{Batcher, Observer, SolverError};
 use crate::hysteresis::Hysteretic;
 use crate::output::{
-    ContactSample, ContactState, EnergySample, EventKind, EventRecord, RunOutput, Sample,
-    SampleKind,
+    ContactSample, ContactState, EnergySample, EventKind, EventRecord, RunOutput, SampleKind,
+    SampleView,
 };
 use crate::scene::{Attachment, ContactKinematics, Frame, Method, PowerTerms, Scene};
 use nalgebra::{DMatrix, DVector};
@@ -70,7 +70,10 @@ impl<'a> Stepper<'a> {
             q: scene.q0.clone(),
             v: scene.v0.clone(),
             minv: scene.mass.map(|m| 1.0 / m),
-            out: RunOutput::new(scene),
+            out: RunOutput {
+                keep_history: scene.settings.keep_history,
+                ..RunOutput::new(scene)
+            },
             next_out: 0,
             ledger: [0.0; 5],
             e0: scene.kinetic_energy(&scene.v0) + scene.spring_energy(0.0, &scene.q0, &scene.v0),
@@ -174,7 +177,7 @@ impl<'a> Stepper<'a> {
     fn sample(&mut self, kind: SampleKind, contact_elastic: f64) {
         let scene = self.scene;
         let fr = scene.frame(self.t, &self.q, &self.v);
-        let contacts = scene
+        let contacts: Vec<ContactSample> = scene
             .contacts
             .iter()
             .enumerate()
@@ -190,7 +193,7 @@ impl<'a> Stepper<'a> {
                 }
             })
             .collect();
-        let elements = scene
+        let elements: Vec<(f64, f64)> = scene
             .hysteretic
             .iter()
             .enumerate()
@@ -202,13 +205,13 @@ impl<'a> Stepper<'a> {
             .collect();
         let energy = self.energy(contact_elastic);
         self.energy_scale = self.energy_scale.max(energy.scale());
-        self.out.samples.push(Sample {
+        self.out.record(SampleView {
             t: self.t,
             kind,
-            q: self.q.as_slice().to_vec(),
-            v: self.v.as_slice().to_vec(),
-            contacts,
-            elements,
+            q: self.q.as_slice(),
+            v: self.v.as_slice(),
+            contacts: &contacts,
+            elements: &elements,
             energy,
         });
     }
@@ -258,7 +261,7 @@ impl<'a> Stepper<'a> {
     }
 
     fn finish(mut self, wall: Instant, contact_elastic: f64) -> RunOutput {
-        if self.out.samples.last().is_none_or(|s| s.t < self.t) {
+        if self.out.last_sample_time().is_none_or(|t| t < self.t) {
             self.sample(SampleKind::Grid, contact_elastic);
         }
         self.out.stats.wall_time = wall.elapsed().as_secs_f64();

@@ -428,3 +428,85 @@ fn friction_sweep_shares_the_precontact_motion_and_matches_separate_runs() {
     assert_eq!(last(&forked), last(&alone));
     assert!(fork.run(&c).is_none(), "a restitution change was forked");
 }
+
+#[test]
+fn summary_without_history_equals_the_summary_of_the_history() {
+    for method in ["event", "moreau"] {
+        let mut scene = load(&[
+            "solver.t_end=6.0",
+            "excitation.run=4",
+            &format!("solver.method=\"{method}\""),
+            "solver.step=1e-3",
+        ]);
+        let full = deckspin::simulate(&scene, &mut deckspin::Silent).unwrap();
+        scene.settings.keep_history = false;
+        let lean = deckspin::simulate(&scene, &mut deckspin::Silent).unwrap();
+        assert!(
+            full.samples.len() > 500 && lean.samples.is_empty(),
+            "{method}"
+        );
+        // the stick and slide times and the peaks must be exercised to be compared
+        let s = &full.summary;
+        assert!(s.contacts.iter().any(|c| c.stick_time > 0.0), "{method}");
+        assert!(s.contacts.iter().any(|c| c.slide_time > 0.0), "{method}");
+        assert!(
+            s.peaks.iter().all(|p| p.at > 0.0 && p.residual != 0.0),
+            "{method}"
+        );
+        let text = |r: &deckspin::RunOutput| {
+            let mut s = r.summary.clone();
+            s.stats.wall_time = 0.0;
+            serde_json::to_string(&s).unwrap()
+        };
+        assert_eq!(text(&full), text(&lean), "{method}");
+        // the summary of the history, recomputed sample by sample
+        let last = full.samples.last().unwrap();
+        assert_eq!(s.t_end, last.t);
+        for (k, p) in s.peaks.iter().enumerate() {
+            assert_eq!(p.residual, last.q[k]);
+            let m = full
+                .samples
+                .iter()
+                .map(|x| x.q[k].abs())
+                .fold(0.0, f64::max);
+            assert!(p.max_abs >= m, "{method}: {}", p.name);
+        }
+        let closure = full.samples.iter().map(|x| x.energy.closure.abs());
+        assert_eq!(s.energy_closure_abs, closure.fold(0.0, f64::max));
+        for (i, c) in s.contacts.iter().enumerate() {
+            let stick: f64 = full
+                .samples
+                .windows(2)
+                .filter(|w| w[0].contacts[i].state == deckspin::output::ContactState::Stick)
+                .map(|w| w[1].t - w[0].t)
+                .sum();
+            assert!(
+                (c.stick_time - stick).abs() <= 1e-12 * (1.0 + stick),
+                "{method}"
+            );
+        }
+    }
+}
+
+#[test]
+fn a_study_reads_each_record_once() {
+    use deckspin::scene::Motion;
+    let study = deckspin::studies::Study::open(&model(FOUR_SPAN), &[]).unwrap();
+    let record = |s: &deckspin::scene::Scene, i: usize| match &s.supports[i].motion {
+        Motion::Record(g) => g.clone(),
+        m => panic!("{m:?}"),
+    };
+    let a = study.scene(&["contacts.mu=0.1".into()]).unwrap();
+    let b = study.scene(&["contacts.mu=0.6".into()]).unwrap();
+    let c = study.scene(&["excitation.run=2".into()]).unwrap();
+    for i in 0..a.supports.len() {
+        assert!(std::sync::Arc::ptr_eq(&record(&a, i), &record(&b, i)));
+        // another run is another target PGA: another motion
+        assert!(!std::sync::Arc::ptr_eq(&record(&a, i), &record(&c, i)));
+    }
+    // and the same motion as a fresh load, value for value
+    let fresh = load(&["contacts.mu=0.6"]);
+    for i in 0..a.supports.len() {
+        assert_eq!(*record(&b, i), *record(&fresh, i));
+    }
+}
