@@ -76,10 +76,12 @@ impl Step {
     /// y(t0 + θh), 0 ≤ θ ≤ 1, written into `out`.
     pub fn dense_into(&self, theta: f64, out: &mut DVector<f64>) {
         let th1 = 1.0 - theta;
-        let [r3, r4, r5] = &self.cont;
-        for i in 0..out.len() {
-            let r2 = self.y1[i] - self.y0[i];
-            out[i] = self.y0[i] + theta * (r2 + th1 * (r3[i] + theta * (r4[i] + th1 * r5[i])));
+        let n = out.len();
+        let [r3, r4, r5] = self.cont.each_ref().map(|r| &r.as_slice()[..n]);
+        let (y0, y1) = (&self.y0.as_slice()[..n], &self.y1.as_slice()[..n]);
+        for (i, o) in out.as_mut_slice().iter_mut().enumerate() {
+            let r2 = y1[i] - y0[i];
+            *o = y0[i] + theta * (r2 + th1 * (r3[i] + theta * (r4[i] + th1 * r5[i])));
         }
     }
 
@@ -87,9 +89,10 @@ impl Step {
     #[inline]
     pub fn dense_component(&self, theta: f64, i: usize) -> f64 {
         let th1 = 1.0 - theta;
-        let [r3, r4, r5] = &self.cont;
-        let r2 = self.y1[i] - self.y0[i];
-        self.y0[i] + theta * (r2 + th1 * (r3[i] + theta * (r4[i] + th1 * r5[i])))
+        let [r3, r4, r5] = self.cont.each_ref().map(|r| r.as_slice()[i]);
+        let (y0, y1) = (self.y0.as_slice()[i], self.y1.as_slice()[i]);
+        let r2 = y1 - y0;
+        y0 + theta * (r2 + th1 * (r3 + theta * (r4 + th1 * r5)))
     }
 
     pub fn dense(&self, t: f64) -> DVector<f64> {
@@ -198,30 +201,34 @@ pub fn step_into<E>(
         rhs(t0 + C[s] * h, y, &mut rest[0])?;
     }
     // y (stage 7 argument) is the 5th-order solution y1 (FSAL: k[6] = f(t1, y1)).
-    let y1 = &step.y1;
+    let y1 = step.y1.as_slice();
+    let y0s = y0.as_slice();
+    let ks: [&[f64]; 7] = std::array::from_fn(|s| &k[s].as_slice()[..n]);
+    let m = n_err.min(n);
     let mut err = 0.0;
-    for i in 0..n_err.min(n) {
+    for i in 0..m {
         let mut e = 0.0;
-        for (s, ks) in k.iter().enumerate() {
-            e += E[s] * ks[i];
+        for (s, kk) in ks.iter().enumerate() {
+            e += E[s] * kk[i];
         }
-        let sc = atol + rtol * y0[i].abs().max(y1[i].abs());
+        let sc = atol + rtol * y0s[i].abs().max(y1[i].abs());
         let r = h * e / sc;
         err += r * r;
     }
-    step.error = if n_err == 0 {
-        0.0
-    } else {
-        (err / n_err.min(n) as f64).sqrt()
-    };
+    step.error = if m == 0 { 0.0 } else { (err / m as f64).sqrt() };
     let [r3, r4, r5] = &mut step.cont;
+    let (r3, r4, r5) = (
+        &mut r3.as_mut_slice()[..n],
+        &mut r4.as_mut_slice()[..n],
+        &mut r5.as_mut_slice()[..n],
+    );
     for i in 0..n {
-        let r2 = y1[i] - y0[i];
-        r3[i] = h * k[0][i] - r2;
-        r4[i] = r2 - h * k[6][i] - r3[i];
+        let r2 = y1[i] - y0s[i];
+        r3[i] = h * ks[0][i] - r2;
+        r4[i] = r2 - h * ks[6][i] - r3[i];
         let mut d = 0.0;
-        for (s, ks) in k.iter().enumerate() {
-            d += D[s] * ks[i];
+        for (s, kk) in ks.iter().enumerate() {
+            d += D[s] * kk[i];
         }
         r5[i] = h * d;
     }

@@ -237,7 +237,8 @@ impl Scratch {
 
     /// The held evaluation is of (t, y) (with all contacts' kinematics if `all`).
     fn holds(&self, t: f64, y: &DVector<f64>, all: bool) -> bool {
-        matches!(self.at, Some((ta, alla)) if ta == t && (alla || !all)) && self.at_y == *y
+        matches!(self.at, Some((ta, alla)) if ta == t && (alla || !all))
+            && self.at_y.as_slice() == y.as_slice()
     }
 }
 
@@ -342,8 +343,15 @@ impl<'a> Engine<'a> {
         sc.lam_n.resize(nc, 0.0);
         sc.lam_t.clear();
         sc.lam_t.resize(nc, 0.0);
-        for i in 0..n {
-            sc.qdd[i] = sc.h[i] * self.minv[i];
+        let minv = self.minv.as_slice();
+        for ((a, h), m) in sc
+            .qdd
+            .as_mut_slice()
+            .iter_mut()
+            .zip(sc.h.as_slice())
+            .zip(minv)
+        {
+            *a = h * m;
         }
         // constraint rows C (W_N or W_T of a closed contact) and force directions F
         sc.slots.clear();
@@ -367,15 +375,16 @@ impl<'a> Engine<'a> {
         }
         for (r, &(i, tangential)) in sc.slots.iter().enumerate() {
             let kin = &sc.kin[i];
-            let mut col = sc.forces.column_mut(r);
+            let col = &mut sc.forces.as_mut_slice()[r * n..(r + 1) * n];
             match self.state[i] {
                 ContactState::Slide(s) if scene.contacts[i].mu > 0.0 && s != 0.0 => {
                     let mu_s = scene.contacts[i].mu * s;
-                    for j in 0..n {
-                        col[j] = kin.w_n[j] - mu_s * kin.w_t[j];
+                    let (wn, wt) = (kin.w_n.as_slice(), kin.w_t.as_slice());
+                    for ((c, wn), wt) in col.iter_mut().zip(wn).zip(wt) {
+                        *c = wn - mu_s * wt;
                     }
                 }
-                _ => col.copy_from(if tangential { &kin.w_t } else { &kin.w_n }),
+                _ => col.copy_from_slice(if tangential { &kin.w_t } else { &kin.w_n }.as_slice()),
             }
         }
         fn row(kin: &[ContactKinematics], (i, tangential): (usize, bool)) -> (&DVector<f64>, f64) {
@@ -390,17 +399,18 @@ impl<'a> Engine<'a> {
             sc.a = DMatrix::zeros(k, k);
             sc.b = DVector::zeros(k);
         }
+        let forces = &sc.forces.as_slice()[..k * n];
         for r in 0..k {
             let (w, bias) = row(&sc.kin, sc.slots[r]);
-            for c in 0..k {
-                let f = sc.forces.column(c);
+            sc.b[r] = -(w.dot(&sc.qdd) + bias);
+            let w = &w.as_slice()[..n];
+            for (c, f) in forces.chunks_exact(n).enumerate() {
                 let mut acc = 0.0;
-                for j in 0..n {
-                    acc += w[j] * self.minv[j] * f[j];
+                for ((wj, mj), fj) in w.iter().zip(minv).zip(f) {
+                    acc += wj * mj * fj;
                 }
                 sc.a[(r, c)] = acc;
             }
-            sc.b[r] = -(w.dot(&sc.qdd) + bias);
         }
         // Painlevé: a sliding contact whose normal Delassus entry is not positive.
         for (r, &(i, tangential)) in sc.slots.iter().enumerate() {
@@ -410,8 +420,9 @@ impl<'a> Engine<'a> {
             {
                 let w = &sc.kin[i].w_n;
                 let g = w
+                    .as_slice()
                     .iter()
-                    .zip(self.minv.iter())
+                    .zip(minv)
                     .map(|(x, m)| x * m * x)
                     .sum::<f64>();
                 if sc.a[(r, r)] <= 1e-12 * g {
@@ -429,9 +440,9 @@ impl<'a> Engine<'a> {
         solve_small_into(&sc.a, &sc.b, &mut sc.lam, &mut sc.mode_singular);
         for (r, &(i, tangential)) in sc.slots.iter().enumerate() {
             let lr = sc.lam[r];
-            let f = sc.forces.column(r);
-            for j in 0..n {
-                sc.qdd[j] += lr * f[j] * self.minv[j];
+            let f = &sc.forces.as_slice()[r * n..(r + 1) * n];
+            for ((a, fj), mj) in sc.qdd.as_mut_slice().iter_mut().zip(f).zip(minv) {
+                *a += lr * fj * mj;
             }
             if tangential {
                 sc.lam_t[i] = lr;
@@ -450,19 +461,20 @@ impl<'a> Engine<'a> {
         let n = self.n;
         self.dynamics_into(t, y, false)?;
         let d = &self.scratch;
-        for i in 0..n {
-            out[i] = y[n + i];
-            out[n + i] = d.qdd[i];
-        }
+        let o = out.as_mut_slice();
+        o[..n].copy_from_slice(&y.as_slice()[n..2 * n]);
+        o[n..2 * n].copy_from_slice(&d.qdd.as_slice()[..n]);
         let mut contact_loss = 0.0;
         for i in 0..d.kin.len() {
             contact_loss -= d.lam_n[i] * d.kin[i].gap_rate + d.lam_t[i] * d.kin[i].slip_rate;
         }
-        out[2 * n] = d.power.loads;
-        out[2 * n + 1] = d.power.supports;
-        out[2 * n + 2] = d.power.damping;
-        out[2 * n + 3] = d.power.hysteretic;
-        out[2 * n + 4] = contact_loss;
+        o[2 * n..2 * n + 5].copy_from_slice(&[
+            d.power.loads,
+            d.power.supports,
+            d.power.damping,
+            d.power.hysteretic,
+            contact_loss,
+        ]);
         Ok(())
     }
 
@@ -661,7 +673,7 @@ impl<'a> Engine<'a> {
         let v = &self.y.as_slice()[n..2 * n];
         let kinetic = 0.5
             * v.iter()
-                .zip(scene.mass.iter())
+                .zip(scene.mass.as_slice())
                 .map(|(a, m)| m * a * a)
                 .sum::<f64>();
         let mut energy = self.energy_terms(kinetic, self.forces.spring_energy(&d.fr));
@@ -1280,9 +1292,10 @@ fn min_norm_correction(
     for r in 0..k {
         for c in 0..k {
             a[(r, c)] = rows[r]
+                .as_slice()
                 .iter()
-                .zip(minv.iter())
-                .zip(rows[c].iter())
+                .zip(minv.as_slice())
+                .zip(rows[c].as_slice())
                 .map(|((x, m), y)| x * m * y)
                 .sum();
         }
@@ -1666,7 +1679,7 @@ impl<'a> Integration<'a> {
                     2 * n,
                 )?;
                 let step = &ws.step;
-                let finite = step.y1.iter().all(|x| x.is_finite());
+                let finite = step.y1.as_slice().iter().all(|x| x.is_finite());
                 if !finite || step.error > 1.0 {
                     eng.out.stats.steps_rejected += 1;
                     *h = if finite {

@@ -394,6 +394,7 @@ impl Scene {
     ) {
         if let BodyRef::Body(i) = b {
             let dofs = &self.bodies[i].dofs;
+            let row = row.as_mut_slice();
             if let Some(k) = dofs[0] {
                 row[k] += coef * d.x;
             }
@@ -526,8 +527,8 @@ impl Scene {
             w_n = DVector::zeros(n_dof);
             w_t = DVector::zeros(n_dof);
         } else {
-            w_n.fill(0.0);
-            w_t.fill(0.0);
+            w_n.as_mut_slice().fill(0.0);
+            w_t.as_mut_slice().fill(0.0);
         }
         self.add_point_jacobian(&mut w_n, c.point_body, rho_a, n, 1.0);
         self.add_point_jacobian(&mut w_n, c.face_body, arm_b, n, -1.0);
@@ -823,9 +824,10 @@ fn mass_damping(
         vref[k] += f * fr.supports[s].1;
     }
     let (mut damping, mut supports) = (0.0, 0.0);
+    let (v, h, mass) = (v.as_slice(), h.as_mut_slice(), scene.mass.as_slice());
     for k in 0..n {
         let rel = v[k] - vref[k];
-        let f = alpha * scene.mass[k] * rel;
+        let f = alpha * mass[k] * rel;
         h[k] -= f;
         damping += f * rel;
         supports -= f * vref[k];
