@@ -883,6 +883,8 @@ struct FlatElement {
     support: usize,
     stiffness: f64,
     damping: f64,
+    /// Direction along x (1) or y (2) exactly, else 0: half the kinematics suffices.
+    axis: u8,
 }
 
 impl FlatElement {
@@ -904,6 +906,13 @@ impl FlatElement {
             support: support.unwrap_or(NONE),
             stiffness: k,
             damping: c,
+            axis: if direction == Vector2::new(1.0, 0.0) {
+                1
+            } else if direction == Vector2::new(0.0, 1.0) {
+                2
+            } else {
+                0
+            },
         }
     }
 
@@ -917,7 +926,7 @@ impl FlatElement {
     }
 
     /// (e, ė, u̇_g, J over x, y, θ).
-    #[inline]
+    #[inline(always)]
     fn deformation(&self, fr: &Frame, reference: Vector2<f64>) -> (f64, f64, f64, [f64; 3]) {
         let s = &fr.poses[self.body];
         let (ug, vg) = if self.support == NONE {
@@ -932,6 +941,31 @@ impl FlatElement {
         let (dx, dy) = (self.direction.x, self.direction.y);
         let (px, py) = (self.point.x, self.point.y);
         let (c, sn) = s.cs;
+        // d = x or y: the general expressions below with the zero terms left out
+        match self.axis {
+            1 => {
+                let ry = sn * px + c * py;
+                let ux = s.position.x - reference.x + (c * px - sn * py) - px;
+                let arm = -ry;
+                return (
+                    ux - ug,
+                    s.velocity.x + s.omega * arm - vg,
+                    vg,
+                    [1.0, 0.0, arm],
+                );
+            }
+            2 => {
+                let rx = c * px - sn * py;
+                let uy = s.position.y - reference.y + (sn * px + c * py) - py;
+                return (
+                    uy - ug,
+                    s.velocity.y + s.omega * rx - vg,
+                    vg,
+                    [0.0, 1.0, rx],
+                );
+            }
+            _ => {}
+        }
         let (rx, ry) = (c * px - sn * py, sn * px + c * py);
         let ux = s.position.x - reference.x + rx - px;
         let uy = s.position.y - reference.y + ry - py;
@@ -1035,11 +1069,13 @@ impl ForceModel {
         };
         let (mut supports, mut damping, mut hysteretic) = (0.0, 0.0, 0.0);
         let mut dofs = [NONE; 3];
+        let mut body = NONE;
         let mut acc = [0.0f64; 3];
         let mut add = |hs: &mut [f64], el: &FlatElement, f: f64, jac: [f64; 3]| {
-            if el.dofs != dofs {
+            // the DOFs are the body's
+            if el.body != body {
                 flush(hs, &dofs, acc);
-                dofs = el.dofs;
+                (body, dofs) = (el.body, el.dofs);
                 acc = [0.0; 3];
             }
             acc[0] += f * jac[0];
