@@ -1092,34 +1092,30 @@ fn smooth_forces_laws(
     smooth_forces(scene, Some(laws), t, q, v, h, jac)
 }
 
-/// Solve a small (possibly singular: redundant contacts) system. Full-pivot LU when well
-/// conditioned; otherwise the minimum-norm least-squares solution (SVD), which splits forces
-/// equally between redundant constraints.
-fn solve_small(a: DMatrix<f64>, b: DVector<f64>) -> DVector<f64> {
-    if let Some(x) = eliminate(&a, &b) {
-        return x;
-    }
-    // rank-deficient (redundant constraints): λ = Aᵀ(AAᵀ + δI)⁻¹ b, the minimum-norm
-    // solution of a consistent system as δ → 0; SVD if that does not reproduce b
-    let aat = &a * a.transpose();
+/// Minimum-norm solution of a rank-deficient (redundant constraints), consistent system:
+/// λ = Aᵀ(AAᵀ + δI)⁻¹ b (→ A⁺b as δ → 0), δ = 1e-12 max diag(AAᵀ), by Cholesky; the SVD
+/// solution if that does not reproduce b. It splits forces equally between redundant rows.
+fn min_norm_solve(a: &DMatrix<f64>, b: &DVector<f64>) -> DVector<f64> {
+    let aat = a * a.transpose();
     let delta = 1e-12 * aat.diagonal().amax().max(1e-300);
-    let mut reg = aat.clone();
+    let mut reg = aat;
     for i in 0..reg.nrows() {
         reg[(i, i)] += delta;
     }
-    if let Some(y) = eliminate_tol(&reg, &b, 1e-15) {
-        let x = a.transpose() * y;
-        if (&a * &x - &b).amax() <= 1e-9 * (1.0 + b.amax()) {
+    if let Some(ch) = reg.cholesky() {
+        let x = a.transpose() * ch.solve(b);
+        if x.iter().all(|v| v.is_finite()) && (a * &x - b).amax() <= 1e-9 * (1.0 + b.amax()) {
             return x;
         }
     }
     let scale = a.amax().max(1e-300);
-    let svd = a.svd(true, true);
-    svd.solve(&b, 1e-9 * scale)
+    let svd = a.clone().svd(true, true);
+    svd.solve(b, 1e-9 * scale)
         .unwrap_or_else(|_| DVector::zeros(b.len()))
 }
 
-/// [`solve_small`] into `x`; no allocation for n ≤ 12 unless the SVD is needed.
+/// Solves A x = b (A square, small): complete-pivoting elimination when A is regular, else
+/// the minimum-norm solution of [`min_norm_solve`] (on the stack for n ≤ 12); into `x`.
 /// `singular`: the system is known to be rank-deficient (skip the direct attempt); set when
 /// the direct elimination fails.
 fn solve_small_into(a: &DMatrix<f64>, b: &DVector<f64>, x: &mut DVector<f64>, singular: &mut bool) {
@@ -1135,7 +1131,7 @@ fn solve_small_into(a: &DMatrix<f64>, b: &DVector<f64>, x: &mut DVector<f64>, si
         *singular = true;
     }
     if k <= N {
-        // the regularized minimum-norm solution of solve_small, on the stack
+        // the regularized minimum-norm solution of min_norm_solve, on the stack
         let mut m = [[0.0f64; N]; N];
         let mut dmax = 0.0f64;
         for r in 0..k {
@@ -1152,10 +1148,9 @@ fn solve_small_into(a: &DMatrix<f64>, b: &DVector<f64>, x: &mut DVector<f64>, si
         for (r, row) in m.iter_mut().enumerate().take(k) {
             row[r] += delta;
         }
-        let mut rhs = [0.0f64; N];
-        rhs[..k].copy_from_slice(b.as_slice());
         let mut yv = [0.0f64; N];
-        if eliminate_stack(&mut m, &mut rhs, k, 1e-15, &mut yv[..k]) {
+        yv[..k].copy_from_slice(b.as_slice());
+        if cholesky_solve_stack(&mut m, k, &mut yv[..k]) {
             let mut ok = true;
             for j in 0..k {
                 let mut acc = 0.0;
@@ -1177,24 +1172,45 @@ fn solve_small_into(a: &DMatrix<f64>, b: &DVector<f64>, x: &mut DVector<f64>, si
             }
         }
     }
-    x.copy_from(&solve_small(a.clone(), b.clone()));
+    x.copy_from(&min_norm_solve(a, b));
 }
 
-/// Gaussian elimination with complete pivoting on the stack (n ≤ 12); None when a pivot falls
-/// below 1e-9 of the largest (rank-deficient).
-fn eliminate(a: &DMatrix<f64>, b: &DVector<f64>) -> Option<DVector<f64>> {
-    eliminate_tol(a, b, 1e-9)
+/// Solves S x = r in place (`x` holds r on entry) for symmetric positive definite S (its
+/// lower triangle is overwritten by the Cholesky factor L, S = L Lᵀ); false if a pivot is not
+/// positive or the solution not finite.
+fn cholesky_solve_stack(s: &mut [[f64; ELIM_N]; ELIM_N], n: usize, x: &mut [f64]) -> bool {
+    let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(p, q)| p * q).sum::<f64>();
+    for j in 0..n {
+        let d = s[j][j] - dot(&s[j][..j], &s[j][..j]);
+        if d.is_nan() || d <= 0.0 {
+            return false;
+        }
+        let l = d.sqrt();
+        s[j][j] = l;
+        for i in j + 1..n {
+            s[i][j] = (s[i][j] - dot(&s[i][..j], &s[j][..j])) / l;
+        }
+    }
+    // L y = r, then Lᵀ x = y
+    for i in 0..n {
+        x[i] = (x[i] - dot(&s[i][..i], &x[..i])) / s[i][i];
+    }
+    for i in (0..n).rev() {
+        let v: f64 = s[i + 1..n]
+            .iter()
+            .zip(&x[i + 1..n])
+            .map(|(row, xk)| row[i] * xk)
+            .sum();
+        x[i] = (x[i] - v) / s[i][i];
+    }
+    x[..n].iter().all(|v| v.is_finite())
 }
 
-fn eliminate_tol(a: &DMatrix<f64>, b: &DVector<f64>, tol: f64) -> Option<DVector<f64>> {
-    let mut out = DVector::zeros(b.len());
-    eliminate_into(a, b, tol, out.as_mut_slice()).then_some(out)
-}
-
-/// [`eliminate_tol`] into `out`; false when rank-deficient or not finite.
 /// Largest system solved on the stack.
 const ELIM_N: usize = 12;
 
+/// Gaussian elimination with complete pivoting (on the stack for n ≤ 12) into `out`; false
+/// when a pivot falls below `tol` of the largest (rank-deficient) or the result is not finite.
 fn eliminate_into(a: &DMatrix<f64>, b: &DVector<f64>, tol: f64, out: &mut [f64]) -> bool {
     const N: usize = ELIM_N;
     let n = a.nrows();
@@ -2190,4 +2206,66 @@ fn bracket_root<E>(
         }
     }
     Ok((a, b))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn solve(a: &DMatrix<f64>, b: &DVector<f64>) -> (DVector<f64>, bool) {
+        let mut x = DVector::zeros(0);
+        let mut singular = false;
+        solve_small_into(a, b, &mut x, &mut singular);
+        (x, singular)
+    }
+
+    #[test]
+    fn regular_systems_are_solved_exactly() {
+        let a = DMatrix::from_row_slice(3, 3, &[4.0, 1.0, 0.5, 1.0, 3.0, -1.0, 0.0, 2.0, 5.0]);
+        let x0 = DVector::from_vec(vec![1.0, -2.0, 0.25]);
+        let (x, singular) = solve(&a, &(&a * &x0));
+        assert!(!singular);
+        assert!((x - x0).amax() < 1e-14);
+    }
+
+    #[test]
+    fn redundant_rows_get_the_minimum_norm_solution() {
+        // two corners sticking on one face: rows 3 and 4 repeat 1 and 2 (rank 2 of 4), b
+        // consistent; the minimum-norm solution is A⁺b, forces split equally
+        for k in [4usize, 16] {
+            let mut a = DMatrix::zeros(k, k);
+            let base = DMatrix::from_row_slice(2, 2, &[2.0, 0.5, 0.5, 1.0]);
+            for bi in 0..k / 2 {
+                for bj in 0..k / 2 {
+                    a.view_mut((2 * bi, 2 * bj), (2, 2)).copy_from(&base);
+                }
+            }
+            let b = DVector::from_fn(k, |i, _| if i % 2 == 0 { 3.0 } else { -1.0 });
+            let (x, singular) = solve(&a, &b);
+            assert!(singular, "k = {k}");
+            let pinv = a.clone().pseudo_inverse(1e-12).unwrap() * &b;
+            assert!(
+                (&x - &pinv).amax() < 1e-9 * pinv.amax(),
+                "k = {k}: {x} vs {pinv}"
+            );
+            assert!((&a * &x - &b).amax() < 1e-9, "k = {k}");
+            // equal split between the redundant copies
+            assert!((x[0] - x[2]).abs() < 1e-9 && (x[1] - x[3]).abs() < 1e-9);
+        }
+    }
+
+    #[test]
+    fn cholesky_refuses_an_indefinite_matrix() {
+        let mut s = [[0.0; ELIM_N]; ELIM_N];
+        s[0][0] = 1.0;
+        (s[1][0], s[0][1], s[1][1]) = (2.0, 2.0, 1.0);
+        let mut x = [1.0, 1.0];
+        assert!(!cholesky_solve_stack(&mut s, 2, &mut x));
+        let mut s = [[0.0; ELIM_N]; ELIM_N];
+        (s[0][0], s[1][0], s[0][1], s[1][1]) = (4.0, 2.0, 2.0, 3.0);
+        let mut x = [2.0, 1.0];
+        assert!(cholesky_solve_stack(&mut s, 2, &mut x));
+        // [4 2; 2 3] x = [2 1] → x = [0.5, 0]
+        assert!((x[0] - 0.5).abs() < 1e-15 && x[1].abs() < 1e-15);
+    }
 }
