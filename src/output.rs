@@ -512,53 +512,50 @@ impl RunOutput {
             head.push(format!("energy.{f}"));
         }
         writeln!(w, "{}", head.join(","))?;
+        // written field by field: no string per value
+        let num = |w: &mut std::io::BufWriter<std::fs::File>, x: f64| write!(w, ",{x:.12e}");
         for s in &self.samples {
-            let mut row: Vec<String> = vec![
-                format!("{:.12e}", s.t),
-                match s.kind {
-                    SampleKind::Grid => "grid",
-                    SampleKind::PreEvent => "pre-event",
-                    SampleKind::PostEvent => "post-event",
-                }
-                .into(),
-            ];
-            row.extend(s.q.iter().chain(s.v.iter()).map(|x| format!("{x:.12e}")));
-            for c in &s.contacts {
-                row.extend(
-                    [
-                        c.gap,
-                        c.gap_rate,
-                        c.slip_rate,
-                        c.normal_force,
-                        c.tangential_force,
-                    ]
-                    .iter()
-                    .map(|x| format!("{x:.12e}")),
-                );
-                row.push(c.state.label().into());
+            let kind = match s.kind {
+                SampleKind::Grid => "grid",
+                SampleKind::PreEvent => "pre-event",
+                SampleKind::PostEvent => "post-event",
+            };
+            write!(w, "{:.12e},{kind}", s.t)?;
+            for &x in s.q.iter().chain(s.v.iter()) {
+                num(&mut w, x)?;
             }
-            for (e, f) in &s.elements {
-                row.push(format!("{e:.12e}"));
-                row.push(format!("{f:.12e}"));
+            for c in &s.contacts {
+                for x in [
+                    c.gap,
+                    c.gap_rate,
+                    c.slip_rate,
+                    c.normal_force,
+                    c.tangential_force,
+                ] {
+                    num(&mut w, x)?;
+                }
+                write!(w, ",{}", c.state.label())?;
+            }
+            for &(e, f) in &s.elements {
+                num(&mut w, e)?;
+                num(&mut w, f)?;
             }
             let en = &s.energy;
-            row.extend(
-                [
-                    en.kinetic,
-                    en.elastic,
-                    en.hysteretic,
-                    en.damping,
-                    en.friction,
-                    en.impact_normal,
-                    en.impact_tangential,
-                    en.loads,
-                    en.supports,
-                    en.closure,
-                ]
-                .iter()
-                .map(|x| format!("{x:.12e}")),
-            );
-            writeln!(w, "{}", row.join(","))?;
+            for x in [
+                en.kinetic,
+                en.elastic,
+                en.hysteretic,
+                en.damping,
+                en.friction,
+                en.impact_normal,
+                en.impact_tangential,
+                en.loads,
+                en.supports,
+                en.closure,
+            ] {
+                num(&mut w, x)?;
+            }
+            writeln!(w)?;
         }
         w.flush()
     }
