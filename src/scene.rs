@@ -929,6 +929,18 @@ impl FlatElement {
     #[inline(always)]
     fn deformation(&self, fr: &Frame, reference: Vector2<f64>) -> (f64, f64, f64, [f64; 3]) {
         let s = &fr.poses[self.body];
+        self.deformation_of(s, s.position - reference, fr)
+    }
+
+    /// [`FlatElement::deformation`] from the pose `s` of the element's body and its
+    /// displacement `rel` = X − X₀.
+    #[inline(always)]
+    fn deformation_of(
+        &self,
+        s: &BodyState,
+        rel: Vector2<f64>,
+        fr: &Frame,
+    ) -> (f64, f64, f64, [f64; 3]) {
         let (ug, vg) = if self.support == NONE {
             (0.0, 0.0)
         } else {
@@ -945,7 +957,7 @@ impl FlatElement {
         match self.axis {
             1 => {
                 let ry = sn * px + c * py;
-                let ux = s.position.x - reference.x + (c * px - sn * py) - px;
+                let ux = rel.x + (c * px - sn * py) - px;
                 let arm = -ry;
                 return (
                     ux - ug,
@@ -956,7 +968,7 @@ impl FlatElement {
             }
             2 => {
                 let rx = c * px - sn * py;
-                let uy = s.position.y - reference.y + (sn * px + c * py) - py;
+                let uy = rel.y + (sn * px + c * py) - py;
                 return (
                     uy - ug,
                     s.velocity.y + s.omega * rx - vg,
@@ -967,13 +979,22 @@ impl FlatElement {
             _ => {}
         }
         let (rx, ry) = (c * px - sn * py, sn * px + c * py);
-        let ux = s.position.x - reference.x + rx - px;
-        let uy = s.position.y - reference.y + ry - py;
+        let ux = rel.x + rx - px;
+        let uy = rel.y + ry - py;
         let arm = dx * -ry + dy * rx; // d·perp(ρ)
         let e = dx * ux + dy * uy - ug;
         let ed = dx * s.velocity.x + dy * s.velocity.y + s.omega * arm - vg;
         (e, ed, vg, [dx, dy, arm])
     }
+}
+
+/// Elements `start..end` of springs ++ hysteretic elements, all on `body`.
+#[derive(Clone, Debug)]
+struct ForceRun {
+    body: usize,
+    dofs: [usize; 3],
+    start: usize,
+    end: usize,
 }
 
 /// The smooth forces of a scene flattened for repeated evaluation: the same h(t, q, q̇) and
@@ -984,6 +1005,9 @@ pub struct ForceModel {
     springs: Vec<FlatElement>,
     elements: Vec<FlatElement>,
     references: Vec<Vector2<f64>>,
+    /// Consecutive elements (springs, then hysteretic elements) on one body: their forces are
+    /// summed before they touch h.
+    runs: Vec<ForceRun>,
     /// (dof, support, factor) of q̇_ref with supports that move alike merged.
     mass_reference: Vec<(usize, usize, f64)>,
 }
@@ -1033,10 +1057,23 @@ impl ForceModel {
                 None => mass_reference.push((k, root, f)),
             }
         }
+        let mut runs: Vec<ForceRun> = Vec::new();
+        for (i, el) in springs.iter().chain(&elements).enumerate() {
+            match runs.last_mut() {
+                Some(r) if r.body == el.body => r.end = i + 1,
+                _ => runs.push(ForceRun {
+                    body: el.body,
+                    dofs: el.dofs,
+                    start: i,
+                    end: i + 1,
+                }),
+            }
+        }
         Self {
             springs,
             elements,
             references: scene.bodies.iter().map(|b| b.reference).collect(),
+            runs,
             mass_reference,
         }
     }
@@ -1058,48 +1095,47 @@ impl ForceModel {
             ..Default::default()
         };
         let hs = h.as_mut_slice();
-        // generalized forces summed per body in registers (consecutive elements mostly act on
-        // the same body), then subtracted from h once per run of elements
-        let flush = |hs: &mut [f64], dofs: &[usize; 3], acc: [f64; 3]| {
-            for (&k, a) in dofs.iter().zip(acc) {
+        // generalized forces summed per run of elements on one body, in registers, then
+        // subtracted from h once per run
+        let (mut supports, mut damping, mut hysteretic) = (0.0, 0.0, 0.0);
+        let ns = self.springs.len();
+        for run in &self.runs {
+            let s = &fr.poses[run.body];
+            let rel = s.position - self.references[run.body];
+            let mut acc = [0.0f64; 3];
+            let mut add = |f: f64, jac: [f64; 3]| {
+                acc[0] += f * jac[0];
+                acc[1] += f * jac[1];
+                acc[2] += f * jac[2];
+            };
+            for sp in &self.springs[run.start.min(ns)..run.end.min(ns)] {
+                let (e, ed, vg, jac) = sp.deformation_of(s, rel, fr);
+                let f = sp.stiffness * e + sp.damping * ed;
+                add(f, jac);
+                supports -= f * vg;
+                damping += sp.damping * ed * ed;
+            }
+            let (e0, e1) = (run.start.max(ns) - ns, run.end.max(ns) - ns);
+            for ((el, law), out) in self.elements[e0..e1]
+                .iter()
+                .zip(&laws[e0..e1])
+                .zip(&mut elements[e0..e1])
+            {
+                let (e, ed, vg, jac) = el.deformation_of(s, rel, fr);
+                *out = (e, ed);
+                let fh = law.force(e);
+                let f = fh + el.damping * ed;
+                add(f, jac);
+                supports -= f * vg;
+                damping += el.damping * ed * ed;
+                hysteretic += fh * ed;
+            }
+            for (&k, a) in run.dofs.iter().zip(acc) {
                 if let Some(x) = hs.get_mut(k) {
                     *x -= a;
                 }
             }
-        };
-        let (mut supports, mut damping, mut hysteretic) = (0.0, 0.0, 0.0);
-        let mut dofs = [NONE; 3];
-        let mut body = NONE;
-        let mut acc = [0.0f64; 3];
-        let mut add = |hs: &mut [f64], el: &FlatElement, f: f64, jac: [f64; 3]| {
-            // the DOFs are the body's
-            if el.body != body {
-                flush(hs, &dofs, acc);
-                (body, dofs) = (el.body, el.dofs);
-                acc = [0.0; 3];
-            }
-            acc[0] += f * jac[0];
-            acc[1] += f * jac[1];
-            acc[2] += f * jac[2];
-        };
-        for s in &self.springs {
-            let (e, ed, vg, jac) = s.deformation(fr, self.references[s.body]);
-            let f = s.stiffness * e + s.damping * ed;
-            add(hs, s, f, jac);
-            supports -= f * vg;
-            damping += s.damping * ed * ed;
         }
-        for ((el, law), out) in self.elements.iter().zip(laws).zip(elements.iter_mut()) {
-            let (e, ed, vg, jac) = el.deformation(fr, self.references[el.body]);
-            *out = (e, ed);
-            let fh = law.force(e);
-            let f = fh + el.damping * ed;
-            add(hs, el, f, jac);
-            supports -= f * vg;
-            damping += el.damping * ed * ed;
-            hysteretic += fh * ed;
-        }
-        flush(hs, &dofs, acc);
         p.supports += supports;
         p.damping += damping;
         p.hysteretic += hysteretic;
