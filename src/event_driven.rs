@@ -644,7 +644,10 @@ impl<'a> Engine<'a> {
             sc.lam_t.clear();
             sc.lam_t.resize(scene.contacts.len(), 0.0);
             sc.elements.resize(scene.hysteretic.len(), (0.0, 0.0));
-            self.forces.deformations(&sc.fr, &mut sc.elements);
+            if self.out.keep_history {
+                // (the running summary does not use them)
+                self.forces.deformations(&sc.fr, &mut sc.elements);
+            }
         } else {
             let y = std::mem::take(&mut self.y);
             let r = self.dynamics_into(self.t, &y, true);
@@ -663,12 +666,14 @@ impl<'a> Engine<'a> {
             state: self.state[i],
         }));
         elements.clear();
-        elements.extend(
-            d.elements
-                .iter()
-                .zip(&self.laws)
-                .map(|(&(e, _), law)| (e, law.force(e))),
-        );
+        if self.out.keep_history {
+            elements.extend(
+                d.elements
+                    .iter()
+                    .zip(&self.laws)
+                    .map(|(&(e, _), law)| (e, law.force(e))),
+            );
+        }
         let q = &self.y.as_slice()[..n];
         let v = &self.y.as_slice()[n..2 * n];
         let kinetic = 0.5
