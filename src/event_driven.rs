@@ -231,7 +231,7 @@ impl Scratch {
         if self.at_y.len() != y.len() {
             self.at_y = DVector::zeros(y.len());
         }
-        self.at_y.copy_from(y);
+        self.at_y.as_mut_slice().copy_from_slice(y.as_slice());
         self.at = Some((t, all));
     }
 
@@ -312,8 +312,8 @@ impl<'a> Engine<'a> {
         }
         sc.at = None;
         sc.size(n);
-        sc.q.copy_from(&y.rows(0, n));
-        sc.v.copy_from(&y.rows(n, n));
+        sc.q.as_mut_slice().copy_from_slice(&y.as_slice()[..n]);
+        sc.v.as_mut_slice().copy_from_slice(&y.as_slice()[n..2 * n]);
         scene.frame_into(&mut sc.fr, t, &sc.q, &sc.v);
         sc.elements.resize(scene.hysteretic.len(), (0.0, 0.0));
         sc.power = self.forces.eval(
@@ -339,10 +339,10 @@ impl<'a> Engine<'a> {
                 k.slip_rate = 0.0;
             }
         }
-        sc.lam_n.clear();
-        sc.lam_n.resize(nc, 0.0);
-        sc.lam_t.clear();
-        sc.lam_t.resize(nc, 0.0);
+        for lam in [&mut sc.lam_n, &mut sc.lam_t] {
+            lam.clear();
+            lam.resize(nc, 0.0);
+        }
         let minv = self.minv.as_slice();
         for ((a, h), m) in sc
             .qdd

@@ -465,7 +465,7 @@ impl Scene {
         let (qs, vs) = (q.as_slice(), v.as_slice());
         fr.poses.clear();
         fr.poses
-            .extend((0..self.bodies.len()).map(|i| self.pose_of(i, |k| qs[k], |k| vs[k])));
+            .extend(self.bodies.iter().map(|b| pose(b, |k| qs[k], |k| vs[k])));
     }
 
     /// [`Scene::contact_kinematics`] from precomputed poses.
@@ -667,16 +667,7 @@ impl Scene {
 
     /// Pose of body `i` with DOF values read by `q(k)` and rates by `v(k)`.
     fn pose_of(&self, i: usize, q: impl Fn(usize) -> f64, v: impl Fn(usize) -> f64) -> BodyState {
-        let body = &self.bodies[i];
-        let [dx, dy, dt] = body.dofs;
-        let angle = dt.map_or(0.0, &q);
-        BodyState {
-            position: body.reference + Vector2::new(dx.map_or(0.0, &q), dy.map_or(0.0, &q)),
-            angle,
-            velocity: Vector2::new(dx.map_or(0.0, &v), dy.map_or(0.0, &v)),
-            omega: dt.map_or(0.0, &v),
-            cs: cos_sin(angle),
-        }
+        pose(&self.bodies[i], q, v)
     }
 
     /// Time instants where the right-hand side is not smooth in t (record samples).
@@ -833,6 +824,20 @@ fn mass_damping(
         supports -= f * vref[k];
     }
     (damping, supports)
+}
+
+/// Pose of `body` with DOF values read by `q(k)` and rates by `v(k)`.
+#[inline(always)]
+fn pose(body: &Body, q: impl Fn(usize) -> f64, v: impl Fn(usize) -> f64) -> BodyState {
+    let [dx, dy, dt] = body.dofs;
+    let angle = dt.map_or(0.0, &q);
+    BodyState {
+        position: body.reference + Vector2::new(dx.map_or(0.0, &q), dy.map_or(0.0, &q)),
+        angle,
+        velocity: Vector2::new(dx.map_or(0.0, &v), dy.map_or(0.0, &v)),
+        omega: dt.map_or(0.0, &v),
+        cs: cos_sin(angle),
+    }
 }
 
 /// (cos a, sin a). For |a| ≤ 0.1 (decks and abutments turn by milliradians) by their Taylor
