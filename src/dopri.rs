@@ -183,7 +183,7 @@ pub fn step_into<E>(
         step.f1 = DVector::zeros(n);
         step.cont = std::array::from_fn(|_| DVector::zeros(n));
     }
-    k[0].copy_from(f0);
+    k[0].as_mut_slice().copy_from_slice(f0.as_slice());
     let y = &mut step.y1;
     for s in 1..7 {
         let ys = y.as_mut_slice();
@@ -232,8 +232,8 @@ pub fn step_into<E>(
         }
         r5[i] = h * d;
     }
-    step.f1.copy_from(&k[6]);
-    step.y0.copy_from(y0);
+    step.f1.as_mut_slice().copy_from_slice(k[6].as_slice());
+    step.y0.as_mut_slice().copy_from_slice(y0.as_slice());
     step.t0 = t0;
     step.h = h;
     Ok(())

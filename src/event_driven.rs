@@ -556,8 +556,14 @@ impl<'a> Engine<'a> {
             if self.event_qv.0.len() != n {
                 self.event_qv = (DVector::zeros(n), DVector::zeros(n));
             }
-            self.event_qv.0.copy_from(&y.rows(0, n));
-            self.event_qv.1.copy_from(&y.rows(n, n));
+            self.event_qv
+                .0
+                .as_mut_slice()
+                .copy_from_slice(&y.as_slice()[..n]);
+            self.event_qv
+                .1
+                .as_mut_slice()
+                .copy_from_slice(&y.as_slice()[n..2 * n]);
             let branch = fns.iter().any(|f| {
                 matches!(
                     f,
@@ -630,8 +636,9 @@ impl<'a> Engine<'a> {
             let sc = &mut self.scratch;
             sc.at = None;
             sc.size(n);
-            sc.q.copy_from(&self.y.rows(0, n));
-            sc.v.copy_from(&self.y.rows(n, n));
+            sc.q.as_mut_slice().copy_from_slice(&self.y.as_slice()[..n]);
+            sc.v.as_mut_slice()
+                .copy_from_slice(&self.y.as_slice()[n..2 * n]);
             scene.frame_into(&mut sc.fr, self.t, &sc.q, &sc.v);
             sc.kin
                 .resize_with(scene.contacts.len(), ContactKinematics::placeholder);
@@ -739,8 +746,8 @@ impl<'a> Engine<'a> {
         ps.kin
             .resize_with(scene.contacts.len(), ContactKinematics::placeholder);
         let load = |ps: &mut ProjectScratch, y: &DVector<f64>, t: f64| {
-            ps.q.copy_from(&y.rows(0, n));
-            ps.v.copy_from(&y.rows(n, n));
+            ps.q.as_mut_slice().copy_from_slice(&y.as_slice()[..n]);
+            ps.v.as_mut_slice().copy_from_slice(&y.as_slice()[n..2 * n]);
             scene.frame_into(&mut ps.fr, t, &ps.q, &ps.v);
         };
         // closed contacts, and open ones that penetrate (after an event located past g_N = 0)
@@ -1686,7 +1693,7 @@ impl<'a> Integration<'a> {
                 if t_stop - eng.t - hh < 1e-12 * hh {
                     hh = t_stop - eng.t;
                 }
-                y0.copy_from(&eng.y);
+                y0.as_mut_slice().copy_from_slice(eng.y.as_slice());
                 let t0 = eng.t;
                 dopri::step_into(
                     ws,
@@ -1738,7 +1745,7 @@ impl<'a> Integration<'a> {
                 if found.is_some() {
                     step.dense_at_into(t1, &mut eng.y);
                 } else {
-                    eng.y.copy_from(&step.y1);
+                    eng.y.as_mut_slice().copy_from_slice(step.y1.as_slice());
                 }
                 let contact = eng.cluster.iter().any(|f| {
                     !matches!(
@@ -1782,7 +1789,7 @@ impl<'a> Integration<'a> {
                     arm_into(eng, fns, armed)?;
                 }
             } else {
-                f0.copy_from(&ws.step.f1);
+                f0.as_mut_slice().copy_from_slice(ws.step.f1.as_slice());
             }
             batcher.maybe(&eng.out, eng.t, observer)?;
         }
@@ -1874,7 +1881,7 @@ fn track_peaks(out: &mut RunOutput, step: &dopri::Step, t1: f64, n: usize, y1: &
         out.step_peaks = vec![(0.0, 0.0); n];
     }
     if t1 >= step.t1() {
-        y1.copy_from(&step.y1);
+        y1.as_mut_slice().copy_from_slice(step.y1.as_slice());
     } else {
         step.dense_at_into(t1, y1);
     }

@@ -1094,7 +1094,7 @@ impl ForceModel {
         h: &mut DVector<f64>,
         elements: &mut [(f64, f64)],
     ) -> PowerTerms {
-        h.copy_from(&scene.loads);
+        h.as_mut_slice().copy_from_slice(scene.loads.as_slice());
         let mut p = PowerTerms {
             loads: scene.loads.dot(v),
             ..Default::default()
