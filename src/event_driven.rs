@@ -1131,7 +1131,6 @@ fn min_norm_solve(a: &DMatrix<f64>, b: &DVector<f64>) -> DVector<f64> {
 /// `singular`: the system is known to be rank-deficient (skip the direct attempt); set when
 /// the direct elimination fails.
 fn solve_small_into(a: &DMatrix<f64>, b: &DVector<f64>, x: &mut DVector<f64>, singular: &mut bool) {
-    const N: usize = ELIM_N;
     let k = b.len();
     if x.len() != k {
         *x = DVector::zeros(k);
@@ -1142,55 +1141,69 @@ fn solve_small_into(a: &DMatrix<f64>, b: &DVector<f64>, x: &mut DVector<f64>, si
         }
         *singular = true;
     }
-    if k <= N {
-        // the regularized minimum-norm solution of min_norm_solve, on the stack
-        let mut m = [[0.0f64; N]; N];
-        let mut dmax = 0.0f64;
-        for r in 0..k {
-            for c in 0..k {
-                let mut acc = 0.0;
-                for j in 0..k {
-                    acc += a[(r, j)] * a[(c, j)];
-                }
-                m[r][c] = acc;
-            }
-            dmax = dmax.max(m[r][r].abs());
-        }
-        let delta = 1e-12 * dmax.max(1e-300);
-        for (r, row) in m.iter_mut().enumerate().take(k) {
-            row[r] += delta;
-        }
-        let mut yv = [0.0f64; N];
-        yv[..k].copy_from_slice(b.as_slice());
-        if cholesky_solve_stack(&mut m, k, &mut yv[..k]) {
-            let mut ok = true;
-            for j in 0..k {
-                let mut acc = 0.0;
-                for r in 0..k {
-                    acc += a[(r, j)] * yv[r];
-                }
-                x[j] = acc;
-            }
-            let bmax = b.amax();
-            for r in 0..k {
-                let mut acc = 0.0;
-                for j in 0..k {
-                    acc += a[(r, j)] * x[j];
-                }
-                ok &= (acc - b[r]).abs() <= 1e-9 * (1.0 + bmax);
-            }
-            if ok {
-                return;
-            }
-        }
+    let done = match k {
+        0..=4 => min_norm_on::<4>(a, b, x),
+        5..=8 => min_norm_on::<8>(a, b, x),
+        9..=ELIM_N => min_norm_on::<ELIM_N>(a, b, x),
+        _ => false,
+    };
+    if done {
+        return;
     }
     x.copy_from(&min_norm_solve(a, b));
+}
+
+/// The regularized minimum-norm solution of [`min_norm_solve`] on stack arrays of order N ≥ k;
+/// false if it fails (then the SVD decides).
+fn min_norm_on<const N: usize>(a: &DMatrix<f64>, b: &DVector<f64>, x: &mut DVector<f64>) -> bool {
+    let k = b.len();
+    // the regularized minimum-norm solution of min_norm_solve, on the stack
+    let mut m = [[0.0f64; N]; N];
+    let mut dmax = 0.0f64;
+    for r in 0..k {
+        for c in 0..k {
+            let mut acc = 0.0;
+            for j in 0..k {
+                acc += a[(r, j)] * a[(c, j)];
+            }
+            m[r][c] = acc;
+        }
+        dmax = dmax.max(m[r][r].abs());
+    }
+    let delta = 1e-12 * dmax.max(1e-300);
+    for (r, row) in m.iter_mut().enumerate().take(k) {
+        row[r] += delta;
+    }
+    let mut yv = [0.0f64; N];
+    yv[..k].copy_from_slice(b.as_slice());
+    if cholesky_solve_stack(&mut m, k, &mut yv[..k]) {
+        let mut ok = true;
+        for j in 0..k {
+            let mut acc = 0.0;
+            for r in 0..k {
+                acc += a[(r, j)] * yv[r];
+            }
+            x[j] = acc;
+        }
+        let bmax = b.amax();
+        for r in 0..k {
+            let mut acc = 0.0;
+            for j in 0..k {
+                acc += a[(r, j)] * x[j];
+            }
+            ok &= (acc - b[r]).abs() <= 1e-9 * (1.0 + bmax);
+        }
+        if ok {
+            return true;
+        }
+    }
+    false
 }
 
 /// Solves S x = r in place (`x` holds r on entry) for symmetric positive definite S (its
 /// lower triangle is overwritten by the Cholesky factor L, S = L Lᵀ); false if a pivot is not
 /// positive or the solution not finite.
-fn cholesky_solve_stack(s: &mut [[f64; ELIM_N]; ELIM_N], n: usize, x: &mut [f64]) -> bool {
+fn cholesky_solve_stack<const N: usize>(s: &mut [[f64; N]; N], n: usize, x: &mut [f64]) -> bool {
     let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(p, q)| p * q).sum::<f64>();
     for j in 0..n {
         let d = s[j][j] - dot(&s[j][..j], &s[j][..j]);
@@ -1224,17 +1237,28 @@ const ELIM_N: usize = 12;
 /// Gaussian elimination with complete pivoting (on the stack for n ≤ 12) into `out`; false
 /// when a pivot falls below `tol` of the largest (rank-deficient) or the result is not finite.
 fn eliminate_into(a: &DMatrix<f64>, b: &DVector<f64>, tol: f64, out: &mut [f64]) -> bool {
-    const N: usize = ELIM_N;
-    let n = a.nrows();
-    if n > N {
-        return match a.clone().full_piv_lu().solve(b) {
+    // the smallest stack array that holds the system (the elimination is the same)
+    match a.nrows() {
+        0..=4 => eliminate_on::<4>(a, b, tol, out),
+        5..=8 => eliminate_on::<8>(a, b, tol, out),
+        9..=ELIM_N => eliminate_on::<ELIM_N>(a, b, tol, out),
+        _ => match a.clone().full_piv_lu().solve(b) {
             Some(x) => {
                 out.copy_from_slice(x.as_slice());
                 true
             }
             None => false,
-        };
+        },
     }
+}
+
+fn eliminate_on<const N: usize>(
+    a: &DMatrix<f64>,
+    b: &DVector<f64>,
+    tol: f64,
+    out: &mut [f64],
+) -> bool {
+    let n = a.nrows();
     let mut m = [[0.0f64; N]; N];
     let mut r = [0.0f64; N];
     for i in 0..n {
@@ -1247,14 +1271,13 @@ fn eliminate_into(a: &DMatrix<f64>, b: &DVector<f64>, tol: f64, out: &mut [f64])
 }
 
 /// Complete-pivoting elimination of the leading n × n block of `m` with right side `r`.
-fn eliminate_stack(
-    m: &mut [[f64; ELIM_N]; ELIM_N],
-    r: &mut [f64; ELIM_N],
+fn eliminate_stack<const N: usize>(
+    m: &mut [[f64; N]; N],
+    r: &mut [f64; N],
     n: usize,
     tol: f64,
     out: &mut [f64],
 ) -> bool {
-    const N: usize = ELIM_N;
     let mut perm = [0usize; N];
     for (i, p) in perm.iter_mut().enumerate() {
         *p = i;
