@@ -2267,7 +2267,7 @@ mod tests {
     fn redundant_rows_get_the_minimum_norm_solution() {
         // two corners sticking on one face: rows 3 and 4 repeat 1 and 2 (rank 2 of 4), b
         // consistent; the minimum-norm solution is A⁺b, forces split equally
-        for k in [4usize, 16] {
+        for k in [4usize, 6, 10, 16] {
             let mut a = DMatrix::zeros(k, k);
             let base = DMatrix::from_row_slice(2, 2, &[2.0, 0.5, 0.5, 1.0]);
             for bi in 0..k / 2 {
