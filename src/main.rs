@@ -505,7 +505,8 @@ fn cmd_study(
     Ok(())
 }
 
-/// User + system CPU time of this process so far, s (other tenants' load does not count).
+/// User + system CPU time of this process so far, s: time waiting for a core does not count
+/// (a core the host slows still does).
 fn cpu_seconds() -> f64 {
     let mut u = std::mem::MaybeUninit::<libc::rusage>::zeroed();
     // SAFETY: getrusage fills the struct it is given; RUSAGE_SELF is always valid
