@@ -121,7 +121,7 @@ enum Command {
         /// Repetitions of the single run.
         #[arg(long, default_value_t = 11)]
         repeat: usize,
-        /// Repetitions of the sweep.
+        /// Repetitions of the sweep (0: the single run only).
         #[arg(long, default_value_t = 3)]
         sweeps: usize,
     },
@@ -547,7 +547,8 @@ fn cmd_bench(model: &std::path::Path, repeat: usize, sweeps: usize) -> CliResult
     );
     let study = Study::open(model, &[])?;
     let n = run_count(&study.text);
-    if n > 0 {
+    // `--sweeps 0`: the single run only
+    if n > 0 && sweeps > 0 {
         let axes = [
             Axis {
                 key: "contacts.mu".into(),
@@ -560,7 +561,7 @@ fn cmd_bench(model: &std::path::Path, repeat: usize, sweeps: usize) -> CliResult
         ];
         let mut st = Vec::new();
         let mut cpu = Vec::new();
-        for _ in 0..sweeps.max(1) {
+        for _ in 0..sweeps {
             let (t0, c0) = (std::time::Instant::now(), cpu_seconds());
             let rows = study.sweep(&axes);
             st.push(t0.elapsed().as_secs_f64());
