@@ -573,29 +573,13 @@ impl Scene {
         support: Option<usize>,
         jac: &mut DVector<f64>,
     ) -> (f64, f64, f64) {
+        // the kinematics of [`Scene::deformation_at`], its sparse Jacobian spread over the DOFs
+        let (e, ed, vg, sparse, nj) = self.deformation_sparse(fr, att, support);
         jac.fill(0.0);
-        let (ug, vg, _) = support.map_or((0.0, 0.0, 0.0), |s| fr.supports[s]);
-        match att {
-            Attachment::Point {
-                body,
-                point,
-                direction,
-            } => {
-                let s = fr.poses[*body];
-                let rho = s.rot(*point);
-                let disp = s.position - self.bodies[*body].reference + rho - point;
-                let vel = s.velocity + s.omega * perp(rho);
-                self.add_point_jacobian(jac, BodyRef::Body(*body), rho, *direction, 1.0);
-                (direction.dot(&disp) - ug, direction.dot(&vel) - vg, vg)
-            }
-            Attachment::Rotation { body } => {
-                let s = fr.poses[*body];
-                if let Some(k) = self.bodies[*body].dofs[2] {
-                    jac[k] = 1.0;
-                }
-                (s.angle - ug, s.omega - vg, vg)
-            }
+        for &(k, c) in &sparse[..nj] {
+            jac[k] = c;
         }
+        (e, ed, vg)
     }
 
     /// [`Scene::deformation_in`] with the Jacobian as (dof, coefficient) pairs (at most 3),
