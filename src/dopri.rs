@@ -69,6 +69,9 @@ pub struct Step {
     pub f1: DVector<f64>,
     /// Weighted RMS error estimate (≤ 1 accepts).
     pub error: f64,
+    /// The component with the largest weighted error: the one that sets the step size
+    /// (`usize::MAX` without error control).
+    pub worst: usize,
     cont: [DVector<f64>; 3],
 }
 
@@ -153,6 +156,7 @@ impl Default for Workspace {
                 y1: z(),
                 f1: z(),
                 error: 0.0,
+                worst: usize::MAX,
                 cont: [z(), z(), z()],
             },
         }
@@ -206,6 +210,7 @@ pub fn step_into<E>(
     let ks: [&[f64]; 7] = std::array::from_fn(|s| &k[s].as_slice()[..n]);
     let m = n_err.min(n);
     let mut err = 0.0;
+    let (mut worst, mut worst_r2) = (usize::MAX, -1.0);
     for i in 0..m {
         let mut e = 0.0;
         for (s, kk) in ks.iter().enumerate() {
@@ -213,9 +218,14 @@ pub fn step_into<E>(
         }
         let sc = atol + rtol * y0s[i].abs().max(y1[i].abs());
         let r = h * e / sc;
-        err += r * r;
+        let r2 = r * r;
+        if r2 > worst_r2 {
+            (worst, worst_r2) = (i, r2);
+        }
+        err += r2;
     }
     step.error = if m == 0 { 0.0 } else { (err / m as f64).sqrt() };
+    step.worst = worst;
     let [r3, r4, r5] = &mut step.cont;
     let (r3, r4, r5) = (
         &mut r3.as_mut_slice()[..n],

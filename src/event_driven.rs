@@ -1527,6 +1527,7 @@ impl<'a> Integration<'a> {
             smooth_forces_laws(scene, &eng.laws, 0.0, &q, &v, &mut h, &mut eng.jac);
             eng.force_scale = h.amax().max(scene.mass.amax() * 1e-6);
         }
+        eng.out.stats.step_control = vec![0; 2 * n];
         // the output grid, and room for the rows around events
         eng.out.keep_history = st.keep_history;
         if st.keep_history {
@@ -1748,6 +1749,9 @@ impl<'a> Integration<'a> {
                     continue;
                 }
                 eng.out.stats.steps_accepted += 1;
+                if let Some(c) = eng.out.stats.step_control.get_mut(step.worst) {
+                    *c += 1;
+                }
                 *h = ctrl.next_h(hh, step.error, true);
                 // event search on the dense output
                 found = locate_event(eng, step, fns, armed)?;

@@ -234,6 +234,13 @@ fn cmd_run(
         "  events: {} impact, {} stick, {} slip, {} release, {} accumulation",
         s.stats.impacts, s.stats.sticks, s.stats.slips, s.stats.releases, s.stats.accumulations
     );
+    let controlled: usize = s.step_control.iter().map(|(_, c)| c).sum();
+    if controlled > 0 {
+        let top: Vec<String> = (s.step_control.iter().take(3))
+            .map(|(name, c)| format!("{name} {:.0} %", 100.0 * *c as f64 / controlled as f64))
+            .collect();
+        println!("  step size set by: {}", top.join(", "));
+    }
     println!(
         "  energy closure {:.3e} J (rel {:.3e}), max penetration {:.3e} m",
         s.energy_closure_abs, s.energy_closure_rel, s.max_penetration

@@ -148,6 +148,11 @@ pub struct RunStats {
     pub steps_accepted: usize,
     pub steps_rejected: usize,
     pub rhs_evals: usize,
+    /// Event method: per state component (q, then q̇), the accepted DP5 steps whose error
+    /// estimate it dominated — which motion sets the step size (labelled in
+    /// [`Summary::step_control`]).
+    #[serde(skip)]
+    pub step_control: Vec<usize>,
     pub lcp_solves: usize,
     pub lemke_pivots: usize,
     pub events_located: usize,
@@ -204,6 +209,9 @@ pub struct Summary {
     pub energy_closure_rel: f64,
     pub accumulation_times: Vec<(String, f64)>,
     pub stats: RunStats,
+    /// Event method: the state components (`x`, `d/dt x`) whose local error estimate set the
+    /// accepted DP5 steps, with their step counts, most first (zero counts left out).
+    pub step_control: Vec<(String, usize)>,
 }
 
 /// The event log as CSV (events.csv): one row per event, impulses for impacts.
@@ -469,7 +477,26 @@ impl RunOutput {
                 .map(|(i, t)| (self.contact_names[*i].clone(), *t))
                 .collect(),
             stats: self.stats.clone(),
+            step_control: self.step_control(),
         };
+    }
+
+    /// [`Summary::step_control`] from the counts in `stats`.
+    fn step_control(&self) -> Vec<(String, usize)> {
+        let n = self.dof_names.len();
+        let mut out: Vec<(String, usize)> = (self.stats.step_control.iter().enumerate())
+            .filter(|(_, c)| **c > 0)
+            .map(|(i, &c)| {
+                let name = match self.dof_names.get(i % n.max(1)) {
+                    Some(d) if i < n => d.clone(),
+                    Some(d) => format!("d/dt {d}"),
+                    None => format!("y[{i}]"),
+                };
+                (name, c)
+            })
+            .collect();
+        out.sort_by_key(|e| std::cmp::Reverse(e.1));
+        out
     }
 
     pub fn write_history(&self, path: &Path) -> std::io::Result<()> {

@@ -208,3 +208,57 @@ fn stability_report_for_the_bridge_flags_failures_and_passes_the_event_method() 
         .unwrap();
     assert!(coarse.2.starts_with("unstable"), "{coarse:?}");
 }
+
+/// Two unconnected unit-mass oscillators, ω = 1 and 100 rad/s, each starting at 1 m/s: DP5's
+/// local error grows as (ωh)⁶, so the fast one's components must set almost every accepted
+/// step, whichever body the file lists first.
+#[test]
+fn the_fast_oscillator_sets_the_event_method_step_size() {
+    for (ka, kb) in [(1.0, 1.0e4), (1.0e4, 1.0)] {
+        let text = format!(
+            r#"title = "two oscillators"
+[solver]
+t_end = 2.0
+output_dt = 0.1
+rtol = 1e-6
+atol = 1e-9
+[[body]]
+name = "a"
+mass = 1.0
+dofs = ["x"]
+initial_velocity = [1.0, 0.0, 0.0]
+[[spring]]
+name = "ka"
+body = "a"
+direction = [1.0, 0.0]
+stiffness = {ka}
+[[body]]
+name = "b"
+mass = 1.0
+dofs = ["x"]
+initial_velocity = [1.0, 0.0, 0.0]
+[[spring]]
+name = "kb"
+body = "b"
+direction = [1.0, 0.0]
+stiffness = {kb}
+"#
+        );
+        let r = run_text(&text, "two-oscillators.toml").unwrap();
+        let s = &r.summary;
+        let total: usize = s.step_control.iter().map(|(_, c)| c).sum();
+        assert_eq!(total, s.stats.steps_accepted, "{:?}", s.step_control);
+        let fast = if ka > kb { "a.x" } else { "b.x" };
+        let by_fast: usize = (s.step_control.iter())
+            .filter(|(name, _)| name == fast || *name == format!("d/dt {fast}"))
+            .map(|(_, c)| c)
+            .sum();
+        assert!(
+            by_fast as f64 >= 0.95 * total as f64,
+            "{fast}: {by_fast} of {total} steps: {:?}",
+            s.step_control
+        );
+        // the list is sorted, most first
+        assert!(s.step_control.windows(2).all(|w| w[0].1 >= w[1].1));
+    }
+}
