@@ -214,35 +214,19 @@ fn stability_report_for_the_bridge_flags_failures_and_passes_the_event_method() 
 /// step, whichever body the file lists first.
 #[test]
 fn the_fast_oscillator_sets_the_event_method_step_size() {
+    let oscillator = |name: &str, k: f64| {
+        format!(
+            "[[body]]\nname = \"{name}\"\nmass = 1.0\ndofs = [\"x\"]\n\
+             initial_velocity = [1.0, 0.0, 0.0]\n[[spring]]\nname = \"k{name}\"\n\
+             body = \"{name}\"\ndirection = [1.0, 0.0]\nstiffness = {k}\n"
+        )
+    };
     for (ka, kb) in [(1.0, 1.0e4), (1.0e4, 1.0)] {
         let text = format!(
-            r#"title = "two oscillators"
-[solver]
-t_end = 2.0
-output_dt = 0.1
-rtol = 1e-6
-atol = 1e-9
-[[body]]
-name = "a"
-mass = 1.0
-dofs = ["x"]
-initial_velocity = [1.0, 0.0, 0.0]
-[[spring]]
-name = "ka"
-body = "a"
-direction = [1.0, 0.0]
-stiffness = {ka}
-[[body]]
-name = "b"
-mass = 1.0
-dofs = ["x"]
-initial_velocity = [1.0, 0.0, 0.0]
-[[spring]]
-name = "kb"
-body = "b"
-direction = [1.0, 0.0]
-stiffness = {kb}
-"#
+            "title = \"two oscillators\"\n[solver]\nt_end = 2.0\noutput_dt = 0.1\n\
+             rtol = 1e-6\natol = 1e-9\n{}{}",
+            oscillator("a", ka),
+            oscillator("b", kb)
         );
         let r = run_text(&text, "two-oscillators.toml").unwrap();
         let s = &r.summary;
