@@ -8,12 +8,12 @@
 //!   explicit central-difference scheme (stable for h < 2/ω).
 
 use crate::contact::frictional_velocity_lcp;
-use crate::event_driven::{Batcher, Observer, SolverError};
 use crate::hysteresis::Hysteretic;
 use crate::output::{
     ContactSample, ContactState, EnergySample, EventKind, EventRecord, RunOutput, SampleKind,
     SampleView,
 };
+use crate::run::{Batcher, Observer, SolverError};
 use crate::scene::{Attachment, ContactKinematics, Frame, Method, PowerTerms, Scene};
 use nalgebra::{DMatrix, DVector};
 use std::time::Instant;

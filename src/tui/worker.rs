@@ -4,8 +4,8 @@
 //! flag the observer checks at every batch.
 
 use super::app::{Msg, RunOutcome};
-use crate::event_driven::{Observer, SolverError};
 use crate::output::{EventRecord, Sample};
+use crate::run::{Observer, SolverError};
 use crate::scene::Scene;
 use std::cell::RefCell;
 use std::sync::Arc;

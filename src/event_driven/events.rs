@@ -1,0 +1,267 @@
+//! Event functions (an event is a crossing from > 0 to ≤ 0) of contacts and hysteretic
+//! branches, their thresholds and their arming at the start of a phase.
+
+use super::engine::Engine;
+use crate::output::ContactState;
+use crate::run::SolverError;
+use nalgebra::DVector;
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) enum EventFn {
+    /// g_N of an open contact (closing: an impact).
+    Gap(usize),
+    /// λ_N of a closed contact (detachment).
+    Release(usize),
+    /// μ λ_N − |λ_T| of a sticking contact (stick → slip).
+    StickSlip(usize),
+    /// s ġ_T of a sliding contact (slip → stick).
+    SlideStop(usize),
+    /// e − e_lower of a hysteretic element (branch end).
+    Lower(usize),
+    /// e_upper − e of a hysteretic element (branch end).
+    Upper(usize),
+    /// d ė of a hysteretic element (load reversal).
+    Reversal(usize),
+}
+
+impl EventFn {
+    /// A hysteretic branch event (not a contact event).
+    pub(super) fn is_branch(self) -> bool {
+        matches!(
+            self,
+            EventFn::Lower(_) | EventFn::Upper(_) | EventFn::Reversal(_)
+        )
+    }
+}
+
+impl<'a> Engine<'a> {
+    pub(super) fn event_fns(&mut self) -> Vec<EventFn> {
+        let mut f = Vec::new();
+        self.event_fns_into(&mut f);
+        f
+    }
+
+    /// [`Engine::event_fns`] into `f` (cleared first).
+    pub(super) fn event_fns_into(&mut self, f: &mut Vec<EventFn>) {
+        self.state.fns_generation += 1;
+        f.clear();
+        for (i, st) in self.state.contacts.iter().enumerate() {
+            match st {
+                ContactState::Open => f.push(EventFn::Gap(i)),
+                ContactState::Stick => {
+                    f.push(EventFn::Release(i));
+                    f.push(EventFn::StickSlip(i));
+                }
+                ContactState::Slide(s) => {
+                    f.push(EventFn::Release(i));
+                    if *s != 0.0 && self.scene.contacts[i].mu > 0.0 {
+                        f.push(EventFn::SlideStop(i));
+                    }
+                }
+            }
+        }
+        for (j, law) in self.state.laws.iter().enumerate() {
+            let b = law.branch();
+            if b.lower.is_finite() {
+                f.push(EventFn::Lower(j));
+            }
+            if b.upper.is_finite() {
+                f.push(EventFn::Upper(j));
+            }
+            if b.ends_on_reversal {
+                f.push(EventFn::Reversal(j));
+            }
+        }
+    }
+
+    /// Values of the event functions (an event is a crossing from > 0 to ≤ 0) and their
+    /// "zero" thresholds.
+    pub(super) fn event_values(
+        &mut self,
+        t: f64,
+        y: &DVector<f64>,
+        fns: &[EventFn],
+    ) -> Result<Vec<f64>, SolverError> {
+        let mut vals = Vec::with_capacity(fns.len());
+        self.event_values_into(t, y, fns, &mut vals)?;
+        Ok(vals)
+    }
+
+    /// [`Engine::event_values`] into `vals` (cleared first).
+    pub(super) fn event_values_into(
+        &mut self,
+        t: f64,
+        y: &DVector<f64>,
+        fns: &[EventFn],
+        vals: &mut Vec<f64>,
+    ) -> Result<(), SolverError> {
+        let needs_forces = fns
+            .iter()
+            .any(|f| matches!(f, EventFn::Release(_) | EventFn::StickSlip(_)));
+        let n = self.n;
+        let scene = self.scene;
+        let mut fr = std::mem::take(&mut self.ws.event_frame);
+        let held = needs_forces || self.ws.dynamics.holds(t, y, false);
+        let mut defo = std::mem::take(&mut self.ws.defo);
+        if held {
+            // the dynamics leave the frame and the element deformations of (t, y) in the scratch
+            self.dynamics_into(t, y, false)?;
+            std::mem::swap(&mut fr, &mut self.ws.dynamics.fr);
+            defo.clear();
+            defo.extend_from_slice(&self.ws.dynamics.elements);
+        } else {
+            if self.ws.event_qv.0.len() != n {
+                self.ws.event_qv = (DVector::zeros(n), DVector::zeros(n));
+            }
+            self.ws
+                .event_qv
+                .0
+                .as_mut_slice()
+                .copy_from_slice(&y.as_slice()[..n]);
+            self.ws
+                .event_qv
+                .1
+                .as_mut_slice()
+                .copy_from_slice(&y.as_slice()[n..2 * n]);
+            let branch = fns.iter().any(|f| {
+                matches!(
+                    f,
+                    EventFn::Lower(_) | EventFn::Upper(_) | EventFn::Reversal(_)
+                )
+            });
+            if branch {
+                scene.frame_into(&mut fr, t, &self.ws.event_qv.0, &self.ws.event_qv.1);
+            } else {
+                // contact functions need the poses only
+                scene.poses_into(&mut fr, &self.ws.event_qv.0, &self.ws.event_qv.1);
+            }
+            defo.clear();
+            defo.resize(scene.hysteretic.len(), (f64::NAN, f64::NAN));
+        }
+        vals.clear();
+        let d = &self.ws.dynamics;
+        for f in fns {
+            let val = match *f {
+                EventFn::Gap(i) => scene.contact_rates_in(&fr, &scene.contacts[i]).0,
+                EventFn::Release(i) => d.lam_n[i],
+                EventFn::StickSlip(i) => scene.contacts[i].mu * d.lam_n[i] - d.lam_t[i].abs(),
+                EventFn::SlideStop(i) => {
+                    let s = match self.state.contacts[i] {
+                        ContactState::Slide(s) => s,
+                        _ => 1.0,
+                    };
+                    s * scene.contact_rates_in(&fr, &scene.contacts[i]).2
+                }
+                EventFn::Lower(j) | EventFn::Upper(j) | EventFn::Reversal(j) => {
+                    if defo[j].0.is_nan() {
+                        let el = &scene.hysteretic[j];
+                        let (e, ed, ..) = scene.deformation_sparse(&fr, &el.attachment, el.support);
+                        defo[j] = (e, ed);
+                    }
+                    let (e, ed) = defo[j];
+                    let b = self.state.laws[j].branch();
+                    match *f {
+                        EventFn::Lower(_) => e - b.lower,
+                        EventFn::Upper(_) => b.upper - e,
+                        _ => b.direction * ed,
+                    }
+                }
+            };
+            vals.push(val);
+        }
+        if held {
+            std::mem::swap(&mut fr, &mut self.ws.dynamics.fr);
+        }
+        self.ws.event_frame = fr;
+        self.ws.defo = defo;
+        Ok(())
+    }
+
+    pub(super) fn threshold(&self, f: EventFn) -> f64 {
+        let s = &self.scene.settings;
+        match f {
+            EventFn::Gap(_) => 1e-3 * s.gap_tol,
+            EventFn::Release(_) | EventFn::StickSlip(_) => 1e-10 * self.state.force_scale,
+            EventFn::SlideStop(_) | EventFn::Reversal(_) => 1e-3 * s.velocity_tol,
+            EventFn::Lower(_) | EventFn::Upper(_) => 1e-13,
+        }
+    }
+}
+
+/// A function already past its threshold at the current instant (it crossed together with
+/// the event just processed). Gaps count only while closing.
+/// Uses the values [`arm`] has just computed at this instant.
+pub(super) fn due_now(
+    eng: &mut Engine,
+    fns: &[EventFn],
+    done: &[EventFn],
+) -> Result<Option<EventFn>, SolverError> {
+    if eng.state.arm_values.len() != fns.len() {
+        let y = std::mem::take(&mut eng.state.y);
+        let mut vals = std::mem::take(&mut eng.state.arm_values);
+        let r = eng.event_values_into(eng.state.t, &y, fns, &mut vals);
+        eng.state.y = y;
+        eng.state.arm_values = vals;
+        r?;
+    }
+    for (k, f) in fns.iter().enumerate() {
+        if eng.state.arm_values[k] < -eng.threshold(*f) && !done.contains(f) {
+            if let EventFn::Gap(i) = *f {
+                let gap_rate = eng.contact_kinematics_now(i).gap_rate;
+                if gap_rate >= -eng.scene.settings.velocity_tol {
+                    continue;
+                }
+            }
+            eng.state.arm_values.clear();
+            return Ok(Some(*f));
+        }
+    }
+    eng.state.arm_values.clear();
+    Ok(None)
+}
+
+/// Armed flags: a function is armed when it is known to be positive just after the start of a
+/// phase — clearly positive, or zero and moving up (a separating gap, a slide or branch just
+/// begun). Unarmed ones trigger only below −threshold (an inconsistent state the LCP repairs).
+pub(super) fn arm(eng: &mut Engine, fns: &[EventFn]) -> Result<Vec<bool>, SolverError> {
+    let mut armed = Vec::new();
+    arm_into(eng, fns, &mut armed)?;
+    Ok(armed)
+}
+
+/// [`arm`] into `armed`.
+pub(super) fn arm_into(
+    eng: &mut Engine,
+    fns: &[EventFn],
+    armed: &mut Vec<bool>,
+) -> Result<(), SolverError> {
+    eng.state.last_event_values = None;
+    let y = std::mem::take(&mut eng.state.y);
+    let mut vals = std::mem::take(&mut eng.state.arm_values);
+    let r = eng.event_values_into(eng.state.t, &y, fns, &mut vals);
+    eng.state.y = y;
+    r?;
+    let scene = eng.scene;
+    let st = &scene.settings;
+    armed.clear();
+    armed.extend(fns.iter().zip(&vals).map(|(f, &val)| {
+        let thr = eng.threshold(*f);
+        match *f {
+            // a gap at zero counts as positive if it opens
+            EventFn::Gap(i) => {
+                val > thr
+                    || (val > -st.gap_tol
+                        && eng.contact_kinematics_now(i).gap_rate > st.velocity_tol)
+            }
+            EventFn::SlideStop(_)
+            | EventFn::Reversal(_)
+            | EventFn::Lower(_)
+            | EventFn::Upper(_) => val > -thr,
+            EventFn::Release(_) | EventFn::StickSlip(_) => val > thr,
+        }
+    }));
+    // they are also the start values of the next step's event search
+    eng.state.last_event_values = Some((eng.state.t, vals.clone()));
+    eng.state.arm_values = vals;
+    Ok(())
+}

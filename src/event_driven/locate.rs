@@ -1,0 +1,270 @@
+//! Event location on the dense output: sampling at θ = ¼, ½, ¾, 1, Illinois on the bracket,
+//! coalescing of branch events within `branch_window`.
+
+use super::engine::Engine;
+use super::events::EventFn;
+use crate::dopri;
+use crate::run::SolverError;
+use nalgebra::DVector;
+
+/// First event in the step: sample the dense output at θ = ¼, ½, ¾, 1, then Illinois on the
+/// bracketing interval down to `event_time_tol`. Returns t_event, the bracket end where the
+/// function has crossed, with the events to apply there in `eng.state.cluster` ([`coalesce`]).
+/// Updates the armed flags.
+pub(super) fn locate_event(
+    eng: &mut Engine,
+    step: &dopri::Step,
+    fns: &[EventFn],
+    armed: &mut [bool],
+) -> Result<Option<f64>, SolverError> {
+    if fns.is_empty() {
+        return Ok(None);
+    }
+    let mut ls = std::mem::take(&mut eng.ws.locate);
+    let r = locate_event_in(eng, step, fns, armed, &mut ls);
+    eng.ws.locate = ls;
+    r
+}
+
+/// Reused storage of [`locate_event`].
+#[derive(Default)]
+pub(super) struct LocateScratch {
+    thr: Vec<f64>,
+    v_prev: Vec<f64>,
+    t_prev: Vec<f64>,
+    gaps: Vec<usize>,
+    gap_fns: Vec<EventFn>,
+    vals: Vec<f64>,
+    v_end: Vec<f64>,
+    y: DVector<f64>,
+    roots: Vec<(f64, EventFn)>,
+    /// `Engine::fns_generation` of the list `thr` and `gaps` were made for.
+    listed: u64,
+}
+
+pub(super) fn locate_event_in(
+    eng: &mut Engine,
+    step: &dopri::Step,
+    fns: &[EventFn],
+    armed: &mut [bool],
+    ls: &mut LocateScratch,
+) -> Result<Option<f64>, SolverError> {
+    let LocateScratch {
+        thr,
+        v_prev,
+        t_prev,
+        gaps,
+        gap_fns,
+        vals,
+        v_end,
+        y,
+        roots,
+        listed,
+    } = ls;
+    // thresholds and the gap subset change only with the list of functions
+    let fresh = *listed != eng.state.fns_generation || thr.len() != fns.len();
+    if fresh {
+        *listed = eng.state.fns_generation;
+        thr.clear();
+        thr.extend(fns.iter().map(|f| eng.threshold(*f)));
+        gaps.clear();
+        gaps.extend((0..fns.len()).filter(|&k| matches!(fns[k], EventFn::Gap(_))));
+        gap_fns.clear();
+        gap_fns.extend(gaps.iter().map(|&k| fns[k]));
+    }
+    let shifted = |v: f64, k: usize, armed: &[bool]| if armed[k] { v } else { v + thr[k] };
+    // the end values first: the last stage evaluated the dynamics there (FSAL), which any
+    // other evaluation would overwrite
+    eng.event_values_into(step.t1(), &step.y1, fns, v_end)?;
+    match eng.state.last_event_values.take() {
+        Some((t, v)) if t == step.t0 && v.len() == fns.len() => *v_prev = v,
+        _ => eng.event_values_into(step.t0, &step.y0, fns, v_prev)?,
+    };
+    t_prev.clear();
+    t_prev.resize(fns.len(), step.t0);
+    for (k, v) in v_prev.iter_mut().enumerate() {
+        if armed[k] && *v <= 0.0 {
+            // positive just after t0 by construction
+            *v = f64::MIN_POSITIVE;
+        }
+    }
+    // gaps (cheap, and a corner may graze through in part of a step) at θ = ¼, ½, ¾, 1;
+    // everything else at ½ and 1
+    if y.len() != step.y0.len() {
+        *y = DVector::zeros(step.y0.len());
+    }
+    for theta in [0.25, 0.5, 0.75, 1.0] {
+        let full = theta == 0.5 || theta == 1.0;
+        if !full && gaps.is_empty() {
+            continue;
+        }
+        let t = step.t0 + theta * step.h;
+        if theta == 1.0 {
+            std::mem::swap(vals, v_end);
+        } else {
+            step.dense_at_into(t, y);
+            if full {
+                eng.event_values_into(t, y, fns, vals)?;
+            } else {
+                eng.event_values_into(t, y, gap_fns, vals)?;
+            }
+        }
+        let index = |m: usize| if full { m } else { gaps[m] };
+        roots.clear();
+        for (m, &val) in vals.iter().enumerate() {
+            let k = index(m);
+            let a = shifted(v_prev[k], k, armed);
+            let b = shifted(val, k, armed);
+            if a > 0.0 && b <= 0.0 {
+                let root = illinois(eng, step, fns, k, t_prev[k], t, a, b, armed[k], thr[k])?;
+                roots.push((root, fns[k]));
+            }
+        }
+        if !roots.is_empty() {
+            roots.sort_by(|a, b| a.0.total_cmp(&b.0));
+            let window = eng.scene.settings.branch_window;
+            return Ok(Some(coalesce(roots, window, &mut eng.state.cluster)));
+        }
+        for (m, &val) in vals.iter().enumerate() {
+            let k = index(m);
+            if !armed[k] && val > thr[k] {
+                armed[k] = true;
+            }
+            v_prev[k] = val;
+            t_prev[k] = t;
+        }
+    }
+    eng.state.last_event_values = Some((step.t1(), std::mem::take(v_prev)));
+    Ok(None)
+}
+
+/// The events applied at once from the roots found in one sub-interval (sorted by time):
+/// the first, and the branch events of other elements that follow it by at most `window` with
+/// no contact event between (all at the time of the last of them, so that each element's
+/// branch end has been reached when it changes branch). Returns that time; the events go into
+/// `cluster`.
+pub(super) fn coalesce(roots: &[(f64, EventFn)], window: f64, cluster: &mut Vec<EventFn>) -> f64 {
+    let element = |f: EventFn| match f {
+        EventFn::Lower(j) | EventFn::Upper(j) | EventFn::Reversal(j) => Some(j),
+        _ => None,
+    };
+    cluster.clear();
+    let (t0, f0) = roots[0];
+    cluster.push(f0);
+    let mut t = t0;
+    if element(f0).is_none() || window <= 0.0 {
+        return t;
+    }
+    for &(tr, f) in &roots[1..] {
+        let Some(j) = element(f) else { break };
+        if tr - t0 > window {
+            break;
+        }
+        if cluster.iter().any(|&g| element(g) == Some(j)) {
+            continue;
+        }
+        cluster.push(f);
+        t = tr;
+    }
+    t
+}
+
+#[allow(clippy::too_many_arguments)]
+pub(super) fn illinois(
+    eng: &mut Engine,
+    step: &dopri::Step,
+    fns: &[EventFn],
+    k: usize,
+    ta: f64,
+    tb: f64,
+    fa: f64,
+    fb: f64,
+    armed: bool,
+    thr: f64,
+) -> Result<f64, SolverError> {
+    let st = &eng.scene.settings;
+    // a branch change applied up to `branch_window` late needs its instant no closer than that
+    let tol = match fns[k] {
+        EventFn::Lower(_) | EventFn::Upper(_) | EventFn::Reversal(_) => {
+            st.event_time_tol.max(1e-6 * st.branch_window)
+        }
+        _ => st.event_time_tol,
+    };
+    let one = [fns[k]];
+    let mut y = step.y0.clone();
+    let n = eng.n;
+    let (_, tb) = bracket_root(ta, tb, fa, fb, tol, |tm| {
+        let theta = (tm - step.t0) / step.h;
+        let mut fm = match fns[k] {
+            // a branch function needs only its element: one body pose, one support
+            EventFn::Lower(j) | EventFn::Upper(j) | EventFn::Reversal(j) => {
+                for d in eng.scene.bodies[eng.element_body(j)]
+                    .dofs
+                    .into_iter()
+                    .flatten()
+                {
+                    y[d] = step.dense_component(theta, d);
+                    y[n + d] = step.dense_component(theta, n + d);
+                }
+                let (e, ed) = eng.element_deformation_in(j, tm, &y);
+                let b = eng.state.laws[j].branch();
+                match fns[k] {
+                    EventFn::Lower(_) => e - b.lower,
+                    EventFn::Upper(_) => b.upper - e,
+                    _ => b.direction * ed,
+                }
+            }
+            _ => {
+                step.dense_into(theta, &mut y);
+                eng.event_values(tm, &y, &one)?[0]
+            }
+        };
+        if !armed {
+            fm += thr;
+        }
+        Ok(fm)
+    })?;
+    Ok(tb)
+}
+
+/// Illinois (modified regula falsi) on [a, b] with f(a) = fa > 0 ≥ fb = f(b), until the
+/// bracket is narrower than `tol` (or 4 ulp of b): the final bracket, b on the far side.
+pub(super) fn bracket_root<E>(
+    mut a: f64,
+    mut b: f64,
+    mut fa: f64,
+    mut fb: f64,
+    tol: f64,
+    mut f: impl FnMut(f64) -> Result<f64, E>,
+) -> Result<(f64, f64), E> {
+    let mut side = 0i32;
+    for _ in 0..200 {
+        if b - a <= tol.max(4.0 * f64::EPSILON * b.abs()) {
+            break;
+        }
+        let mut m = (a * fb - b * fa) / (fb - fa);
+        if !(m > a && m < b) {
+            m = 0.5 * (a + b);
+        }
+        let fm = f(m)?;
+        if fm > 0.0 {
+            a = m;
+            fa = fm;
+            if side == -1 {
+                fb *= 0.5;
+            }
+            side = -1;
+        } else {
+            b = m;
+            fb = fm;
+            if side == 1 {
+                fa *= 0.5;
+            }
+            side = 1;
+        }
+        if fm == 0.0 {
+            break;
+        }
+    }
+    Ok((a, b))
+}
