@@ -2,13 +2,16 @@
 //! contacts, g̈_T = 0 for sticking ones and λ_T = −μ s λ_N for sliding ones (paper eq. 1–4).
 
 use super::engine::Engine;
+use super::resolve::check_painleve;
+use super::workspace::Scratch;
+use crate::hysteresis::Hysteretic;
 use crate::linalg::solve_small_into;
 use crate::output::ContactState;
 use crate::run::SolverError;
-use crate::scene::ContactKinematics;
+use crate::scene::{ContactKinematics, ForceModel, Scene};
 use nalgebra::{DMatrix, DVector};
 
-impl<'a> Engine<'a> {
+impl Engine<'_> {
     /// Constrained dynamics in the current mode, M q̈ = h + Σ W λ with g̈_N = 0 (closed),
     /// g̈_T = 0 (stick), λ_T = −μ s λ_N (slide), into `self.ws.dynamics` (qdd, lam_n, lam_t, kin,
     /// power), without allocation once the buffers have their sizes. `all`: kinematics of
@@ -20,160 +23,51 @@ impl<'a> Engine<'a> {
         y: &DVector<f64>,
         all: bool,
     ) -> Result<(), SolverError> {
-        let n = self.n;
         let scene = self.scene;
-        let nc = scene.contacts.len();
+        let contacts = &self.state.contacts;
+        let minv = self.minv.as_slice();
         let sc = &mut self.ws.dynamics;
         if sc.holds(t, y, all) {
             return Ok(());
         }
         sc.at = None;
-        sc.size(n);
-        sc.q.as_mut_slice().copy_from_slice(&y.as_slice()[..n]);
-        sc.v.as_mut_slice().copy_from_slice(&y.as_slice()[n..2 * n]);
-        scene.frame_into(&mut sc.fr, t, &sc.q, &sc.v);
-        sc.elements.resize(scene.hysteretic.len(), (0.0, 0.0));
-        sc.power = self.forces.eval(
+        sc.free_motion(
             scene,
+            &self.forces,
             &self.state.laws,
-            &sc.fr,
-            &sc.v,
-            &mut sc.h,
-            &mut sc.elements,
+            contacts,
+            minv,
+            t,
+            y,
+            all,
         );
-        sc.kin.resize_with(nc, ContactKinematics::placeholder);
-        for ((c, st), k) in scene
-            .contacts
-            .iter()
-            .zip(&self.state.contacts)
-            .zip(sc.kin.iter_mut())
-        {
-            if all || *st != ContactState::Open {
-                scene.contact_kinematics_into(&sc.fr, c, k);
-            } else {
-                k.gap = f64::INFINITY;
-                k.gap_rate = 0.0;
-                k.slip_rate = 0.0;
-            }
-        }
-        for lam in [&mut sc.lam_n, &mut sc.lam_t] {
-            lam.clear();
-            lam.resize(nc, 0.0);
-        }
-        let minv = self.minv.as_slice();
-        for ((a, h), m) in sc
-            .qdd
-            .as_mut_slice()
-            .iter_mut()
-            .zip(sc.h.as_slice())
-            .zip(minv)
-        {
-            *a = h * m;
-        }
-        // constraint rows C (W_N or W_T of a closed contact) and force directions F
-        sc.slots.clear();
-        for (i, st) in self.state.contacts.iter().enumerate() {
-            match *st {
-                ContactState::Open => {}
-                ContactState::Slide(_) => sc.slots.push((i, false)),
-                ContactState::Stick => {
-                    sc.slots.push((i, false));
-                    sc.slots.push((i, true));
+        sc.constraint_slots(contacts);
+        if !sc.slots.is_empty() {
+            sc.assemble(scene, contacts, minv);
+            // Painlevé: a sliding contact whose normal Delassus entry is not positive
+            for (r, &(i, tangential)) in sc.slots.iter().enumerate() {
+                if !tangential
+                    && matches!(contacts[i], ContactState::Slide(s) if s != 0.0)
+                    && scene.contacts[i].mu > 0.0
+                {
+                    let w = &sc.kin[i].w_n;
+                    let g = w
+                        .as_slice()
+                        .iter()
+                        .zip(minv)
+                        .map(|(x, m)| x * m * x)
+                        .sum::<f64>();
+                    check_painleve(t, &scene.contacts[i].name, sc.a[(r, r)], g)?;
                 }
             }
-        }
-        let k = sc.slots.len();
-        if k == 0 {
-            sc.hold(t, y, all);
-            return Ok(());
-        }
-        if sc.forces.nrows() != n || sc.forces.ncols() < k {
-            sc.forces = DMatrix::zeros(n, k.max(2 * nc));
-        }
-        for (r, &(i, tangential)) in sc.slots.iter().enumerate() {
-            let kin = &sc.kin[i];
-            let col = &mut sc.forces.as_mut_slice()[r * n..(r + 1) * n];
-            match self.state.contacts[i] {
-                ContactState::Slide(s) if scene.contacts[i].mu > 0.0 && s != 0.0 => {
-                    let mu_s = scene.contacts[i].mu * s;
-                    let (wn, wt) = (kin.w_n.as_slice(), kin.w_t.as_slice());
-                    for ((c, wn), wt) in col.iter_mut().zip(wn).zip(wt) {
-                        *c = wn - mu_s * wt;
-                    }
-                }
-                _ => col.copy_from_slice(if tangential { &kin.w_t } else { &kin.w_n }.as_slice()),
-            }
-        }
-        fn row(kin: &[ContactKinematics], (i, tangential): (usize, bool)) -> (&DVector<f64>, f64) {
-            let c = &kin[i];
-            if tangential {
-                (&c.w_t, c.bias_t)
-            } else {
-                (&c.w_n, c.bias_n)
-            }
-        }
-        if sc.a.nrows() != k {
-            sc.a = DMatrix::zeros(k, k);
-            sc.b = DVector::zeros(k);
-        }
-        let forces = &sc.forces.as_slice()[..k * n];
-        for r in 0..k {
-            let (w, bias) = row(&sc.kin, sc.slots[r]);
-            sc.b[r] = -(w.dot(&sc.qdd) + bias);
-            let w = &w.as_slice()[..n];
-            for (c, f) in forces.chunks_exact(n).enumerate() {
-                let mut acc = 0.0;
-                for ((wj, mj), fj) in w.iter().zip(minv).zip(f) {
-                    acc += wj * mj * fj;
-                }
-                sc.a[(r, c)] = acc;
-            }
-        }
-        // Painlevé: a sliding contact whose normal Delassus entry is not positive.
-        for (r, &(i, tangential)) in sc.slots.iter().enumerate() {
-            if !tangential
-                && matches!(self.state.contacts[i], ContactState::Slide(s) if s != 0.0)
-                && scene.contacts[i].mu > 0.0
-            {
-                let w = &sc.kin[i].w_n;
-                let g = w
-                    .as_slice()
-                    .iter()
-                    .zip(minv)
-                    .map(|(x, m)| x * m * x)
-                    .sum::<f64>();
-                if sc.a[(r, r)] <= 1e-12 * g {
-                    return Err(SolverError::Painleve {
-                        t,
-                        contacts: scene.contacts[i].name.clone(),
-                        detail: format!(
-                            "W_Nᵀ M⁻¹ (W_N − μ s W_T) = {:.4e} ≤ 0 while sliding",
-                            sc.a[(r, r)]
-                        ),
-                    });
-                }
-            }
-        }
-        solve_small_into(&sc.a, &sc.b, &mut sc.lam, &mut sc.mode_singular);
-        for (r, &(i, tangential)) in sc.slots.iter().enumerate() {
-            let lr = sc.lam[r];
-            let f = &sc.forces.as_slice()[r * n..(r + 1) * n];
-            for ((a, fj), mj) in sc.qdd.as_mut_slice().iter_mut().zip(f).zip(minv) {
-                *a += lr * fj * mj;
-            }
-            if tangential {
-                sc.lam_t[i] = lr;
-            } else {
-                sc.lam_n[i] = lr;
-                if let ContactState::Slide(s) = self.state.contacts[i] {
-                    sc.lam_t[i] = -scene.contacts[i].mu * s * lr;
-                }
-            }
+            solve_small_into(&sc.a, &sc.b, &mut sc.lam, &mut sc.mode_singular);
+            sc.apply_constraint_forces(scene, contacts, minv);
         }
         sc.hold(t, y, all);
         Ok(())
     }
 
+    /// y' = (q̇, q̈, ledger rates) in the current contact mode.
     pub(super) fn rhs(
         &mut self,
         t: f64,
@@ -198,5 +92,149 @@ impl<'a> Engine<'a> {
             contact_loss,
         ]);
         Ok(())
+    }
+}
+
+impl Scratch {
+    /// Poses, smooth forces h and their powers, contact kinematics (closed contacts only
+    /// unless `all`), λ = 0 and the unconstrained q̈ = M⁻¹ h at (t, y).
+    #[allow(clippy::too_many_arguments)]
+    fn free_motion(
+        &mut self,
+        scene: &Scene,
+        forces: &ForceModel,
+        laws: &[Hysteretic],
+        contacts: &[ContactState],
+        minv: &[f64],
+        t: f64,
+        y: &DVector<f64>,
+        all: bool,
+    ) {
+        let n = minv.len();
+        let nc = scene.contacts.len();
+        self.size(n);
+        self.q.as_mut_slice().copy_from_slice(&y.as_slice()[..n]);
+        self.v
+            .as_mut_slice()
+            .copy_from_slice(&y.as_slice()[n..2 * n]);
+        scene.frame_into(&mut self.fr, t, &self.q, &self.v);
+        self.elements.resize(scene.hysteretic.len(), (0.0, 0.0));
+        self.power = forces.eval(
+            scene,
+            laws,
+            &self.fr,
+            &self.v,
+            &mut self.h,
+            &mut self.elements,
+        );
+        self.kin.resize_with(nc, ContactKinematics::placeholder);
+        for ((c, st), k) in scene.contacts.iter().zip(contacts).zip(self.kin.iter_mut()) {
+            if all || *st != ContactState::Open {
+                scene.contact_kinematics_into(&self.fr, c, k);
+            } else {
+                k.gap = f64::INFINITY;
+                k.gap_rate = 0.0;
+                k.slip_rate = 0.0;
+            }
+        }
+        for lam in [&mut self.lam_n, &mut self.lam_t] {
+            lam.clear();
+            lam.resize(nc, 0.0);
+        }
+        for ((a, h), m) in self
+            .qdd
+            .as_mut_slice()
+            .iter_mut()
+            .zip(self.h.as_slice())
+            .zip(minv)
+        {
+            *a = h * m;
+        }
+    }
+
+    /// The constraint rows of the mode: (contact, tangential) for W_N of a closed contact and
+    /// W_T of a sticking one.
+    fn constraint_slots(&mut self, contacts: &[ContactState]) {
+        self.slots.clear();
+        for (i, st) in contacts.iter().enumerate() {
+            match *st {
+                ContactState::Open => {}
+                ContactState::Slide(_) => self.slots.push((i, false)),
+                ContactState::Stick => {
+                    self.slots.push((i, false));
+                    self.slots.push((i, true));
+                }
+            }
+        }
+    }
+
+    /// Force directions F (W_N − μ s W_T for a sliding contact, else the row itself) and the
+    /// system A λ = b with A = C M⁻¹ F, b = −(C q̈_free + bias) for the constraint rows C.
+    fn assemble(&mut self, scene: &Scene, contacts: &[ContactState], minv: &[f64]) {
+        let n = minv.len();
+        let nc = scene.contacts.len();
+        let k = self.slots.len();
+        if self.forces.nrows() != n || self.forces.ncols() < k {
+            self.forces = DMatrix::zeros(n, k.max(2 * nc));
+        }
+        for (r, &(i, tangential)) in self.slots.iter().enumerate() {
+            let kin = &self.kin[i];
+            let col = &mut self.forces.as_mut_slice()[r * n..(r + 1) * n];
+            match contacts[i] {
+                ContactState::Slide(s) if scene.contacts[i].mu > 0.0 && s != 0.0 => {
+                    let mu_s = scene.contacts[i].mu * s;
+                    let (wn, wt) = (kin.w_n.as_slice(), kin.w_t.as_slice());
+                    for ((c, wn), wt) in col.iter_mut().zip(wn).zip(wt) {
+                        *c = wn - mu_s * wt;
+                    }
+                }
+                _ => col.copy_from_slice(if tangential { &kin.w_t } else { &kin.w_n }.as_slice()),
+            }
+        }
+        fn row(kin: &[ContactKinematics], (i, tangential): (usize, bool)) -> (&DVector<f64>, f64) {
+            let c = &kin[i];
+            if tangential {
+                (&c.w_t, c.bias_t)
+            } else {
+                (&c.w_n, c.bias_n)
+            }
+        }
+        if self.a.nrows() != k {
+            self.a = DMatrix::zeros(k, k);
+            self.b = DVector::zeros(k);
+        }
+        let forces = &self.forces.as_slice()[..k * n];
+        for r in 0..k {
+            let (w, bias) = row(&self.kin, self.slots[r]);
+            self.b[r] = -(w.dot(&self.qdd) + bias);
+            let w = &w.as_slice()[..n];
+            for (c, f) in forces.chunks_exact(n).enumerate() {
+                let mut acc = 0.0;
+                for ((wj, mj), fj) in w.iter().zip(minv).zip(f) {
+                    acc += wj * mj * fj;
+                }
+                self.a[(r, c)] = acc;
+            }
+        }
+    }
+
+    /// q̈ += M⁻¹ F λ; λ_N, λ_T per contact (λ_T = −μ s λ_N while sliding).
+    fn apply_constraint_forces(&mut self, scene: &Scene, contacts: &[ContactState], minv: &[f64]) {
+        let n = minv.len();
+        for (r, &(i, tangential)) in self.slots.iter().enumerate() {
+            let lr = self.lam[r];
+            let f = &self.forces.as_slice()[r * n..(r + 1) * n];
+            for ((a, fj), mj) in self.qdd.as_mut_slice().iter_mut().zip(f).zip(minv) {
+                *a += lr * fj * mj;
+            }
+            if tangential {
+                self.lam_t[i] = lr;
+            } else {
+                self.lam_n[i] = lr;
+                if let ContactState::Slide(s) = contacts[i] {
+                    self.lam_t[i] = -scene.contacts[i].mu * s * lr;
+                }
+            }
+        }
     }
 }

@@ -17,6 +17,7 @@ mod engine;
 mod events;
 mod fork;
 mod locate;
+mod project;
 mod record;
 mod resolve;
 mod workspace;

@@ -1,224 +1,145 @@
 //! At an event: impacts by the velocity LCP (eq. 5–7) with the accumulation rule, then the
-//! contact phase by the acceleration LCP (eq. 8–10), the projection onto the constraints and
-//! the log of stick/slip/release transitions.
+//! contact phase by the acceleration LCP (eq. 8–10), the projection onto the constraints
+//! ([`super::project`]) and the log of stick/slip/release transitions.
 
 use super::engine::Engine;
-use super::workspace::ProjectScratch;
-use crate::contact::{Decision, solve_contact, solve_impact};
+use crate::contact::{Decision, ImpactOutcome, solve_contact, solve_impact};
 use crate::lemke::LcpError;
-use crate::linalg::min_norm_correction;
 use crate::output::{ContactState, EventKind, EventRecord};
 use crate::run::SolverError;
 use crate::scene::{ContactKinematics, smooth_forces};
 use nalgebra::DVector;
 
-impl<'a> Engine<'a> {
-    /// Minimum-M-norm projection of q onto g_N = 0 for closed contacts, and of q̇ onto
-    /// ġ_N = 0 (closed) and ġ_T = 0 (stick). Returns the largest correction made.
-    pub(super) fn project(&mut self) -> f64 {
-        let n = self.n;
-        let scene = self.scene;
-        let mut ps = std::mem::take(&mut self.ws.project);
-        if ps.q.len() != n {
-            ps.q = DVector::zeros(n);
-            ps.v = DVector::zeros(n);
-        }
-        ps.kin
-            .resize_with(scene.contacts.len(), ContactKinematics::placeholder);
-        let load = |ps: &mut ProjectScratch, y: &DVector<f64>, t: f64| {
-            ps.q.as_mut_slice().copy_from_slice(&y.as_slice()[..n]);
-            ps.v.as_mut_slice().copy_from_slice(&y.as_slice()[n..2 * n]);
-            scene.frame_into(&mut ps.fr, t, &ps.q, &ps.v);
-        };
-        // closed contacts, and open ones that penetrate (after an event located past g_N = 0)
-        load(&mut ps, &self.state.y, self.state.t);
-        ps.held.clear();
-        for i in 0..self.state.contacts.len() {
-            if self.state.contacts[i] != ContactState::Open
-                || scene.contact_rates_in(&ps.fr, &scene.contacts[i]).0 < 0.0
-            {
-                ps.held.push(i);
-            }
-        }
-        let mut moved = 0.0f64;
-        if !ps.held.is_empty() {
-            for _ in 0..3 {
-                load(&mut ps, &self.state.y, self.state.t);
-                let ProjectScratch {
-                    fr,
-                    kin,
-                    held,
-                    res,
-                    pos_singular,
-                    ..
-                } = &mut ps;
-                res.clear();
-                for &i in held.iter() {
-                    scene.contact_kinematics_into(fr, &scene.contacts[i], &mut kin[i]);
-                    res.push(kin[i].gap);
-                }
-                if res.iter().all(|r| r.abs() < 1e-15) {
-                    break;
-                }
-                let rows: Vec<&DVector<f64>> = held.iter().map(|&i| &kin[i].w_n).collect();
-                let dq = min_norm_correction(&rows, res, &self.minv, pos_singular);
-                moved = moved.max(dq.amax());
-                for i in 0..n {
-                    self.state.y[i] -= dq[i];
-                }
-            }
-        }
-        let closed = self.state.contacts.iter().any(|s| *s != ContactState::Open);
-        if closed {
-            load(&mut ps, &self.state.y, self.state.t);
-            let ProjectScratch {
-                fr,
-                kin,
-                res,
-                vel_singular,
-                ..
-            } = &mut ps;
-            res.clear();
-            for (i, st) in self.state.contacts.iter().enumerate() {
-                if *st != ContactState::Open {
-                    scene.contact_kinematics_into(fr, &scene.contacts[i], &mut kin[i]);
-                }
-            }
-            let mut rows: Vec<&DVector<f64>> = Vec::with_capacity(8);
-            for (i, st) in self.state.contacts.iter().enumerate() {
-                if *st != ContactState::Open {
-                    rows.push(&kin[i].w_n);
-                    res.push(kin[i].gap_rate);
-                    if *st == ContactState::Stick {
-                        rows.push(&kin[i].w_t);
-                        res.push(kin[i].slip_rate);
-                    }
-                }
-            }
-            let dv = min_norm_correction(&rows, res, &self.minv, vel_singular);
-            moved = moved.max(dv.amax());
-            for i in 0..n {
-                self.state.y[n + i] -= dv[i];
-            }
-        }
-        self.ws.project = ps;
-        moved
-    }
-
-    /// Decide the contact states at the current instant: impacts (eq. 5) until no closed
-    /// contact approaches, then the acceleration LCP (eq. 8) for the closed ones.
+impl Engine<'_> {
+    /// Decide the contact states at the current instant: impacts (eq. 5–7) until no closed
+    /// contact approaches, then the acceleration LCP (eq. 8–10) for the closed ones; project
+    /// onto their constraints; log the transitions.
     pub(super) fn resolve(&mut self) -> Result<(), SolverError> {
         self.ws.dynamics.at = None;
-        self.ws.dynamics.mode_singular = false;
-        (self.ws.project.pos_singular, self.ws.project.vel_singular) = (false, false);
+        self.ws.new_contact_mode();
+        let before = self.state.contacts.clone();
+        let mut impacted = vec![false; self.scene.contacts.len()];
+        for _pass in 0..8 {
+            if !self.impact_phase(&mut impacted)? {
+                break;
+            }
+        }
+        self.contact_phase()?;
+        self.project();
+        self.log_transitions(&before, &impacted)
+    }
+
+    /// One impact pass (eq. 5–7) over the contacts with g_N ≤ gap_tol, if any of them
+    /// approaches (ġ_N < −velocity_tol; else false): the velocity jump, the impact energies
+    /// ΔT = Λᵀ(ġ⁺ + ġ⁻)/2, the impact (and accumulation) events. `impacted` marks the contacts hit.
+    fn impact_phase(&mut self, impacted: &mut [bool]) -> Result<bool, SolverError> {
         let scene = self.scene;
         let st = &scene.settings;
         let nc = scene.contacts.len();
-        let before = self.state.contacts.clone();
-        let mut impacted = vec![false; nc];
-        for _pass in 0..8 {
-            let kin = self.all_kinematics();
-            let set: Vec<usize> = (0..nc).filter(|&i| kin[i].gap <= st.gap_tol).collect();
-            let approaching: Vec<usize> = set
-                .iter()
-                .copied()
-                .filter(|&i| kin[i].gap_rate < -st.velocity_tol)
-                .collect();
-            if approaching.is_empty() {
-                break;
+        let kin = self.all_kinematics();
+        let set: Vec<usize> = (0..nc).filter(|&i| kin[i].gap <= st.gap_tol).collect();
+        let approaching: Vec<usize> = set
+            .iter()
+            .copied()
+            .filter(|&i| kin[i].gap_rate < -st.velocity_tol)
+            .collect();
+        if approaching.is_empty() {
+            return Ok(false);
+        }
+        let mut eps: Vec<f64> = set.iter().map(|&i| scene.contacts[i].restitution).collect();
+        let mu: Vec<f64> = set.iter().map(|&i| scene.contacts[i].mu).collect();
+        let mut accumulated = vec![None; set.len()];
+        for (a, &i) in set.iter().enumerate() {
+            if !st.accumulation_rule || eps[a] <= 0.0 || !approaching.contains(&i) {
+                continue;
             }
-            let mut eps: Vec<f64> = set.iter().map(|&i| scene.contacts[i].restitution).collect();
-            let mu: Vec<f64> = set.iter().map(|&i| scene.contacts[i].mu).collect();
-            let mut accumulated = vec![None; set.len()];
-            for (a, &i) in set.iter().enumerate() {
-                if !approaching.contains(&i) {
-                    continue;
-                }
-                let speed = -kin[i].gap_rate;
-                let shrinking = {
-                    let h = &self.state.last_impacts[i];
-                    h.len() < 2 || {
-                        let (t1, t0) = (h[h.len() - 1], h[h.len() - 2]);
-                        (self.state.t - t1) < 0.999 * (t1 - t0)
-                    }
-                };
-                let flight = self.state.last_impacts[i]
-                    .last()
-                    .map_or(f64::INFINITY, |t| self.state.t - t);
-                let slow = speed < st.zeno_velocity || flight < st.min_event_spacing;
-                if st.accumulation_rule && eps[a] > 0.0 && slow && shrinking {
-                    eps[a] = 0.0;
-                    let h = &self.state.last_impacts[i];
-                    let est = if h.len() >= 2 {
-                        let t1 = h[h.len() - 1];
-                        let t0 = h[h.len() - 2];
-                        let f_now = self.state.t - t1;
-                        let f_prev = t1 - t0;
-                        let r = if f_prev > 0.0 { f_now / f_prev } else { 0.0 };
-                        if r > 0.0 && r < 1.0 {
-                            self.state.t + f_now * r / (1.0 - r)
-                        } else {
-                            self.state.t
-                        }
-                    } else {
-                        self.state.t
-                    };
-                    accumulated[a] = Some(est);
-                }
-            }
-            let kin_set: Vec<&ContactKinematics> = set.iter().map(|&i| &kin[i]).collect();
-            let imp = solve_impact(&kin_set, &eps, &mu, &self.minv, &st.lemke).map_err(|e| {
-                SolverError::Lcp {
-                    t: self.state.t,
-                    what: "impact",
-                    source: e,
-                }
-            })?;
-            self.state.out.stats.lcp_solves += 1;
-            self.state.out.stats.lemke_pivots += imp.pivots;
-            for k in 0..self.n {
-                self.state.y[self.n + k] += imp.velocity_jump[k];
-            }
-            for (a, &i) in set.iter().enumerate() {
-                let de_n = imp.normal_impulse[a] * (kin[i].gap_rate + imp.gap_rate_after[a]) / 2.0;
-                let de_t =
-                    imp.tangential_impulse[a] * (kin[i].slip_rate + imp.slip_rate_after[a]) / 2.0;
-                self.state.impact_normal += de_n;
-                self.state.impact_tangential += de_t;
-                if approaching.contains(&i) || imp.normal_impulse[a] > 0.0 {
-                    impacted[i] = true;
-                    self.check_burst(i)?;
-                    let hist = &mut self.state.last_impacts[i];
-                    hist.push(self.state.t);
-                    if hist.len() > 3 {
-                        hist.remove(0);
-                    }
-                    let sticks = imp.slip_rate_after[a].abs() <= st.velocity_tol.max(1e-12);
-                    let record = EventRecord {
-                        t: self.state.t,
-                        contact: i,
-                        kind: EventKind::Impact,
-                        normal: imp.normal_impulse[a],
-                        tangential: imp.tangential_impulse[a],
-                        gap_rate_before: kin[i].gap_rate,
-                        gap_rate_after: imp.gap_rate_after[a],
-                        slip_rate_after: imp.slip_rate_after[a],
-                        sticks: (scene.contacts[i].mu > 0.0).then_some(sticks),
-                        info: f64::NAN,
-                    };
-                    self.log(record.clone())?;
-                    if let Some(est) = accumulated[a] {
-                        self.state.out.accumulation_times.push((i, est));
-                        self.log(EventRecord {
-                            kind: EventKind::Accumulation,
-                            info: est,
-                            ..record
-                        })?;
-                    }
-                }
+            let rule = accumulation_rule(
+                self.state.t,
+                -kin[i].gap_rate,
+                &self.state.last_impacts[i],
+                st.zeno_velocity,
+                st.min_event_spacing,
+            );
+            if let Some(est) = rule {
+                eps[a] = 0.0;
+                accumulated[a] = Some(est);
             }
         }
-        // acceleration level
+        let kin_set: Vec<&ContactKinematics> = set.iter().map(|&i| &kin[i]).collect();
+        let imp = solve_impact(&kin_set, &eps, &mu, &self.minv, &st.lemke).map_err(|e| {
+            SolverError::Lcp {
+                t: self.state.t,
+                what: "impact",
+                source: e,
+            }
+        })?;
+        self.state.out.stats.lcp_solves += 1;
+        self.state.out.stats.lemke_pivots += imp.pivots;
+        for k in 0..self.n {
+            self.state.y[self.n + k] += imp.velocity_jump[k];
+        }
+        for (a, &i) in set.iter().enumerate() {
+            let de_n = imp.normal_impulse[a] * (kin[i].gap_rate + imp.gap_rate_after[a]) / 2.0;
+            let de_t =
+                imp.tangential_impulse[a] * (kin[i].slip_rate + imp.slip_rate_after[a]) / 2.0;
+            self.state.impact_normal += de_n;
+            self.state.impact_tangential += de_t;
+            if approaching.contains(&i) || imp.normal_impulse[a] > 0.0 {
+                impacted[i] = true;
+                self.log_impact(i, &kin[i], &imp, a, accumulated[a])?;
+            }
+        }
+        Ok(true)
+    }
+
+    /// The impact event of contact `i` (row `a` of the impact LCP), and the accumulation event
+    /// when the rule closed it; its impact history and Zeno guard.
+    fn log_impact(
+        &mut self,
+        i: usize,
+        kin: &ContactKinematics,
+        imp: &ImpactOutcome,
+        a: usize,
+        accumulated: Option<f64>,
+    ) -> Result<(), SolverError> {
+        let st = &self.scene.settings;
+        self.check_burst(i)?;
+        let hist = &mut self.state.last_impacts[i];
+        hist.push(self.state.t);
+        if hist.len() > 3 {
+            hist.remove(0);
+        }
+        let sticks = imp.slip_rate_after[a].abs() <= st.velocity_tol.max(1e-12);
+        let record = EventRecord {
+            t: self.state.t,
+            contact: i,
+            kind: EventKind::Impact,
+            normal: imp.normal_impulse[a],
+            tangential: imp.tangential_impulse[a],
+            gap_rate_before: kin.gap_rate,
+            gap_rate_after: imp.gap_rate_after[a],
+            slip_rate_after: imp.slip_rate_after[a],
+            sticks: (self.scene.contacts[i].mu > 0.0).then_some(sticks),
+            info: f64::NAN,
+        };
+        self.log(record.clone())?;
+        if let Some(est) = accumulated {
+            self.state.out.accumulation_times.push((i, est));
+            self.log(EventRecord {
+                kind: EventKind::Accumulation,
+                info: est,
+                ..record
+            })?;
+        }
+        Ok(())
+    }
+
+    /// The contact phase (eq. 8–10): contacts closed at position and velocity level get their
+    /// stick / slide / detach decision from the acceleration LCP; the others open.
+    fn contact_phase(&mut self) -> Result<(), SolverError> {
+        let scene = self.scene;
+        let st = &scene.settings;
+        let nc = scene.contacts.len();
         let (q, v) = (self.q(), self.v());
         let kin = self.all_kinematics();
         let closed: Vec<usize> = (0..nc)
@@ -229,114 +150,97 @@ impl<'a> Engine<'a> {
                 self.state.contacts[i] = ContactState::Open;
             }
         }
-        if !closed.is_empty() {
-            let mut h = DVector::zeros(self.n);
-            smooth_forces(
-                scene,
-                Some(&self.state.laws),
-                self.state.t,
-                &q,
-                &v,
-                &mut h,
-                &mut self.ws.jac,
-            );
-            self.state.force_scale = self.state.force_scale.max(h.amax());
-            let mu: Vec<f64> = closed.iter().map(|&i| scene.contacts[i].mu).collect();
-            let slide: Vec<Option<f64>> = closed
-                .iter()
-                .map(|&i| {
-                    let s = kin[i].slip_rate;
-                    if scene.contacts[i].mu > 0.0 && s.abs() > st.velocity_tol {
-                        Some(sgn(s))
-                    } else {
-                        None
-                    }
-                })
-                .collect();
-            let kin_set: Vec<&ContactKinematics> = closed.iter().map(|&i| &kin[i]).collect();
-            let outcome = solve_contact(&kin_set, &mu, &slide, &self.minv, &h, &st.lemke).map_err(
-                |e| match e {
-                    LcpError::Ray { .. } if slide.iter().any(|s| s.is_some()) => {
-                        SolverError::Painleve {
-                            t: self.state.t,
-                            contacts: closed
-                                .iter()
-                                .map(|&i| scene.contacts[i].name.as_str())
-                                .collect::<Vec<_>>()
-                                .join(", "),
-                            detail: "the acceleration LCP ends on a ray".into(),
-                        }
-                    }
-                    e => SolverError::Lcp {
-                        t: self.state.t,
-                        what: "contact",
-                        source: e,
-                    },
-                },
-            )?;
-            self.state.out.stats.lcp_solves += 1;
-            self.state.out.stats.lemke_pivots += outcome.pivots;
-            for (a, &i) in closed.iter().enumerate() {
-                self.state.force_scale = self.state.force_scale.max(outcome.normal_force[a].abs());
-                self.state.contacts[i] = match outcome.decision[a] {
-                    Decision::Detach => ContactState::Open,
-                    Decision::Stick => ContactState::Stick,
-                    Decision::Slide(s) => ContactState::Slide(s),
-                };
-            }
-            // Painlevé check for sliding contacts (non-uniqueness when the Delassus term is ≤ 0)
-            for (a, &i) in closed.iter().enumerate() {
-                if let ContactState::Slide(s) = self.state.contacts[i] {
-                    let c = &scene.contacts[i];
-                    if c.mu > 0.0 && s != 0.0 {
-                        let k = kin_set[a];
-                        let wq = &k.w_n - &k.w_t * (c.mu * s);
-                        let g: f64 = k
-                            .w_n
-                            .iter()
-                            .zip(self.minv.iter())
-                            .zip(wq.iter())
-                            .map(|((x, m), y)| x * m * y)
-                            .sum();
-                        let g0: f64 = k
-                            .w_n
-                            .iter()
-                            .zip(self.minv.iter())
-                            .map(|(x, m)| x * m * x)
-                            .sum();
-                        if g <= 1e-12 * g0 {
-                            return Err(SolverError::Painleve {
-                                t: self.state.t,
-                                contacts: c.name.clone(),
-                                detail: format!(
-                                    "W_Nᵀ M⁻¹ (W_N − μ s W_T) = {g:.4e} ≤ 0 while sliding"
-                                ),
-                            });
-                        }
-                    }
+        if closed.is_empty() {
+            return Ok(());
+        }
+        let mut h = DVector::zeros(self.n);
+        let laws = Some(self.state.laws.as_slice());
+        smooth_forces(scene, laws, self.state.t, &q, &v, &mut h, &mut self.ws.jac);
+        self.state.force_scale = self.state.force_scale.max(h.amax());
+        let mu: Vec<f64> = closed.iter().map(|&i| scene.contacts[i].mu).collect();
+        let slide: Vec<Option<f64>> = closed
+            .iter()
+            .map(|&i| {
+                let s = kin[i].slip_rate;
+                (scene.contacts[i].mu > 0.0 && s.abs() > st.velocity_tol).then(|| sgn(s))
+            })
+            .collect();
+        let kin_set: Vec<&ContactKinematics> = closed.iter().map(|&i| &kin[i]).collect();
+        let outcome = solve_contact(&kin_set, &mu, &slide, &self.minv, &h, &st.lemke)
+            .map_err(|e| self.contact_lcp_error(e, &closed, &slide))?;
+        self.state.out.stats.lcp_solves += 1;
+        self.state.out.stats.lemke_pivots += outcome.pivots;
+        for (a, &i) in closed.iter().enumerate() {
+            self.state.force_scale = self.state.force_scale.max(outcome.normal_force[a].abs());
+            self.state.contacts[i] = match outcome.decision[a] {
+                Decision::Detach => ContactState::Open,
+                Decision::Stick => ContactState::Stick,
+                Decision::Slide(s) => ContactState::Slide(s),
+            };
+        }
+        // non-uniqueness of a sliding contact whose Delassus term is ≤ 0
+        for (a, &i) in closed.iter().enumerate() {
+            if let ContactState::Slide(s) = self.state.contacts[i] {
+                let c = &scene.contacts[i];
+                if c.mu > 0.0 && s != 0.0 {
+                    let k = kin_set[a];
+                    let wq = &k.w_n - &k.w_t * (c.mu * s);
+                    let g: f64 = k
+                        .w_n
+                        .iter()
+                        .zip(self.minv.iter())
+                        .zip(wq.iter())
+                        .map(|((x, m), y)| x * m * y)
+                        .sum();
+                    let g0: f64 = k
+                        .w_n
+                        .iter()
+                        .zip(self.minv.iter())
+                        .map(|(x, m)| x * m * x)
+                        .sum();
+                    check_painleve(self.state.t, &c.name, g, g0)?;
                 }
             }
         }
-        self.project();
-        // log transitions
-        for i in 0..nc {
-            let (b, a) = (before[i], self.state.contacts[i]);
-            let kind = match (b, a) {
-                (ContactState::Stick, ContactState::Slide(_)) => Some(EventKind::Slip),
-                (ContactState::Slide(s0), ContactState::Slide(s1)) if s0 != s1 => {
-                    Some(EventKind::Slip)
-                }
-                (ContactState::Slide(_), ContactState::Stick) => Some(EventKind::Stick),
-                (ContactState::Open, ContactState::Stick) if !impacted[i] => Some(EventKind::Stick),
-                (ContactState::Open, ContactState::Slide(_)) if !impacted[i] => {
-                    Some(EventKind::Slip)
-                }
-                (ContactState::Stick | ContactState::Slide(_), ContactState::Open) => {
-                    Some(EventKind::Release)
-                }
-                _ => None,
-            };
-            if let Some(kind) = kind {
+        Ok(())
+    }
+
+    /// A failed contact LCP: a ray with sliding contacts is a Painlevé configuration.
+    fn contact_lcp_error(
+        &self,
+        e: LcpError,
+        closed: &[usize],
+        slide: &[Option<f64>],
+    ) -> SolverError {
+        match e {
+            LcpError::Ray { .. } if slide.iter().any(|s| s.is_some()) => SolverError::Painleve {
+                t: self.state.t,
+                contacts: closed
+                    .iter()
+                    .map(|&i| self.scene.contacts[i].name.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", "),
+                detail: "the acceleration LCP ends on a ray".into(),
+            },
+            e => SolverError::Lcp {
+                t: self.state.t,
+                what: "contact",
+                source: e,
+            },
+        }
+    }
+
+    /// Stick, slip and release events of the contacts whose state changed (impacts were
+    /// logged already).
+    fn log_transitions(
+        &mut self,
+        before: &[ContactState],
+        impacted: &[bool],
+    ) -> Result<(), SolverError> {
+        let scene = self.scene;
+        for i in 0..scene.contacts.len() {
+            let after = self.state.contacts[i];
+            if let Some(kind) = transition(before[i], after, impacted[i]) {
                 let q = self.q();
                 let v = self.v();
                 let k = scene.contact_kinematics(&scene.contacts[i], &q, &v);
@@ -349,7 +253,7 @@ impl<'a> Engine<'a> {
                     gap_rate_before: k.gap_rate,
                     gap_rate_after: k.gap_rate,
                     slip_rate_after: k.slip_rate,
-                    sticks: Some(a == ContactState::Stick),
+                    sticks: Some(after == ContactState::Stick),
                     info: f64::NAN,
                 })?;
             }
@@ -357,7 +261,8 @@ impl<'a> Engine<'a> {
         Ok(())
     }
 
-    /// Guard against impact accumulation without the accumulation rule (Zeno).
+    /// Guard against impact accumulation without the accumulation rule (Zeno): 16 impacts in
+    /// a row of one contact, each within `min_event_spacing` of the last, stop the run.
     pub(super) fn check_burst(&mut self, i: usize) -> Result<(), SolverError> {
         let st = &self.scene.settings;
         let (last, count) = self.state.burst[i];
@@ -379,6 +284,123 @@ impl<'a> Engine<'a> {
     }
 }
 
+/// The accumulation rule: an impact at `t` of a contact whose flights shrink (the last one
+/// shorter than 0.999 of the one before; or fewer than two impacts in `impacts`, the last
+/// impact instants) and that is slow (`speed` < `zeno_velocity`, or within `min_spacing` of
+/// the last impact) closes the contact (ε → 0). Returns the estimated accumulation instant,
+/// t + f r/(1 − r) for the last flight f and flight ratio r (a geometric series; t if r is not
+/// in (0, 1)), or None when the rule does not apply.
+pub(super) fn accumulation_rule(
+    t: f64,
+    speed: f64,
+    impacts: &[f64],
+    zeno_velocity: f64,
+    min_spacing: f64,
+) -> Option<f64> {
+    let k = impacts.len();
+    let shrinking = k < 2 || (t - impacts[k - 1]) < 0.999 * (impacts[k - 1] - impacts[k - 2]);
+    let flight = impacts.last().map_or(f64::INFINITY, |t1| t - t1);
+    let slow = speed < zeno_velocity || flight < min_spacing;
+    if !(slow && shrinking) {
+        return None;
+    }
+    if k < 2 {
+        return Some(t);
+    }
+    let (t1, t0) = (impacts[k - 1], impacts[k - 2]);
+    let (f_now, f_prev) = (t - t1, t1 - t0);
+    let r = if f_prev > 0.0 { f_now / f_prev } else { 0.0 };
+    Some(if r > 0.0 && r < 1.0 {
+        t + f_now * r / (1.0 - r)
+    } else {
+        t
+    })
+}
+
+/// The event a change of contact state makes (an impact is logged as such, not as a stick or
+/// slip from open).
+fn transition(before: ContactState, after: ContactState, impacted: bool) -> Option<EventKind> {
+    use ContactState::{Open, Slide, Stick};
+    match (before, after) {
+        (Stick, Slide(_)) => Some(EventKind::Slip),
+        (Slide(s0), Slide(s1)) if s0 != s1 => Some(EventKind::Slip),
+        (Slide(_), Stick) => Some(EventKind::Stick),
+        (Open, Stick) if !impacted => Some(EventKind::Stick),
+        (Open, Slide(_)) if !impacted => Some(EventKind::Slip),
+        (Stick | Slide(_), Open) => Some(EventKind::Release),
+        _ => None,
+    }
+}
+
+/// A sliding contact whose Delassus term W_Nᵀ M⁻¹ (W_N − μ s W_T) = `delassus` is not positive
+/// (relative to `scale` = W_Nᵀ M⁻¹ W_N) makes the contact problem non-unique (Painlevé).
+pub(super) fn check_painleve(
+    t: f64,
+    contact: &str,
+    delassus: f64,
+    scale: f64,
+) -> Result<(), SolverError> {
+    if delassus <= 1e-12 * scale {
+        return Err(SolverError::Painleve {
+            t,
+            contacts: contact.to_string(),
+            detail: format!("W_Nᵀ M⁻¹ (W_N − μ s W_T) = {delassus:.4e} ≤ 0 while sliding"),
+        });
+    }
+    Ok(())
+}
+
+/// sign(x), with sign(0) = 1.
 pub(super) fn sgn(x: f64) -> f64 {
     if x >= 0.0 { 1.0 } else { -1.0 }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{accumulation_rule, transition};
+    use crate::output::{ContactState, EventKind};
+
+    #[test]
+    fn accumulation_instant_is_the_sum_of_the_geometric_flights() {
+        // a ball bouncing with ε = 0.5 on a floor: flights 1, 0.5, 0.25 … from t = 0; the
+        // impacts at 1, 1.5, 1.75; the series ends at 2
+        let impacts = [1.0, 1.5];
+        let t = 1.75;
+        let slow = 1e-3;
+        assert_eq!(
+            accumulation_rule(t, 0.5, &impacts, slow, 1e-6),
+            None,
+            "fast impact"
+        );
+        let est = accumulation_rule(t, 1e-4, &impacts, slow, 1e-6).unwrap();
+        assert!((est - 2.0).abs() < 1e-15, "{est}");
+        // within the spacing counts as slow whatever the speed
+        let est = accumulation_rule(t, 0.5, &impacts, slow, 0.3).unwrap();
+        assert!((est - 2.0).abs() < 1e-15);
+        // flights that do not shrink: no accumulation
+        assert_eq!(accumulation_rule(2.1, 1e-4, &impacts, slow, 1e-6), None);
+        // too few impacts to estimate: the rule closes the contact now
+        assert_eq!(accumulation_rule(0.3, 1e-4, &[], slow, 1e-6), Some(0.3));
+        assert_eq!(accumulation_rule(1.2, 1e-4, &[1.0], slow, 1e-6), Some(1.2));
+    }
+
+    #[test]
+    fn transitions_name_the_event() {
+        use ContactState::{Open, Slide, Stick};
+        assert_eq!(transition(Stick, Slide(1.0), false), Some(EventKind::Slip));
+        assert_eq!(
+            transition(Slide(1.0), Slide(-1.0), false),
+            Some(EventKind::Slip)
+        );
+        assert_eq!(transition(Slide(1.0), Slide(1.0), false), None);
+        assert_eq!(
+            transition(Slide(-1.0), Stick, false),
+            Some(EventKind::Stick)
+        );
+        assert_eq!(transition(Open, Stick, false), Some(EventKind::Stick));
+        assert_eq!(transition(Open, Stick, true), None);
+        assert_eq!(transition(Open, Slide(1.0), true), None);
+        assert_eq!(transition(Stick, Open, false), Some(EventKind::Release));
+        assert_eq!(transition(Open, Open, true), None);
+    }
 }

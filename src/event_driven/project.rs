@@ -1,0 +1,102 @@
+//! Projection of the state onto the constraints of the contact mode (minimum M-norm).
+
+use super::engine::Engine;
+use super::workspace::ProjectScratch;
+use crate::linalg::min_norm_correction;
+use crate::output::ContactState;
+use crate::scene::ContactKinematics;
+use nalgebra::DVector;
+
+impl Engine<'_> {
+    /// Minimum-M-norm projection of q onto g_N = 0 for closed contacts, and of q̇ onto
+    /// ġ_N = 0 (closed) and ġ_T = 0 (stick). Returns the largest correction made.
+    pub(super) fn project(&mut self) -> f64 {
+        let n = self.n;
+        let scene = self.scene;
+        let mut ps = std::mem::take(&mut self.ws.project);
+        if ps.q.len() != n {
+            ps.q = DVector::zeros(n);
+            ps.v = DVector::zeros(n);
+        }
+        ps.kin
+            .resize_with(scene.contacts.len(), ContactKinematics::placeholder);
+        let load = |ps: &mut ProjectScratch, y: &DVector<f64>, t: f64| {
+            ps.q.as_mut_slice().copy_from_slice(&y.as_slice()[..n]);
+            ps.v.as_mut_slice().copy_from_slice(&y.as_slice()[n..2 * n]);
+            scene.frame_into(&mut ps.fr, t, &ps.q, &ps.v);
+        };
+        // closed contacts, and open ones that penetrate (after an event located past g_N = 0)
+        load(&mut ps, &self.state.y, self.state.t);
+        ps.held.clear();
+        for i in 0..self.state.contacts.len() {
+            if self.state.contacts[i] != ContactState::Open
+                || scene.contact_rates_in(&ps.fr, &scene.contacts[i]).0 < 0.0
+            {
+                ps.held.push(i);
+            }
+        }
+        let mut moved = 0.0f64;
+        if !ps.held.is_empty() {
+            for _ in 0..3 {
+                load(&mut ps, &self.state.y, self.state.t);
+                let ProjectScratch {
+                    fr,
+                    kin,
+                    held,
+                    res,
+                    pos_singular,
+                    ..
+                } = &mut ps;
+                res.clear();
+                for &i in held.iter() {
+                    scene.contact_kinematics_into(fr, &scene.contacts[i], &mut kin[i]);
+                    res.push(kin[i].gap);
+                }
+                if res.iter().all(|r| r.abs() < 1e-15) {
+                    break;
+                }
+                let rows: Vec<&DVector<f64>> = held.iter().map(|&i| &kin[i].w_n).collect();
+                let dq = min_norm_correction(&rows, res, &self.minv, pos_singular);
+                moved = moved.max(dq.amax());
+                for i in 0..n {
+                    self.state.y[i] -= dq[i];
+                }
+            }
+        }
+        let closed = self.state.contacts.iter().any(|s| *s != ContactState::Open);
+        if closed {
+            load(&mut ps, &self.state.y, self.state.t);
+            let ProjectScratch {
+                fr,
+                kin,
+                res,
+                vel_singular,
+                ..
+            } = &mut ps;
+            res.clear();
+            for (i, st) in self.state.contacts.iter().enumerate() {
+                if *st != ContactState::Open {
+                    scene.contact_kinematics_into(fr, &scene.contacts[i], &mut kin[i]);
+                }
+            }
+            let mut rows: Vec<&DVector<f64>> = Vec::with_capacity(8);
+            for (i, st) in self.state.contacts.iter().enumerate() {
+                if *st != ContactState::Open {
+                    rows.push(&kin[i].w_n);
+                    res.push(kin[i].gap_rate);
+                    if *st == ContactState::Stick {
+                        rows.push(&kin[i].w_t);
+                        res.push(kin[i].slip_rate);
+                    }
+                }
+            }
+            let dv = min_norm_correction(&rows, res, &self.minv, vel_singular);
+            moved = moved.max(dv.amax());
+            for i in 0..n {
+                self.state.y[n + i] -= dv[i];
+            }
+        }
+        self.ws.project = ps;
+        moved
+    }
+}
