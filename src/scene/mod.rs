@@ -1,0 +1,207 @@
+//! The general planar scene the engine integrates: rigid bodies with only the DOFs they need,
+//! point-on-face unilateral contacts, force elements to fixed or moving supports, constant loads.
+//!
+//! Generalized coordinates q are displacements from a reference configuration
+//! (paper §3.2: u = [x₁, θ₁, x₂, y₂, θ₂, x₃, θ₃]); M is diagonal (eq. 1).
+//!
+//! - [`settings`]: the solver settings of a run (units, defaults, which method reads each);
+//! - [`kinematics`]: poses, exact contact kinematics (gap, Jacobians), element deformations;
+//! - [`forces`]: the smooth forces h(t, q, q̇) of eq. 1 and the energy ledger's power terms.
+
+mod forces;
+mod kinematics;
+mod settings;
+
+pub use forces::{ForceModel, LEDGER_TERMS, PowerTerms, smooth_forces, smooth_forces_in};
+pub use kinematics::{BodyState, ContactKinematics, Frame, cos_sin, perp};
+pub use settings::{Method, Settings};
+
+use crate::excitation::GroundMotion;
+use crate::hysteresis::{Branch, Hysteretic};
+use nalgebra::{DVector, Vector2};
+use std::sync::Arc;
+
+/// Planar coordinate a body may have as a degree of freedom.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Axis {
+    X = 0,
+    Y = 1,
+    Theta = 2,
+}
+
+/// A planar rigid body. `dofs[a]` is the index in q of axis a, or `None` when that axis is fixed.
+#[derive(Clone, Debug)]
+pub struct Body {
+    pub name: String,
+    pub mass: f64,
+    pub inertia: f64,
+    /// Centre position at the reference configuration (q = 0).
+    pub reference: Vector2<f64>,
+    pub dofs: [Option<usize>; 3],
+}
+
+/// Which body: a scene body or the fixed ground.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BodyRef {
+    Ground,
+    Body(usize),
+}
+
+/// Unilateral frictional contact of a point of one body against a straight face of another
+/// (corner-on-face; the face at any angle, so skew abutments work).
+#[derive(Clone, Debug)]
+pub struct Contact {
+    pub name: String,
+    pub point_body: BodyRef,
+    /// Contact point, body frame, relative to the body centre.
+    pub point: Vector2<f64>,
+    pub face_body: BodyRef,
+    /// A point of the face, face-body frame, relative to the face body's centre.
+    pub face_point: Vector2<f64>,
+    /// Unit outward normal of the face in the face-body frame (g_N > 0 is open).
+    pub face_normal: Vector2<f64>,
+    /// Coulomb coefficient μ.
+    pub mu: f64,
+    /// Newton restitution ε (eq. 3).
+    pub restitution: f64,
+}
+
+/// How an element's deformation is measured.
+#[derive(Clone, Debug)]
+pub enum Attachment {
+    /// e = d·(P(q) − P(0)) − u_g(t): a body point along a fixed world direction d.
+    Point {
+        body: usize,
+        point: Vector2<f64>,
+        direction: Vector2<f64>,
+    },
+    /// e = θ − u_g(t).
+    Rotation { body: usize },
+}
+
+/// Linear spring–dashpot to a fixed or moving support.
+#[derive(Clone, Debug)]
+pub struct Spring {
+    pub name: String,
+    pub attachment: Attachment,
+    pub stiffness: f64,
+    pub damping: f64,
+    pub support: Option<usize>,
+}
+
+/// Hysteretic element (a column in one direction) with an optional parallel dashpot.
+#[derive(Clone, Debug)]
+pub struct HystereticElement {
+    pub name: String,
+    pub attachment: Attachment,
+    pub law: Hysteretic,
+    pub damping: f64,
+    pub support: Option<usize>,
+}
+
+/// A prescribed support motion u_g(t).
+#[derive(Clone, Debug)]
+pub enum Motion {
+    /// u_g = A sin(ω t + φ).
+    Harmonic {
+        amplitude: f64,
+        omega: f64,
+        phase: f64,
+    },
+    /// A processed record (piecewise-linear acceleration, exact integrals).
+    Record(Arc<GroundMotion>),
+}
+
+#[derive(Clone, Debug)]
+pub struct Support {
+    pub name: String,
+    pub motion: Motion,
+    pub factor: f64,
+}
+
+impl Support {
+    /// (u_g, u̇_g, ü_g) at t.
+    pub fn at(&self, t: f64) -> (f64, f64, f64) {
+        let (d, v, a) = match &self.motion {
+            Motion::Harmonic {
+                amplitude,
+                omega,
+                phase,
+            } => {
+                let s = (omega * t + phase).sin();
+                let c = (omega * t + phase).cos();
+                (
+                    amplitude * s,
+                    amplitude * omega * c,
+                    -amplitude * omega * omega * s,
+                )
+            }
+            Motion::Record(g) => g.at(t),
+        };
+        (self.factor * d, self.factor * v, self.factor * a)
+    }
+}
+
+/// Mass-proportional damping −a₀ M (q̇ − q̇_ref(t)), with q̇_ref the quasi-static velocity
+/// Σ_s r_{i,s} u̇_{g,s}; it vanishes for rigid-body support motion.
+#[derive(Clone, Debug, Default)]
+pub struct MassDamping {
+    pub alpha: f64,
+    /// (dof, support, factor) terms of q̇_ref.
+    pub reference: Vec<(usize, usize, f64)>,
+}
+
+/// A compiled scene: what the integrators run.
+#[derive(Clone, Debug)]
+pub struct Scene {
+    pub title: String,
+    pub bodies: Vec<Body>,
+    pub contacts: Vec<Contact>,
+    pub springs: Vec<Spring>,
+    pub hysteretic: Vec<HystereticElement>,
+    pub supports: Vec<Support>,
+    pub mass_damping: MassDamping,
+    /// Constant generalized forces (gravity, loads).
+    pub loads: DVector<f64>,
+    /// Diagonal of M.
+    pub mass: DVector<f64>,
+    pub dof_names: Vec<String>,
+    pub q0: DVector<f64>,
+    pub v0: DVector<f64>,
+    pub settings: Settings,
+}
+
+impl Scene {
+    pub fn ndof(&self) -> usize {
+        self.mass.len()
+    }
+
+    /// Time instants where the right-hand side is not smooth in t (record samples).
+    pub fn breakpoints(&self) -> Vec<f64> {
+        let mut out = Vec::new();
+        if self.settings.stop_at_samples {
+            for s in &self.supports {
+                if let Motion::Record(g) = &s.motion {
+                    out.extend(g.sample_times());
+                }
+            }
+        }
+        out.retain(|t| *t > 0.0 && *t < self.settings.t_end);
+        out.sort_by(f64::total_cmp);
+        out.dedup();
+        out
+    }
+
+    pub fn kinetic_energy(&self, v: &DVector<f64>) -> f64 {
+        0.5 * v
+            .iter()
+            .zip(self.mass.iter())
+            .map(|(a, m)| m * a * a)
+            .sum::<f64>()
+    }
+
+    /// Current branches of all hysteretic elements.
+    pub fn branches(&self) -> Vec<Branch> {
+        self.hysteretic.iter().map(|h| *h.law.branch()).collect()
+    }
+}
