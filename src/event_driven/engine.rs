@@ -1,7 +1,7 @@
 //! The engine of one run: the scene, the physical state carried from instant to instant, and
 //! the state's kinematic readings.
 
-use super::events::EventFn;
+use super::event_fn::EventFn;
 use super::workspace::Workspace;
 use crate::hysteresis::Hysteretic;
 use crate::output::{ContactState, RunOutput};

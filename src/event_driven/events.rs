@@ -2,37 +2,10 @@
 //! branches, their thresholds and their arming at the start of a phase.
 
 use super::engine::Engine;
+use super::event_fn::EventFn;
 use crate::output::ContactState;
 use crate::run::SolverError;
 use nalgebra::DVector;
-
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(super) enum EventFn {
-    /// g_N of an open contact (closing: an impact).
-    Gap(usize),
-    /// λ_N of a closed contact (detachment).
-    Release(usize),
-    /// μ λ_N − |λ_T| of a sticking contact (stick → slip).
-    StickSlip(usize),
-    /// s ġ_T of a sliding contact (slip → stick).
-    SlideStop(usize),
-    /// e − e_lower of a hysteretic element (branch end).
-    Lower(usize),
-    /// e_upper − e of a hysteretic element (branch end).
-    Upper(usize),
-    /// d ė of a hysteretic element (load reversal).
-    Reversal(usize),
-}
-
-impl EventFn {
-    /// A hysteretic branch event (not a contact event).
-    pub(super) fn is_branch(self) -> bool {
-        matches!(
-            self,
-            EventFn::Lower(_) | EventFn::Upper(_) | EventFn::Reversal(_)
-        )
-    }
-}
 
 impl<'a> Engine<'a> {
     pub(super) fn event_fns(&mut self) -> Vec<EventFn> {

@@ -1,6 +1,6 @@
 //! Friction sweeps: runs that differ only in μ share their motion up to the first contact event.
 
-use super::Integration;
+use super::driver::Integration;
 use super::engine::Engine;
 use super::workspace::Workspace;
 use crate::dopri;

@@ -2,7 +2,8 @@
 //! coalescing of branch events within `branch_window`.
 
 use super::engine::Engine;
-use super::events::EventFn;
+use super::event_fn::EventFn;
+use super::workspace::LocateScratch;
 use crate::dopri;
 use crate::run::SolverError;
 use nalgebra::DVector;
@@ -24,22 +25,6 @@ pub(super) fn locate_event(
     let r = locate_event_in(eng, step, fns, armed, &mut ls);
     eng.ws.locate = ls;
     r
-}
-
-/// Reused storage of [`locate_event`].
-#[derive(Default)]
-pub(super) struct LocateScratch {
-    thr: Vec<f64>,
-    v_prev: Vec<f64>,
-    t_prev: Vec<f64>,
-    gaps: Vec<usize>,
-    gap_fns: Vec<EventFn>,
-    vals: Vec<f64>,
-    v_end: Vec<f64>,
-    y: DVector<f64>,
-    roots: Vec<(f64, EventFn)>,
-    /// `Engine::fns_generation` of the list `thr` and `gaps` were made for.
-    listed: u64,
 }
 
 pub(super) fn locate_event_in(

@@ -1,7 +1,7 @@
 //! Reused storage of the event-driven engine: buffers that let an evaluation run without
 //! allocation, and caches valid for one contact mode.
 
-use super::locate::LocateScratch;
+use super::event_fn::EventFn;
 use crate::output::ContactSample;
 use crate::scene::{ContactKinematics, Frame, PowerTerms};
 use nalgebra::{DMatrix, DVector};
@@ -110,4 +110,20 @@ impl Scratch {
         matches!(self.at, Some((ta, alla)) if ta == t && (alla || !all))
             && self.at_y.as_slice() == y.as_slice()
     }
+}
+
+/// Reused storage of [`locate_event`].
+#[derive(Default)]
+pub(super) struct LocateScratch {
+    pub(super) thr: Vec<f64>,
+    pub(super) v_prev: Vec<f64>,
+    pub(super) t_prev: Vec<f64>,
+    pub(super) gaps: Vec<usize>,
+    pub(super) gap_fns: Vec<EventFn>,
+    pub(super) vals: Vec<f64>,
+    pub(super) v_end: Vec<f64>,
+    pub(super) y: DVector<f64>,
+    pub(super) roots: Vec<(f64, EventFn)>,
+    /// `Engine::fns_generation` of the list `thr` and `gaps` were made for.
+    pub(super) listed: u64,
 }

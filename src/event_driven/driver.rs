@@ -1,0 +1,376 @@
+//! The driver: start (initial state and contact resolution), the step loop (DP5 step, event
+//! search, grid samples, events, restart), finish.
+
+use super::engine::Engine;
+use super::event_fn::EventFn;
+use super::events::{arm, arm_into, due_now};
+use super::locate::locate_event;
+use super::record::track_peaks;
+use crate::dopri::{self, Controller};
+use crate::output::{ContactState, RunOutput, SampleKind};
+use crate::run::{Batcher, Observer, SolverError};
+use crate::scene::{LEDGER_TERMS, Scene};
+use nalgebra::DVector;
+use std::time::Instant;
+
+/// Run the event-driven integration of a scene.
+pub fn run(scene: &Scene, observer: &mut dyn Observer) -> Result<RunOutput, SolverError> {
+    let mut it = Integration::start(scene)?;
+    it.advance(observer, false)?;
+    Ok(it.finish(observer))
+}
+
+/// A run in progress: the engine, the integrator's state between steps, reused storage.
+pub(super) struct Integration<'a> {
+    pub(super) eng: Engine<'a>,
+    pub(super) clock: Clock,
+    pub(super) batcher: Batcher,
+    pub(super) ws: dopri::Workspace,
+}
+
+/// The integrator's state between steps (cloned with the engine's state by a fork).
+#[derive(Clone)]
+pub(super) struct Clock {
+    breakpoints: Vec<f64>,
+    bp: usize,
+    /// Index of the next output grid instant.
+    next_out: usize,
+    ctrl: Controller,
+    /// f(t, y) at the current state (FSAL).
+    f0: DVector<f64>,
+    /// The next step size.
+    h: f64,
+    h_min: f64,
+    /// The state at the start of the current step.
+    y0: DVector<f64>,
+    fns: Vec<EventFn>,
+    armed: Vec<bool>,
+    rhs_evals: usize,
+    /// Seconds spent so far.
+    wall: f64,
+    /// Events located at `eng.state.t` (in `eng.state.cluster`) and not applied yet: the run
+    /// paused there.
+    pending: bool,
+}
+
+/// The outcome of one step attempt.
+enum Attempt {
+    /// Error estimate above tolerance: retry with the smaller step.
+    Rejected,
+    /// The state moved to the step's end, or to the first event located in it (`Some(t)`).
+    Accepted(Option<f64>),
+}
+
+impl<'a> Integration<'a> {
+    /// The initial state, its contact resolution and the first step's data.
+    pub(super) fn start(scene: &'a Scene) -> Result<Self, SolverError> {
+        let wall = Instant::now();
+        let n = scene.ndof();
+        let st = &scene.settings;
+        let mut eng = Engine::new(scene)?;
+        settle_initial(&mut eng)?;
+        let mut f0 = DVector::zeros(y_len(n));
+        {
+            let y0 = eng.state.y.clone();
+            eng.rhs(0.0, &y0, &mut f0)?;
+        }
+        let mut h =
+            dopri::initial_h(&eng.state.y, &f0, st.rtol, st.atol, 2 * n).min(st.t_end / 10.0);
+        if st.h_max > 0.0 {
+            h = h.min(st.h_max);
+        }
+        let fns = eng.event_fns();
+        let armed = arm(&mut eng, &fns)?;
+        let clock = Clock {
+            breakpoints: scene.breakpoints(),
+            bp: 0,
+            next_out: 1,
+            ctrl: Controller::default(),
+            f0,
+            h,
+            h_min: 1e-14 * st.t_end.max(1.0),
+            y0: DVector::zeros(y_len(n)),
+            fns,
+            armed,
+            rhs_evals: 1,
+            wall: wall.elapsed().as_secs_f64(),
+            pending: false,
+        };
+        Ok(Self {
+            eng,
+            clock,
+            batcher: Batcher::new(),
+            ws: dopri::Workspace::default(),
+        })
+    }
+
+    /// Integrate to the end, or, with `pause_at_contact`, until a contact event is located
+    /// (returns true, the event not yet applied).
+    pub(super) fn advance(
+        &mut self,
+        observer: &mut dyn Observer,
+        pause_at_contact: bool,
+    ) -> Result<bool, SolverError> {
+        let wall = Instant::now();
+        let r = self.advance_in(observer, pause_at_contact);
+        self.clock.wall += wall.elapsed().as_secs_f64();
+        r
+    }
+
+    fn advance_in(
+        &mut self,
+        observer: &mut dyn Observer,
+        pause_at_contact: bool,
+    ) -> Result<bool, SolverError> {
+        let st = &self.eng.scene.settings;
+        loop {
+            let found;
+            if self.clock.pending {
+                self.clock.pending = false;
+                found = Some(self.eng.state.t);
+            } else {
+                if self.eng.state.t >= st.t_end {
+                    return Ok(false);
+                }
+                let stats = &self.eng.state.out.stats;
+                if stats.steps_accepted + stats.steps_rejected >= st.max_steps {
+                    return Err(SolverError::TooManySteps {
+                        t: self.eng.state.t,
+                        limit: st.max_steps,
+                    });
+                }
+                match self.attempt()? {
+                    Attempt::Rejected => continue,
+                    Attempt::Accepted(f) => found = f,
+                }
+                let contact = self.eng.state.cluster.iter().any(|f| !f.is_branch());
+                if found.is_some() && pause_at_contact && contact {
+                    self.clock.pending = true;
+                    return Ok(true);
+                }
+            }
+            let restart = if found.is_some() {
+                let cluster = std::mem::take(&mut self.eng.state.cluster);
+                for &f in &cluster {
+                    self.eng.state.out.stats.events_located += 1;
+                    process_event(&mut self.eng, f)?;
+                }
+                self.eng.state.cluster = cluster;
+                true
+            } else if self
+                .eng
+                .state
+                .contacts
+                .iter()
+                .any(|s| *s != ContactState::Open)
+            {
+                self.eng.project() > 0.0
+            } else {
+                false
+            };
+            if restart {
+                self.restart()?;
+            } else {
+                let f1 = self.ws.step.f1.as_slice();
+                self.clock.f0.as_mut_slice().copy_from_slice(f1);
+            }
+            self.batcher
+                .maybe(&self.eng.state.out, self.eng.state.t, observer)?;
+        }
+    }
+
+    /// One DP5 step from the current state (to the next breakpoint at most), the event search
+    /// on its dense output, the grid samples inside it and the move to its end or first event.
+    fn attempt(&mut self) -> Result<Attempt, SolverError> {
+        let Integration { eng, clock, ws, .. } = self;
+        let Clock {
+            breakpoints,
+            bp,
+            next_out,
+            ctrl,
+            f0,
+            h,
+            h_min,
+            y0,
+            fns,
+            armed,
+            rhs_evals,
+            ..
+        } = clock;
+        let scene = eng.scene;
+        let st = &scene.settings;
+        let n = eng.n;
+        while *bp < breakpoints.len() && breakpoints[*bp] <= eng.state.t * (1.0 + 1e-15) {
+            *bp += 1;
+        }
+        let t_stop = if *bp < breakpoints.len() {
+            breakpoints[*bp].min(st.t_end)
+        } else {
+            st.t_end
+        };
+        let mut hh = h.min(t_stop - eng.state.t);
+        if st.h_max > 0.0 {
+            hh = hh.min(st.h_max);
+        }
+        if t_stop - eng.state.t - hh < 1e-12 * hh {
+            hh = t_stop - eng.state.t;
+        }
+        y0.as_mut_slice().copy_from_slice(eng.state.y.as_slice());
+        let t0 = eng.state.t;
+        let mut rhs = |t: f64, y: &DVector<f64>, out: &mut DVector<f64>| {
+            *rhs_evals += 1;
+            eng.rhs(t, y, out)
+        };
+        dopri::step_into(ws, &mut rhs, t0, y0, f0, hh, st.rtol, st.atol, 2 * n)?;
+        let step = &ws.step;
+        let finite = step.y1.as_slice().iter().all(|x| x.is_finite());
+        if !finite || step.error > 1.0 {
+            eng.state.out.stats.steps_rejected += 1;
+            *h = if finite {
+                ctrl.next_h(hh, step.error, false)
+            } else {
+                hh * 0.25
+            };
+            if *h < *h_min {
+                return Err(if finite {
+                    SolverError::StepTooSmall { t: t0, h: *h }
+                } else {
+                    SolverError::NonFinite { t: t0 }
+                });
+            }
+            return Ok(Attempt::Rejected);
+        }
+        eng.state.out.stats.steps_accepted += 1;
+        if let Some(c) = eng.state.out.stats.step_control.get_mut(step.worst) {
+            *c += 1;
+        }
+        *h = ctrl.next_h(hh, step.error, true);
+        // event search on the dense output
+        let found = locate_event(eng, step, fns, armed)?;
+        let t1 = found.unwrap_or(step.t1());
+        track_peaks(&mut eng.state.out, step, t1, n, y0);
+        // grid output inside (t0, t1]
+        while (*next_out as f64) * st.output_dt <= t1 * (1.0 + 1e-14) && eng.state.t < st.t_end {
+            let tg = (*next_out as f64) * st.output_dt;
+            if tg > t1 {
+                break;
+            }
+            eng.state.t = tg.min(st.t_end);
+            step.dense_at_into(eng.state.t, &mut eng.state.y);
+            eng.record_sample(SampleKind::Grid)?;
+            *next_out += 1;
+        }
+        eng.state.t = t1;
+        if found.is_some() {
+            step.dense_at_into(t1, &mut eng.state.y);
+        } else {
+            eng.state
+                .y
+                .as_mut_slice()
+                .copy_from_slice(step.y1.as_slice());
+        }
+        Ok(Attempt::Accepted(found))
+    }
+
+    /// A new phase after events or a projection: f(t, y), the event functions and their arming;
+    /// then the events already due at this instant (simultaneous crossings, e.g. symmetric
+    /// columns reversing together), each processed before any step.
+    fn restart(&mut self) -> Result<(), SolverError> {
+        self.rearm()?;
+        let mut done: Vec<EventFn> = Vec::new();
+        while let Some(f) = due_now(&mut self.eng, &self.clock.fns, &done)? {
+            done.push(f);
+            process_event(&mut self.eng, f)?;
+            self.rearm()?;
+        }
+        Ok(())
+    }
+
+    /// f(t, y) at the current state, the event functions of the contact mode and their arming.
+    fn rearm(&mut self) -> Result<(), SolverError> {
+        let (eng, clock) = (&mut self.eng, &mut self.clock);
+        let y1 = eng.state.y.clone();
+        let t = eng.state.t;
+        clock.rhs_evals += 1;
+        eng.rhs(t, &y1, &mut clock.f0)?;
+        eng.event_fns_into(&mut clock.fns);
+        arm_into(eng, &clock.fns, &mut clock.armed)
+    }
+
+    /// The output, with the final sample, statistics and summary.
+    pub(super) fn finish(mut self, observer: &mut dyn Observer) -> RunOutput {
+        let wall = Instant::now();
+        let eng = &mut self.eng;
+        let st = &eng.scene.settings;
+        if eng
+            .state
+            .out
+            .last_sample_time()
+            .is_none_or(|t| t < st.t_end)
+        {
+            // a failure here leaves the last sample where it was
+            let _ = eng.record_sample(SampleKind::Grid);
+        }
+        self.batcher.flush(&eng.state.out, eng.state.t, observer);
+        eng.state.out.stats.rhs_evals = self.clock.rhs_evals;
+        eng.state.out.final_laws = eng.state.laws.clone();
+        eng.state.out.stats.wall_time = self.clock.wall + wall.elapsed().as_secs_f64();
+        eng.state.out.finish(eng.state.energy_scale);
+        std::mem::replace(&mut eng.state.out, RunOutput::new(eng.scene))
+    }
+}
+
+/// The initial instant: a pre-event sample if resolving it makes events (then the post-event
+/// one), else a grid sample.
+fn settle_initial(eng: &mut Engine) -> Result<(), SolverError> {
+    let n_events = eng.state.out.events.len();
+    let initial = {
+        let mut silent = RunOutput::new(eng.scene);
+        std::mem::swap(&mut eng.state.out, &mut silent);
+        let r = eng.record_sample(SampleKind::PreEvent);
+        std::mem::swap(&mut eng.state.out, &mut silent);
+        r?;
+        silent.samples.pop()
+    };
+    eng.resolve()?;
+    eng.ws.new_contact_mode();
+    if eng.state.out.events.len() > n_events {
+        if let Some(pre) = initial {
+            eng.state.out.record(pre.view());
+        }
+        eng.record_sample(SampleKind::PostEvent)
+    } else {
+        eng.record_sample(SampleKind::Grid)
+    }
+}
+
+/// Apply one located event at the current instant: a branch change of a hysteretic element,
+/// or a contact event (the LCPs decide the new state).
+fn process_event(eng: &mut Engine, f: EventFn) -> Result<(), SolverError> {
+    eng.ws.dynamics.at = None;
+    match f {
+        EventFn::Lower(j) | EventFn::Upper(j) | EventFn::Reversal(j) => {
+            let b = *eng.state.laws[j].branch();
+            let e = eng.element_deformation(j).0;
+            let (e_at, dir) = match f {
+                EventFn::Lower(_) => (b.lower, -1.0),
+                EventFn::Upper(_) => (b.upper, 1.0),
+                _ => (e, -b.direction),
+            };
+            eng.state.laws[j].on_branch_end(e_at, dir);
+            eng.state.out.stats.branch_events += 1;
+        }
+        _ => {
+            eng.record_sample(SampleKind::PreEvent)?;
+            eng.resolve()?;
+            eng.ws.new_contact_mode();
+            eng.record_sample(SampleKind::PostEvent)?;
+        }
+    }
+    Ok(())
+}
+
+/// Length of y: q, q̇ and the ledger terms.
+fn y_len(n: usize) -> usize {
+    2 * n + LEDGER_TERMS
+}
