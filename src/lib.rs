@@ -31,5 +31,5 @@ pub mod tui;
 pub use event_driven::{FrictionFork, run};
 pub use model::{ModelError, load};
 pub use output::RunOutput;
-pub use run::{Observer, Silent, SolverError};
+pub use run::{Observer, Run, Silent, SolverError, Stop};
 pub use timestepping::simulate;

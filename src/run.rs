@@ -115,3 +115,47 @@ impl Batcher {
         go
     }
 }
+
+/// How a run ended.
+#[derive(Debug)]
+pub enum Stop {
+    /// It reached `t_end`.
+    Finished,
+    /// The observer asked it to stop at `t`.
+    Cancelled { t: f64 },
+    /// The method could not go on.
+    Failed(SolverError),
+}
+
+/// What a run computed, however it ended: a cancelled or failed run keeps its output up to
+/// the instant it stopped.
+#[derive(Debug)]
+pub struct Run {
+    pub output: RunOutput,
+    pub stop: Stop,
+}
+
+impl Run {
+    /// The run that ended with `result` (a [`SolverError::Cancelled`] is a cancel).
+    pub fn new(output: RunOutput, result: Result<(), SolverError>) -> Self {
+        let stop = match result {
+            Ok(()) => Stop::Finished,
+            Err(SolverError::Cancelled { t }) => Stop::Cancelled { t },
+            Err(e) => Stop::Failed(e),
+        };
+        Self { output, stop }
+    }
+
+    pub fn finished(&self) -> bool {
+        matches!(self.stop, Stop::Finished)
+    }
+
+    /// The output of a finished run, else why it stopped (the partial output is dropped).
+    pub fn into_result(self) -> Result<RunOutput, SolverError> {
+        match self.stop {
+            Stop::Finished => Ok(self.output),
+            Stop::Cancelled { t } => Err(SolverError::Cancelled { t }),
+            Stop::Failed(e) => Err(e),
+        }
+    }
+}

@@ -8,16 +8,27 @@ use super::locate::locate_event;
 use super::record::track_peaks;
 use crate::dopri::{self, Controller};
 use crate::output::{ContactState, RunOutput, SampleKind};
-use crate::run::{Batcher, Observer, SolverError};
+use crate::run::{Batcher, Observer, Run, SolverError};
 use crate::scene::{LEDGER_TERMS, Scene};
 use nalgebra::DVector;
 use std::time::Instant;
 
-/// Run the event-driven integration of a scene.
+/// Run the event-driven integration of a scene: the output of a finished run, else the
+/// reason it stopped.
 pub fn run(scene: &Scene, observer: &mut dyn Observer) -> Result<RunOutput, SolverError> {
-    let mut it = Integration::start(scene)?;
-    it.advance(observer, false)?;
-    Ok(it.finish(observer))
+    integrate(scene, observer).into_result()
+}
+
+/// Run the event-driven integration of a scene, keeping what was computed before a cancel or
+/// a failure.
+pub fn integrate(scene: &Scene, observer: &mut dyn Observer) -> Run {
+    let mut it = match Integration::start(scene) {
+        Ok(it) => it,
+        Err(e) => return Run::new(RunOutput::new(scene), Err(e)),
+    };
+    let result = it.advance(observer, false).map(|_| ());
+    let complete = result.is_ok();
+    Run::new(it.finish(observer, complete), result)
 }
 
 /// A run in progress: the engine, the integrator's state between steps, reused storage.
@@ -297,16 +308,18 @@ impl<'a> Integration<'a> {
         arm_into(eng, &clock.fns, &mut clock.armed)
     }
 
-    /// The output, with the final sample, statistics and summary.
-    pub(super) fn finish(mut self, observer: &mut dyn Observer) -> RunOutput {
+    /// The output, with the final sample (if `complete`: the run reached its end), statistics
+    /// and summary.
+    pub(super) fn finish(mut self, observer: &mut dyn Observer, complete: bool) -> RunOutput {
         let wall = Instant::now();
         let eng = &mut self.eng;
         let st = &eng.scene.settings;
-        if eng
-            .state
-            .out
-            .last_sample_time()
-            .is_none_or(|t| t < st.t_end)
+        if complete
+            && eng
+                .state
+                .out
+                .last_sample_time()
+                .is_none_or(|t| t < st.t_end)
         {
             // a failure here leaves the last sample where it was
             let _ = eng.record_sample(SampleKind::Grid);

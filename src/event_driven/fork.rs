@@ -41,7 +41,7 @@ impl<'a> FrictionFork<'a> {
         {
             return Some(Err(e));
         }
-        Some(Ok(it.finish(&mut Silent)))
+        Some(Ok(it.finish(&mut Silent, true)))
     }
 }
 

@@ -25,5 +25,5 @@ mod record;
 mod resolve;
 mod workspace;
 
-pub use driver::run;
+pub use driver::{integrate, run};
 pub use fork::FrictionFork;
