@@ -71,5 +71,4 @@ impl GroundMotion {
         let (t0, dt) = (self.t0, self.dt);
         (0..self.acc.len()).map(move |i| t0 + i as f64 * dt)
     }
-
 }

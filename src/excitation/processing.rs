@@ -362,5 +362,4 @@ impl GroundMotion {
             correction_pga_change,
         })
     }
-
 }
