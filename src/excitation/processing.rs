@@ -264,6 +264,39 @@ fn sample_count(seconds: f64, dt: f64, field: &'static str) -> Result<usize> {
     Ok(k as usize)
 }
 
+/// Step 3: cosine (half-Hann) taper of `seconds` at both ends, at most half the record.
+fn taper(a: &mut [f64], dt: f64, seconds: f64) -> Result<()> {
+    let n = a.len();
+    let m = sample_count(seconds, dt, "taper")?;
+    if 2 * m > n - 1 {
+        let len = (n - 1) as f64 * dt;
+        return Err(invalid(
+            "taper",
+            format!("{seconds} s exceeds half the record ({len} s)"),
+        ));
+    }
+    for i in 0..m {
+        let w = 0.5 * (1.0 - (std::f64::consts::PI * i as f64 / m as f64).cos());
+        a[i] *= w;
+        a[n - 1 - i] *= w;
+    }
+    Ok(())
+}
+
+/// Step 6: the amplitude factor, to `target_pga` (of the corrected PGA) or `scale`, else 1.
+fn amplitude_factor(p: &Processing, pga_corr: f64) -> Result<f64> {
+    Ok(match (p.target_pga, p.scale) {
+        (Some(t), _) => {
+            if pga_corr == 0.0 {
+                return Err(invalid("target_pga", "motion has zero PGA"));
+            }
+            t * G / pga_corr
+        }
+        (None, Some(s)) => s,
+        (None, None) => 1.0,
+    })
+}
+
 impl GroundMotion {
     /// Processes a [`Record`] (g → m/s²); see [`GroundMotion::from_samples`].
     pub fn from_record(rec: &Record, p: &Processing) -> Result<Self> {
@@ -309,19 +342,7 @@ impl GroundMotion {
             polynomial_correction(&mut a, dt, order)?;
         }
 
-        let m = sample_count(p.taper, dt, "taper")?;
-        if 2 * m > n - 1 {
-            let len = (n - 1) as f64 * dt;
-            return Err(invalid(
-                "taper",
-                format!("{} s exceeds half the record ({len} s)", p.taper),
-            ));
-        }
-        for i in 0..m {
-            let w = 0.5 * (1.0 - (std::f64::consts::PI * i as f64 / m as f64).cos());
-            a[i] *= w;
-            a[n - 1 - i] *= w;
-        }
+        taper(&mut a, dt, p.taper)?;
 
         let pad = sample_count(p.pad, dt, "pad")?;
         if n + pad > MAX_SAMPLES {
@@ -339,16 +360,7 @@ impl GroundMotion {
         } else {
             0.0
         };
-        let factor = match (p.target_pga, p.scale) {
-            (Some(t), _) => {
-                if pga_corr == 0.0 {
-                    return Err(invalid("target_pga", "motion has zero PGA"));
-                }
-                t * G / pga_corr
-            }
-            (None, Some(s)) => s,
-            (None, None) => 1.0,
-        };
+        let factor = amplitude_factor(p, pga_corr)?;
         if factor != 1.0 {
             a.iter_mut().for_each(|x| *x *= factor);
         }

@@ -188,25 +188,7 @@ pub fn parse_two_column(path: &Path, text: &str) -> Result<Record> {
         };
         if let Some(c) = comment {
             header.push(raw.to_owned());
-            let c = c.trim().to_ascii_lowercase();
-            if let Some(rest) = c.strip_prefix("units").or_else(|| c.strip_prefix("unit"))
-                && let Some(u) = rest.trim_start().strip_prefix([':', '='])
-            {
-                let u = u.trim();
-                let f = unit_to_g(u).ok_or_else(|| ExcitationError::Header {
-                    path: path.to_path_buf(),
-                    line,
-                    reason: format!("unknown acceleration unit {u:?}"),
-                })?;
-                if factor.is_some_and(|old| old != f) {
-                    return Err(ExcitationError::Header {
-                        path: path.to_path_buf(),
-                        line,
-                        reason: "conflicting units directives".into(),
-                    });
-                }
-                factor = Some(f);
-            }
+            units_directive(path, line, c, &mut factor)?;
         }
         let toks: Vec<&str> = data
             .split(|c: char| c.is_whitespace() || c == ',' || c == ';')
@@ -232,6 +214,48 @@ pub fn parse_two_column(path: &Path, text: &str) -> Result<Record> {
         };
         rows.push((line, num(toks[0])?, num(toks[1])?));
     }
+    let dt = uniform_step(path, text, &rows)?;
+    let f = factor.unwrap_or(1.0);
+    Ok(Record {
+        path: path.to_path_buf(),
+        header,
+        dt,
+        accel_g: rows.iter().map(|r| r.2 * f).collect(),
+    })
+}
+
+/// A `# units: U` comment sets the factor to g; a second, different one is an error.
+fn units_directive(
+    path: &Path,
+    line: usize,
+    comment: &str,
+    factor: &mut Option<f64>,
+) -> Result<()> {
+    let c = comment.trim().to_ascii_lowercase();
+    if let Some(rest) = c.strip_prefix("units").or_else(|| c.strip_prefix("unit"))
+        && let Some(u) = rest.trim_start().strip_prefix([':', '='])
+    {
+        let u = u.trim();
+        let f = unit_to_g(u).ok_or_else(|| ExcitationError::Header {
+            path: path.to_path_buf(),
+            line,
+            reason: format!("unknown acceleration unit {u:?}"),
+        })?;
+        if factor.is_some_and(|old| old != f) {
+            return Err(ExcitationError::Header {
+                path: path.to_path_buf(),
+                line,
+                reason: "conflicting units directives".into(),
+            });
+        }
+        *factor = Some(f);
+    }
+    Ok(())
+}
+
+/// The time step of (line, t, a) rows: uniform within 0.2 % step to step and `1e-3·dt`
+/// overall, else [`ExcitationError::Sampling`].
+fn uniform_step(path: &Path, text: &str, rows: &[(usize, f64, f64)]) -> Result<f64> {
     let sampling = |line: usize, reason: String| ExcitationError::Sampling {
         path: path.to_path_buf(),
         line,
@@ -267,13 +291,7 @@ pub fn parse_two_column(path: &Path, text: &str) -> Result<Record> {
             ));
         }
     }
-    let f = factor.unwrap_or(1.0);
-    Ok(Record {
-        path: path.to_path_buf(),
-        header,
-        dt,
-        accel_g: rows.iter().map(|r| r.2 * f).collect(),
-    })
+    Ok(dt)
 }
 
 /// By extension: `.at2` (any case) → [`read_at2`], anything else → [`read_two_column`].

@@ -47,6 +47,13 @@ impl GroundMotion {
         if !self.valid() {
             return st;
         }
+        (st.pgv, st.pgd) = self.peak_velocity_displacement();
+        (st.arias_intensity, st.significant_duration) = self.arias();
+        st
+    }
+
+    /// Exact max |v| and max |d| of the piecewise-quadratic velocity and cubic displacement.
+    fn peak_velocity_displacement(&self) -> (f64, f64) {
         let dt = self.dt;
         let mut pgv = max_abs(&self.vel);
         let mut pgd = max_abs(&self.disp);
@@ -81,10 +88,13 @@ impl GroundMotion {
                 }
             }
         }
-        st.pgv = pgv;
-        st.pgd = pgd;
+        (pgv, pgd)
+    }
 
-        // Arias: ∫a² per interval, exact for linear a.
+    /// Arias intensity `π/(2g)∫a²dt` and the 5–95 % significant duration.
+    fn arias(&self) -> (f64, f64) {
+        let dt = self.dt;
+        // ∫a² per interval, exact for linear a
         let seg = |i: usize, s: f64| {
             let a0 = self.acc[i];
             let j = (self.acc[i + 1] - a0) / dt;
@@ -97,7 +107,8 @@ impl GroundMotion {
             e += seg(i, dt);
             cum.push(e);
         }
-        st.arias_intensity = std::f64::consts::PI / (2.0 * G) * e;
+        let intensity = std::f64::consts::PI / (2.0 * G) * e;
+        let mut significant = 0.0;
         if e > 0.0 {
             let crossing = |frac: f64| {
                 let target = frac * e;
@@ -113,8 +124,8 @@ impl GroundMotion {
                 }
                 i as f64 * dt + 0.5 * (lo + hi)
             };
-            st.significant_duration = crossing(0.95) - crossing(0.05);
+            significant = crossing(0.95) - crossing(0.05);
         }
-        st
+        (intensity, significant)
     }
 }

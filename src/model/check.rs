@@ -109,7 +109,7 @@ fn find_in_value(v: &toml_edit::Value, segs: &[&str], best: Span) -> Span {
     }
 }
 
-pub(super) fn line_col(text: &str, offset: usize) -> (usize, usize) {
+fn line_col(text: &str, offset: usize) -> (usize, usize) {
     let before = &text[..offset.min(text.len())];
     let line = before.matches('\n').count() + 1;
     let col = before
