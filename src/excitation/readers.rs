@@ -159,7 +159,8 @@ pub fn parse_at2(path: &Path, text: &str) -> Result<Record> {
 /// within 0.2 % of the first and every `t_i` within `1e-3·dt` of `t_0 + i·dt`, where
 /// `dt = (t_last − t_0)/(n − 1)`, else
 /// [`ExcitationError::Sampling`] (no resampling). The first time is taken as the record
-/// start (a nonzero `t_0` is dropped: use [`Processing::lag`] for delays).
+/// start (a nonzero `t_0` is dropped: use
+/// [`Processing::lag`](super::Processing::lag) for delays).
 pub fn read_two_column(path: &Path) -> Result<Record> {
     parse_two_column(path, &read_text(path)?)
 }
