@@ -8,10 +8,10 @@
 //! - [`dopri`], [`event_driven`]: the event-driven integrator.
 //! - [`hysteresis`]: linear, bilinear and Takeda laws for columns.
 //! - [`excitation`]: records, processing, multi-support motions.
-//! - [`model`], [`bridge`]: model files.
+//! - [`model`]: model files (general scenes and bridges).
+//! - [`modal`]: K₀, modes and Rayleigh damping of any model.
 //! - [`output`]: history, events, energy ledger, summary.
 
-pub mod bridge;
 pub mod contact;
 pub mod dopri;
 pub mod event_driven;
@@ -19,6 +19,7 @@ pub mod excitation;
 pub mod hysteresis;
 pub mod lemke;
 pub mod linalg;
+pub mod modal;
 pub mod model;
 pub mod output;
 pub mod precision;

@@ -291,7 +291,7 @@ fn print_state_at(run: &deckspin::RunOutput, t: f64) {
 
 fn cmd_modes(model: &std::path::Path, set: &[String]) -> CliResult {
     let scene = deckspin::load(model, set)?;
-    let modes = deckspin::bridge::modes(&scene);
+    let modes = deckspin::modal::modes(&scene);
     println!("{} — {} DOF", scene.title, scene.ndof());
     print!("{:>5} {:>10} {:>10}", "mode", "T (s)", "f (Hz)");
     for n in &scene.dof_names {

@@ -22,7 +22,7 @@ fn longitudinal_period_matches_hand_formula() {
         .map(|h| 2.0 * k * (1.83f64 / h).powi(3))
         .sum();
     let t_long = 2.0 * std::f64::consts::PI * (140.5 / kx).sqrt();
-    let modes = deckspin::bridge::modes(&s);
+    let modes = deckspin::modal::modes(&s);
     let m = modes
         .iter()
         .find(|m| m.shape[2].abs() > 0.99 * m.shape.amax())

@@ -5,14 +5,17 @@
 //!
 //! Units: t, kN, m, s (1 t·m/s² = 1 kN).
 
+use super::check::{Check, ModelError};
+use super::records::Motions;
+use super::solver::{SolverSpec, settings};
 use crate::excitation::{Baseline, Processing};
 use crate::hysteresis::{Hysteretic, Law};
-use crate::model::{Check, ModelError, Motions, SolverSpec, parse, settings};
+use crate::modal::apply_rayleigh;
 use crate::scene::{
     Attachment, Body, BodyRef, Contact, HystereticElement, MassDamping, Motion, Scene, Spring,
     Support,
 };
-use nalgebra::{DMatrix, DVector, Vector2};
+use nalgebra::{DVector, Vector2};
 use serde::Deserialize;
 use std::path::Path;
 
@@ -172,12 +175,6 @@ pub struct BridgeFile {
     pub solver: SolverSpec,
 }
 
-/// Compile a bridge model file's text into a scene.
-pub fn compile_str(text: &str, path: &Path, motions: &Motions) -> Result<Scene, ModelError> {
-    let f: BridgeFile = parse(text, path)?;
-    compile(&f, text, path, motions)
-}
-
 /// Scale a column law from the reference height to height h (fixed–fixed: k ∝ h⁻³, V_y ∝ h⁻¹).
 fn scale_law(law: &Law, kf: f64, ff: f64) -> Law {
     match law.clone() {
@@ -214,6 +211,7 @@ fn scale_law(law: &Law, kf: f64, ff: f64) -> Law {
 /// Names of the four corners (paper: point 1 is the left, upper corner).
 pub const CORNERS: [&str; 4] = ["left_top", "left_bottom", "right_top", "right_bottom"];
 
+/// Validate and compile a bridge file into the engine's general scene.
 pub fn compile(
     f: &BridgeFile,
     text: &str,
@@ -221,7 +219,45 @@ pub fn compile(
     motions: &Motions,
 ) -> Result<Scene, ModelError> {
     let ck = Check { text, path };
-    let mut settings = settings(&f.solver, &ck)?;
+    let settings = settings(&f.solver, &ck)?;
+    validate(f, &ck)?;
+    let plan = Plan::of(f);
+    let (bodies, mass, dof_names) = deck_and_abutments(f, &plan);
+    let contacts = corner_contacts(&f.contacts, &plan, &bodies);
+    // supports: per bent x and y, per abutment x
+    let nb = f.bents.len();
+    let ex = f.excitation.as_ref();
+    let supports = match ex {
+        Some(e) => excitation_supports(e, &f.runs, nb, &ck, path, motions)?,
+        None => Vec::new(),
+    };
+    let driven = !supports.is_empty();
+    let mut springs = actuator_springs(&f.abutment, ex, nb, driven);
+    let hysteretic = bent_columns(f, &plan, &ck, driven, &mut springs)?;
+    let mut scene = Scene {
+        title: f.title.clone().unwrap_or_else(|| "bridge".into()),
+        bodies,
+        contacts,
+        springs,
+        hysteretic,
+        supports,
+        mass_damping: MassDamping::default(),
+        loads: DVector::zeros(7),
+        mass,
+        dof_names,
+        q0: DVector::zeros(7),
+        v0: DVector::zeros(7),
+        settings,
+    };
+    if f.damping.ratio > 0.0 {
+        apply_rayleigh(&mut scene, f.damping.ratio, f.damping.modes)
+            .map_err(|r| ck.err("damping.modes", r))?;
+    }
+    Ok(scene)
+}
+
+/// Checks of the deck, abutments, contacts, bents, columns and damping, in file order.
+fn validate(f: &BridgeFile, ck: &Check) -> Result<(), ModelError> {
     let d = &f.deck;
     ck.positive("deck.mass", d.mass)?;
     ck.positive("deck.inertia", d.inertia)?;
@@ -267,11 +303,36 @@ pub fn compile(
         ck.finite(&format!("bent.{i}.x"), b.x)?;
         ck.positive(&format!("bent.{i}.height"), b.height)?;
     }
-    let skew = d.skew.to_radians();
-    let (ls, lw) = (d.length / 2.0, d.width / 2.0);
-    let tan = skew.tan();
-    let gap0 = c.gaps.iter().sum::<f64>() / 4.0;
-    // bodies: left abutment (x, θ), deck (x, y, θ), right abutment (x, θ): u = [x1, θ1, x2, y2, θ2, x3, θ3]
+    Ok(())
+}
+
+/// Plan geometry of the deck: half length and width, tan of the skew, mean initial gap.
+struct Plan {
+    skew: f64,
+    half_length: f64,
+    half_width: f64,
+    tan: f64,
+    gap0: f64,
+}
+
+impl Plan {
+    fn of(f: &BridgeFile) -> Self {
+        let d = &f.deck;
+        let skew = d.skew.to_radians();
+        Self {
+            skew,
+            half_length: d.length / 2.0,
+            half_width: d.width / 2.0,
+            tan: skew.tan(),
+            gap0: f.contacts.gaps.iter().sum::<f64>() / 4.0,
+        }
+    }
+}
+
+/// Left abutment (x, θ), deck (x, y, θ), right abutment (x, θ): u = [x1, θ1, x2, y2, θ2, x3, θ3].
+fn deck_and_abutments(f: &BridgeFile, plan: &Plan) -> (Vec<Body>, DVector<f64>, Vec<String>) {
+    let (a, d) = (&f.abutment, &f.deck);
+    let (ls, gap0) = (plan.half_length, plan.gap0);
     let bodies = vec![
         Body {
             name: "left_abutment".into(),
@@ -309,8 +370,14 @@ pub fn compile(
     ]
     .map(String::from)
     .to_vec();
+    (bodies, mass, dof_names)
+}
+
+/// The four deck corners against the skewed abutment faces, each at its initial gap.
+fn corner_contacts(c: &ContactsSpec, plan: &Plan, bodies: &[Body]) -> Vec<Contact> {
+    let (ls, lw, tan) = (plan.half_length, plan.half_width, plan.tan);
     // skew: deck ends along (sin φ, cos φ); left face normal (cos φ, −sin φ) towards the deck
-    let n_left = Vector2::new(skew.cos(), -skew.sin());
+    let n_left = Vector2::new(plan.skew.cos(), -plan.skew.sin());
     let corners = [
         (Vector2::new(-ls + lw * tan, lw), 0usize, n_left),
         (Vector2::new(-ls - lw * tan, -lw), 0, n_left),
@@ -333,18 +400,20 @@ pub fn compile(
             });
         }
     }
-    // supports: per bent x and y, per abutment x
-    let nb = f.bents.len();
-    let mut supports = Vec::new();
-    let ex = f.excitation.as_ref();
-    if let Some(e) = ex {
-        supports = excitation_supports(e, &f.runs, nb, &ck, path, motions, &mut settings)?;
-    }
-    let has_supports = !supports.is_empty();
-    let sup = |i: usize| if has_supports { Some(i) } else { None };
+    contacts
+}
+
+/// Two longitudinal actuators per abutment, driven by the abutment supports if asked.
+fn actuator_springs(
+    a: &AbutmentSpec,
+    ex: Option<&ExcitationSpec>,
+    nb: usize,
+    driven: bool,
+) -> Vec<Spring> {
     let mut springs = Vec::new();
     for (ab, side) in [(0usize, "left"), (2, "right")] {
         for (sgn, tag) in [(1.0, "top"), (-1.0, "bottom")] {
+            let support = 2 * nb + if ab == 0 { 0 } else { 1 };
             springs.push(Spring {
                 name: format!("{side}_actuator_{tag}"),
                 attachment: Attachment::Point {
@@ -354,21 +423,30 @@ pub fn compile(
                 },
                 stiffness: a.actuator_stiffness,
                 damping: a.actuator_damping,
-                support: if ex.is_some_and(|e| e.drive_abutments) {
-                    sup(2 * nb + if ab == 0 { 0 } else { 1 })
-                } else {
-                    None
-                },
+                support: (driven && ex.is_some_and(|e| e.drive_abutments)).then_some(support),
             });
         }
     }
+    springs
+}
+
+/// Two columns per bent, hysteretic in x and y (law scaled to the bent height), elastic in
+/// torsion (torsion springs appended to `springs`).
+fn bent_columns(
+    f: &BridgeFile,
+    plan: &Plan,
+    ck: &Check,
+    driven: bool,
+    springs: &mut Vec<Spring>,
+) -> Result<Vec<HystereticElement>, ModelError> {
+    let col = &f.column;
     let mut hysteretic = Vec::new();
     for (bi, b) in f.bents.iter().enumerate() {
         let ratio = col.reference_height / b.height;
         let law = scale_law(&col.law, ratio.powi(3), ratio);
         for (sgn, tag) in [(1.0, "top"), (-1.0, "bottom")] {
             let yc = sgn * col.offset;
-            let point = Vector2::new(b.x + yc * tan, yc);
+            let point = Vector2::new(b.x + yc * plan.tan, yc);
             for (dir, axis, s) in [
                 (Vector2::new(1.0, 0.0), "x", 2 * bi),
                 (Vector2::new(0.0, 1.0), "y", 2 * bi + 1),
@@ -383,7 +461,7 @@ pub fn compile(
                     law: Hysteretic::new(law.clone())
                         .map_err(|e| ck.err("column.law", e.to_string()))?,
                     damping: 0.0,
-                    support: sup(s),
+                    support: driven.then_some(s),
                 });
             }
             if col.torsion_stiffness > 0.0 {
@@ -397,28 +475,15 @@ pub fn compile(
             }
         }
     }
-    let mut scene = Scene {
-        title: f.title.clone().unwrap_or_else(|| "bridge".into()),
-        bodies,
-        contacts,
-        springs,
-        hysteretic,
-        supports,
-        mass_damping: MassDamping::default(),
-        loads: DVector::zeros(7),
-        mass,
-        dof_names,
-        q0: DVector::zeros(7),
-        v0: DVector::zeros(7),
-        settings,
-    };
-    if f.damping.ratio > 0.0 {
-        apply_rayleigh(&mut scene, f.damping.ratio, f.damping.modes)
-            .map_err(|r| ck.err("damping.modes", r))?;
-    }
-    Ok(scene)
+    Ok(hysteretic)
 }
 
+/// Time lag of support `i` (0 beyond the list).
+fn lag(lags: &[f64], i: usize) -> f64 {
+    lags.get(i).copied().unwrap_or(0.0)
+}
+
+/// Supports of the `[excitation]`: per bent x and y, then left and right abutment x.
 fn excitation_supports(
     e: &ExcitationSpec,
     runs: &[RunSpec],
@@ -426,231 +491,111 @@ fn excitation_supports(
     ck: &Check,
     path: &Path,
     motions: &Motions,
-    settings: &mut crate::scene::Settings,
 ) -> Result<Vec<Support>, ModelError> {
-    let lag_b = |i: usize| e.lag_bents.get(i).copied().unwrap_or(0.0);
-    let lag_a = |i: usize| e.lag_abutments.get(i).copied().unwrap_or(0.0);
     for (i, l) in e.lag_bents.iter().enumerate() {
         ck.nonneg(&format!("excitation.lag_bents.{i}"), *l)?;
     }
     for (i, l) in e.lag_abutments.iter().enumerate() {
         ck.nonneg(&format!("excitation.lag_abutments.{i}"), *l)?;
     }
-    let mut out = Vec::new();
     match e.kind.as_str() {
-        "harmonic" => {
-            let f = ck.positive(
-                "excitation.frequency",
-                e.frequency
-                    .ok_or_else(|| ck.err("excitation.frequency", "required for harmonic input"))?,
-            )?;
-            let ax = ck.finite("excitation.amplitude_x", e.amplitude_x.unwrap_or(0.0))?;
-            let ay = ck.finite("excitation.amplitude_y", e.amplitude_y.unwrap_or(0.0))?;
-            let w = 2.0 * std::f64::consts::PI * f;
-            let h = |amp: f64, lag: f64, name: String| Support {
-                name,
-                motion: Motion::Harmonic {
-                    amplitude: amp,
-                    omega: w,
-                    phase: -w * lag,
-                },
-                factor: 1.0,
-            };
-            for b in 0..nb {
-                out.push(h(ax, lag_b(b), format!("bent{}.x", b + 1)));
-                out.push(h(ay, lag_b(b), format!("bent{}.y", b + 1)));
-            }
-            out.push(h(ax, lag_a(0), "left_abutment.x".into()));
-            out.push(h(ax, lag_a(1), "right_abutment.x".into()));
-        }
-        "record" => {
-            let run = match e.run {
-                Some(r) => Some(runs.get(r.wrapping_sub(1)).ok_or_else(|| {
-                    ck.err("excitation.run", format!("no run {r} (1..={})", runs.len()))
-                })?),
-                None => None,
-            };
-            let (pga_x, pga_y) = run.map_or((None, None), |r| (Some(r.pga_x), Some(r.pga_y)));
-            let base = Processing {
-                time_scale: ck.positive("excitation.time_scale", e.time_scale)?,
-                baseline: Baseline::Polynomial {
-                    order: e.baseline_order,
-                },
-                taper: e.taper.unwrap_or(Processing::default().taper),
-                ..Processing::default()
-            };
-            // supports with the same record, PGA and lag share one motion
-            let get = |file: &Option<String>, field: &str, pga: Option<f64>, lag: f64| {
-                let file = file
-                    .as_ref()
-                    .ok_or_else(|| ck.err(field, "required for record input"))?;
-                let p = Processing {
-                    target_pga: pga,
-                    lag,
-                    ..base.clone()
-                };
-                motions.get(path, file, p)
-            };
-            let mut t_max: f64 = 0.0;
-            for b in 0..nb {
-                let mx = get(&e.longitudinal, "excitation.longitudinal", pga_x, lag_b(b))?;
-                let my = get(&e.transverse, "excitation.transverse", pga_y, lag_b(b))?;
-                t_max = t_max.max(mx.end_time()).max(my.end_time());
-                out.push(Support {
-                    name: format!("bent{}.x", b + 1),
-                    motion: Motion::Record(mx),
-                    factor: 1.0,
-                });
-                out.push(Support {
-                    name: format!("bent{}.y", b + 1),
-                    motion: Motion::Record(my),
-                    factor: 1.0,
-                });
-            }
-            for (i, side) in ["left", "right"].iter().enumerate() {
-                let m = get(&e.longitudinal, "excitation.longitudinal", pga_x, lag_a(i))?;
-                out.push(Support {
-                    name: format!("{side}_abutment.x"),
-                    motion: Motion::Record(m),
-                    factor: 1.0,
-                });
-            }
-            let _ = t_max;
-        }
-        k => {
-            return Err(ck.err(
-                "excitation.kind",
-                format!("unknown excitation kind '{k}' (record, harmonic)"),
-            ));
-        }
+        "harmonic" => harmonic_supports(e, nb, ck),
+        "record" => record_supports(e, runs, nb, ck, path, motions),
+        k => Err(ck.err(
+            "excitation.kind",
+            format!("unknown excitation kind '{k}' (record, harmonic)"),
+        )),
     }
-    let _ = settings;
+}
+
+/// Sinusoidal displacement of every support, delayed by its lag.
+fn harmonic_supports(
+    e: &ExcitationSpec,
+    nb: usize,
+    ck: &Check,
+) -> Result<Vec<Support>, ModelError> {
+    let f = ck.positive(
+        "excitation.frequency",
+        e.frequency
+            .ok_or_else(|| ck.err("excitation.frequency", "required for harmonic input"))?,
+    )?;
+    let ax = ck.finite("excitation.amplitude_x", e.amplitude_x.unwrap_or(0.0))?;
+    let ay = ck.finite("excitation.amplitude_y", e.amplitude_y.unwrap_or(0.0))?;
+    let w = 2.0 * std::f64::consts::PI * f;
+    let h = |amp: f64, lag: f64, name: String| Support {
+        name,
+        motion: Motion::Harmonic {
+            amplitude: amp,
+            omega: w,
+            phase: -w * lag,
+        },
+        factor: 1.0,
+    };
+    let mut out = Vec::new();
+    for b in 0..nb {
+        out.push(h(ax, lag(&e.lag_bents, b), format!("bent{}.x", b + 1)));
+        out.push(h(ay, lag(&e.lag_bents, b), format!("bent{}.y", b + 1)));
+    }
+    out.push(h(ax, lag(&e.lag_abutments, 0), "left_abutment.x".into()));
+    out.push(h(ax, lag(&e.lag_abutments, 1), "right_abutment.x".into()));
     Ok(out)
 }
 
-/// Initial stiffness K₀ = Σ k J Jᵀ of springs and hysteretic elements at q = 0 (contacts open).
-pub fn initial_stiffness(scene: &Scene) -> DMatrix<f64> {
-    let n = scene.ndof();
-    let z = DVector::zeros(n);
-    let mut jac = DVector::zeros(n);
-    let mut k = DMatrix::zeros(n, n);
-    let mut add = |att: &Attachment, stiff: f64, jac: &mut DVector<f64>| {
-        scene.deformation(att, None, 0.0, &z, &z, jac);
-        k += &*jac * jac.transpose() * stiff;
+/// Recorded motions (longitudinal, transverse), scaled to the PGAs of the chosen run and
+/// delayed by each support's lag.
+fn record_supports(
+    e: &ExcitationSpec,
+    runs: &[RunSpec],
+    nb: usize,
+    ck: &Check,
+    path: &Path,
+    motions: &Motions,
+) -> Result<Vec<Support>, ModelError> {
+    let run =
+        match e.run {
+            Some(r) => Some(runs.get(r.wrapping_sub(1)).ok_or_else(|| {
+                ck.err("excitation.run", format!("no run {r} (1..={})", runs.len()))
+            })?),
+            None => None,
+        };
+    let (pga_x, pga_y) = run.map_or((None, None), |r| (Some(r.pga_x), Some(r.pga_y)));
+    let base = Processing {
+        time_scale: ck.positive("excitation.time_scale", e.time_scale)?,
+        baseline: Baseline::Polynomial {
+            order: e.baseline_order,
+        },
+        taper: e.taper.unwrap_or(Processing::default().taper),
+        ..Processing::default()
     };
-    for s in &scene.springs {
-        add(&s.attachment, s.stiffness, &mut jac);
-    }
-    for h in &scene.hysteretic {
-        add(&h.attachment, h.law.law().initial_stiffness(), &mut jac);
-    }
-    k
-}
-
-/// A mode of the initial system (K₀ φ = ω² M φ, φᵀMφ = 1).
-#[derive(Clone, Debug)]
-pub struct Mode {
-    pub omega: f64,
-    pub period: f64,
-    pub shape: DVector<f64>,
-}
-
-/// Eigen-analysis of (K₀, M), modes sorted by frequency.
-pub fn modes(scene: &Scene) -> Vec<Mode> {
-    let k = initial_stiffness(scene);
-    let s: DVector<f64> = scene.mass.map(|m| 1.0 / m.sqrt());
-    let n = scene.ndof();
-    let mut a = k.clone();
-    for i in 0..n {
-        for j in 0..n {
-            a[(i, j)] *= s[i] * s[j];
-        }
-    }
-    let eig = nalgebra::SymmetricEigen::new(a);
-    let mut out: Vec<Mode> = (0..n)
-        .map(|i| {
-            let w2 = eig.eigenvalues[i].max(0.0);
-            let omega = w2.sqrt();
-            let mut shape = eig.eigenvectors.column(i).component_mul(&s);
-            let big = shape
-                .iter()
-                .cloned()
-                .fold(0.0f64, |m, x| if x.abs() > m.abs() { x } else { m });
-            if big < 0.0 {
-                shape = -shape;
-            }
-            Mode {
-                omega,
-                period: if omega > 0.0 {
-                    2.0 * std::f64::consts::PI / omega
-                } else {
-                    f64::INFINITY
-                },
-                shape,
-            }
-        })
-        .collect();
-    out.sort_by(|a, b| a.omega.total_cmp(&b.omega));
-    out
-}
-
-/// Rayleigh damping C = a₀M + a₁K₀ with ζ at modes i, j (Chopra, *Dynamics of Structures*
-/// §11.4): a₀ = 2ζωᵢωⱼ/(ωᵢ+ωⱼ), a₁ = 2ζ/(ωᵢ+ωⱼ). The a₁K₀ part acts on element deformation
-/// rates, the a₀M part on velocities relative to the quasi-static motion of the supports, so
-/// damping forces vanish for rigid-body support motion.
-pub fn apply_rayleigh(
-    scene: &mut Scene,
-    zeta: f64,
-    modes_ij: [usize; 2],
-) -> Result<(f64, f64), String> {
-    let m = modes(scene);
-    let [i, j] = modes_ij;
-    if i == 0 || j == 0 || i > m.len() || j > m.len() || i == j {
-        return Err(format!(
-            "modes must be two different numbers in 1..={}",
-            m.len()
-        ));
-    }
-    let (wi, wj) = (m[i - 1].omega, m[j - 1].omega);
-    if wi <= 0.0 || wj <= 0.0 {
-        return Err("a chosen mode has zero frequency".into());
-    }
-    let a0 = 2.0 * zeta * wi * wj / (wi + wj);
-    let a1 = 2.0 * zeta / (wi + wj);
-    for s in &mut scene.springs {
-        s.damping += a1 * s.stiffness;
-    }
-    for h in &mut scene.hysteretic {
-        h.damping += a1 * h.law.law().initial_stiffness();
-    }
-    // quasi-static influence of each support: r_s = K₀⁻¹ Σ k J (unit support displacement)
-    let k0 = initial_stiffness(scene);
-    let n = scene.ndof();
-    let lu = k0.lu();
-    let z = DVector::zeros(n);
-    let mut jac = DVector::zeros(n);
-    let mut reference = Vec::new();
-    for s in 0..scene.supports.len() {
-        let mut f = DVector::zeros(n);
-        for sp in scene.springs.iter().filter(|x| x.support == Some(s)) {
-            scene.deformation(&sp.attachment, None, 0.0, &z, &z, &mut jac);
-            f.axpy(sp.stiffness, &jac, 1.0);
-        }
-        for h in scene.hysteretic.iter().filter(|x| x.support == Some(s)) {
-            scene.deformation(&h.attachment, None, 0.0, &z, &z, &mut jac);
-            f.axpy(h.law.law().initial_stiffness(), &jac, 1.0);
-        }
-        if let Some(r) = lu.solve(&f) {
-            for k in 0..n {
-                if r[k].abs() > 1e-14 {
-                    reference.push((k, s, r[k]));
-                }
-            }
-        }
-    }
-    scene.mass_damping = MassDamping {
-        alpha: a0,
-        reference,
+    // supports with the same record, PGA and lag share one motion
+    let get = |file: &Option<String>, field: &str, pga: Option<f64>, lag: f64| {
+        let file = file
+            .as_ref()
+            .ok_or_else(|| ck.err(field, "required for record input"))?;
+        let p = Processing {
+            target_pga: pga,
+            lag,
+            ..base.clone()
+        };
+        motions.get(path, file, p)
     };
-    Ok((a0, a1))
+    let record = |name: String, m| Support {
+        name,
+        motion: Motion::Record(m),
+        factor: 1.0,
+    };
+    let mut out = Vec::new();
+    for b in 0..nb {
+        let l = lag(&e.lag_bents, b);
+        let mx = get(&e.longitudinal, "excitation.longitudinal", pga_x, l)?;
+        let my = get(&e.transverse, "excitation.transverse", pga_y, l)?;
+        out.push(record(format!("bent{}.x", b + 1), mx));
+        out.push(record(format!("bent{}.y", b + 1), my));
+    }
+    for (i, side) in ["left", "right"].iter().enumerate() {
+        let l = lag(&e.lag_abutments, i);
+        let m = get(&e.longitudinal, "excitation.longitudinal", pga_x, l)?;
+        out.push(record(format!("{side}_abutment.x"), m));
+    }
+    Ok(out)
 }

@@ -1,0 +1,256 @@
+//! Law parameters (TOML/JSON schema), their validation and the backbone.
+
+use serde::{Deserialize, Serialize};
+
+/// Errors of law parameters; `field` is the offending parameter.
+#[derive(Debug, thiserror::Error)]
+pub enum HysteresisError {
+    #[error("{field}: {reason}")]
+    Invalid { field: &'static str, reason: String },
+}
+
+fn default_unloading_exponent() -> f64 {
+    0.4
+}
+
+/// A hysteretic law (TOML/JSON: `law = "linear" | "bilinear" | "takeda"` plus its fields).
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(tag = "law", rename_all = "lowercase", deny_unknown_fields)]
+pub enum Law {
+    /// `f = stiffness·u`.
+    Linear { stiffness: f64 },
+    /// Bilinear with kinematic hardening; post-yield slope `post_yield_ratio·stiffness`.
+    Bilinear {
+        stiffness: f64,
+        yield_force: f64,
+        post_yield_ratio: f64,
+    },
+    /// Takeda (see the module rules T1–T7).
+    ///
+    /// Backbone: bilinear `(0,0)–(f_y/k, f_y)` then slope `r·k`; or, with `crack_force`,
+    /// trilinear `(0,0)–(f_c/k, f_c)–(yield_displacement, f_y)` then slope `r·k`
+    /// (`k = stiffness`, the cracked-section stiffness, `r = post_yield_ratio`).
+    Takeda {
+        stiffness: f64,
+        yield_force: f64,
+        post_yield_ratio: f64,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        crack_force: Option<f64>,
+        /// Yield displacement of the trilinear backbone; required with `crack_force` only.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        yield_displacement: Option<f64>,
+        /// Exponent α of the unloading stiffness (T3).
+        #[serde(default = "default_unloading_exponent")]
+        unloading_exponent: f64,
+    },
+}
+
+fn invalid(field: &'static str, reason: impl Into<String>) -> HysteresisError {
+    HysteresisError::Invalid {
+        field,
+        reason: reason.into(),
+    }
+}
+
+fn positive(field: &'static str, x: f64) -> Result<(), HysteresisError> {
+    if x.is_finite() && x > 0.0 {
+        Ok(())
+    } else {
+        Err(invalid(
+            field,
+            format!("must be positive and finite, got {x}"),
+        ))
+    }
+}
+
+fn hardening_ratio(r: f64) -> Result<(), HysteresisError> {
+    if r.is_finite() && (0.0..1.0).contains(&r) {
+        Ok(())
+    } else {
+        Err(invalid(
+            "post_yield_ratio",
+            format!("must be in [0, 1), got {r}"),
+        ))
+    }
+}
+
+impl Law {
+    /// Checks the parameters; the error names the first offending field.
+    pub fn validate(&self) -> Result<(), HysteresisError> {
+        match *self {
+            Law::Linear { stiffness } => positive("stiffness", stiffness),
+            Law::Bilinear {
+                stiffness,
+                yield_force,
+                post_yield_ratio,
+            } => {
+                positive("stiffness", stiffness)?;
+                positive("yield_force", yield_force)?;
+                hardening_ratio(post_yield_ratio)
+            }
+            Law::Takeda {
+                stiffness,
+                yield_force,
+                post_yield_ratio,
+                crack_force,
+                yield_displacement,
+                unloading_exponent,
+            } => {
+                positive("stiffness", stiffness)?;
+                positive("yield_force", yield_force)?;
+                hardening_ratio(post_yield_ratio)?;
+                match (crack_force, yield_displacement) {
+                    (None, None) => {}
+                    (None, Some(_)) => {
+                        return Err(invalid(
+                            "yield_displacement",
+                            "only used with crack_force (trilinear backbone)",
+                        ));
+                    }
+                    (Some(_), None) => {
+                        return Err(invalid(
+                            "yield_displacement",
+                            "required with crack_force (trilinear backbone)",
+                        ));
+                    }
+                    (Some(fc), Some(uy)) => {
+                        positive("crack_force", fc)?;
+                        if fc >= yield_force {
+                            return Err(invalid(
+                                "crack_force",
+                                format!("must be below yield_force {yield_force}, got {fc}"),
+                            ));
+                        }
+                        positive("yield_displacement", uy)?;
+                        if uy <= yield_force / stiffness {
+                            return Err(invalid(
+                                "yield_displacement",
+                                format!(
+                                    "must exceed yield_force/stiffness = {}, got {uy}",
+                                    yield_force / stiffness
+                                ),
+                            ));
+                        }
+                        let k2 = (yield_force - fc) / (uy - fc / stiffness);
+                        if post_yield_ratio * stiffness > k2 {
+                            return Err(invalid(
+                                "post_yield_ratio",
+                                format!(
+                                    "post-yield slope {} exceeds the cracked slope {k2}",
+                                    post_yield_ratio * stiffness
+                                ),
+                            ));
+                        }
+                    }
+                }
+                if !(unloading_exponent.is_finite() && (0.0..=1.0).contains(&unloading_exponent)) {
+                    return Err(invalid(
+                        "unloading_exponent",
+                        format!("must be in [0, 1], got {unloading_exponent}"),
+                    ));
+                }
+                Ok(())
+            }
+        }
+    }
+
+    /// Initial (tangent) stiffness.
+    pub fn initial_stiffness(&self) -> f64 {
+        match *self {
+            Law::Linear { stiffness }
+            | Law::Bilinear { stiffness, .. }
+            | Law::Takeda { stiffness, .. } => stiffness,
+        }
+    }
+
+    /// Monotonic backbone (skeleton) force at `u`, odd in `u`.
+    pub fn backbone(&self, u: f64) -> f64 {
+        match *self {
+            Law::Linear { stiffness } => stiffness * u,
+            _ => u.signum() * Backbone::of(self).force(u.abs()),
+        }
+    }
+}
+
+/// Backbone corners: elastic to `(ue, fe)`, slope `k2` to `(uy, fy)`, then slope `kp`.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Backbone {
+    pub(super) k: f64,
+    pub(super) ue: f64,
+    pub(super) fe: f64,
+    pub(super) k2: f64,
+    pub(super) uy: f64,
+    pub(super) fy: f64,
+    pub(super) kp: f64,
+}
+
+impl Backbone {
+    pub(super) fn of(law: &Law) -> Self {
+        match *law {
+            Law::Linear { stiffness } => Self {
+                k: stiffness,
+                ue: f64::INFINITY,
+                fe: f64::INFINITY,
+                k2: stiffness,
+                uy: f64::INFINITY,
+                fy: f64::INFINITY,
+                kp: stiffness,
+            },
+            Law::Bilinear {
+                stiffness: k,
+                yield_force: fy,
+                post_yield_ratio: r,
+            }
+            | Law::Takeda {
+                stiffness: k,
+                yield_force: fy,
+                post_yield_ratio: r,
+                crack_force: None,
+                ..
+            } => Self {
+                k,
+                ue: fy / k,
+                fe: fy,
+                k2: r * k,
+                uy: fy / k,
+                fy,
+                kp: r * k,
+            },
+            Law::Takeda {
+                stiffness: k,
+                yield_force: fy,
+                post_yield_ratio: r,
+                crack_force: Some(fc),
+                yield_displacement,
+                ..
+            } => {
+                let uy = yield_displacement.unwrap_or(fy / k);
+                let ue = fc / k;
+                Self {
+                    k,
+                    ue,
+                    fe: fc,
+                    k2: (fy - fc) / (uy - ue),
+                    uy,
+                    fy,
+                    kp: r * k,
+                }
+            }
+        }
+    }
+
+    /// Force at `a ≥ 0`.
+    pub(super) fn force(&self, a: f64) -> f64 {
+        if a <= self.ue {
+            self.k * a
+        } else if a <= self.uy {
+            self.fe + self.k2 * (a - self.ue)
+        } else {
+            self.fy + self.kp * (a - self.uy)
+        }
+    }
+
+    pub(super) fn trilinear(&self) -> bool {
+        self.ue < self.uy
+    }
+}

@@ -1,0 +1,138 @@
+//! Modal analysis of any model at its initial state: K₀, modes (K₀ φ = ω² M φ) and Rayleigh
+//! damping. The `modes` command and the bridge's `[damping]` both use it.
+
+use crate::scene::{Attachment, MassDamping, Scene};
+use nalgebra::{DMatrix, DVector};
+
+/// Initial stiffness K₀ = Σ k J Jᵀ of springs and hysteretic elements at q = 0 (contacts open).
+pub fn initial_stiffness(scene: &Scene) -> DMatrix<f64> {
+    let n = scene.ndof();
+    let z = DVector::zeros(n);
+    let mut jac = DVector::zeros(n);
+    let mut k = DMatrix::zeros(n, n);
+    let mut add = |att: &Attachment, stiff: f64, jac: &mut DVector<f64>| {
+        scene.deformation(att, None, 0.0, &z, &z, jac);
+        k += &*jac * jac.transpose() * stiff;
+    };
+    for s in &scene.springs {
+        add(&s.attachment, s.stiffness, &mut jac);
+    }
+    for h in &scene.hysteretic {
+        add(&h.attachment, h.law.law().initial_stiffness(), &mut jac);
+    }
+    k
+}
+
+/// A mode of the initial system (K₀ φ = ω² M φ, φᵀMφ = 1).
+#[derive(Clone, Debug)]
+pub struct Mode {
+    pub omega: f64,
+    pub period: f64,
+    pub shape: DVector<f64>,
+}
+
+/// Eigen-analysis of (K₀, M), modes sorted by frequency.
+pub fn modes(scene: &Scene) -> Vec<Mode> {
+    let k = initial_stiffness(scene);
+    let s: DVector<f64> = scene.mass.map(|m| 1.0 / m.sqrt());
+    let n = scene.ndof();
+    let mut a = k.clone();
+    for i in 0..n {
+        for j in 0..n {
+            a[(i, j)] *= s[i] * s[j];
+        }
+    }
+    let eig = nalgebra::SymmetricEigen::new(a);
+    let mut out: Vec<Mode> = (0..n)
+        .map(|i| {
+            let w2 = eig.eigenvalues[i].max(0.0);
+            let omega = w2.sqrt();
+            let mut shape = eig.eigenvectors.column(i).component_mul(&s);
+            let big = shape
+                .iter()
+                .cloned()
+                .fold(0.0f64, |m, x| if x.abs() > m.abs() { x } else { m });
+            if big < 0.0 {
+                shape = -shape;
+            }
+            Mode {
+                omega,
+                period: if omega > 0.0 {
+                    2.0 * std::f64::consts::PI / omega
+                } else {
+                    f64::INFINITY
+                },
+                shape,
+            }
+        })
+        .collect();
+    out.sort_by(|a, b| a.omega.total_cmp(&b.omega));
+    out
+}
+
+/// Rayleigh damping C = a₀M + a₁K₀ with ζ at modes i, j (Chopra, *Dynamics of Structures*
+/// §11.4): a₀ = 2ζωᵢωⱼ/(ωᵢ+ωⱼ), a₁ = 2ζ/(ωᵢ+ωⱼ). The a₁K₀ part acts on element deformation
+/// rates, the a₀M part on velocities relative to the quasi-static motion of the supports, so
+/// damping forces vanish for rigid-body support motion.
+pub fn apply_rayleigh(
+    scene: &mut Scene,
+    zeta: f64,
+    modes_ij: [usize; 2],
+) -> Result<(f64, f64), String> {
+    let m = modes(scene);
+    let [i, j] = modes_ij;
+    if i == 0 || j == 0 || i > m.len() || j > m.len() || i == j {
+        return Err(format!(
+            "modes must be two different numbers in 1..={}",
+            m.len()
+        ));
+    }
+    let (wi, wj) = (m[i - 1].omega, m[j - 1].omega);
+    if wi <= 0.0 || wj <= 0.0 {
+        return Err("a chosen mode has zero frequency".into());
+    }
+    let a0 = 2.0 * zeta * wi * wj / (wi + wj);
+    let a1 = 2.0 * zeta / (wi + wj);
+    for s in &mut scene.springs {
+        s.damping += a1 * s.stiffness;
+    }
+    for h in &mut scene.hysteretic {
+        h.damping += a1 * h.law.law().initial_stiffness();
+    }
+    let reference = support_influence(scene);
+    scene.mass_damping = MassDamping {
+        alpha: a0,
+        reference,
+    };
+    Ok((a0, a1))
+}
+
+/// Quasi-static influence of each support, r_s = K₀⁻¹ Σ k J (unit support displacement), as
+/// (DOF, support, r) entries above 1e-14.
+fn support_influence(scene: &Scene) -> Vec<(usize, usize, f64)> {
+    let k0 = initial_stiffness(scene);
+    let n = scene.ndof();
+    let lu = k0.lu();
+    let z = DVector::zeros(n);
+    let mut jac = DVector::zeros(n);
+    let mut reference = Vec::new();
+    for s in 0..scene.supports.len() {
+        let mut f = DVector::zeros(n);
+        for sp in scene.springs.iter().filter(|x| x.support == Some(s)) {
+            scene.deformation(&sp.attachment, None, 0.0, &z, &z, &mut jac);
+            f.axpy(sp.stiffness, &jac, 1.0);
+        }
+        for h in scene.hysteretic.iter().filter(|x| x.support == Some(s)) {
+            scene.deformation(&h.attachment, None, 0.0, &z, &z, &mut jac);
+            f.axpy(h.law.law().initial_stiffness(), &jac, 1.0);
+        }
+        if let Some(r) = lu.solve(&f) {
+            for k in 0..n {
+                if r[k].abs() > 1e-14 {
+                    reference.push((k, s, r[k]));
+                }
+            }
+        }
+    }
+    reference
+}

@@ -1,0 +1,186 @@
+//! Validation helpers: [`ModelError`] with file, line and field, [`Check`] for located
+//! `Invalid` errors, and the search of a dotted field path in the TOML text.
+
+use crate::excitation::ExcitationError;
+use nalgebra::Vector2;
+use std::path::{Path, PathBuf};
+
+/// Errors of reading, overriding or validating a model.
+#[derive(Debug, thiserror::Error)]
+pub enum ModelError {
+    #[error("{}: cannot read: {source}", path.display())]
+    Io {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    #[error("{}:{line}:{column}: {message}", path.display())]
+    Parse {
+        path: PathBuf,
+        line: usize,
+        column: usize,
+        message: String,
+    },
+    #[error("{}:{line}: {field}: {reason}", path.display())]
+    Invalid {
+        path: PathBuf,
+        /// 0 when the field is absent from the file.
+        line: usize,
+        field: String,
+        reason: String,
+    },
+    #[error("--set {key}: {reason}")]
+    Override { key: String, reason: String },
+    #[error("{}: {source}", path.display())]
+    Excitation {
+        path: PathBuf,
+        #[source]
+        source: ExcitationError,
+    },
+}
+
+impl ModelError {
+    /// Line of the error in the model file, when known.
+    pub fn line(&self) -> Option<usize> {
+        match self {
+            ModelError::Parse { line, .. } | ModelError::Invalid { line, .. } if *line > 0 => {
+                Some(*line)
+            }
+            _ => None,
+        }
+    }
+}
+
+/// Locates a dotted field path (`body.1.mass`) in TOML text: (line, column), 1-based. Falls
+/// back to the nearest enclosing table or key that exists.
+pub fn locate(text: &str, path: &str) -> Option<(usize, usize)> {
+    let doc = toml_edit::Document::parse(text).ok()?;
+    let segs: Vec<&str> = path.split('.').collect();
+    let span = find_in_table(doc.as_table(), &segs, None)?;
+    Some(line_col(text, span.start))
+}
+
+type Span = Option<std::ops::Range<usize>>;
+
+fn find_in_table(t: &toml_edit::Table, segs: &[&str], best: Span) -> Span {
+    let Some((first, rest)) = segs.split_first() else {
+        return best.or(t.span());
+    };
+    match t.get_key_value(first) {
+        None => best.or(t.span()),
+        Some((k, item)) => {
+            let here = k.span().or(item.span()).or(best);
+            find_in_item(item, rest, here)
+        }
+    }
+}
+
+fn find_in_item(item: &toml_edit::Item, segs: &[&str], best: Span) -> Span {
+    if segs.is_empty() {
+        return best;
+    }
+    match item {
+        toml_edit::Item::Table(t) => find_in_table(t, segs, best),
+        toml_edit::Item::ArrayOfTables(a) => {
+            match segs[0].parse::<usize>().ok().and_then(|i| a.get(i)) {
+                Some(t) => find_in_table(t, &segs[1..], t.span().or(best)),
+                None => best,
+            }
+        }
+        toml_edit::Item::Value(v) => find_in_value(v, segs, best),
+        _ => best,
+    }
+}
+
+fn find_in_value(v: &toml_edit::Value, segs: &[&str], best: Span) -> Span {
+    let Some((first, rest)) = segs.split_first() else {
+        return best;
+    };
+    match v {
+        toml_edit::Value::InlineTable(t) => match (t.key(first), t.get(first)) {
+            (Some(k), Some(v)) => find_in_value(v, rest, k.span().or(v.span()).or(best)),
+            _ => best,
+        },
+        toml_edit::Value::Array(a) => match first.parse::<usize>().ok().and_then(|i| a.get(i)) {
+            Some(v) => find_in_value(v, rest, v.span().or(best)),
+            None => best,
+        },
+        _ => best,
+    }
+}
+
+fn line_col(text: &str, offset: usize) -> (usize, usize) {
+    let before = &text[..offset.min(text.len())];
+    let line = before.matches('\n').count() + 1;
+    let col = before
+        .rfind('\n')
+        .map_or(before.len(), |p| before.len() - p - 1)
+        + 1;
+    (line, col)
+}
+
+/// A TOML syntax or schema error, located in `text` (file:line:column).
+pub(super) fn parse_error(e: &toml::de::Error, text: &str, path: &Path) -> ModelError {
+    let (line, column) = e.span().map_or((0, 0), |s| line_col(text, s.start));
+    ModelError::Parse {
+        path: path.to_path_buf(),
+        line,
+        column,
+        message: e.message().to_string(),
+    }
+}
+
+/// Validation context: builds `Invalid` errors located in the text.
+pub struct Check<'a> {
+    pub text: &'a str,
+    pub path: &'a Path,
+}
+
+impl Check<'_> {
+    pub fn err(&self, field: &str, reason: impl Into<String>) -> ModelError {
+        ModelError::Invalid {
+            path: self.path.to_path_buf(),
+            line: locate(self.text, field).map_or(0, |l| l.0),
+            field: field.to_string(),
+            reason: reason.into(),
+        }
+    }
+    pub fn finite(&self, field: &str, x: f64) -> Result<f64, ModelError> {
+        if x.is_finite() {
+            Ok(x)
+        } else {
+            Err(self.err(field, format!("must be a finite number, got {x}")))
+        }
+    }
+    pub fn positive(&self, field: &str, x: f64) -> Result<f64, ModelError> {
+        self.finite(field, x)?;
+        if x > 0.0 {
+            Ok(x)
+        } else {
+            Err(self.err(field, format!("must be > 0, got {x}")))
+        }
+    }
+    pub fn nonneg(&self, field: &str, x: f64) -> Result<f64, ModelError> {
+        self.finite(field, x)?;
+        if x >= 0.0 {
+            Ok(x)
+        } else {
+            Err(self.err(field, format!("must be ≥ 0, got {x}")))
+        }
+    }
+    pub fn vec2(&self, field: &str, v: [f64; 2]) -> Result<Vector2<f64>, ModelError> {
+        for (i, x) in v.iter().enumerate() {
+            self.finite(&format!("{field}[{i}]"), *x)
+                .map_err(|_| self.err(field, "must be finite"))?;
+        }
+        Ok(Vector2::new(v[0], v[1]))
+    }
+    pub fn unit(&self, field: &str, v: [f64; 2]) -> Result<Vector2<f64>, ModelError> {
+        let v = self.vec2(field, v)?;
+        let n = v.norm();
+        if n < 1e-12 {
+            return Err(self.err(field, "must be a nonzero direction"));
+        }
+        Ok(v / n)
+    }
+}

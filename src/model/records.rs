@@ -1,0 +1,74 @@
+//! The excitation records of a model: found relative to the model file, read and processed
+//! once per (file, processing) and shared.
+
+use super::check::ModelError;
+use crate::excitation::{GroundMotion, Processing};
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+/// Read and process a record named relative to the model file.
+pub fn load_motion(
+    model: &Path,
+    file: &str,
+    p: Processing,
+) -> Result<Arc<GroundMotion>, ModelError> {
+    Motions::default().get(model, file, p)
+}
+
+/// The record file a model names: relative to the model file, else to the working directory,
+/// else to a directory above the model (the project root above `models/`).
+fn resolve_record(model: &Path, file: &str) -> PathBuf {
+    let base = model.parent().unwrap_or(Path::new("."));
+    let rp = base.join(file);
+    if rp.exists() {
+        return rp;
+    }
+    let alt = PathBuf::from(file);
+    if alt.exists() {
+        alt
+    } else if let Some(root) = base.ancestors().find(|a| a.join(file).exists()) {
+        root.join(file)
+    } else {
+        rp
+    }
+}
+
+/// Processed ground motions by (record file, processing): the supports of one model that share
+/// a record share one motion, and the loads of one study (its sweeps) read each record once.
+#[derive(Debug, Default)]
+pub struct Motions(std::sync::Mutex<Vec<(PathBuf, Processing, Arc<GroundMotion>)>>);
+
+impl Motions {
+    /// The motion of `file` (named relative to `model`) processed by `p`, read at first use.
+    pub fn get(
+        &self,
+        model: &Path,
+        file: &str,
+        p: Processing,
+    ) -> Result<Arc<GroundMotion>, ModelError> {
+        let rp = resolve_record(model, file);
+        let known = |list: &[(PathBuf, Processing, Arc<GroundMotion>)]| {
+            list.iter()
+                .find(|(f, q, _)| *f == rp && *q == p)
+                .map(|(_, _, m)| m.clone())
+        };
+        // a panic elsewhere while the list was held leaves it intact: use it anyway
+        let lock = || self.0.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some(m) = known(&lock()) {
+            return Ok(m);
+        }
+        let err = |e| ModelError::Excitation {
+            path: model.to_path_buf(),
+            source: e,
+        };
+        let rec = crate::excitation::read_any(&rp).map_err(err)?;
+        let g = Arc::new(GroundMotion::from_record(&rec, &p).map_err(err)?);
+        let mut list = lock();
+        // another thread may have read it meanwhile: keep one
+        if let Some(m) = known(&list) {
+            return Ok(m);
+        }
+        list.push((rp, p, g.clone()));
+        Ok(g)
+    }
+}
