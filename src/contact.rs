@@ -19,6 +19,32 @@ pub struct ImpactOutcome {
     pub pivots: usize,
 }
 
+/// Coulomb's law at a closed contact (paper eq. 2–4, 9): |λ_T| ≤ μ λ_N, with λ_T = −μ s λ_N
+/// while sliding in direction s = sign ġ_T.
+pub mod coulomb {
+    /// The friction force of a contact sliding in direction `s`: λ_T = −μ s λ_N.
+    #[inline]
+    pub fn sliding_force(mu: f64, s: f64, lam_n: f64) -> f64 {
+        -mu * s * lam_n
+    }
+
+    /// How far a sticking force lies inside the friction cone: μ λ_N − |λ_T| (< 0: it slips).
+    #[inline]
+    pub fn stick_margin(mu: f64, lam_n: f64, lam_t: f64) -> f64 {
+        mu * lam_n - lam_t.abs()
+    }
+
+    /// λ_T brought back onto the cone |λ_T| ≤ μ λ_N (a return map).
+    #[inline]
+    pub fn onto_cone(mu: f64, lam_n: f64, lam_t: f64) -> f64 {
+        if lam_t.abs() > mu * lam_n {
+            mu * lam_n * lam_t.signum()
+        } else {
+            lam_t
+        }
+    }
+}
+
 /// Delassus entry G_XY = W_Xᵀ M⁻¹ W_Y (eq. 7).
 fn delassus(a: &DVector<f64>, minv: &DVector<f64>, b: &DVector<f64>) -> f64 {
     a.iter()
@@ -234,7 +260,7 @@ pub fn solve_contact(
             }
         };
         if let Some(s) = slide[i] {
-            lam_t[i] = -mu[i] * s * lam_n[i];
+            lam_t[i] = coulomb::sliding_force(mu[i], s, lam_n[i]);
         }
     }
     for (a, &i) in hs.iter().enumerate() {

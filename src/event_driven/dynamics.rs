@@ -4,6 +4,7 @@
 use super::engine::Engine;
 use super::resolve::check_painleve;
 use super::workspace::Scratch;
+use crate::contact::coulomb;
 use crate::hysteresis::Hysteretic;
 use crate::linalg::solve_small_into;
 use crate::output::ContactState;
@@ -232,7 +233,7 @@ impl Scratch {
             } else {
                 self.lam_n[i] = lr;
                 if let ContactState::Slide(s) = contacts[i] {
-                    self.lam_t[i] = -scene.contacts[i].mu * s * lr;
+                    self.lam_t[i] = coulomb::sliding_force(scene.contacts[i].mu, s, lr);
                 }
             }
         }

@@ -3,6 +3,7 @@
 
 use super::engine::Engine;
 use super::event_fn::EventFn;
+use crate::contact::coulomb;
 use crate::output::ContactState;
 use crate::run::SolverError;
 use nalgebra::DVector;
@@ -117,7 +118,9 @@ impl<'a> Engine<'a> {
             let val = match *f {
                 EventFn::Gap(i) => scene.contact_rates_in(&fr, &scene.contacts[i]).0,
                 EventFn::Release(i) => d.lam_n[i],
-                EventFn::StickSlip(i) => scene.contacts[i].mu * d.lam_n[i] - d.lam_t[i].abs(),
+                EventFn::StickSlip(i) => {
+                    coulomb::stick_margin(scene.contacts[i].mu, d.lam_n[i], d.lam_t[i])
+                }
                 EventFn::SlideStop(i) => {
                     let s = match self.state.contacts[i] {
                         ContactState::Slide(s) => s,
