@@ -6,6 +6,7 @@
 //! - [`scene`]: planar rigid bodies, contacts, force elements (eq. 1–2).
 //! - [`contact`]: the impact LCP (eq. 5–7) and the contact LCP (eq. 8–10).
 //! - [`dopri`], [`event_driven`]: the event-driven integrator.
+//! - [`timestepping`]: Moreau–Jean and penalty methods; [`methods`]: the registry of methods.
 //! - [`hysteresis`]: linear, bilinear and Takeda laws for columns.
 //! - [`excitation`]: records, processing, multi-support motions.
 //! - [`model`], [`bridge`]: model files.
@@ -18,6 +19,7 @@ pub mod event_driven;
 pub mod excitation;
 pub mod hysteresis;
 pub mod lemke;
+pub mod methods;
 pub mod model;
 pub mod output;
 pub mod precision;
@@ -29,4 +31,4 @@ pub mod tui;
 pub use event_driven::{FrictionFork, Observer, Silent, SolverError, run};
 pub use model::{ModelError, load};
 pub use output::RunOutput;
-pub use timestepping::simulate;
+pub use methods::simulate;
