@@ -20,8 +20,9 @@ use crate::output::{
     ContactState, ContactSample, EnergySample, EventKind, EventRecord, RunOutput, SampleKind,
     SampleView,
 };
-use crate::scene::{Attachment, Frame, PowerTerms, Scene};
+use crate::scene::{Attachment, ForceModel, Frame, PowerTerms, Scene};
 use nalgebra::{DMatrix, DVector};
+use std::cell::RefCell;
 use std::time::Instant;
 
 /// Shared state of a fixed-step run: laws, ledger, output.
@@ -46,6 +47,17 @@ struct Stepper<'a> {
     /// Penalty: elastic tangential (stick) displacement per contact.
     slip_spring: Vec<f64>,
     jac: DVector<f64>,
+    /// h(t, q, q̇) of eq. 1, as the event-driven engine evaluates it.
+    forces: ForceModel,
+    scratch: RefCell<Scratch>,
+}
+
+/// Buffers of the smooth-force evaluations: frame, trial laws, (e, ė) per hysteretic element.
+#[derive(Default)]
+struct Scratch {
+    fr: Frame,
+    laws: Vec<Hysteretic>,
+    elements: Vec<(f64, f64)>,
 }
 
 fn deformation_of(
@@ -62,11 +74,15 @@ impl<'a> Stepper<'a> {
     fn new(scene: &'a Scene) -> Self {
         let n = scene.ndof();
         let mut laws: Vec<Hysteretic> = scene.hysteretic.iter().map(|h| h.law.clone()).collect();
-        let fr = scene.frame(0.0, &scene.q0, &scene.v0);
-        let mut jac = DVector::zeros(n);
-        for (j, el) in scene.hysteretic.iter().enumerate() {
-            let (e, ed, _) = deformation_of(scene, &fr, &el.attachment, el.support, &mut jac);
-            laws[j].set_direction(e, if ed < 0.0 { -1.0 } else { 1.0 });
+        let forces = ForceModel::new(scene);
+        let mut scratch = Scratch {
+            elements: vec![(0.0, 0.0); laws.len()],
+            ..Scratch::default()
+        };
+        scene.frame_into(&mut scratch.fr, 0.0, &scene.q0, &scene.v0);
+        forces.deformations(&scratch.fr, &mut scratch.elements);
+        for (law, &(e, ed)) in laws.iter_mut().zip(&scratch.elements) {
+            law.set_direction(e, if ed < 0.0 { -1.0 } else { 1.0 });
         }
         let nc = scene.contacts.len();
         Self {
@@ -89,7 +105,9 @@ impl<'a> Stepper<'a> {
             lam_n: vec![0.0; nc],
             lam_t: vec![0.0; nc],
             slip_spring: vec![0.0; nc],
-            jac,
+            jac: DVector::zeros(n),
+            forces,
+            scratch: RefCell::new(scratch),
         }
     }
 
@@ -101,26 +119,27 @@ impl<'a> Stepper<'a> {
         v: &DVector<f64>,
         h: &mut DVector<f64>,
     ) -> PowerTerms {
-        let scene = self.scene;
-        let fr = scene.frame(t, q, v);
-        let mut jac = DVector::zeros(scene.ndof());
-        let mut laws = self.laws.clone();
-        for (j, el) in scene.hysteretic.iter().enumerate() {
-            let (e, _, _) = deformation_of(scene, &fr, &el.attachment, el.support, &mut jac);
-            laws[j].drive(&[e]);
+        let mut scratch = self.scratch.borrow_mut();
+        let Scratch { fr, laws, elements } = &mut *scratch;
+        self.scene.frame_into(fr, t, q, v);
+        self.forces.deformations(fr, elements);
+        laws.clone_from(&self.laws);
+        for (law, &(e, _)) in laws.iter_mut().zip(elements.iter()) {
+            law.drive(&[e]);
         }
-        crate::scene::smooth_forces_in(scene, Some(&laws), &fr, v, h, None)
+        self.forces.eval(self.scene, laws, fr, v, h, elements)
     }
 
     /// Move the laws along to the committed state q.
     fn commit_laws(&mut self) {
-        let scene = self.scene;
-        let fr = scene.frame(self.t, &self.q, &self.v);
-        for (j, el) in scene.hysteretic.iter().enumerate() {
-            let (e, _, _) = deformation_of(scene, &fr, &el.attachment, el.support, &mut self.jac);
-            let before = self.laws[j].branch().stiffness;
-            self.laws[j].drive(&[e]);
-            if self.laws[j].branch().stiffness != before {
+        let mut scratch = self.scratch.borrow_mut();
+        let Scratch { fr, elements, .. } = &mut *scratch;
+        self.scene.frame_into(fr, self.t, &self.q, &self.v);
+        self.forces.deformations(fr, elements);
+        for (law, &(e, _)) in self.laws.iter_mut().zip(elements.iter()) {
+            let before = law.branch().stiffness;
+            law.drive(&[e]);
+            if law.branch().stiffness != before {
                 self.out.stats.branch_events += 1;
             }
         }
@@ -199,16 +218,11 @@ impl<'a> Stepper<'a> {
                 }
             })
             .collect();
-        let elements: Vec<(f64, f64)> = scene
-            .hysteretic
-            .iter()
-            .enumerate()
-            .map(|(j, el)| {
-                let (e, _, _) =
-                    deformation_of(scene, &fr, &el.attachment, el.support, &mut self.jac);
-                (e, self.laws[j].force(e))
-            })
-            .collect();
+        let mut elements = vec![(0.0, 0.0); self.laws.len()];
+        self.forces.deformations(&fr, &mut elements);
+        for ((e, f), law) in elements.iter_mut().zip(&self.laws) {
+            *f = law.force(*e);
+        }
         let energy = self.energy(contact_elastic);
         self.energy_scale = self.energy_scale.max(energy.scale());
         self.out.record(SampleView {
