@@ -29,6 +29,6 @@ pub mod timestepping;
 pub mod tui;
 
 pub use event_driven::{FrictionFork, Observer, Silent, SolverError, run};
+pub use methods::simulate;
 pub use model::{ModelError, load};
 pub use output::RunOutput;
-pub use methods::simulate;

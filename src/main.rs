@@ -1,6 +1,7 @@
 //! `deckspin` command line: a thin layer over the library.
 
 use clap::{Parser, Subcommand};
+use deckspin::methods::Method;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -32,8 +33,8 @@ enum Command {
         /// Also print the state at this instant (velocities, contact states and forces).
         #[arg(long)]
         at: Option<f64>,
-        /// Integration method: event, moreau, penalty, penalty-explicit (default: the model's).
-        #[arg(long)]
+        /// Integration method (default: the model's).
+        #[arg(long, help = format!("Integration method: {} (default: the model's)", Method::names(", ")))]
         method: Option<String>,
     },
     /// Eigen-analysis of the initial system: periods and mode shapes.
@@ -88,8 +89,8 @@ enum Command {
     /// Work–precision: CPU time against error for each method and knob.
     Precision {
         model: PathBuf,
-        /// Comma-separated: event,moreau,penalty,penalty-explicit.
-        #[arg(long, default_value = "event,moreau,penalty,penalty-explicit")]
+        /// Comma-separated method names.
+        #[arg(long, default_value_t = Method::names(","), help = format!("Comma-separated: {}", Method::names(",")))]
         methods: String,
         #[arg(long = "set", value_name = "KEY=VALUE")]
         set: Vec<String>,
@@ -592,7 +593,7 @@ fn cmd_bench(model: &std::path::Path, repeat: usize, sweeps: usize) -> CliResult
 
 fn precision_points(
     model: &std::path::Path,
-    methods: &[&str],
+    methods: &[Method],
     set: &[String],
     quick: bool,
 ) -> Result<
@@ -611,7 +612,7 @@ fn precision_points(
         reference.run.dof_names[reference.dof], reference.peak
     );
     let mut points = Vec::new();
-    for m in methods {
+    for &m in methods {
         for (label, ov) in knobs(
             m,
             scene.settings.t_end,
@@ -621,12 +622,19 @@ fn precision_points(
             let p = bench.measure(&reference, m, &label, &ov);
             eprintln!(
                 "  {m:<17} {label:<22} {:>10.4} s  peak err {:.3e}  {}",
-                p.cpu_s, p.peak_error, p.status
+                p.cpu_s,
+                p.peak_error,
+                status(&p)
             );
             points.push(p);
         }
     }
     Ok((reference, points))
+}
+
+/// "ok" or why the run gave no output.
+fn status(p: &deckspin::precision::Point) -> String {
+    p.failure.as_ref().map_or("ok".into(), |e| e.to_string())
 }
 
 fn cmd_precision(
@@ -638,12 +646,9 @@ fn cmd_precision(
     out: &std::path::Path,
 ) -> CliResult {
     use deckspin::precision::{chart, cheapest_within, write_csv};
-    let methods: Vec<&str> = methods.split(',').map(|s| s.trim()).collect();
-    for m in &methods {
-        if deckspin::scene::Method::parse(m).is_none() {
-            return Err(format!("unknown method '{m}'").into());
-        }
-    }
+    let methods = (methods.split(',').map(|s| s.trim()))
+        .map(|m| Method::parse(m).ok_or_else(|| format!("unknown method '{m}'")))
+        .collect::<Result<Vec<_>, _>>()?;
     let (reference, points) = precision_points(model, &methods, set, quick)?;
     let metric = metric.unwrap_or_else(|| {
         if reference.run.dof_names[reference.dof].ends_with("theta") {
@@ -676,7 +681,7 @@ fn cmd_precision(
             p.rms_error,
             p.impact_time_error,
             p.steps,
-            p.status
+            status(p)
         );
     }
     text += "\n";
@@ -684,8 +689,8 @@ fn cmd_precision(
     text += &chart(&points, &metric, 64, 18);
     let tol = if metric == "impact" { 1e-3 } else { 0.01 };
     text += &format!("\ncheapest run within {tol} ({metric} error):\n");
-    let event = cheapest_within(&points, "event", &metric, tol).map(|p| p.cpu_s);
-    for m in &methods {
+    let event = cheapest_within(&points, Method::Event, &metric, tol).map(|p| p.cpu_s);
+    for &m in &methods {
         match cheapest_within(&points, m, &metric, tol) {
             Some(p) => {
                 let ratio =
@@ -708,8 +713,7 @@ fn cmd_stability(
     quick: bool,
 ) -> CliResult {
     use deckspin::precision::verdict;
-    let methods = ["event", "moreau", "penalty", "penalty-explicit"];
-    let (_, points) = precision_points(model, &methods, set, quick)?;
+    let (_, points) = precision_points(model, &Method::ALL, set, quick)?;
     println!(
         "{:<17} {:<22} verdict (peak error limit {:.0} %)",
         "method",

@@ -181,7 +181,8 @@ fn all_methods_agree_on_the_oscillator_against_a_stop() {
 
 #[test]
 fn stability_report_for_the_bridge_flags_failures_and_passes_the_event_method() {
-    use deckspin::precision::{Bench, knobs, verdict};
+    use deckspin::methods::Method;
+    use deckspin::precision::{Bench, Verdict, knobs, verdict};
     let bench = Bench::open(
         &model("models/four-span.toml"),
         &["solver.t_end=4.0".into()],
@@ -189,7 +190,7 @@ fn stability_report_for_the_bridge_flags_failures_and_passes_the_event_method() 
     .unwrap();
     let reference = bench.reference(1e-9).unwrap();
     let mut table = Vec::new();
-    for m in ["event", "penalty-explicit"] {
+    for m in [Method::Event, Method::PenaltyExplicit] {
         for (label, ov) in knobs(m, 4.0, 1e6, true) {
             let p = bench.measure(&reference, m, &label, &ov);
             table.push((m, label, verdict(&p, 0.05)));
@@ -197,16 +198,16 @@ fn stability_report_for_the_bridge_flags_failures_and_passes_the_event_method() 
     }
     for (m, label, v) in &table {
         eprintln!("{m:<17} {label:<16} {v}");
-        if *m == "event" {
-            assert!(v.starts_with("ok"), "{m} {label}: {v}");
+        if *m == Method::Event {
+            assert!(matches!(v, Verdict::Ok { .. }), "{m} {label}: {v}");
         }
     }
     // 4 s / 100 steps = 0.04 s ≫ 2/ω of a 1e6 kN/m gap element on a 0.65 t abutment
     let coarse = table
         .iter()
-        .find(|(m, l, _)| *m == "penalty-explicit" && l.starts_with("h=4.0e-2"))
+        .find(|(m, l, _)| *m == Method::PenaltyExplicit && l.starts_with("h=4.0e-2"))
         .unwrap();
-    assert!(coarse.2.starts_with("unstable"), "{coarse:?}");
+    assert!(matches!(coarse.2, Verdict::Unstable), "{coarse:?}");
 }
 
 /// Two unconnected unit-mass oscillators, ω = 1 and 100 rad/s, each starting at 1 m/s: DP5's

@@ -17,7 +17,7 @@ pub use penalty::run_penalty;
 use crate::event_driven::SolverError;
 use crate::hysteresis::Hysteretic;
 use crate::output::{
-    ContactState, ContactSample, EnergySample, EventKind, EventRecord, RunOutput, SampleKind,
+    ContactSample, ContactState, EnergySample, EventKind, EventRecord, RunOutput, SampleKind,
     SampleView,
 };
 use crate::scene::{Attachment, ForceModel, Frame, PowerTerms, Scene};

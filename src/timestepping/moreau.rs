@@ -118,11 +118,13 @@ fn percussions(
     let mu: Vec<f64> = active.iter().map(|&i| scene.contacts[i].mu).collect();
     let g = |a: &DVector<f64>, b: &DVector<f64>| a.dot(&(winv * b));
     let lemke = &scene.settings.lemke;
-    let (pn, pt, piv) = frictional_velocity_lcp(&w_n, &w_t, &g, &q_n, &q_t, &mu, lemke)
-        .map_err(|e| SolverError::Lcp {
-            t: s.t,
-            what: "Moreau–Jean",
-            source: e,
+    let (pn, pt, piv) =
+        frictional_velocity_lcp(&w_n, &w_t, &g, &q_n, &q_t, &mu, lemke).map_err(|e| {
+            SolverError::Lcp {
+                t: s.t,
+                what: "Moreau–Jean",
+                source: e,
+            }
         })?;
     s.out.stats.lcp_solves += 1;
     s.out.stats.lemke_pivots += piv;

@@ -43,12 +43,7 @@ impl Step<'_> {
     }
 
     /// LU of the finite-difference Jacobian ∂r/∂q₁.
-    fn jacobian(
-        &self,
-        q1: &DVector<f64>,
-        r: &DVector<f64>,
-        mask: &[bool],
-    ) -> LU<f64, Dyn, Dyn> {
+    fn jacobian(&self, q1: &DVector<f64>, r: &DVector<f64>, mask: &[bool]) -> LU<f64, Dyn, Dyn> {
         let n = q1.len();
         let mut jm = DMatrix::zeros(n, n);
         for j in 0..n {

@@ -344,7 +344,9 @@ impl EnergyGuard {
             t: s.t,
             method,
             step: self.h,
-            detail: format!("energy {e_now:.3e} exceeds 10 × the largest input {e_supplied:.3e} ({why})"),
+            detail: format!(
+                "energy {e_now:.3e} exceeds 10 × the largest input {e_supplied:.3e} ({why})"
+            ),
         })
     }
 }
