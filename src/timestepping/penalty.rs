@@ -6,6 +6,7 @@
 use super::newmark::{StepState, newmark_step};
 use super::{Stepper, number_of_steps};
 use crate::event_driven::{Batcher, Observer, SolverError};
+use crate::methods::Method;
 use crate::output::{ContactState, RunOutput};
 use crate::scene::{Frame, PowerTerms, Scene};
 use nalgebra::DVector;
@@ -51,8 +52,9 @@ impl GapElements {
     ) -> (DVector<f64>, PowerTerms, PenaltyForces) {
         let mut f = DVector::zeros(s.scene.ndof());
         let p = s.forces_trial(t, q, v, &mut f);
-        let fr = s.scene.frame(t, q, v);
-        let pf = penalty_forces(s.scene, &fr, self.k, &self.dashpots, slip0, dslip, mask);
+        // the frame at (t, q, q̇) forces_trial left in the scratch
+        let fr = &s.scratch.borrow().fr;
+        let pf = penalty_forces(s.scene, fr, self.k, &self.dashpots, slip0, dslip, mask);
         ((f + &pf.f).component_mul(&s.minv), p, pf)
     }
 }
@@ -331,12 +333,12 @@ impl EnergyGuard {
         }
         let (method, why) = if self.explicit {
             (
-                "penalty-explicit",
+                Method::PenaltyExplicit.name(),
                 "explicit central difference is stable for h < 2/ω of the stiffest contact",
             )
         } else {
             (
-                "penalty",
+                Method::Penalty.name(),
                 "the switching gap elements pump energy into the Newmark scheme at this step",
             )
         };
