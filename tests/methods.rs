@@ -247,3 +247,40 @@ fn the_fast_oscillator_sets_the_event_method_step_size() {
         assert!(s.step_control.windows(2).all(|w| w[0].1 >= w[1].1));
     }
 }
+
+/// The fixed-step methods evaluate h(t, q, q̇) with `ForceModel` (merged springs, forces summed
+/// per body): it must agree with the element-by-element `smooth_forces_in` to rounding, along
+/// a run of the bridge.
+#[test]
+fn force_model_agrees_with_the_element_by_element_forces_to_rounding() {
+    use deckspin::scene::{ForceModel, smooth_forces_in};
+    let scene = deckspin::load(
+        &model("models/four-span.toml"),
+        &["solver.t_end=6.0".into()],
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let run = deckspin::simulate(&scene, &mut deckspin::Silent).unwrap();
+    let forces = ForceModel::new(&scene);
+    let laws: Vec<_> = scene.hysteretic.iter().map(|h| h.law.clone()).collect();
+    let n = scene.ndof();
+    let mut elements = vec![(0.0, 0.0); laws.len()];
+    let (mut worst, mut power) = (0.0f64, 0.0f64);
+    for s in &run.samples {
+        let q = nalgebra::DVector::from_column_slice(&s.q);
+        let v = nalgebra::DVector::from_column_slice(&s.v);
+        let fr = scene.frame(s.t, &q, &v);
+        let (mut a, mut b) = (nalgebra::DVector::zeros(n), nalgebra::DVector::zeros(n));
+        let pa = smooth_forces_in(&scene, Some(&laws), &fr, &v, &mut a, None);
+        let pb = forces.eval(&scene, &laws, &fr, &v, &mut b, &mut elements);
+        worst = worst.max((&a - &b).amax() / a.amax().max(1e-300));
+        let scale = pa.supports.abs() + pa.damping.abs() + pa.hysteretic.abs() + 1e-300;
+        power = power.max(
+            ((pa.supports - pb.supports).abs()
+                + (pa.damping - pb.damping).abs()
+                + (pa.hysteretic - pb.hysteretic).abs())
+                / scale,
+        );
+    }
+    eprintln!("ForceModel vs smooth_forces_in: forces {worst:.2e}, powers {power:.2e} relative");
+    assert!(worst < 1e-13 && power < 1e-12, "{worst:e} {power:e}");
+}
