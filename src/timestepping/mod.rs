@@ -20,7 +20,7 @@ use crate::output::{
     ContactSample, ContactState, EnergySample, EventKind, EventRecord, RunOutput, SampleKind,
     SampleView,
 };
-use crate::scene::{Attachment, ForceModel, Frame, PowerTerms, Scene};
+use crate::scene::{ForceModel, Frame, PowerTerms, Scene};
 use nalgebra::{DMatrix, DVector};
 use std::cell::RefCell;
 use std::time::Instant;
@@ -46,6 +46,7 @@ struct Stepper<'a> {
     lam_t: Vec<f64>,
     /// Penalty: elastic tangential (stick) displacement per contact.
     slip_spring: Vec<f64>,
+    /// Jacobian row of one element (tangents).
     jac: DVector<f64>,
     /// h(t, q, q̇) of eq. 1, as the event-driven engine evaluates it.
     forces: ForceModel,
@@ -58,16 +59,6 @@ struct Scratch {
     fr: Frame,
     laws: Vec<Hysteretic>,
     elements: Vec<(f64, f64)>,
-}
-
-fn deformation_of(
-    scene: &Scene,
-    fr: &Frame,
-    att: &Attachment,
-    sup: Option<usize>,
-    jac: &mut DVector<f64>,
-) -> (f64, f64, f64) {
-    scene.deformation_in(fr, att, sup, jac)
 }
 
 impl<'a> Stepper<'a> {
@@ -145,7 +136,8 @@ impl<'a> Stepper<'a> {
         }
     }
 
-    /// Tangent stiffness and damping of the smooth forces at (q, current branches).
+    /// Tangents of the smooth forces at (q, current branches): K = Σ k_e J_eᵀJ_e,
+    /// C = Σ c_e J_eᵀJ_e + a₀M.
     fn tangents(&mut self, t: f64) -> (DMatrix<f64>, DMatrix<f64>) {
         let scene = self.scene;
         let n = scene.ndof();
@@ -153,13 +145,13 @@ impl<'a> Stepper<'a> {
         let mut k = DMatrix::zeros(n, n);
         let mut c = DMatrix::zeros(n, n);
         for s in &scene.springs {
-            deformation_of(scene, &fr, &s.attachment, s.support, &mut self.jac);
+            scene.deformation_in(&fr, &s.attachment, s.support, &mut self.jac);
             let jj = &self.jac * self.jac.transpose();
             k += &jj * s.stiffness;
             c += &jj * s.damping;
         }
         for (j, el) in scene.hysteretic.iter().enumerate() {
-            deformation_of(scene, &fr, &el.attachment, el.support, &mut self.jac);
+            scene.deformation_in(&fr, &el.attachment, el.support, &mut self.jac);
             let jj = &self.jac * self.jac.transpose();
             k += &jj * self.laws[j].branch().stiffness;
             c += &jj * el.damping;
