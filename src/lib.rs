@@ -6,6 +6,7 @@
 //! - [`scene`]: planar rigid bodies, contacts, force elements (eq. 1–2).
 //! - [`contact`]: the impact LCP (eq. 5–7) and the contact LCP (eq. 8–10).
 //! - [`dopri`], [`event_driven`]: the event-driven integrator.
+//! - [`timestepping`]: Moreau–Jean and penalty methods; [`methods`]: the registry of methods.
 //! - [`hysteresis`]: linear, bilinear and Takeda laws for columns.
 //! - [`excitation`]: records, processing, multi-support motions.
 //! - [`model`]: model files (general scenes and bridges).
@@ -19,6 +20,7 @@ pub mod excitation;
 pub mod hysteresis;
 pub mod lemke;
 pub mod linalg;
+pub mod methods;
 pub mod modal;
 pub mod model;
 pub mod output;
@@ -30,7 +32,7 @@ pub mod timestepping;
 pub mod tui;
 
 pub use event_driven::{FrictionFork, run};
+pub use methods::simulate;
 pub use model::{ModelError, load};
 pub use output::RunOutput;
 pub use run::{Observer, Run, Silent, SolverError, Stop};
-pub use timestepping::simulate;

@@ -1,6 +1,7 @@
 //! `deckspin` command line: a thin layer over the library.
 
 use clap::{Parser, Subcommand};
+use deckspin::methods::Method;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -32,8 +33,8 @@ enum Command {
         /// Also print the state at this instant (velocities, contact states and forces).
         #[arg(long)]
         at: Option<f64>,
-        /// Integration method: event, moreau, penalty, penalty-explicit (default: the model's).
-        #[arg(long)]
+        /// Integration method (default: the model's).
+        #[arg(long, help = format!("Integration method: {} (default: the model's)", Method::names(", ")))]
         method: Option<String>,
     },
     /// Eigen-analysis of the initial system: periods and mode shapes.
@@ -88,8 +89,8 @@ enum Command {
     /// Work–precision: CPU time against error for each method and knob.
     Precision {
         model: PathBuf,
-        /// Comma-separated: event,moreau,penalty,penalty-explicit.
-        #[arg(long, default_value = "event,moreau,penalty,penalty-explicit")]
+        /// Comma-separated method names.
+        #[arg(long, default_value_t = Method::names(","), help = format!("Comma-separated: {}", Method::names(",")))]
         methods: String,
         #[arg(long = "set", value_name = "KEY=VALUE")]
         set: Vec<String>,
@@ -417,83 +418,15 @@ fn cmd_study(
     set: &[String],
     out: &std::path::Path,
 ) -> CliResult {
-    use deckspin::studies::{Study, increase_vs_mu, rotation_vs_pga};
+    use deckspin::studies::Study;
     use std::fmt::Write as _;
     let study = Study::open(model, set)?;
     std::fs::create_dir_all(out)?;
     let t0 = std::time::Instant::now();
-    let mut text = String::new();
-    let mut csv = String::new();
-    match kind {
-        "pga" => {
-            writeln!(text, "Peak deck rotation vs target PGA (Fig. 7 analog)")?;
-            writeln!(
-                text,
-                "{:>4} {:>7} {:>7} {:>14} {:>14} {:>7} {:>8}",
-                "run", "PGA x", "PGA y", "θ no contact", "θ contact", "ratio", "impacts"
-            )?;
-            csv += "run,pga_x,pga_y,peak_rotation_no_contact,peak_rotation_contact,residual_rotation_contact,impacts\n";
-            for (i, px, py, a, b) in rotation_vs_pga(&study) {
-                writeln!(
-                    text,
-                    "{i:>4} {px:>7.3} {py:>7.3} {:>14.4e} {:>14.4e} {:>7.2} {:>8}",
-                    a.peak_rotation,
-                    b.peak_rotation,
-                    b.peak_rotation / a.peak_rotation,
-                    b.impacts
-                )?;
-                writeln!(
-                    csv,
-                    "{i},{px},{py},{:.6e},{:.6e},{:.6e},{}",
-                    a.peak_rotation, b.peak_rotation, b.residual_rotation, b.impacts
-                )?;
-                for r in [&a, &b] {
-                    if let Some(e) = &r.error {
-                        writeln!(text, "     error: {e}")?;
-                    }
-                }
-            }
-        }
-        _ => {
-            let mus: Vec<f64> = (0..=7).map(|i| i as f64 / 10.0).collect();
-            let m = increase_vs_mu(&study, &mus);
-            writeln!(
-                text,
-                "Percent increase of peak rotation over no contact vs μ (Fig. 8 analog)"
-            )?;
-            write!(text, "{:>16}", "run (PGA x)")?;
-            csv += "run,pga_x";
-            for mu in &mus {
-                write!(text, " {:>7}", format!("μ={mu}"))?;
-                write!(csv, ",mu_{mu}")?;
-            }
-            writeln!(text)?;
-            csv += "\n";
-            for r in 0..m.rows.len() {
-                write!(text, "{:>16}", format!("{} ({:.2} g)", r + 1, m.pgas[r].0))?;
-                write!(csv, "{},{}", r + 1, m.pgas[r].0)?;
-                for k in 0..mus.len() {
-                    write!(text, " {:>7.1}", m.increase(r, k))?;
-                    write!(csv, ",{:.3}", m.increase(r, k))?;
-                }
-                writeln!(text)?;
-                csv += "\n";
-            }
-            write!(text, "{:>16}", "mean")?;
-            csv += "mean,";
-            for k in 0..mus.len() {
-                write!(text, " {:>7.1}", m.mean_increase(k))?;
-                write!(csv, ",{:.3}", m.mean_increase(k))?;
-            }
-            writeln!(text)?;
-            csv += "\n";
-            for row in m.rows.iter().flatten().chain(m.baseline.iter()) {
-                if let Some(e) = &row.error {
-                    writeln!(text, "error: {e}")?;
-                }
-            }
-        }
-    }
+    let (mut text, csv) = match kind {
+        "pga" => study_pga(&study)?,
+        _ => study_mu(&study)?,
+    };
     writeln!(
         text,
         "({:.2} s wall on {} threads)",
@@ -510,6 +443,84 @@ fn cmd_study(
     std::fs::write(out.join(format!("{stem}.txt")), text)?;
     println!("wrote {}/{stem}.{{csv,txt}}", out.display());
     Ok(())
+}
+
+/// Fig. 7 table: (text, CSV).
+fn study_pga(study: &deckspin::studies::Study) -> Result<(String, String), std::fmt::Error> {
+    use std::fmt::Write as _;
+    let (mut text, mut csv) = (String::new(), String::new());
+    writeln!(text, "Peak deck rotation vs target PGA (Fig. 7 analog)")?;
+    writeln!(
+        text,
+        "{:>4} {:>7} {:>7} {:>14} {:>14} {:>7} {:>8}",
+        "run", "PGA x", "PGA y", "θ no contact", "θ contact", "ratio", "impacts"
+    )?;
+    csv += "run,pga_x,pga_y,peak_rotation_no_contact,peak_rotation_contact,residual_rotation_contact,impacts\n";
+    for (i, px, py, a, b) in deckspin::studies::rotation_vs_pga(study) {
+        writeln!(
+            text,
+            "{i:>4} {px:>7.3} {py:>7.3} {:>14.4e} {:>14.4e} {:>7.2} {:>8}",
+            a.peak_rotation,
+            b.peak_rotation,
+            b.peak_rotation / a.peak_rotation,
+            b.impacts
+        )?;
+        writeln!(
+            csv,
+            "{i},{px},{py},{:.6e},{:.6e},{:.6e},{}",
+            a.peak_rotation, b.peak_rotation, b.residual_rotation, b.impacts
+        )?;
+        for r in [&a, &b] {
+            if let Some(e) = &r.error {
+                writeln!(text, "     error: {e}")?;
+            }
+        }
+    }
+    Ok((text, csv))
+}
+
+/// Fig. 8 table: (text, CSV).
+fn study_mu(study: &deckspin::studies::Study) -> Result<(String, String), std::fmt::Error> {
+    use std::fmt::Write as _;
+    let (mut text, mut csv) = (String::new(), String::new());
+    let mus: Vec<f64> = (0..=7).map(|i| i as f64 / 10.0).collect();
+    let m = deckspin::studies::increase_vs_mu(study, &mus);
+    writeln!(
+        text,
+        "Percent increase of peak rotation over no contact vs μ (Fig. 8 analog)"
+    )?;
+    write!(text, "{:>16}", "run (PGA x)")?;
+    csv += "run,pga_x";
+    for mu in &mus {
+        write!(text, " {:>7}", format!("μ={mu}"))?;
+        write!(csv, ",mu_{mu}")?;
+    }
+    writeln!(text)?;
+    csv += "\n";
+    for r in 0..m.rows.len() {
+        write!(text, "{:>16}", format!("{} ({:.2} g)", r + 1, m.pgas[r].0))?;
+        write!(csv, "{},{}", r + 1, m.pgas[r].0)?;
+        for k in 0..mus.len() {
+            write!(text, " {:>7.1}", m.increase(r, k))?;
+            write!(csv, ",{:.3}", m.increase(r, k))?;
+        }
+        writeln!(text)?;
+        csv += "\n";
+    }
+    write!(text, "{:>16}", "mean")?;
+    csv += "mean,";
+    for k in 0..mus.len() {
+        write!(text, " {:>7.1}", m.mean_increase(k))?;
+        write!(csv, ",{:.3}", m.mean_increase(k))?;
+    }
+    writeln!(text)?;
+    csv += "\n";
+    for row in m.rows.iter().flatten().chain(m.baseline.iter()) {
+        if let Some(e) = &row.error {
+            writeln!(text, "error: {e}")?;
+        }
+    }
+    Ok((text, csv))
 }
 
 /// User + system CPU time of this process so far, s: time waiting for a core does not count
@@ -592,7 +603,7 @@ fn cmd_bench(model: &std::path::Path, repeat: usize, sweeps: usize) -> CliResult
 
 fn precision_points(
     model: &std::path::Path,
-    methods: &[&str],
+    methods: &[Method],
     set: &[String],
     quick: bool,
 ) -> Result<
@@ -611,7 +622,7 @@ fn precision_points(
         reference.run.dof_names[reference.dof], reference.peak
     );
     let mut points = Vec::new();
-    for m in methods {
+    for &m in methods {
         for (label, ov) in knobs(
             m,
             scene.settings.t_end,
@@ -621,12 +632,19 @@ fn precision_points(
             let p = bench.measure(&reference, m, &label, &ov);
             eprintln!(
                 "  {m:<17} {label:<22} {:>10.4} s  peak err {:.3e}  {}",
-                p.cpu_s, p.peak_error, p.status
+                p.cpu_s,
+                p.peak_error,
+                status(&p)
             );
             points.push(p);
         }
     }
     Ok((reference, points))
+}
+
+/// "ok" or why the run gave no output.
+fn status(p: &deckspin::precision::Point) -> String {
+    p.failure.as_ref().map_or("ok".into(), |e| e.to_string())
 }
 
 fn cmd_precision(
@@ -638,12 +656,9 @@ fn cmd_precision(
     out: &std::path::Path,
 ) -> CliResult {
     use deckspin::precision::{chart, cheapest_within, write_csv};
-    let methods: Vec<&str> = methods.split(',').map(|s| s.trim()).collect();
-    for m in &methods {
-        if deckspin::scene::Method::parse(m).is_none() {
-            return Err(format!("unknown method '{m}'").into());
-        }
-    }
+    let methods = (methods.split(',').map(|s| s.trim()))
+        .map(|m| Method::parse(m).ok_or_else(|| format!("unknown method '{m}'")))
+        .collect::<Result<Vec<_>, _>>()?;
     let (reference, points) = precision_points(model, &methods, set, quick)?;
     let metric = metric.unwrap_or_else(|| {
         if reference.run.dof_names[reference.dof].ends_with("theta") {
@@ -676,7 +691,7 @@ fn cmd_precision(
             p.rms_error,
             p.impact_time_error,
             p.steps,
-            p.status
+            status(p)
         );
     }
     text += "\n";
@@ -684,8 +699,8 @@ fn cmd_precision(
     text += &chart(&points, &metric, 64, 18);
     let tol = if metric == "impact" { 1e-3 } else { 0.01 };
     text += &format!("\ncheapest run within {tol} ({metric} error):\n");
-    let event = cheapest_within(&points, "event", &metric, tol).map(|p| p.cpu_s);
-    for m in &methods {
+    let event = cheapest_within(&points, Method::Event, &metric, tol).map(|p| p.cpu_s);
+    for &m in &methods {
         match cheapest_within(&points, m, &metric, tol) {
             Some(p) => {
                 let ratio =
@@ -708,8 +723,7 @@ fn cmd_stability(
     quick: bool,
 ) -> CliResult {
     use deckspin::precision::verdict;
-    let methods = ["event", "moreau", "penalty", "penalty-explicit"];
-    let (_, points) = precision_points(model, &methods, set, quick)?;
+    let (_, points) = precision_points(model, &Method::ALL, set, quick)?;
     println!(
         "{:<17} {:<22} verdict (peak error limit {:.0} %)",
         "method",

@@ -2,16 +2,20 @@
 //! against the error from a converged event-driven reference (Hairer & Wanner's work–precision
 //! diagrams); and where each method fails (stability table).
 
+use crate::methods::{Knob, Method};
 use crate::model;
 use crate::output::{EventKind, RunOutput, SampleKind};
-use crate::studies::{Study, rotation_dof};
+use crate::studies::{Failure, RunFailure, Study, failure_text, rotation_dof};
 use serde::Serialize;
+use std::fmt;
 use std::path::Path;
+use std::sync::Arc;
 
 /// One point of a work–precision diagram.
 #[derive(Clone, Debug, Serialize)]
 pub struct Point {
-    pub method: String,
+    #[serde(serialize_with = "method_name")]
+    pub method: Method,
     /// "rtol=1e-6", "h=1e-3", "h=1e-3 k=1e6" …
     pub knob: String,
     pub cpu_s: f64,
@@ -22,11 +26,21 @@ pub struct Point {
     /// |t₁ − t₁,ref| of the first impact, s (NaN without impacts).
     pub impact_time_error: f64,
     pub steps: usize,
-    /// "ok", "unstable: …", "failed: …".
-    pub status: String,
+    /// Why the run gave no output (None: it finished).
+    #[serde(serialize_with = "failure_text")]
+    pub failure: Option<Failure>,
+}
+
+fn method_name<S: serde::Serializer>(m: &Method, s: S) -> Result<S::Ok, S::Error> {
+    s.serialize_str(m.name())
 }
 
 impl Point {
+    /// The run finished.
+    pub fn is_ok(&self) -> bool {
+        self.failure.is_none()
+    }
+
     /// The error named by `metric`: "peak", "rms" or "impact".
     pub fn error(&self, metric: &str) -> f64 {
         match metric {
@@ -89,15 +103,15 @@ impl Bench {
         })
     }
 
-    pub fn run(&self, set: &[String]) -> Result<(RunOutput, f64), String> {
+    pub fn run(&self, set: &[String]) -> Result<(RunOutput, f64), RunFailure> {
         self.study.simulate(set)
     }
 
     /// The converged event-driven reference.
-    pub fn reference(&self, rtol: f64) -> Result<Reference, String> {
+    pub fn reference(&self, rtol: f64) -> Result<Reference, RunFailure> {
         // every event at its own instant: the reference carries no branch window
         let (run, _) = self.run(&[
-            "solver.method=\"event\"".into(),
+            format!("solver.method=\"{}\"", Method::Event.name()),
             format!("solver.rtol={rtol:e}"),
             format!("solver.atol={:e}", rtol * 1e-3),
             "solver.branch_window=0".into(),
@@ -117,11 +131,11 @@ impl Bench {
     pub fn measure(
         &self,
         reference: &Reference,
-        method: &str,
+        method: Method,
         knob: &str,
         set: &[String],
     ) -> Point {
-        let mut ov = vec![format!("solver.method=\"{method}\"")];
+        let mut ov = vec![format!("solver.method=\"{}\"", method.name())];
         ov.extend(set.iter().cloned());
         match self.run(&ov) {
             Ok((r, cpu)) => {
@@ -133,7 +147,7 @@ impl Bench {
                     den += yr * yr;
                 }
                 Point {
-                    method: method.into(),
+                    method,
                     knob: knob.into(),
                     cpu_s: cpu,
                     peak_error: (r.summary.peaks[reference.dof].max_abs - reference.peak).abs()
@@ -144,32 +158,32 @@ impl Bench {
                         _ => f64::NAN,
                     },
                     steps: r.summary.stats.steps_accepted,
-                    status: "ok".into(),
+                    failure: None,
                 }
             }
             Err(e) => Point {
-                method: method.into(),
+                method,
                 knob: knob.into(),
                 cpu_s: f64::NAN,
                 peak_error: f64::NAN,
                 rms_error: f64::NAN,
                 impact_time_error: f64::NAN,
                 steps: 0,
-                status: e,
+                failure: Some(Arc::new(e)),
             },
         }
     }
 }
 
 /// Knob settings of each method for a run of length `t_end` with base contact stiffness `k`.
-pub fn knobs(method: &str, t_end: f64, k: f64, quick: bool) -> Vec<(String, Vec<String>)> {
+pub fn knobs(method: Method, t_end: f64, k: f64, quick: bool) -> Vec<(String, Vec<String>)> {
     let steps: Vec<f64> = if quick {
         vec![100.0, 1000.0, 10000.0]
     } else {
         vec![100.0, 300.0, 1000.0, 3000.0, 10000.0, 30000.0, 100000.0]
     };
-    match method {
-        "event" => {
+    match method.knob() {
+        Knob::Tolerance => {
             let tols: &[f64] = if quick {
                 &[1e-3, 1e-5, 1e-7]
             } else {
@@ -187,14 +201,14 @@ pub fn knobs(method: &str, t_end: f64, k: f64, quick: bool) -> Vec<(String, Vec<
                 })
                 .collect()
         }
-        "moreau" => steps
+        Knob::Step => steps
             .iter()
             .map(|n| {
                 let h = t_end / n;
                 (format!("h={h:.1e}"), vec![format!("solver.step={h:e}")])
             })
             .collect(),
-        _ => {
+        Knob::StepStiffness => {
             let ks: &[f64] = if quick { &[1.0] } else { &[0.01, 1.0, 100.0] };
             let mut out = Vec::new();
             for f in ks {
@@ -220,10 +234,7 @@ pub fn chart(points: &[Point], metric: &str, width: usize, height: usize) -> Str
     let good: Vec<&Point> = points
         .iter()
         .filter(|p| {
-            p.status == "ok"
-                && p.cpu_s > 0.0
-                && p.error(metric) > 0.0
-                && p.error(metric).is_finite()
+            p.is_ok() && p.cpu_s > 0.0 && p.error(metric) > 0.0 && p.error(metric).is_finite()
         })
         .collect();
     if good.is_empty() {
@@ -247,13 +258,7 @@ pub fn chart(points: &[Point], metric: &str, width: usize, height: usize) -> Str
     for (i, p) in good.iter().enumerate() {
         let cx = (((lx[i] - x0) / (x1 - x0)) * (width - 1) as f64).round() as usize;
         let cy = (((y1 - ly[i]) / (y1 - y0)) * (height - 1) as f64).round() as usize;
-        let c = match p.method.as_str() {
-            "event" => 'E',
-            "moreau" => 'M',
-            "penalty" => 'P',
-            _ => 'X',
-        };
-        grid[cy.min(height - 1)][cx.min(width - 1)] = c;
+        grid[cy.min(height - 1)][cx.min(width - 1)] = p.method.letter();
     }
     let mut s = format!(
         "{metric} error (log10, {y1} at top … {y0} at bottom) against CPU time (log10 s, {x0} … {x1})\n"
@@ -273,7 +278,8 @@ pub fn chart(points: &[Point], metric: &str, width: usize, height: usize) -> Str
         "      1e{x0}s{}1e{x1}s\n",
         " ".repeat(width.saturating_sub(12))
     );
-    s += "      E event-driven  M Moreau–Jean  P penalty (Newmark)  X penalty (central difference)\n";
+    let legend = Method::ALL.map(|m| format!("{} {}", m.letter(), m.title()));
+    s += &format!("      {}\n", legend.join("  "));
     s
 }
 
@@ -282,7 +288,7 @@ pub fn chart(points: &[Point], metric: &str, width: usize, height: usize) -> Str
 /// Penalty points form one family per contact stiffness.
 pub fn cheapest_within<'a>(
     points: &'a [Point],
-    method: &str,
+    method: Method,
     metric: &str,
     tol: f64,
 ) -> Option<&'a Point> {
@@ -299,7 +305,7 @@ pub fn cheapest_within<'a>(
         .collect();
     families.sort();
     families.dedup();
-    let ok = |p: &Point| p.status == "ok" && p.error(metric) <= tol;
+    let ok = |p: &Point| p.is_ok() && p.error(metric) <= tol;
     families
         .iter()
         .filter_map(|f| {
@@ -329,35 +335,62 @@ pub fn write_csv(points: &[Point], path: &Path) -> std::io::Result<()> {
     ])?;
     for p in points {
         w.write_record([
-            p.method.clone(),
+            p.method.name().to_string(),
             p.knob.clone(),
             format!("{:.6e}", p.cpu_s),
             format!("{:.6e}", p.peak_error),
             format!("{:.6e}", p.rms_error),
             format!("{:.6e}", p.impact_time_error),
             p.steps.to_string(),
-            p.status.clone(),
+            p.failure.as_ref().map_or("ok".into(), |e| e.to_string()),
         ])?;
     }
     w.flush()
 }
 
+/// A point of the stability table.
+#[derive(Clone, Debug)]
+pub enum Verdict {
+    /// max(peak, history error) within the limit.
+    Ok { peak: f64, history: f64 },
+    /// max(peak, history error) above the limit or not finite.
+    Inaccurate { peak: f64, history: f64 },
+    /// Stopped by [`crate::SolverError::Unstable`] (energy growth).
+    Unstable,
+    /// Stopped by any other error.
+    Failed(Failure),
+}
+
 /// Classify a point for the stability table: the larger of the peak and the RMS history
 /// error against `tol` (a coarse run can hit the peak by chance, not the history).
-pub fn verdict(p: &Point, tol: f64) -> String {
-    let e = p.peak_error.max(p.rms_error);
-    let detail = format!(
-        "peak {:.2} %, history {:.2} %",
-        100.0 * p.peak_error,
-        100.0 * p.rms_error
-    );
-    if p.status.starts_with("unstable") {
-        "unstable (detected: energy growth)".into()
-    } else if p.status != "ok" {
-        format!("failed: {}", p.status)
-    } else if e > tol || !e.is_finite() {
-        format!("inaccurate ({detail})")
-    } else {
-        format!("ok ({detail})")
+pub fn verdict(p: &Point, tol: f64) -> Verdict {
+    let (peak, history) = (p.peak_error, p.rms_error);
+    let e = peak.max(history);
+    match &p.failure {
+        Some(f) if matches!(**f, RunFailure::Unstable(_)) => Verdict::Unstable,
+        Some(f) => Verdict::Failed(f.clone()),
+        None if e > tol || !e.is_finite() => Verdict::Inaccurate { peak, history },
+        None => Verdict::Ok { peak, history },
+    }
+}
+
+/// The table's text: errors in percent.
+impl fmt::Display for Verdict {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let pct = |peak: f64, history: f64| {
+            format!(
+                "peak {:.2} %, history {:.2} %",
+                100.0 * peak,
+                100.0 * history
+            )
+        };
+        match self {
+            Verdict::Ok { peak, history } => write!(f, "ok ({})", pct(*peak, *history)),
+            Verdict::Inaccurate { peak, history } => {
+                write!(f, "inaccurate ({})", pct(*peak, *history))
+            }
+            Verdict::Unstable => f.write_str("unstable (detected: energy growth)"),
+            Verdict::Failed(e) => write!(f, "failed: {e}"),
+        }
     }
 }

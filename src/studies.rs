@@ -2,12 +2,48 @@
 //! peak deck rotation against PGA with and without contact (Fig. 7), and the increase of peak
 //! rotation with μ (Fig. 8).
 
-use crate::FrictionFork;
 use crate::model::{self, ModelError};
 use crate::output::RunOutput;
+use crate::run::SolverError;
+use crate::{FrictionFork, scene::Scene};
 use rayon::prelude::*;
-use serde::Serialize;
+use serde::{Serialize, Serializer};
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+/// Why a run of a study gave no output.
+#[derive(Debug, thiserror::Error)]
+pub enum RunFailure {
+    /// The model with the run's overrides is invalid.
+    #[error("{0}")]
+    Model(#[from] ModelError),
+    /// [`SolverError::Unstable`]: the method detected energy growth.
+    #[error("unstable: {0}")]
+    Unstable(SolverError),
+    /// Any other solver error.
+    #[error("failed: {0}")]
+    Solver(SolverError),
+}
+
+impl From<SolverError> for RunFailure {
+    fn from(e: SolverError) -> Self {
+        match e {
+            SolverError::Unstable { .. } => RunFailure::Unstable(e),
+            e => RunFailure::Solver(e),
+        }
+    }
+}
+
+/// A failure shared by the rows and points that report it.
+pub type Failure = Arc<RunFailure>;
+
+/// A failure serialized as its message.
+pub(crate) fn failure_text<S: Serializer>(e: &Option<Failure>, s: S) -> Result<S::Ok, S::Error> {
+    match e {
+        Some(e) => s.serialize_some(&e.to_string()),
+        None => s.serialize_none(),
+    }
+}
 
 /// One swept key and its values (`key=a:b:step` or `key=v1,v2,…`).
 #[derive(Clone, Debug, PartialEq)]
@@ -69,7 +105,8 @@ pub struct Row {
     pub stick_time: f64,
     pub energy_closure_rel: f64,
     pub wall_time: f64,
-    pub error: Option<String>,
+    #[serde(serialize_with = "failure_text")]
+    pub error: Option<Failure>,
 }
 
 /// Index of the deck rotation DOF: `deck.theta`, else the first `*.theta`, else DOF 0.
@@ -124,14 +161,14 @@ impl Study {
     }
 
     /// The scene with extra `key=value` overrides.
-    pub fn scene(&self, set: &[String]) -> Result<crate::scene::Scene, ModelError> {
+    pub fn scene(&self, set: &[String]) -> Result<Scene, ModelError> {
         let mut ov = self.base.clone();
         ov.extend(set.iter().cloned());
         model::load_str_with(&self.text, &self.path, &ov, &self.motions)
     }
 
     /// The scene of a sweep row: its summary is all a row needs, so no history is kept.
-    fn row_scene(&self, set: &[(String, String)]) -> Result<crate::scene::Scene, ModelError> {
+    fn row_scene(&self, set: &[(String, String)]) -> Result<Scene, ModelError> {
         let ov: Vec<String> = set.iter().map(|(k, v)| format!("{k}={v}")).collect();
         let mut scene = self.scene(&ov)?;
         scene.settings.keep_history = false;
@@ -139,17 +176,15 @@ impl Study {
     }
 
     /// Run with extra `key=value` overrides: the output and the wall time of the integration.
-    /// Errors are text ("unstable: …" for a detected instability, "failed: …" otherwise).
-    pub fn simulate(&self, set: &[String]) -> Result<(RunOutput, f64), String> {
-        let scene = self.scene(set).map_err(|e| e.to_string())?;
-        simulate_scene(&scene)
+    pub fn simulate(&self, set: &[String]) -> Result<(RunOutput, f64), RunFailure> {
+        simulate_scene(&self.scene(set)?)
     }
 
     /// Run with extra overrides: the row of its summary.
     pub fn run(&self, set: &[(String, String)]) -> Row {
         match self
             .row_scene(set)
-            .map_err(|e| e.to_string())
+            .map_err(RunFailure::from)
             .and_then(|s| simulate_scene(&s))
         {
             Ok((r, _)) => row_of(set.to_vec(), &r),
@@ -204,7 +239,7 @@ impl Study {
         combos: &[Vec<(String, String)>],
         group: &[usize],
     ) -> Vec<(usize, Row)> {
-        let scenes: Vec<Option<crate::scene::Scene>> = group
+        let scenes: Vec<Option<Scene>> = group
             .iter()
             .map(|&i| self.row_scene(&combos[i]).ok())
             .collect();
@@ -224,7 +259,7 @@ impl Study {
                 };
                 let row = match forked {
                     Some(Ok(r)) => row_of(combos[i].clone(), &r),
-                    Some(Err(e)) => error_row(combos[i].clone(), solver_error_text(e)),
+                    Some(Err(e)) => error_row(combos[i].clone(), e.into()),
                     None => self.run(&combos[i]),
                 };
                 (i, row)
@@ -236,20 +271,13 @@ impl Study {
 /// The sweep key whose variants share their motion until the first contact ([`FrictionFork`]).
 pub const FRICTION_KEY: &str = "contacts.mu";
 
-fn simulate_scene(scene: &crate::scene::Scene) -> Result<(RunOutput, f64), String> {
+fn simulate_scene(scene: &Scene) -> Result<(RunOutput, f64), RunFailure> {
     let t0 = std::time::Instant::now();
-    let r = crate::simulate(scene, &mut crate::Silent).map_err(solver_error_text)?;
+    let r = crate::simulate(scene, &mut crate::Silent)?;
     Ok((r, t0.elapsed().as_secs_f64()))
 }
 
-fn solver_error_text(e: crate::SolverError) -> String {
-    match e {
-        crate::SolverError::Unstable { .. } => format!("unstable: {e}"),
-        e => format!("failed: {e}"),
-    }
-}
-
-fn error_row(settings: Vec<(String, String)>, e: String) -> Row {
+fn error_row(settings: Vec<(String, String)>, e: RunFailure) -> Row {
     Row {
         settings,
         peak_rotation: f64::NAN,
@@ -260,7 +288,7 @@ fn error_row(settings: Vec<(String, String)>, e: String) -> Row {
         stick_time: f64::NAN,
         energy_closure_rel: f64::NAN,
         wall_time: f64::NAN,
-        error: Some(e),
+        error: Some(Arc::new(e)),
     }
 }
 
@@ -297,7 +325,7 @@ pub fn write_csv(rows: &[Row], path: &Path) -> std::io::Result<()> {
             format!("{:.4}", r.stick_time),
             format!("{:.3e}", r.energy_closure_rel),
             format!("{:.4}", r.wall_time),
-            r.error.clone().unwrap_or_default(),
+            r.error.as_ref().map_or(String::new(), |e| e.to_string()),
         ]);
         w.write_record(&rec)?;
     }

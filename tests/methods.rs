@@ -181,7 +181,8 @@ fn all_methods_agree_on_the_oscillator_against_a_stop() {
 
 #[test]
 fn stability_report_for_the_bridge_flags_failures_and_passes_the_event_method() {
-    use deckspin::precision::{Bench, knobs, verdict};
+    use deckspin::methods::Method;
+    use deckspin::precision::{Bench, Verdict, knobs, verdict};
     let bench = Bench::open(
         &model("models/four-span.toml"),
         &["solver.t_end=4.0".into()],
@@ -189,7 +190,7 @@ fn stability_report_for_the_bridge_flags_failures_and_passes_the_event_method() 
     .unwrap();
     let reference = bench.reference(1e-9).unwrap();
     let mut table = Vec::new();
-    for m in ["event", "penalty-explicit"] {
+    for m in [Method::Event, Method::PenaltyExplicit] {
         for (label, ov) in knobs(m, 4.0, 1e6, true) {
             let p = bench.measure(&reference, m, &label, &ov);
             table.push((m, label, verdict(&p, 0.05)));
@@ -197,16 +198,16 @@ fn stability_report_for_the_bridge_flags_failures_and_passes_the_event_method() 
     }
     for (m, label, v) in &table {
         eprintln!("{m:<17} {label:<16} {v}");
-        if *m == "event" {
-            assert!(v.starts_with("ok"), "{m} {label}: {v}");
+        if *m == Method::Event {
+            assert!(matches!(v, Verdict::Ok { .. }), "{m} {label}: {v}");
         }
     }
     // 4 s / 100 steps = 0.04 s ≫ 2/ω of a 1e6 kN/m gap element on a 0.65 t abutment
     let coarse = table
         .iter()
-        .find(|(m, l, _)| *m == "penalty-explicit" && l.starts_with("h=4.0e-2"))
+        .find(|(m, l, _)| *m == Method::PenaltyExplicit && l.starts_with("h=4.0e-2"))
         .unwrap();
-    assert!(coarse.2.starts_with("unstable"), "{coarse:?}");
+    assert!(matches!(coarse.2, Verdict::Unstable), "{coarse:?}");
 }
 
 /// Two unconnected unit-mass oscillators, ω = 1 and 100 rad/s, each starting at 1 m/s: DP5's
@@ -245,4 +246,41 @@ fn the_fast_oscillator_sets_the_event_method_step_size() {
         // the list is sorted, most first
         assert!(s.step_control.windows(2).all(|w| w[0].1 >= w[1].1));
     }
+}
+
+/// The fixed-step methods evaluate h(t, q, q̇) with `ForceModel` (merged springs, forces summed
+/// per body): it must agree with the element-by-element `smooth_forces_in` to rounding, along
+/// a run of the bridge.
+#[test]
+fn force_model_agrees_with_the_element_by_element_forces_to_rounding() {
+    use deckspin::scene::{ForceModel, smooth_forces_in};
+    let scene = deckspin::load(
+        &model("models/four-span.toml"),
+        &["solver.t_end=6.0".into()],
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let run = deckspin::simulate(&scene, &mut deckspin::Silent).unwrap();
+    let forces = ForceModel::new(&scene);
+    let laws: Vec<_> = scene.hysteretic.iter().map(|h| h.law.clone()).collect();
+    let n = scene.ndof();
+    let mut elements = vec![(0.0, 0.0); laws.len()];
+    let (mut worst, mut power) = (0.0f64, 0.0f64);
+    for s in &run.samples {
+        let q = nalgebra::DVector::from_column_slice(&s.q);
+        let v = nalgebra::DVector::from_column_slice(&s.v);
+        let fr = scene.frame(s.t, &q, &v);
+        let (mut a, mut b) = (nalgebra::DVector::zeros(n), nalgebra::DVector::zeros(n));
+        let pa = smooth_forces_in(&scene, Some(&laws), &fr, &v, &mut a, None);
+        let pb = forces.eval(&scene, &laws, &fr, &v, &mut b, &mut elements);
+        worst = worst.max((&a - &b).amax() / a.amax().max(1e-300));
+        let scale = pa.supports.abs() + pa.damping.abs() + pa.hysteretic.abs() + 1e-300;
+        power = power.max(
+            ((pa.supports - pb.supports).abs()
+                + (pa.damping - pb.damping).abs()
+                + (pa.hysteretic - pb.hysteretic).abs())
+                / scale,
+        );
+    }
+    eprintln!("ForceModel vs smooth_forces_in: forces {worst:.2e}, powers {power:.2e} relative");
+    assert!(worst < 1e-13 && power < 1e-12, "{worst:e} {power:e}");
 }

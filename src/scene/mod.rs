@@ -12,9 +12,10 @@ mod forces;
 mod kinematics;
 mod settings;
 
+pub use crate::methods::Method;
 pub use forces::{ForceModel, LEDGER_TERMS, PowerTerms, smooth_forces, smooth_forces_in};
 pub use kinematics::{BodyState, ContactKinematics, Frame, cos_sin, perp};
-pub use settings::{Method, Settings};
+pub use settings::Settings;
 
 use crate::excitation::GroundMotion;
 use crate::hysteresis::{Branch, Hysteretic};

@@ -1,39 +1,7 @@
 //! Solver settings of one run.
 
 use crate::lemke::LemkeOptions;
-
-/// How a scene is integrated.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Method {
-    /// The paper's event-driven scheme (DP5 between events, LCPs at events).
-    Event,
-    /// Moreau–Jean time-stepping: one velocity LCP per step, θ-method for smooth forces.
-    Moreau,
-    /// Penalty (gap elements) with Newmark average acceleration.
-    Penalty,
-    /// Penalty with the explicit central-difference scheme.
-    PenaltyExplicit,
-}
-
-impl Method {
-    pub fn parse(s: &str) -> Option<Self> {
-        match s {
-            "event" => Some(Method::Event),
-            "moreau" => Some(Method::Moreau),
-            "penalty" => Some(Method::Penalty),
-            "penalty-explicit" => Some(Method::PenaltyExplicit),
-            _ => None,
-        }
-    }
-    pub fn name(&self) -> &'static str {
-        match self {
-            Method::Event => "event",
-            Method::Moreau => "moreau",
-            Method::Penalty => "penalty",
-            Method::PenaltyExplicit => "penalty-explicit",
-        }
-    }
-}
+use crate::methods::Method;
 
 /// Solver settings of one run (`[solver]` of a model file). Units are the model's (the bridge:
 /// t, kN, m, s). Each field says which method reads it: E = event-driven, M = Moreau–Jean,

@@ -1,0 +1,170 @@
+//! Moreau–Jean time-stepping (Moreau 1988; Jean 1999; Acary & Brogliato 2008, §10.1): per
+//! step one velocity-level LCP with Newton restitution and Coulomb friction over the contacts
+//! predicted active, θ-method for the smooth forces. First order, robust to accumulations.
+
+use super::{Stepper, number_of_steps};
+use crate::contact::frictional_velocity_lcp;
+use crate::output::{ContactState, RunOutput};
+use crate::run::{Batcher, Observer, SolverError};
+use crate::scene::{ContactKinematics, Scene};
+use nalgebra::{DMatrix, DVector};
+use std::time::Instant;
+
+/// Moreau–Jean θ-method: Ŵ = M + hθC + h²θ²K,
+/// v_free = v_k + Ŵ⁻¹ h[θ f(t_{k+1}, q_k, v_k) + (1−θ) f_k − hθ K v_k],
+/// LCP over contacts with g_N(q_k) + h/2 ġ_N ≤ 0 (Siconos' γ = ½),
+/// v_{k+1} = v_free + Ŵ⁻¹(W_N P_N + W_T P_T), q_{k+1} = q_k + h(θ v_{k+1} + (1−θ) v_k).
+pub fn run_moreau(scene: &Scene, observer: &mut dyn Observer) -> Result<RunOutput, SolverError> {
+    let wall = Instant::now();
+    let steps = number_of_steps(scene)?;
+    let h = scene.settings.t_end / steps as f64;
+    let th = scene.settings.theta;
+    let mut s = Stepper::new(scene);
+    let mut f_k = DVector::zeros(scene.ndof());
+    s.prev_power = s.forces_trial(0.0, &s.q.clone(), &s.v.clone(), &mut f_k);
+    s.maybe_sample(0.0);
+    let mut batcher = Batcher::new();
+    for k in 0..steps {
+        let t1 = (k + 1) as f64 * h;
+        let (q, v) = (s.q.clone(), s.v.clone());
+        let (v_free, winv) = free_velocity(&mut s, h, t1, &f_k)?;
+        // contacts predicted active
+        let fr = scene.frame(s.t, &q, &v);
+        let kin: Vec<ContactKinematics> = (scene.contacts.iter())
+            .map(|c| scene.contact_kinematics_in(&fr, c))
+            .collect();
+        let active: Vec<usize> = (0..kin.len())
+            .filter(|&i| kin[i].gap + 0.5 * h * kin[i].gap_rate <= 0.0)
+            .collect();
+        let before = s.state.clone();
+        let p = percussions(&mut s, &kin, &active, v_free, &winv)?;
+        set_contact_states(&mut s, &kin, &active, &p, h);
+        s.q = &q + (&p.v_new * th + &v * (1.0 - th)) * h;
+        s.v = p.v_new;
+        s.t = t1;
+        s.ledger[4] += p.loss;
+        s.commit_laws();
+        let (qq, vv) = (s.q.clone(), s.v.clone());
+        let power = s.forces_trial(t1, &qq, &vv, &mut f_k);
+        s.add_power(power, h);
+        if !s.q.iter().chain(s.v.iter()).all(|x| x.is_finite()) {
+            return Err(SolverError::NonFinite { t: s.t });
+        }
+        s.out.stats.steps_accepted += 1;
+        s.log_transitions(&before, Some((&p.p_n, &p.p_t)));
+        s.maybe_sample(0.0);
+        batcher.maybe(&s.out, s.t, observer)?;
+    }
+    batcher.flush(&s.out, s.t, observer);
+    Ok(s.finish(wall, 0.0))
+}
+
+/// v_free = v_k + Ŵ⁻¹ h[θ f(t_{k+1}, q_k, v_k) + (1−θ) f_k − hθ K v_k] and Ŵ⁻¹.
+fn free_velocity(
+    s: &mut Stepper,
+    h: f64,
+    t1: f64,
+    f_k: &DVector<f64>,
+) -> Result<(DVector<f64>, DMatrix<f64>), SolverError> {
+    let th = s.scene.settings.theta;
+    let (q, v) = (s.q.clone(), s.v.clone());
+    let mut f_1 = DVector::zeros(s.scene.ndof());
+    s.forces_trial(t1, &q, &v, &mut f_1);
+    let (kt, ct) = s.tangents(s.t);
+    let mut w = DMatrix::from_diagonal(&s.scene.mass);
+    w += &ct * (h * th) + &kt * (h * h * th * th);
+    let winv = w.try_inverse().ok_or(SolverError::NonFinite { t: s.t })?;
+    let r = (&f_1 * th + f_k * (1.0 - th) - &kt * &v * (h * th)) * h;
+    Ok((&v + &winv * r, winv))
+}
+
+/// Percussions of one step: P_N, P_T per contact (zero off the active set), v_{k+1}, and the
+/// work they absorb, −Σ (P_N ½(ġ_N⁺ + ġ_N^free) + P_T ½(ġ_T⁺ + ġ_T^free)).
+struct Percussions {
+    p_n: Vec<f64>,
+    p_t: Vec<f64>,
+    v_new: DVector<f64>,
+    loss: f64,
+}
+
+/// The velocity LCP over the active set: ġ_N⁺ + ε ġ_N⁻ ⊥ P_N ≥ 0 with Coulomb's cone on P_T,
+/// Delassus operator W Ŵ⁻¹ W.
+fn percussions(
+    s: &mut Stepper,
+    kin: &[ContactKinematics],
+    active: &[usize],
+    v_free: DVector<f64>,
+    winv: &DMatrix<f64>,
+) -> Result<Percussions, SolverError> {
+    let scene = s.scene;
+    let nc = kin.len();
+    let mut p = Percussions {
+        p_n: vec![0.0; nc],
+        p_t: vec![0.0; nc],
+        v_new: v_free.clone(),
+        loss: 0.0,
+    };
+    if active.is_empty() {
+        return Ok(p);
+    }
+    let w_n: Vec<&DVector<f64>> = active.iter().map(|&i| &kin[i].w_n).collect();
+    let w_t: Vec<&DVector<f64>> = active.iter().map(|&i| &kin[i].w_t).collect();
+    let q_n: Vec<f64> = (active.iter())
+        .map(|&i| {
+            kin[i].w_n.dot(&v_free) + scene.contacts[i].restitution * kin[i].gap_rate.min(0.0)
+        })
+        .collect();
+    let q_t: Vec<f64> = active.iter().map(|&i| kin[i].w_t.dot(&v_free)).collect();
+    let mu: Vec<f64> = active.iter().map(|&i| scene.contacts[i].mu).collect();
+    let g = |a: &DVector<f64>, b: &DVector<f64>| a.dot(&(winv * b));
+    let lemke = &scene.settings.lemke;
+    let (pn, pt, piv) =
+        frictional_velocity_lcp(&w_n, &w_t, &g, &q_n, &q_t, &mu, lemke).map_err(|e| {
+            SolverError::Lcp {
+                t: s.t,
+                what: "Moreau–Jean",
+                source: e,
+            }
+        })?;
+    s.out.stats.lcp_solves += 1;
+    s.out.stats.lemke_pivots += piv;
+    let mut imp = DVector::zeros(scene.ndof());
+    for (a, &i) in active.iter().enumerate() {
+        imp.axpy(pn[a], &kin[i].w_n, 1.0);
+        imp.axpy(pt[a], &kin[i].w_t, 1.0);
+        p.p_n[i] = pn[a];
+        p.p_t[i] = pt[a];
+    }
+    p.v_new = &v_free + winv * imp;
+    for (a, &i) in active.iter().enumerate() {
+        let gn = 0.5 * (kin[i].w_n.dot(&p.v_new) + kin[i].w_n.dot(&v_free));
+        let gt = 0.5 * (kin[i].w_t.dot(&p.v_new) + kin[i].w_t.dot(&v_free));
+        p.loss -= pn[a] * gn + pt[a] * gt;
+    }
+    Ok(p)
+}
+
+/// Contact states after the step (closed where P_N > 0: stick where ġ_T⁺ = 0) and the forces
+/// reported as λ = P / h.
+fn set_contact_states(
+    s: &mut Stepper,
+    kin: &[ContactKinematics],
+    active: &[usize],
+    p: &Percussions,
+    h: f64,
+) {
+    for (i, c) in s.scene.contacts.iter().enumerate() {
+        s.state[i] = if active.contains(&i) && p.p_n[i] > 0.0 {
+            let gt = kin[i].w_t.dot(&p.v_new);
+            if c.mu > 0.0 && gt.abs() <= 1e-9 {
+                ContactState::Stick
+            } else {
+                ContactState::Slide(if c.mu > 0.0 { gt.signum() } else { 0.0 })
+            }
+        } else {
+            ContactState::Open
+        };
+        s.lam_n[i] = p.p_n[i] / h;
+        s.lam_t[i] = p.p_t[i] / h;
+    }
+}
