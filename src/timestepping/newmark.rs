@@ -2,7 +2,7 @@
 //! a₁ = 4/h² (q₁ − q₀ − h v₀) − a₀, v₁ = v₀ + h/2 (a₀ + a₁), solved for q₁ by Newton.
 
 use super::Stepper;
-use super::penalty::{GapElements, PenaltyForces};
+use super::gap_elements::{GapElements, PenaltyForces};
 use nalgebra::{DMatrix, DVector, Dyn, LU};
 
 /// (q₁, v₁, a₁, contact forces) at the end of a step.
