@@ -24,6 +24,7 @@ pub mod precision;
 pub mod scene;
 pub mod studies;
 pub mod timestepping;
+#[cfg(feature = "workbench")]
 pub mod tui;
 
 pub use event_driven::{FrictionFork, Observer, Silent, SolverError, run};

@@ -1,6 +1,8 @@
 //! Workbench tests without a terminal: `update(app, msg)` for every user action, drawing on
 //! ratatui's TestBackend with insta snapshots, chart decimation, file saving and watching.
 
+#![cfg(feature = "workbench")]
+
 use crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
 use deckspin::output::ContactState;
 use deckspin::tui::app::{Confirm, Mode, RunData, RunOutcome, RunStatus, StatusKind, View};

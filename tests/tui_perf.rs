@@ -2,6 +2,8 @@
 //! asserted). The run is synthetic: the four-span bridge's names and geometry with made-up
 //! samples (a spike per 1000 samples, contact states cycling) streamed through `update`.
 
+#![cfg(feature = "workbench")]
+
 use deckspin::output::{
     ContactSample, ContactState, EventKind, EventRecord, RunOutput, Sample, SampleKind,
 };
