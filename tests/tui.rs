@@ -6,9 +6,9 @@
 use crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
 use deckspin::output::ContactState;
 use deckspin::tui::app::{Confirm, Mode, StatusKind, View};
+use deckspin::tui::keymap::{Action, Ctx, KEYMAP};
 use deckspin::tui::msg::RunOutcome;
 use deckspin::tui::run_data::{RunData, RunStatus};
-use deckspin::tui::keymap::{Action, Ctx, KEYMAP};
 use deckspin::tui::{self, App, Effect, Msg, Options, chart, form, update};
 use ratatui::Terminal;
 use ratatui::backend::TestBackend;
@@ -153,7 +153,11 @@ thread_local! {
 
 /// Draws one frame of `app` on `t` with the test's drawing cache.
 fn draw(t: &mut Terminal<TestBackend>, app: &App) {
-    CACHE.with(|c| t.draw(|f| tui::ui::draw(f, app, &mut c.borrow_mut())).map(|_| ()))
+    CACHE
+        .with(|c| {
+            t.draw(|f| tui::ui::draw(f, app, &mut c.borrow_mut()))
+                .map(|_| ())
+        })
         .unwrap();
 }
 

@@ -7,8 +7,8 @@
 use deckspin::output::{
     ContactSample, ContactState, EventKind, EventRecord, RunOutput, Sample, SampleKind,
 };
-use deckspin::tui::msg::RunOutcome;
 use deckspin::tui::keymap::Action;
+use deckspin::tui::msg::RunOutcome;
 use deckspin::tui::{self, App, Msg, update};
 use ratatui::Terminal;
 use ratatui::backend::TestBackend;

@@ -50,7 +50,6 @@ pub fn save_atomic(path: &Path, text: &str) -> io::Result<()> {
     result
 }
 
-
 /// A job for [`Host::background`]: its message is the result.
 pub type Job = Box<dyn FnOnce() -> Msg + Send>;
 

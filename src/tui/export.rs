@@ -79,4 +79,3 @@ pub fn write_exports(dirs: &[PathBuf], files: &[(String, String)]) -> Result<Vec
     }
     Err(last)
 }
-

@@ -240,7 +240,10 @@ impl RunData {
 
     /// Minimum gap of contact `i` so far (∞ before its first sample).
     pub fn min_gap_of(&self, i: usize) -> f64 {
-        self.tally.contacts.get(i).map_or(f64::INFINITY, |c| c.min_gap)
+        self.tally
+            .contacts
+            .get(i)
+            .map_or(f64::INFINITY, |c| c.min_gap)
     }
 
     pub fn total_impacts(&self) -> usize {

@@ -40,7 +40,12 @@ pub(super) fn time_key(r: &RunData, t0: f64, t1: f64, cols: u16) -> Key {
 
 impl Cache {
     /// Cached computation of points under `name`, recomputed when `key` changes.
-    pub(super) fn memo(&mut self, name: String, key: Vec<u64>, f: impl FnOnce() -> Points) -> Points {
+    pub(super) fn memo(
+        &mut self,
+        name: String,
+        key: Vec<u64>,
+        f: impl FnOnce() -> Points,
+    ) -> Points {
         if let Some((k, v)) = self.memo.get(&name)
             && *k == key
         {

@@ -115,7 +115,6 @@ pub(super) fn theme(app: &App) -> Theme {
     }
 }
 
-
 /// The run whose layout (names) drives the charts: the current one, else the previous.
 pub(super) fn shown_run(app: &App) -> Option<&RunData> {
     app.current.as_ref().or(app.previous.as_ref())

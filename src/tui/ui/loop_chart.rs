@@ -92,7 +92,13 @@ pub(super) fn draw_loop(frame: &mut Frame, area: Rect, app: &App, cache: &mut Ca
     });
     let here = cur.last().map(|p| [*p]);
     let ds = datasets(&cur, prev_pts.as_ref(), here.as_ref(), th);
-    let unit_f = if app
+    let chart = with_axes(Chart::new(ds).block(block), &plot, force_unit(app), th);
+    frame.render_widget(chart, area);
+}
+
+/// Force unit of the y labels: kN for bridge models (a `deck` body).
+fn force_unit(app: &App) -> &'static str {
+    if app
         .scene
         .as_ref()
         .is_some_and(|s| s.bodies.iter().any(|b| b.name == "deck"))
@@ -100,9 +106,12 @@ pub(super) fn draw_loop(frame: &mut Frame, area: Rect, app: &App, cache: &mut Ca
         " kN"
     } else {
         ""
-    };
-    let chart = Chart::new(ds)
-        .block(block)
+    }
+}
+
+/// Deformation and force axes with their end labels.
+fn with_axes<'a>(chart: Chart<'a>, plot: &Plot, unit_f: &str, th: &Theme) -> Chart<'a> {
+    chart
         .x_axis(
             Axis::default()
                 .bounds(plot.xb)
@@ -121,8 +130,7 @@ pub(super) fn draw_loop(frame: &mut Frame, area: Rect, app: &App, cache: &mut Ca
                 ])
                 .style(th.dim()),
         )
-        .legend_position(None);
-    frame.render_widget(chart, area);
+        .legend_position(None)
 }
 
 /// Bounds over both runs' ranges of element `j` (`k` in the previous run) and resolution.

@@ -167,12 +167,7 @@ pub(super) fn draw_plan(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
     let s = plan_scale(app, hx);
     let run = shown_run(app);
     let idx = run.and_then(|r| chart::at_or_before(&r.t, tc));
-    let pose = Pose {
-        scene,
-        run,
-        idx,
-        s,
-    };
+    let pose = Pose { scene, run, idx, s };
     let states = pose.states();
     let body_color = th.series(0).fg.unwrap_or(Color::Reset);
     let face_color = if th.color { Color::Gray } else { Color::Reset };
@@ -236,8 +231,20 @@ fn paint_bodies(ctx: &mut Context, pose: &Pose, hx: f64, color: Color) {
             .any(|c| c.face_body == BodyRef::Body(bi))
         {
             let e = 0.02 * hx;
-            ctx.draw(&CLine::new(centre.x - e, centre.y, centre.x + e, centre.y, color));
-            ctx.draw(&CLine::new(centre.x, centre.y - e, centre.x, centre.y + e, color));
+            ctx.draw(&CLine::new(
+                centre.x - e,
+                centre.y,
+                centre.x + e,
+                centre.y,
+                color,
+            ));
+            ctx.draw(&CLine::new(
+                centre.x,
+                centre.y - e,
+                centre.x,
+                centre.y + e,
+                color,
+            ));
             for p in &cps {
                 let q = pose.place(BodyRef::Body(bi), *p);
                 ctx.draw(&CLine::new(centre.x, centre.y, q.x, q.y, color));

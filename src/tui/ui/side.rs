@@ -61,7 +61,9 @@ fn compare_rows(cur: Option<&RunData>, prev: Option<&RunData>) -> Vec<[String; 3
         .unwrap_or_else(|| "θ".into());
     type Get = fn(&RunData) -> String;
     let rows: [(String, Get); 6] = [
-        (format!("peak |{rot}|"), |d| chart::fmt_sig(d.peak_rot().0, 4)),
+        (format!("peak |{rot}|"), |d| {
+            chart::fmt_sig(d.peak_rot().0, 4)
+        }),
         ("  at t [s]".into(), |d| chart::fmt_sig(d.peak_rot().1, 4)),
         (format!("residual {rot}"), |d| {
             chart::fmt_sig(d.residual_rot(), 4)

@@ -193,37 +193,10 @@ fn draw_time_chart(
     }
     let (t0, t1) = app.window();
     let [head, body] = Layout::vertical([Constraint::Length(1), Constraint::Min(0)]).areas(area);
-    // header: title [unit], legend, value at the cursor
-    let mut spans = vec![Span::styled(format!("{title} [{unit}]"), th.bold())];
-    let current: Vec<&Series> = series
-        .iter()
-        .filter(|s| !s.name.ends_with("(previous)"))
-        .collect();
-    if current.len() > 1 {
-        for s in &current {
-            spans.push(Span::styled(" ━", s.style));
-            spans.push(Span::raw(s.name.clone()));
-        }
-    }
-    if series.iter().any(|s| s.name.ends_with("(previous)")) {
-        spans.push(Span::styled(" ┈prev", th.previous()));
-    }
-    if current.len() == 1 {
-        let name = &current[0].name;
-        let col = run.dof(name).map(|k| &run.q[k]).or_else(|| {
-            run.contact_names
-                .iter()
-                .position(|n| n == name)
-                .map(|i| &run.gap[i])
-        });
-        if let Some(v) = col.and_then(|c| value_at(run, c, tc)) {
-            spans.push(Span::styled(
-                format!("  @cursor {}", fmt_num(v, 9)),
-                th.cursor(),
-            ));
-        }
-    }
-    frame.render_widget(Paragraph::new(Line::from(spans)), head);
+    frame.render_widget(
+        Paragraph::new(chart_header(run, title, unit, &series, tc, th)),
+        head,
+    );
     if body.height == 0 {
         return;
     }
@@ -266,4 +239,45 @@ fn draw_time_chart(
         )
         .legend_position(None);
     frame.render_widget(chart, body);
+}
+
+/// The chart's header line: title [unit], legend, value at the cursor.
+fn chart_header(
+    run: &RunData,
+    title: &str,
+    unit: &str,
+    series: &[Series],
+    tc: f64,
+    th: &Theme,
+) -> Line<'static> {
+    let mut spans = vec![Span::styled(format!("{title} [{unit}]"), th.bold())];
+    let current: Vec<&Series> = series
+        .iter()
+        .filter(|s| !s.name.ends_with("(previous)"))
+        .collect();
+    if current.len() > 1 {
+        for s in &current {
+            spans.push(Span::styled(" ━", s.style));
+            spans.push(Span::raw(s.name.clone()));
+        }
+    }
+    if series.iter().any(|s| s.name.ends_with("(previous)")) {
+        spans.push(Span::styled(" ┈prev", th.previous()));
+    }
+    if current.len() == 1 {
+        let name = &current[0].name;
+        let col = run.dof(name).map(|k| &run.q[k]).or_else(|| {
+            run.contact_names
+                .iter()
+                .position(|n| n == name)
+                .map(|i| &run.gap[i])
+        });
+        if let Some(v) = col.and_then(|c| value_at(run, c, tc)) {
+            spans.push(Span::styled(
+                format!("  @cursor {}", fmt_num(v, 9)),
+                th.cursor(),
+            ));
+        }
+    }
+    Line::from(spans)
 }

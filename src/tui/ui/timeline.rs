@@ -87,7 +87,6 @@ pub fn event_strip(
     out
 }
 
-
 /// Draws the event strip of `run` over the window `t0..t1` with the cursor at `tc`.
 pub(super) fn draw_timeline(
     frame: &mut Frame,

@@ -28,7 +28,11 @@ pub(super) fn save(app: &mut App) -> Vec<Effect> {
 }
 
 /// The save finished: rerun, or report the failure.
-pub(super) fn on_saved(app: &mut App, text: String, result: Result<PathBuf, String>) -> Vec<Effect> {
+pub(super) fn on_saved(
+    app: &mut App,
+    text: String,
+    result: Result<PathBuf, String>,
+) -> Vec<Effect> {
     app.expected_save = None;
     match result {
         Ok(p) => {

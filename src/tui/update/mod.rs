@@ -7,8 +7,8 @@ mod file;
 mod run;
 mod view;
 
-use crate::tui::app::{App, Confirm, Mode, StatusKind};
 use crate::tui::app::hash_text;
+use crate::tui::app::{App, Confirm, Mode, StatusKind};
 use crate::tui::keymap::{self, Action};
 use crate::tui::msg::{Effect, Msg};
 use crossterm::event::{KeyCode, KeyEvent, KeyEventKind, KeyModifiers};
