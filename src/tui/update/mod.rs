@@ -50,6 +50,7 @@ pub fn update(app: &mut App, msg: Msg) -> Vec<Effect> {
     }
 }
 
+/// The export finished: the written paths, or the failure.
 fn on_exported(app: &mut App, r: Result<Vec<PathBuf>, String>) -> Vec<Effect> {
     match r {
         Ok(paths) => {

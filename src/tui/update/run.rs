@@ -1,7 +1,6 @@
 //! Runs: start, cancel, streamed batches, the end of a run.
 
-use crate::output::EventKind;
-use crate::output::{EventRecord, Sample};
+use crate::output::{EventKind, EventRecord, Sample};
 use crate::tui::app::{App, StatusKind};
 use crate::tui::msg::{Effect, RunOutcome};
 use crate::tui::run_data::{RunData, RunStatus};
@@ -95,6 +94,7 @@ pub(super) fn start_run(app: &mut App) -> Vec<Effect> {
     fx
 }
 
+/// The end of a run: its final output, or where it was cancelled or failed.
 pub(super) fn on_done(app: &mut App, run: u64, outcome: RunOutcome) -> Vec<Effect> {
     let Some(cur) = app.current.as_mut().filter(|c| c.id == run) else {
         return Vec::new();
