@@ -29,6 +29,7 @@ pub mod run;
 pub mod scene;
 pub mod studies;
 pub mod timestepping;
+#[cfg(feature = "workbench")]
 pub mod tui;
 
 pub use event_driven::{FrictionFork, run};

@@ -191,7 +191,12 @@ fn main() -> ExitCode {
             sweeps,
         }) => cmd_bench(&model, repeat, sweeps),
         None => match cli.model {
+            #[cfg(feature = "workbench")]
             Some(m) => deckspin::tui::run(&m),
+            #[cfg(not(feature = "workbench"))]
+            Some(_) => Err(
+                "this deckspin was built without the workbench (cargo feature `workbench`)".into(),
+            ),
             None => Err("no model given: `deckspin run MODEL.toml --out DIR` (see --help)".into()),
         },
     };

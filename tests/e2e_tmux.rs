@@ -3,6 +3,8 @@
 //! and the comparison change, edits the file on disk and sees "reloaded", quits with `q` and
 //! checks the terminal is back on the normal screen. Skipped (passes) without tmux.
 
+#![cfg(feature = "workbench")]
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::{Duration, Instant};

@@ -1,10 +1,14 @@
 //! Workbench tests without a terminal: `update(app, msg)` for every user action, drawing on
 //! ratatui's TestBackend with insta snapshots, chart decimation, file saving and watching.
 
+#![cfg(feature = "workbench")]
+
 use crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
 use deckspin::output::ContactState;
-use deckspin::tui::app::{Confirm, Mode, RunData, RunOutcome, RunStatus, StatusKind, View};
+use deckspin::tui::app::{Confirm, Mode, StatusKind, View};
 use deckspin::tui::keymap::{Action, Ctx, KEYMAP};
+use deckspin::tui::msg::RunOutcome;
+use deckspin::tui::run_data::{RunData, RunStatus};
 use deckspin::tui::{self, App, Effect, Msg, Options, chart, form, update};
 use ratatui::Terminal;
 use ratatui::backend::TestBackend;
@@ -141,10 +145,26 @@ fn start_ids(fx: &[Effect]) -> Vec<u64> {
         .collect()
 }
 
+thread_local! {
+    /// The drawing cache of this test (each test runs on its own thread), kept across frames
+    /// as the runtime keeps its own.
+    static CACHE: std::cell::RefCell<tui::ui::Cache> = Default::default();
+}
+
+/// Draws one frame of `app` on `t` with the test's drawing cache.
+fn draw(t: &mut Terminal<TestBackend>, app: &App) {
+    CACHE
+        .with(|c| {
+            t.draw(|f| tui::ui::draw(f, app, &mut c.borrow_mut()))
+                .map(|_| ())
+        })
+        .unwrap();
+}
+
 fn render(app: &mut App, w: u16, h: u16) -> Terminal<TestBackend> {
     update(app, Msg::Resize(w, h));
     let mut t = Terminal::new(TestBackend::new(w, h)).unwrap();
-    t.draw(|f| tui::ui::draw(f, app)).unwrap();
+    draw(&mut t, app);
     t
 }
 
@@ -600,7 +620,7 @@ fn run_starts_a_worker_and_batches_stream_in() {
     }
     let cur = app.current.as_ref().unwrap();
     assert_eq!(cur.status, RunStatus::Finished);
-    assert_eq!(cur.digest.total_impacts(), 1);
+    assert_eq!(cur.total_impacts(), 1);
     assert!(app.status.contains("finished"), "{}", app.status);
     // progress on screen
     let s = screen(&render(&mut app, 80, 24));
@@ -752,8 +772,8 @@ fn compare_table_shows_current_and_previous() {
     let s = screen(&render(&mut app, 120, 40));
     assert!(s.contains("run 2"), "{s}");
     assert!(s.contains("current vs previous"), "{s}");
-    let cur = &bridge_run().digest;
-    let prev = &bridge_prev_run().digest;
+    let cur = bridge_run();
+    let prev = bridge_prev_run();
     assert_ne!(cur.total_impacts(), prev.total_impacts());
     let row = s
         .lines()
@@ -772,25 +792,25 @@ fn compare_table_shows_current_and_previous() {
 }
 
 #[test]
-fn digest_matches_the_engine_summary() {
+fn run_tally_matches_the_engine_summary() {
     let r = bridge_run();
     let s = r.summary.as_ref().unwrap();
     let rot = s.peaks.iter().find(|p| p.name == "deck.theta").unwrap();
-    assert_eq!(r.digest.rot_name, "deck.theta");
-    assert_eq!(r.digest.peak_rot, rot.max_abs);
-    assert_eq!(r.digest.peak_rot_at, rot.at);
-    assert_eq!(r.digest.residual_rot, rot.residual);
-    assert!(r.digest.total_impacts() > 0);
+    assert_eq!(r.rot_name(), "deck.theta");
+    assert_eq!(r.peak_rot().0, rot.max_abs);
+    assert_eq!(r.peak_rot().1, rot.at);
+    assert_eq!(r.residual_rot(), rot.residual);
+    assert!(r.total_impacts() > 0);
     for (i, c) in s.contacts.iter().enumerate() {
-        assert_eq!(r.digest.impacts[i], c.impacts, "{}", c.name);
+        assert_eq!(r.impacts[i], c.impacts, "{}", c.name);
         assert!(
-            (r.digest.stick_time[i] - c.stick_time).abs() <= 1e-12,
+            (r.stick_time(i) - c.stick_time).abs() <= 1e-12,
             "{}",
             c.name
         );
-        assert_eq!(r.digest.min_gap[i], c.min_gap);
+        assert_eq!(r.min_gap_of(i), c.min_gap);
     }
-    assert!(r.digest.total_stick_time() > 0.0);
+    assert!(r.total_stick_time() > 0.0);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -1015,7 +1035,7 @@ fn export_writes_chart_and_event_csv() {
     act(&mut app, Action::ZoomIn);
     let (a, b) = app.window();
     assert!(b - a < 0.3);
-    let (c2, _) = tui::app::export_csv(app.current.as_ref().unwrap(), app.window(), 0);
+    let (c2, _) = tui::export::export_csv(app.current.as_ref().unwrap(), app.window(), 0);
     assert!(c2.lines().count() < c.lines().count());
     let _ = std::fs::remove_dir_all(&d);
 }
@@ -1114,7 +1134,7 @@ fn event_strip_marks_impacts_and_stick() {
         .collect();
     for (i, s) in strips.iter().enumerate() {
         assert_eq!(s.chars().count(), w);
-        assert_eq!(s.matches('*').count() > 0, r.digest.impacts[i] > 0, "{s}");
+        assert_eq!(s.matches('*').count() > 0, r.impacts[i] > 0, "{s}");
     }
     let stuck = (0..4).any(|i| r.state[i].contains(&ContactState::Stick));
     assert!(stuck);
@@ -1198,7 +1218,7 @@ fn snapshot_resize_120x40_to_80x24() {
     let mut t = render(&mut app, 120, 40);
     t.backend_mut().resize(80, 24);
     update(&mut app, Msg::Resize(80, 24));
-    t.draw(|f| tui::ui::draw(f, &app)).unwrap();
+    draw(&mut t, &app);
     let direct = render(&mut app, 80, 24);
     assert_eq!(
         screen(&t),

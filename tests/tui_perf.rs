@@ -2,11 +2,13 @@
 //! asserted). The run is synthetic: the four-span bridge's names and geometry with made-up
 //! samples (a spike per 1000 samples, contact states cycling) streamed through `update`.
 
+#![cfg(feature = "workbench")]
+
 use deckspin::output::{
     ContactSample, ContactState, EventKind, EventRecord, RunOutput, Sample, SampleKind,
 };
-use deckspin::tui::app::RunOutcome;
 use deckspin::tui::keymap::Action;
+use deckspin::tui::msg::RunOutcome;
 use deckspin::tui::{self, App, Msg, update};
 use ratatui::Terminal;
 use ratatui::backend::TestBackend;
@@ -75,13 +77,14 @@ fn synthetic(scene: &deckspin::scene::Scene) -> RunOutput {
 fn time_frames(
     term: &mut Terminal<TestBackend>,
     app: &mut App,
+    cache: &mut tui::ui::Cache,
     frames: usize,
     mut between: impl FnMut(&mut App),
 ) -> Duration {
     let t0 = Instant::now();
     for _ in 0..frames {
         between(app);
-        term.draw(|f| tui::ui::draw(f, app)).unwrap();
+        term.draw(|f| tui::ui::draw(f, app, cache)).unwrap();
     }
     t0.elapsed() / frames as u32
 }
@@ -127,11 +130,12 @@ fn frame_time_with_1e5_samples_at_120x40() {
     assert_eq!(app.current.as_ref().unwrap().t.len(), N);
     update(&mut app, Msg::Resize(120, 40));
     let mut term = Terminal::new(TestBackend::new(120, 40)).unwrap();
+    let mut cache = tui::ui::Cache::default();
 
-    let cold = time_frames(&mut term, &mut app, 1, |_| {});
-    let warm = time_frames(&mut term, &mut app, 20, |_| {});
+    let cold = time_frames(&mut term, &mut app, &mut cache, 1, |_| {});
+    let warm = time_frames(&mut term, &mut app, &mut cache, 20, |_| {});
     let mut moved = 0;
-    let scrub = time_frames(&mut term, &mut app, 20, |a| {
+    let scrub = time_frames(&mut term, &mut app, &mut cache, 20, |a| {
         moved += 1;
         update(
             a,
@@ -142,12 +146,12 @@ fn frame_time_with_1e5_samples_at_120x40() {
             }),
         );
     });
-    let zoom = time_frames(&mut term, &mut app, 6, |a| {
+    let zoom = time_frames(&mut term, &mut app, &mut cache, 6, |a| {
         update(a, Msg::Action(Action::ZoomIn));
     });
     // new data every frame (what a streaming run costs): the current run grows by one sample
     update(&mut app, Msg::Action(Action::ZoomReset));
-    let streaming = time_frames(&mut term, &mut app, 5, |a| {
+    let streaming = time_frames(&mut term, &mut app, &mut cache, 5, |a| {
         let grow = a.current.as_mut().unwrap();
         grow.t.push(grow.t.last().unwrap() + 1e-9);
         for c in grow.q.iter_mut().chain(grow.gap.iter_mut()) {

@@ -3,7 +3,7 @@
 //! as a [`Msg::Batch`]; the end of the run is a [`Msg::RunDone`]. A run is cancelled through a
 //! flag the observer checks at every batch.
 
-use super::app::{Msg, RunOutcome};
+use super::msg::{Msg, RunOutcome};
 use crate::output::{EventRecord, Sample};
 use crate::run::{Observer, SolverError};
 use crate::scene::Scene;
@@ -18,6 +18,13 @@ pub const THREAD_PREFIX: &str = "deckspin-worker";
 thread_local! {
     /// Message of a panic on this worker thread (set by the panic hook).
     pub static LAST_PANIC: RefCell<Option<String>> = const { RefCell::new(None) };
+}
+
+/// Test hook: `DECKSPIN_TEST_PANIC=ui` panics on the UI thread after the first frame,
+/// `=worker` inside the simulation thread (the end-to-end test checks the terminal is restored
+/// and the worker's panic is reported as a failed run).
+pub(crate) fn test_panic(place: &str) -> bool {
+    std::env::var("DECKSPIN_TEST_PANIC").is_ok_and(|v| v == place)
 }
 
 /// A running simulation.
@@ -93,7 +100,7 @@ pub fn spawn(id: u64, scene: Scene, tx: Sender<Msg>) -> RunHandle {
                     cancel: Some(flag),
                     sink: |m| sink_tx.send(m).is_ok(),
                 };
-                if super::test_panic("worker") {
+                if test_panic("worker") {
                     panic!("DECKSPIN_TEST_PANIC=worker: a panic in the simulation thread");
                 }
                 crate::simulate(&scene, &mut obs)

@@ -1,0 +1,127 @@
+//! The effect executor, shared by the terminal runtime and headless use (tests): what differs
+//! (threads or blocking calls, timing) is a [`Host`].
+
+use super::app::App;
+use super::export;
+use super::msg::{Effect, Msg};
+use super::update::update;
+use super::worker;
+use crate::scene::Scene;
+use std::collections::VecDeque;
+use std::io::{self, Write};
+use std::path::Path;
+
+/// Writes `text` to `path` atomically: a temporary file in the same directory (same file
+/// system), flushed to disk, given the original's permissions, then renamed over `path`.
+pub fn save_atomic(path: &Path, text: &str) -> io::Result<()> {
+    // a symbolic link stays a link: write the file it points to
+    let resolved;
+    let path = if std::fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink()) {
+        resolved = std::fs::canonicalize(path)?;
+        resolved.as_path()
+    } else {
+        path
+    };
+    let dir = path
+        .parent()
+        .filter(|d| !d.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let name = path
+        .file_name()
+        .ok_or_else(|| io::Error::other("no file name"))?
+        .to_string_lossy();
+    let tmp = dir.join(format!(".{name}.deckspin-{}.tmp", std::process::id()));
+    let result = (|| {
+        let mut f = std::fs::File::create(&tmp)?;
+        f.write_all(text.as_bytes())?;
+        f.sync_all()?;
+        if let Ok(m) = std::fs::metadata(path) {
+            std::fs::set_permissions(&tmp, m.permissions())?;
+        }
+        std::fs::rename(&tmp, path)?;
+        if let Ok(d) = std::fs::File::open(dir) {
+            let _ = d.sync_all();
+        }
+        Ok(())
+    })();
+    if result.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    result
+}
+
+/// A job for [`Host::background`]: its message is the result.
+pub type Job = Box<dyn FnOnce() -> Msg + Send>;
+
+/// Where effects run: the runtime's threads, or blocking calls.
+pub trait Host {
+    /// Starts simulation `id`; returns the messages available now (all of them when blocking,
+    /// none when they come later through the runtime's channel).
+    fn start_run(&mut self, id: u64, scene: Scene) -> Vec<Msg>;
+    fn cancel_run(&mut self, id: u64);
+    /// Runs a slow job (export formatting); returns its message now or sends it later.
+    fn background(&mut self, job: Job) -> Vec<Msg>;
+    /// A timing milestone.
+    fn log(&mut self, _label: &str) {}
+}
+
+/// Executes effects; the messages they produce at once are fed back to [`update`] and their
+/// effects executed in turn.
+pub fn perform(app: &mut App, host: &mut impl Host, effects: Vec<Effect>) {
+    let mut queue: VecDeque<Effect> = effects.into();
+    while let Some(e) = queue.pop_front() {
+        for m in execute(app, host, e) {
+            queue.extend(update(app, m));
+        }
+    }
+}
+
+/// Executes one effect.
+fn execute(app: &mut App, host: &mut impl Host, e: Effect) -> Vec<Msg> {
+    match e {
+        Effect::StartRun { id, scene } => host.start_run(id, *scene),
+        Effect::CancelRun { id } => {
+            host.cancel_run(id);
+            Vec::new()
+        }
+        Effect::Save { path, text } => {
+            let result = save_atomic(&path, &text)
+                .map(|_| path)
+                .map_err(|e| e.to_string());
+            host.log("saved");
+            vec![Msg::Saved { text, result }]
+        }
+        Effect::Export {
+            dirs,
+            stem,
+            run,
+            window,
+            element,
+        } => host.background(Box::new(move || {
+            let files = export::export_files(&stem, &run, window, element);
+            Msg::Exported(export::write_exports(&dirs, &files))
+        })),
+        Effect::Quit => {
+            app.quit = true;
+            Vec::new()
+        }
+    }
+}
+
+/// Headless host: simulations run to completion in this thread, jobs run at once.
+pub struct Blocking;
+
+impl Host for Blocking {
+    fn start_run(&mut self, id: u64, scene: Scene) -> Vec<Msg> {
+        worker::run_blocking(id, &scene)
+    }
+    fn cancel_run(&mut self, _id: u64) {}
+    fn background(&mut self, job: Job) -> Vec<Msg> {
+        vec![job()]
+    }
+}
+
+/// Executes effects without a terminal ([`Blocking`]): tests, headless use.
+pub fn execute_blocking(app: &mut App, effects: Vec<Effect>) {
+    perform(app, &mut Blocking, effects);
+}

@@ -1,0 +1,75 @@
+//! Messages into [`super::update`] and the effects it returns.
+
+use super::keymap::Action;
+use super::run_data::RunData;
+use crate::output::{EventRecord, RunOutput, Sample};
+use crate::scene::Scene;
+use crossterm::event::KeyEvent;
+use std::path::PathBuf;
+
+/// How a run ended.
+#[derive(Debug)]
+pub enum RunOutcome {
+    Finished(Box<RunOutput>),
+    Cancelled { t: f64 },
+    Failed(String),
+}
+
+/// Input of [`super::update`].
+#[derive(Debug)]
+pub enum Msg {
+    Key(KeyEvent),
+    Action(Action),
+    Resize(u16, u16),
+    /// New samples and events of run `run` (simulated time `t`).
+    Batch {
+        run: u64,
+        samples: Vec<Sample>,
+        events: Vec<EventRecord>,
+        t: f64,
+    },
+    RunDone {
+        run: u64,
+        outcome: RunOutcome,
+    },
+    /// The model file's content after a change on disk.
+    FileChanged(String),
+    FileUnreadable(String),
+    /// How the file is watched ("notify", "polling every 1 s", …).
+    WatchMode(String),
+    /// Result of [`Effect::Save`].
+    Saved {
+        text: String,
+        result: Result<PathBuf, String>,
+    },
+    /// Result of [`Effect::Export`]: the written paths.
+    Exported(Result<Vec<PathBuf>, String>),
+}
+
+/// Output of [`super::update`], executed by [`super::effects::perform`].
+#[derive(Debug)]
+pub enum Effect {
+    StartRun {
+        id: u64,
+        scene: Box<Scene>,
+    },
+    CancelRun {
+        id: u64,
+    },
+    /// Write `text` to `path` atomically (temporary file in the same directory, then rename).
+    Save {
+        path: PathBuf,
+        text: String,
+    },
+    /// Format the charted columns of `run` in `window` and its event log as CSV (off the UI
+    /// thread) and write `<stem>-chart.csv`, `<stem>-events.csv` into the first directory of
+    /// `dirs` that accepts them.
+    Export {
+        dirs: Vec<PathBuf>,
+        stem: String,
+        run: Box<RunData>,
+        window: (f64, f64),
+        element: usize,
+    },
+    Quit,
+}

@@ -1,0 +1,265 @@
+//! The charted history of one run, in columns, with the engine's running summary
+//! ([`Tally`]) of its samples.
+
+use crate::output::{ContactState, EventKind, EventRecord, RunOutput, Sample, Summary, Tally};
+use crate::scene::Scene;
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum RunStatus {
+    Running,
+    Cancelling,
+    Finished,
+    Cancelled,
+    Failed(String),
+}
+
+/// The charted history of one run, in columns.
+#[derive(Clone, Debug)]
+pub struct RunData {
+    pub id: u64,
+    /// "run 3" or "run 3 (unsaved edits)".
+    pub label: String,
+    pub dof_names: Vec<String>,
+    pub contact_names: Vec<String>,
+    pub element_names: Vec<String>,
+    pub t: Vec<f64>,
+    pub q: Vec<Vec<f64>>,
+    pub gap: Vec<Vec<f64>>,
+    pub state: Vec<Vec<ContactState>>,
+    /// (deformation, force) columns per hysteretic element.
+    pub el: Vec<(Vec<f64>, Vec<f64>)>,
+    pub events: Vec<EventRecord>,
+    pub t_sim: f64,
+    pub t_end: f64,
+    pub status: RunStatus,
+    pub summary: Option<Summary>,
+    pub steps: Option<usize>,
+    /// Peaks, residuals, minimum gaps and stick times of the samples so far.
+    pub tally: Tally,
+    /// Impacts per contact so far.
+    pub impacts: Vec<usize>,
+    /// (min, max) of deformation and force per element, so far.
+    pub el_range: Vec<[f64; 4]>,
+    /// Index of the charted rotation DOF and of the x/y DOFs.
+    pub rot: Option<usize>,
+    pub xy: Vec<usize>,
+}
+
+/// The rotation to chart: `deck.theta`, else the first `*.theta`, else the first DOF.
+pub fn rotation_dof(names: &[String]) -> Option<usize> {
+    names
+        .iter()
+        .position(|n| n == "deck.theta")
+        .or_else(|| names.iter().position(|n| n.ends_with(".theta")))
+        .or(if names.is_empty() { None } else { Some(0) })
+}
+
+/// The translations to chart: x and y of the rotation's body, else the first DOFs.
+pub fn xy_dofs(names: &[String], rot: Option<usize>) -> Vec<usize> {
+    let body = rot
+        .and_then(|r| names[r].rsplit_once('.'))
+        .map(|(b, _)| b.to_string())
+        .unwrap_or_default();
+    let found: Vec<usize> = ["x", "y"]
+        .iter()
+        .filter_map(|a| names.iter().position(|n| *n == format!("{body}.{a}")))
+        .filter(|&i| Some(i) != rot)
+        .collect();
+    if !found.is_empty() {
+        return found;
+    }
+    (0..names.len())
+        .filter(|&i| Some(i) != rot)
+        .take(2)
+        .collect()
+}
+
+impl RunData {
+    pub fn new(
+        id: u64,
+        label: String,
+        dof_names: Vec<String>,
+        contact_names: Vec<String>,
+        element_names: Vec<String>,
+        t_end: f64,
+    ) -> Self {
+        let rot = rotation_dof(&dof_names);
+        let xy = xy_dofs(&dof_names, rot);
+        let nc = contact_names.len();
+        Self {
+            id,
+            label,
+            q: vec![Vec::new(); dof_names.len()],
+            gap: vec![Vec::new(); nc],
+            state: vec![Vec::new(); nc],
+            el: vec![(Vec::new(), Vec::new()); element_names.len()],
+            el_range: vec![
+                [
+                    f64::INFINITY,
+                    f64::NEG_INFINITY,
+                    f64::INFINITY,
+                    f64::NEG_INFINITY
+                ];
+                element_names.len()
+            ],
+            tally: Tally::default(),
+            impacts: vec![0; nc],
+            dof_names,
+            contact_names,
+            element_names,
+            t: Vec::new(),
+            events: Vec::new(),
+            t_sim: 0.0,
+            t_end,
+            status: RunStatus::Running,
+            summary: None,
+            steps: None,
+            rot,
+            xy,
+        }
+    }
+
+    pub fn for_scene(id: u64, label: String, scene: &Scene) -> Self {
+        Self::new(
+            id,
+            label,
+            scene.dof_names.clone(),
+            scene.contacts.iter().map(|c| c.name.clone()).collect(),
+            scene.hysteretic.iter().map(|h| h.name.clone()).collect(),
+            scene.settings.t_end,
+        )
+    }
+
+    /// Appends samples and events (one observer batch).
+    pub fn push(&mut self, samples: &[Sample], events: &[EventRecord], t: f64) {
+        for s in samples {
+            self.tally.add(&s.view());
+            self.t.push(s.t);
+            for (k, col) in self.q.iter_mut().enumerate() {
+                col.push(s.q.get(k).copied().unwrap_or(f64::NAN));
+            }
+            for (i, c) in s.contacts.iter().enumerate().take(self.gap.len()) {
+                self.gap[i].push(c.gap);
+                self.state[i].push(c.state);
+            }
+            for (j, &(d, f)) in s.elements.iter().enumerate().take(self.el.len()) {
+                self.el[j].0.push(d);
+                self.el[j].1.push(f);
+                let r = &mut self.el_range[j];
+                if d.is_finite() && f.is_finite() {
+                    *r = [r[0].min(d), r[1].max(d), r[2].min(f), r[3].max(f)];
+                }
+            }
+        }
+        for e in events {
+            if e.kind == EventKind::Impact
+                && let Some(n) = self.impacts.get_mut(e.contact)
+            {
+                *n += 1;
+            }
+        }
+        self.events.extend_from_slice(events);
+        if let Some(&tl) = self.t.last() {
+            self.t_sim = self.t_sim.max(tl);
+        }
+        self.t_sim = self.t_sim.max(t.min(self.t_end));
+    }
+
+    /// Takes the final output of a run (its samples replace the streamed ones if they differ).
+    pub fn finish(&mut self, out: RunOutput) {
+        if out.samples.len() != self.t.len() || out.events.len() != self.events.len() {
+            let mut fresh = RunData::new(
+                self.id,
+                self.label.clone(),
+                out.dof_names.clone(),
+                out.contact_names.clone(),
+                out.element_names.clone(),
+                self.t_end,
+            );
+            fresh.push(&out.samples, &out.events, out.summary.t_end);
+            *self = fresh;
+        }
+        self.t_sim = out.summary.t_end.max(self.t_sim);
+        self.steps = Some(out.summary.stats.steps_accepted);
+        self.summary = Some(out.summary);
+        self.status = RunStatus::Finished;
+    }
+
+    pub fn running(&self) -> bool {
+        matches!(self.status, RunStatus::Running | RunStatus::Cancelling)
+    }
+
+    pub fn count(&self, kind: EventKind) -> usize {
+        self.events.iter().filter(|e| e.kind == kind).count()
+    }
+
+    /// Index of a DOF, contact or element column by name.
+    pub fn dof(&self, name: &str) -> Option<usize> {
+        self.dof_names.iter().position(|n| n == name)
+    }
+
+    /// Name of the charted rotation DOF ("" without DOFs).
+    pub fn rot_name(&self) -> &str {
+        self.rot.map_or("", |r| self.dof_names[r].as_str())
+    }
+
+    /// Peak |q| of DOF `k` over the samples so far.
+    pub fn q_peak(&self, k: usize) -> f64 {
+        self.tally.peaks.get(k).map_or(0.0, |p| p.0)
+    }
+
+    /// Peak |rotation| and its time; once finished, the engine's peak if larger (it also sees
+    /// the dense output between samples).
+    pub fn peak_rot(&self) -> (f64, f64) {
+        let mut p = self
+            .rot
+            .and_then(|r| self.tally.peaks.get(r))
+            .map_or((0.0, 0.0), |p| (p.0, p.1));
+        if let Some(d) = self
+            .summary
+            .as_ref()
+            .and_then(|s| s.peaks.iter().find(|d| d.name == self.rot_name()))
+            && d.max_abs > p.0
+        {
+            p = (d.max_abs, d.at);
+        }
+        p
+    }
+
+    /// Rotation at the last sample.
+    pub fn residual_rot(&self) -> f64 {
+        self.rot
+            .and_then(|r| self.tally.last_q.get(r).copied())
+            .unwrap_or(0.0)
+    }
+
+    /// Stick time of contact `i` so far, s.
+    pub fn stick_time(&self, i: usize) -> f64 {
+        self.tally.contacts.get(i).map_or(0.0, |c| c.stick_time)
+    }
+
+    /// Minimum gap of contact `i` so far (∞ before its first sample).
+    pub fn min_gap_of(&self, i: usize) -> f64 {
+        self.tally
+            .contacts
+            .get(i)
+            .map_or(f64::INFINITY, |c| c.min_gap)
+    }
+
+    pub fn total_impacts(&self) -> usize {
+        self.impacts.iter().sum()
+    }
+
+    pub fn total_stick_time(&self) -> f64 {
+        (0..self.contact_names.len())
+            .map(|i| self.stick_time(i))
+            .sum()
+    }
+
+    /// Smallest gap of all contacts so far.
+    pub fn min_gap(&self) -> f64 {
+        (0..self.contact_names.len())
+            .map(|i| self.min_gap_of(i))
+            .fold(f64::INFINITY, f64::min)
+    }
+}

@@ -1,0 +1,242 @@
+//! The terminal runtime: raw mode and alternate screen (restored on every exit and on panics),
+//! the input thread, and the loop that drains the message channel, feeds [`update`], executes
+//! effects through [`Threads`] and draws once per drain.
+
+use super::app::{App, Options};
+use super::effects::{Host, Job, perform};
+use super::msg::Msg;
+use super::ui;
+use super::update::update;
+use super::{watch, worker};
+use crate::scene::Scene;
+use crossterm::event::{self, Event};
+use crossterm::execute;
+use crossterm::terminal::{
+    EnterAlternateScreen, LeaveAlternateScreen, disable_raw_mode, enable_raw_mode,
+};
+use ratatui::Terminal;
+use ratatui::backend::CrosstermBackend;
+use std::collections::HashMap;
+use std::io::{self, Write};
+use std::path::Path;
+use std::sync::mpsc::{self, Receiver, Sender};
+use std::time::{Instant, SystemTime, UNIX_EPOCH};
+
+/// Whether the terminal is in workbench mode (raw, alternate screen).
+static TERMINAL_TAKEN: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// Restores the terminal once: raw mode off, main screen, cursor shown. (Leaving the
+/// alternate screen twice would move the cursor back over what was printed in between.)
+fn restore_terminal() {
+    if TERMINAL_TAKEN.swap(false, std::sync::atomic::Ordering::SeqCst) {
+        let _ = disable_raw_mode();
+        let _ = execute!(io::stdout(), LeaveAlternateScreen, crossterm::cursor::Show);
+    }
+}
+
+/// Restores the terminal when dropped (normal return, `?` errors, unwinding).
+struct TerminalGuard;
+
+impl TerminalGuard {
+    fn enter() -> io::Result<Self> {
+        enable_raw_mode()?;
+        TERMINAL_TAKEN.store(true, std::sync::atomic::Ordering::SeqCst);
+        let guard = TerminalGuard;
+        execute!(io::stdout(), EnterAlternateScreen, crossterm::cursor::Hide)?;
+        Ok(guard)
+    }
+}
+
+impl Drop for TerminalGuard {
+    fn drop(&mut self) {
+        restore_terminal();
+    }
+}
+
+/// A panic on the UI thread restores the terminal before the message is printed; a panic on a
+/// worker thread is recorded for the worker to report and leaves the screen alone.
+fn install_panic_hook() {
+    let previous = std::panic::take_hook();
+    std::panic::set_hook(Box::new(move |info| {
+        let on_worker = std::thread::current()
+            .name()
+            .is_some_and(|n| n.starts_with(worker::THREAD_PREFIX));
+        if on_worker {
+            worker::LAST_PANIC.with(|l| *l.borrow_mut() = Some(info.to_string()));
+            return;
+        }
+        restore_terminal();
+        previous(info);
+    }));
+}
+
+/// Optional timing log (`DECKSPIN_TIMING=FILE`): one line per milestone, `unix_ms label`.
+struct Timing {
+    file: Option<std::fs::File>,
+    start: Instant,
+}
+
+impl Timing {
+    fn from_env() -> Self {
+        let file = std::env::var_os("DECKSPIN_TIMING").and_then(|p| {
+            std::fs::OpenOptions::new()
+                .create(true)
+                .append(true)
+                .open(p)
+                .ok()
+        });
+        Self {
+            file,
+            start: Instant::now(),
+        }
+    }
+    fn log(&mut self, label: &str) {
+        if let Some(f) = &mut self.file {
+            let now = SystemTime::now()
+                .duration_since(UNIX_EPOCH)
+                .map_or(0.0, |d| d.as_secs_f64() * 1e3);
+            let _ = writeln!(
+                f,
+                "{now:.3} {label} +{:.3}ms",
+                self.start.elapsed().as_secs_f64() * 1e3
+            );
+        }
+    }
+}
+
+/// The runtime's [`Host`]: runs in worker threads, jobs in their own thread, results back
+/// through the channel.
+struct Threads {
+    tx: Sender<Msg>,
+    runs: HashMap<u64, worker::RunHandle>,
+    timing: Timing,
+}
+
+impl Host for Threads {
+    fn start_run(&mut self, id: u64, scene: Scene) -> Vec<Msg> {
+        self.timing.log(&format!("run-start {id}"));
+        self.runs.retain(|_, h| h.id + 8 > id);
+        self.runs
+            .insert(id, worker::spawn(id, scene, self.tx.clone()));
+        Vec::new()
+    }
+    fn cancel_run(&mut self, id: u64) {
+        if let Some(h) = self.runs.get(&id) {
+            h.cancel();
+        }
+    }
+    fn background(&mut self, job: Job) -> Vec<Msg> {
+        // formatting 10⁵ rows takes a while: off the UI thread
+        let tx = self.tx.clone();
+        std::thread::spawn(move || {
+            let _ = tx.send(job());
+        });
+        Vec::new()
+    }
+    fn log(&mut self, label: &str) {
+        self.timing.log(label);
+    }
+}
+
+impl Threads {
+    fn cancel_all(&self) {
+        for h in self.runs.values() {
+            h.cancel();
+        }
+    }
+}
+
+/// Sends key and resize events to the loop.
+fn spawn_input(tx: Sender<Msg>) {
+    let _ = std::thread::Builder::new()
+        .name("deckspin-input".into())
+        .spawn(move || {
+            loop {
+                let msg = match event::read() {
+                    Ok(Event::Key(k)) => Msg::Key(k),
+                    Ok(Event::Resize(w, h)) => Msg::Resize(w, h),
+                    Ok(_) => continue,
+                    Err(_) => return,
+                };
+                if tx.send(msg).is_err() {
+                    return;
+                }
+            }
+        });
+}
+
+/// Waits for a message, then takes what else is queued (up to 4096).
+fn drain(rx: &Receiver<Msg>) -> Option<Vec<Msg>> {
+    let first = rx.recv().ok()?;
+    let mut batch = vec![first];
+    while batch.len() < 4096 {
+        match rx.try_recv() {
+            Ok(m) => batch.push(m),
+            Err(_) => break,
+        }
+    }
+    Some(batch)
+}
+
+/// Open the workbench on a model file.
+pub fn run(model: &Path) -> Result<(), Box<dyn std::error::Error>> {
+    let mut timing = Timing::from_env();
+    timing.log("start");
+    let mut app = App::new_from_path(model, Options::from_env())?;
+    let (tx, rx) = mpsc::channel::<Msg>();
+    install_panic_hook();
+    let guard = TerminalGuard::enter()?;
+    let mut terminal = Terminal::new(CrosstermBackend::new(io::stdout()))?;
+    terminal.clear()?;
+    let size = terminal.size()?;
+    update(&mut app, Msg::Resize(size.width, size.height));
+    spawn_input(tx.clone());
+    let _watch = watch::spawn(&app.path, tx.clone());
+    let mut host = Threads {
+        tx: tx.clone(),
+        runs: HashMap::new(),
+        timing,
+    };
+    let fx = app.start();
+    perform(&mut app, &mut host, fx);
+    let mut cache = ui::Cache::default();
+    let mut first_frame = true;
+    // run id whose first batch arrived but is not drawn yet
+    let mut first_batch_of: Option<u64> = None;
+    let mut framed: u64 = 0;
+    loop {
+        terminal.draw(|f| ui::draw(f, &app, &mut cache))?;
+        if first_frame {
+            host.timing.log("first-frame");
+            first_frame = false;
+            if worker::test_panic("ui") {
+                panic!("DECKSPIN_TEST_PANIC=ui: a panic on the UI thread");
+            }
+        }
+        if let Some(id) = first_batch_of.take() {
+            host.timing.log(&format!("first-run-frame {id}"));
+            framed = id;
+        }
+        if app.quit {
+            break;
+        }
+        let Some(batch) = drain(&rx) else { break };
+        for m in batch {
+            match &m {
+                Msg::Batch { run, .. }
+                    if *run > framed && app.current.as_ref().is_some_and(|c| c.id == *run) =>
+                {
+                    first_batch_of = Some(*run)
+                }
+                Msg::FileChanged(_) => host.timing.log("file-changed"),
+                _ => {}
+            }
+            let fx = update(&mut app, m);
+            perform(&mut app, &mut host, fx);
+        }
+    }
+    host.cancel_all();
+    drop(terminal);
+    drop(guard);
+    Ok(())
+}

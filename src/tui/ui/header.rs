@@ -1,0 +1,154 @@
+//! The header line (file, title, view, run progress) and the model error banner.
+
+use super::common::Theme;
+use crate::tui::app::{App, LoadError, StatusKind, View};
+use crate::tui::run_data::RunStatus;
+use ratatui::Frame;
+use ratatui::layout::{Alignment, Constraint, Layout, Rect};
+use ratatui::style::Color;
+use ratatui::text::{Line, Span};
+use ratatui::widgets::Paragraph;
+
+/// A progress bar of `width` cells.
+fn gauge(frac: f64, width: usize, ascii: bool) -> String {
+    let frac = frac.clamp(0.0, 1.0);
+    let cells = frac * width as f64;
+    let full = cells.floor() as usize;
+    let mut s = String::new();
+    if ascii {
+        s.push('[');
+        s.push_str(&"#".repeat(full));
+        s.push_str(&" ".repeat(width - full));
+        s.push(']');
+    } else {
+        const PART: [&str; 8] = ["", "▏", "▎", "▍", "▌", "▋", "▊", "▉"];
+        s.push('▕');
+        s.push_str(&"█".repeat(full));
+        let mut used = full;
+        if full < width {
+            let p = ((cells - full as f64) * 8.0).floor() as usize;
+            if p > 0 {
+                s.push_str(PART[p]);
+                used += 1;
+            }
+        }
+        s.push_str(&" ".repeat(width - used));
+        s.push('▏');
+    }
+    s
+}
+
+/// The run's progress, or how it ended.
+fn run_progress(app: &App, th: &Theme) -> Line<'static> {
+    let Some(r) = &app.current else {
+        return Line::styled("no run", th.dim());
+    };
+    let ev = r.events.len();
+    let label = format!("run {}", r.id);
+    match &r.status {
+        RunStatus::Running | RunStatus::Cancelling => {
+            let mut spans = vec![
+                Span::styled(label, th.bold()),
+                Span::raw(" "),
+                Span::styled(
+                    gauge(r.t_sim / r.t_end.max(1e-300), 10, th.ascii),
+                    th.fg(Color::Cyan),
+                ),
+                Span::raw(format!(
+                    " {}/{} s · {ev} events",
+                    fmt_t(r.t_sim),
+                    fmt_t(r.t_end)
+                )),
+            ];
+            if r.status == RunStatus::Cancelling {
+                spans.push(Span::styled(" · cancelling", th.status(StatusKind::Warn)));
+            }
+            Line::from(spans)
+        }
+        RunStatus::Finished => Line::from(vec![
+            Span::styled(label, th.bold()),
+            Span::styled(" done", th.status(StatusKind::Ok)),
+            Span::raw(format!(" · {} s · {ev} events", fmt_t(r.t_sim))),
+        ]),
+        RunStatus::Cancelled => Line::from(vec![
+            Span::styled(label, th.bold()),
+            Span::styled(
+                format!(" cancelled at {} s", fmt_t(r.t_sim)),
+                th.status(StatusKind::Warn),
+            ),
+        ]),
+        RunStatus::Failed(_) => Line::from(vec![
+            Span::styled(label, th.bold()),
+            Span::styled(
+                format!(" failed at {} s", fmt_t(r.t_sim)),
+                th.status(StatusKind::Error),
+            ),
+        ]),
+    }
+}
+
+fn fmt_t(t: f64) -> String {
+    format!("{t:.2}")
+}
+
+/// Draws the header line.
+pub(super) fn draw_header(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
+    let right = run_progress(app, th);
+    let rw = (right.width() as u16).min(area.width * 3 / 5);
+    let [l, r] = Layout::horizontal([Constraint::Min(0), Constraint::Length(rw + 1)]).areas(area);
+    let mut name = app.file_name();
+    if app.dirty() {
+        name.push_str(" [+]");
+    }
+    let view = match app.view {
+        View::Charts => "charts",
+        View::Form => "form",
+    };
+    let fixed = 8 + 3 + name.chars().count() + 3 + 3 + view.len();
+    let room = (l.width as usize).saturating_sub(fixed);
+    let mut title = app.title();
+    if title.chars().count() > room {
+        title = title
+            .chars()
+            .take(room.saturating_sub(1))
+            .collect::<String>()
+            + "…";
+    }
+    let left = Line::from(vec![
+        Span::styled("deckspin", th.bold().patch(th.fg(Color::Cyan))),
+        Span::styled(" │ ", th.dim()),
+        Span::styled(name, th.bold()),
+        Span::styled(" │ ", th.dim()),
+        Span::raw(title),
+        Span::styled(format!(" │ {view}"), th.dim()),
+    ]);
+    frame.render_widget(Paragraph::new(left), l);
+    frame.render_widget(Paragraph::new(right).alignment(Alignment::Right), r);
+}
+
+/// Draws the banner of a model that does not load: message, source line, caret.
+pub(super) fn draw_error(frame: &mut Frame, area: Rect, le: &LoadError, th: &Theme) {
+    let err = th.status(StatusKind::Error);
+    let title = match (le.line, le.column) {
+        (Some(l), Some(c)) => {
+            format!(" model error at line {l}, column {c} — showing the last good model ")
+        }
+        _ => " model error — showing the last good model ".to_string(),
+    };
+    let block = th.block(Line::styled(title, err)).border_style(err);
+    let inner = block.inner(area);
+    let mut lines = vec![Line::styled(le.detail.clone(), err)];
+    if let (Some(l), Some(src)) = (le.line, &le.source_line) {
+        let prefix = format!("{l:>5} │ ");
+        lines.push(Line::from(vec![
+            Span::styled(prefix.clone(), th.dim()),
+            Span::raw(src.clone()),
+        ]));
+        if let Some(c) = le.column {
+            let pad = prefix.chars().count() + src.chars().take(c.saturating_sub(1)).count();
+            lines.push(Line::styled(format!("{}^", " ".repeat(pad)), err));
+        }
+    }
+    frame.render_widget(block, area);
+    frame.render_widget(Paragraph::new(lines), inner);
+}

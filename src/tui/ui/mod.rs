@@ -1,0 +1,71 @@
+//! Drawing: `draw(frame, app, cache)` renders the whole screen from the state, one file per
+//! panel. Charts are decimated per screen column before datasets are built, and the decimated
+//! series and event strips are cached ([`Cache`]) per run length, time window and plot size,
+//! so a frame stays light with 10⁵-sample histories.
+
+mod cache;
+mod common;
+mod form;
+mod header;
+mod loop_chart;
+mod plan;
+mod side;
+mod status;
+mod time;
+mod timeline;
+
+pub use cache::Cache;
+pub use timeline::event_strip;
+
+use crate::tui::app::{App, MIN_HEIGHT, MIN_WIDTH, Mode, View};
+use ratatui::Frame;
+use ratatui::layout::{Constraint, Layout, Rect};
+
+/// Renders the workbench.
+pub fn draw(frame: &mut Frame, app: &App, cache: &mut Cache) {
+    let area = frame.area();
+    let th = common::theme(app);
+    if area.width < MIN_WIDTH || area.height < MIN_HEIGHT {
+        status::draw_too_small(frame, area, &th);
+        return;
+    }
+    let [header, mut body, status, hints] = Layout::vertical([
+        Constraint::Length(1),
+        Constraint::Min(0),
+        Constraint::Length(1),
+        Constraint::Length(1),
+    ])
+    .areas(area);
+    header::draw_header(frame, header, app, &th);
+    if let Some(le) = &app.load_error {
+        let h = if body.height >= 18 { 5 } else { 4 };
+        let [banner, rest] =
+            Layout::vertical([Constraint::Length(h), Constraint::Min(0)]).areas(body);
+        header::draw_error(frame, banner, le, &th);
+        body = rest;
+    }
+    match app.view {
+        View::Charts => draw_charts(frame, body, app, cache, &th),
+        View::Form => form::draw_form(frame, body, app, &th),
+    }
+    status::draw_status(frame, status, app, &th);
+    status::draw_hints(frame, hints, app, &th);
+    match &app.mode {
+        Mode::Help => status::draw_help(frame, area, &th),
+        Mode::Confirm(c) => status::draw_confirm(frame, area, app, c, &th),
+        _ => {}
+    }
+}
+
+/// The charts view: time charts and event strip on the left, side panels on the right.
+fn draw_charts(frame: &mut Frame, area: Rect, app: &App, cache: &mut Cache, th: &common::Theme) {
+    let right_w = if area.width >= 100 {
+        (area.width * 36 / 100).clamp(30, 60)
+    } else {
+        (area.width * 35 / 100).max(24)
+    };
+    let [left, right] =
+        Layout::horizontal([Constraint::Min(0), Constraint::Length(right_w)]).areas(area);
+    time::draw_time_panel(frame, left, app, cache, th);
+    side::draw_side_panel(frame, right, app, cache, th);
+}

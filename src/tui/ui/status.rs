@@ -1,0 +1,135 @@
+//! The status line, the key hints, the help and question overlays, the too-small screen.
+
+use super::common::Theme;
+use crate::tui::app::{App, Confirm, MIN_HEIGHT, MIN_WIDTH, StatusKind};
+use crate::tui::keymap;
+use ratatui::Frame;
+use ratatui::layout::{Alignment, Constraint, Layout, Rect};
+use ratatui::style::Color;
+use ratatui::text::{Line, Span};
+use ratatui::widgets::{Clear, Paragraph, Wrap};
+
+/// Draws the "terminal too small" screen.
+pub(super) fn draw_too_small(frame: &mut Frame, area: Rect, th: &Theme) {
+    let lines = vec![
+        Line::styled("terminal too small", th.status(StatusKind::Warn)),
+        Line::from(format!("{}×{}", area.width, area.height)),
+        Line::from(format!("deckspin needs {MIN_WIDTH}×{MIN_HEIGHT}")),
+        Line::from("enlarge it, or q to quit"),
+    ];
+    let h = (lines.len() as u16).min(area.height);
+    let y = area.y + area.height.saturating_sub(h) / 2;
+    let r = Rect::new(area.x, y, area.width, h);
+    frame.render_widget(Paragraph::new(lines).alignment(Alignment::Center), r);
+}
+
+/// Draws the status line and the watch mode.
+pub(super) fn draw_status(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
+    let wm = if app.watch_mode.is_empty() {
+        String::new()
+    } else {
+        format!("watch: {}", app.watch_mode)
+    };
+    let ww = (wm.chars().count() as u16 + 1).min(area.width / 3);
+    let [l, r] = Layout::horizontal([Constraint::Min(0), Constraint::Length(ww)]).areas(area);
+    frame.render_widget(
+        Paragraph::new(Line::styled(app.status.clone(), th.status(app.status_kind))),
+        l,
+    );
+    frame.render_widget(
+        Paragraph::new(Line::styled(wm, th.dim())).alignment(Alignment::Right),
+        r,
+    );
+}
+
+/// Draws the key hints that fit.
+pub(super) fn draw_hints(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
+    let mut spans = Vec::new();
+    let mut used = 0usize;
+    for (k, h) in keymap::hints(&app.contexts()) {
+        let w = k.chars().count() + h.chars().count() + 3;
+        if used + w > area.width as usize {
+            break;
+        }
+        spans.push(Span::styled(
+            format!(" {k}"),
+            th.bold().patch(th.selected()),
+        ));
+        spans.push(Span::raw(format!(" {h} ")));
+        used += w;
+    }
+    frame.render_widget(Paragraph::new(Line::from(spans)), area);
+}
+
+fn centered(area: Rect, w: u16, h: u16) -> Rect {
+    let w = w.min(area.width);
+    let h = h.min(area.height);
+    Rect::new(
+        area.x + (area.width - w) / 2,
+        area.y + (area.height - h) / 2,
+        w,
+        h,
+    )
+}
+
+/// Draws the help overlay: every key, from the keymap.
+pub(super) fn draw_help(frame: &mut Frame, area: Rect, th: &Theme) {
+    let groups: Vec<Vec<Line>> = keymap::help()
+        .into_iter()
+        .map(|(title, rows)| {
+            let mut g = vec![Line::styled(
+                title.to_string(),
+                th.bold().patch(th.fg(Color::Cyan)),
+            )];
+            for (k, d) in rows {
+                g.push(Line::from(vec![
+                    Span::styled(format!(" {k:<8}"), th.bold()),
+                    Span::raw(d.to_string()),
+                ]));
+            }
+            g
+        })
+        .collect();
+    let all: Vec<Line> = groups.into_iter().flatten().collect();
+    let half = all.len().div_ceil(2);
+    let (c0, c1) = (all[..half].to_vec(), all[half..].to_vec());
+    let rect = centered(area, area.width.min(100), area.height);
+    let block = th.block(" help — keys (Esc closes) ");
+    let inner = block.inner(rect);
+    frame.render_widget(Clear, rect);
+    frame.render_widget(block, rect);
+    let [a, b] =
+        Layout::horizontal([Constraint::Percentage(50), Constraint::Percentage(50)]).areas(inner);
+    frame.render_widget(Paragraph::new(c0), a);
+    frame.render_widget(Paragraph::new(c1), b);
+}
+
+/// Draws the pending question.
+pub(super) fn draw_confirm(frame: &mut Frame, area: Rect, app: &App, c: &Confirm, th: &Theme) {
+    let q = match c {
+        Confirm::Reload { .. } => vec![
+            format!("{} changed on disk.", app.file_name()),
+            "Reload it and discard your unsaved edits?".to_string(),
+        ],
+        Confirm::Quit => vec!["Quit and lose your unsaved edits?".to_string()],
+    };
+    let w = (area.width.saturating_sub(8)).min(64);
+    let rect = centered(area, w, q.len() as u16 + 4);
+    let block = th
+        .block(" question ")
+        .border_style(th.status(StatusKind::Warn));
+    let inner = block.inner(rect);
+    frame.render_widget(Clear, rect);
+    frame.render_widget(block, rect);
+    let mut lines: Vec<Line> = q.into_iter().map(Line::from).collect();
+    lines.extend([
+        Line::from(""),
+        Line::from(vec![
+            Span::styled(" y ", th.selected().patch(th.bold())),
+            Span::raw(" yes   "),
+            Span::styled(" n ", th.selected().patch(th.bold())),
+            Span::raw(" no"),
+        ]),
+    ]);
+    frame.render_widget(Paragraph::new(lines).wrap(Wrap { trim: true }), inner);
+}

@@ -1,0 +1,137 @@
+//! Form actions: select a field, edit, accept or abandon the edit, revert.
+
+use crate::tui::app::{App, Mode, StatusKind};
+use crate::tui::form;
+use crate::tui::keymap::Action;
+
+/// Field and edit keys of the form view.
+pub(super) fn form_action(app: &mut App, a: Action) {
+    use Action as A;
+    match a {
+        A::FieldUp => select(app, -1),
+        A::FieldDown => select(app, 1),
+        A::FieldPageUp => select(app, -10),
+        A::FieldPageDown => select(app, 10),
+        A::FieldEdit => start_edit(app),
+        A::FieldRevert => revert(app),
+        A::EditCommit => commit(app),
+        A::EditCancel => {
+            app.mode = Mode::Normal;
+            app.set_status(StatusKind::Info, "edit abandoned");
+        }
+        A::EditBackspace | A::EditClear => {
+            if let Mode::Editing { buffer, .. } = &mut app.mode {
+                if a == A::EditClear {
+                    buffer.clear();
+                } else {
+                    buffer.pop();
+                }
+            }
+            recheck(app);
+        }
+        _ => {}
+    }
+}
+
+fn start_edit(app: &mut App) {
+    if let Some(f) = app.form.selected() {
+        let buffer = f.edit_text();
+        app.mode = Mode::Editing {
+            buffer,
+            check: Ok(()),
+        };
+        recheck(app);
+    }
+}
+
+/// Live validation of the edit buffer.
+pub(super) fn recheck(app: &mut App) {
+    if let Mode::Editing { buffer, .. } = &app.mode {
+        let check = app.check_edit(buffer).map(|_| ());
+        if let Mode::Editing { check: c, .. } = &mut app.mode {
+            *c = check;
+        }
+    }
+}
+
+fn select(app: &mut App, d: i64) {
+    let n = app.form.fields.len() as i64;
+    if n > 0 {
+        app.form.selected = (app.form.selected as i64 + d).clamp(0, n - 1) as usize;
+    }
+}
+
+/// `Enter`: accept the edit (refused, with the reason, when invalid).
+fn commit(app: &mut App) {
+    let Mode::Editing { buffer, .. } = &app.mode else {
+        return;
+    };
+    let buffer = buffer.clone();
+    let Some(f) = app.form.selected().cloned() else {
+        return;
+    };
+    match app.check_edit(&buffer) {
+        Ok(text) => {
+            accept_draft(app, text);
+            app.mode = Mode::Normal;
+            let v = app
+                .form
+                .selected()
+                .and_then(|f| f.value.clone())
+                .unwrap_or_default();
+            let unit = if f.unit.is_empty() || f.unit == "–" || f.unit.contains('|') {
+                String::new()
+            } else {
+                format!(" {}", f.unit)
+            };
+            app.set_status(
+                StatusKind::Ok,
+                format!(
+                    "{} = {v}{unit} (unsaved: s saves and reruns, r runs the edits)",
+                    f.path
+                ),
+            );
+        }
+        Err(reason) => {
+            app.mode = Mode::Editing {
+                buffer,
+                check: Err(reason.clone()),
+            };
+            app.set_status(StatusKind::Error, format!("refused: {reason}"));
+        }
+    }
+}
+
+fn accept_draft(app: &mut App, text: String) {
+    if let Ok(scene) = form::validate(&text, &app.path) {
+        app.scene = Some(scene);
+    }
+    app.draft = text;
+    app.rebuild_form();
+}
+
+/// `u`: revert the field to its saved value.
+fn revert(app: &mut App) {
+    let Some(f) = app.form.selected().cloned() else {
+        return;
+    };
+    if !f.edited() {
+        app.set_status(StatusKind::Info, format!("{} is not edited", f.path));
+        return;
+    }
+    let r = match &f.saved {
+        Some(v) => form::set_value(&app.draft, &f.path, f.kind, v, ""),
+        None => form::remove_value(&app.draft, &f.path),
+    };
+    match r.and_then(|t| {
+        form::validate(&t, &app.path)
+            .map(|_| t)
+            .map_err(|e| e.to_string())
+    }) {
+        Ok(t) => {
+            accept_draft(app, t);
+            app.set_status(StatusKind::Ok, format!("{} reverted", f.path));
+        }
+        Err(e) => app.set_status(StatusKind::Error, format!("cannot revert {}: {e}", f.path)),
+    }
+}

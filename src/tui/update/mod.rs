@@ -1,0 +1,195 @@
+//! The update function: `update(app, msg)` changes the state and returns effects (start or
+//! cancel a run, save, export, quit) for [`super::effects::perform`]; nothing here touches the
+//! terminal, threads or (except for validating model text) the file system.
+
+mod edit;
+mod file;
+mod run;
+mod view;
+
+use crate::tui::app::hash_text;
+use crate::tui::app::{App, Confirm, Mode, StatusKind};
+use crate::tui::keymap::{self, Action};
+use crate::tui::msg::{Effect, Msg};
+use crossterm::event::{KeyCode, KeyEvent, KeyEventKind, KeyModifiers};
+use std::path::PathBuf;
+
+/// Handles one message.
+pub fn update(app: &mut App, msg: Msg) -> Vec<Effect> {
+    match msg {
+        Msg::Key(ev) => on_key(app, ev),
+        Msg::Action(a) => on_action(app, a),
+        Msg::Resize(w, h) => {
+            app.size = (w, h);
+            Vec::new()
+        }
+        Msg::Batch {
+            run,
+            samples,
+            events,
+            t,
+        } => run::on_batch(app, run, &samples, &events, t),
+        Msg::RunDone { run, outcome } => run::on_done(app, run, outcome),
+        Msg::FileChanged(text) => file::on_file_changed(app, text),
+        Msg::FileUnreadable(e) => {
+            app.set_status(
+                StatusKind::Warn,
+                format!(
+                    "cannot read {}: {e} (keeping the last good model)",
+                    app.file_name()
+                ),
+            );
+            Vec::new()
+        }
+        Msg::WatchMode(m) => {
+            app.watch_mode = m;
+            Vec::new()
+        }
+        Msg::Saved { text, result } => file::on_saved(app, text, result),
+        Msg::Exported(r) => on_exported(app, r),
+    }
+}
+
+/// The export finished: the written paths, or the failure.
+fn on_exported(app: &mut App, r: Result<Vec<PathBuf>, String>) -> Vec<Effect> {
+    match r {
+        Ok(paths) => {
+            let list: Vec<String> = paths.iter().map(|p| p.display().to_string()).collect();
+            app.set_status(StatusKind::Ok, format!("exported {}", list.join(", ")));
+        }
+        Err(e) => app.set_status(StatusKind::Error, format!("export failed: {e}")),
+    }
+    Vec::new()
+}
+
+/// A key: Ctrl-C, a keymap binding, or a character typed into the edit buffer.
+fn on_key(app: &mut App, ev: KeyEvent) -> Vec<Effect> {
+    if ev.kind == KeyEventKind::Release {
+        return Vec::new();
+    }
+    // Ctrl-C quits from anywhere (asking first when there are unsaved edits)
+    if ev.code == KeyCode::Char('c') && ev.modifiers.contains(KeyModifiers::CONTROL) {
+        return on_action(app, Action::Quit);
+    }
+    if let Some(a) = keymap::lookup(&app.contexts(), &ev) {
+        return on_action(app, a);
+    }
+    if let Mode::Editing { buffer, .. } = &mut app.mode
+        && let KeyCode::Char(c) = ev.code
+        && !ev.modifiers.contains(KeyModifiers::CONTROL)
+    {
+        buffer.push(c);
+        edit::recheck(app);
+    }
+    Vec::new()
+}
+
+/// Dispatches an action to its handler.
+fn on_action(app: &mut App, a: Action) -> Vec<Effect> {
+    use Action as A;
+    match a {
+        A::Quit => ask_quit(app),
+        A::Help => set_mode(app, Mode::Help),
+        A::CloseHelp => set_mode(app, Mode::Normal),
+        A::Rerun => run::rerun(app),
+        A::Cancel => run::cancel(app),
+        A::Save => file::save(app),
+        A::Export => file::export(app),
+        A::Yes | A::No => answer(app, a == A::Yes),
+        A::SwitchView | A::ToggleMarker | A::ToggleOverlay => {
+            view::toggle(app, a);
+            Vec::new()
+        }
+        A::CursorLeft
+        | A::CursorRight
+        | A::CursorLeftFast
+        | A::CursorRightFast
+        | A::CursorHome
+        | A::CursorEnd
+        | A::ZoomIn
+        | A::ZoomOut
+        | A::ZoomReset
+        | A::NextElement
+        | A::PrevElement => {
+            view::chart_action(app, a);
+            Vec::new()
+        }
+        A::FieldUp
+        | A::FieldDown
+        | A::FieldPageUp
+        | A::FieldPageDown
+        | A::FieldEdit
+        | A::FieldRevert
+        | A::EditCommit
+        | A::EditCancel
+        | A::EditBackspace
+        | A::EditClear => {
+            edit::form_action(app, a);
+            Vec::new()
+        }
+    }
+}
+
+fn set_mode(app: &mut App, mode: Mode) -> Vec<Effect> {
+    app.mode = mode;
+    Vec::new()
+}
+
+/// Quit, or ask first when there are unsaved edits.
+fn ask_quit(app: &mut App) -> Vec<Effect> {
+    if app.dirty() {
+        app.mode = Mode::Confirm(Confirm::Quit);
+        app.set_status(
+            StatusKind::Warn,
+            "unsaved edits: quit anyway and lose them? (y/n)",
+        );
+        Vec::new()
+    } else {
+        quit(app)
+    }
+}
+
+fn quit(app: &mut App) -> Vec<Effect> {
+    app.quit = true;
+    let mut fx = Vec::new();
+    if let Some(cur) = app.current.as_ref().filter(|c| c.running()) {
+        fx.push(Effect::CancelRun { id: cur.id });
+    }
+    fx.push(Effect::Quit);
+    fx
+}
+
+/// The answer to the pending question (quit, reload).
+fn answer(app: &mut App, yes: bool) -> Vec<Effect> {
+    let Mode::Confirm(c) = std::mem::replace(&mut app.mode, Mode::Normal) else {
+        return Vec::new();
+    };
+    match (c, yes) {
+        (Confirm::Quit, true) => quit(app),
+        (Confirm::Quit, false) => {
+            app.set_status(StatusKind::Info, "not quitting");
+            Vec::new()
+        }
+        (Confirm::Reload { text }, true) => {
+            let fx = file::apply_reload(app, text, true);
+            if app.load_error.is_none() {
+                app.set_status(
+                    StatusKind::Ok,
+                    format!("reloaded {} (your edits were discarded)", app.file_name()),
+                );
+            }
+            fx
+        }
+        (Confirm::Reload { text }, false) => {
+            app.disk_hash = hash_text(&text);
+            app.set_status(
+                StatusKind::Warn,
+                format!(
+                    "kept your edits; {} changed on disk (s overwrites it)",
+                    app.file_name()
+                ),
+            );
+            Vec::new()
+        }
+    }
+}

@@ -1,0 +1,138 @@
+//! Runs: start, cancel, streamed batches, the end of a run.
+
+use crate::output::{EventKind, EventRecord, Sample};
+use crate::tui::app::{App, StatusKind};
+use crate::tui::msg::{Effect, RunOutcome};
+use crate::tui::run_data::{RunData, RunStatus};
+
+impl App {
+    /// The first run.
+    pub fn start(&mut self) -> Vec<Effect> {
+        if self.scene.is_some() {
+            start_run(self)
+        } else {
+            Vec::new()
+        }
+    }
+}
+
+/// `r`: rerun the draft.
+pub(super) fn rerun(app: &mut App) -> Vec<Effect> {
+    if app.scene.is_none() {
+        app.set_status(StatusKind::Error, "nothing to run: the model does not load");
+        return Vec::new();
+    }
+    start_run(app)
+}
+
+/// `Esc`/`c`: cancel the running simulation.
+pub(super) fn cancel(app: &mut App) -> Vec<Effect> {
+    match app.current.as_mut() {
+        Some(cur) if cur.status == RunStatus::Running => {
+            cur.status = RunStatus::Cancelling;
+            let id = cur.id;
+            app.set_status(StatusKind::Info, format!("cancelling run {id}…"));
+            vec![Effect::CancelRun { id }]
+        }
+        _ => {
+            app.set_status(StatusKind::Info, "no run in progress");
+            Vec::new()
+        }
+    }
+}
+
+/// New samples and events of a run (ignored unless it is the current one).
+pub(super) fn on_batch(
+    app: &mut App,
+    run: u64,
+    samples: &[Sample],
+    events: &[EventRecord],
+    t: f64,
+) -> Vec<Effect> {
+    if let Some(cur) = app.current.as_mut().filter(|c| c.id == run) {
+        cur.push(samples, events, t);
+        app.generation += 1;
+    }
+    Vec::new()
+}
+
+/// Starts a run of the current draft: the finished current run becomes the overlay.
+pub(super) fn start_run(app: &mut App) -> Vec<Effect> {
+    let Some(scene) = app.scene.clone() else {
+        return Vec::new();
+    };
+    let mut fx = Vec::new();
+    if let Some(cur) = app.current.take() {
+        if cur.running() {
+            fx.push(Effect::CancelRun { id: cur.id });
+        }
+        if cur.status == RunStatus::Finished {
+            app.previous = Some(cur);
+        }
+    }
+    let id = app.next_run;
+    app.next_run += 1;
+    let label = if app.dirty() {
+        format!("run {id} (unsaved edits)")
+    } else {
+        format!("run {id}")
+    };
+    app.set_status(StatusKind::Info, format!("{label} started"));
+    app.current = Some(RunData::for_scene(id, label, &scene));
+    app.follow = true;
+    let end = app.t_end();
+    if let Some((a, b)) = app.zoom
+        && (b > end || a >= end)
+    {
+        app.zoom = None;
+    }
+    app.generation += 1;
+    fx.push(Effect::StartRun {
+        id,
+        scene: Box::new(scene),
+    });
+    fx
+}
+
+/// The end of a run: its final output, or where it was cancelled or failed.
+pub(super) fn on_done(app: &mut App, run: u64, outcome: RunOutcome) -> Vec<Effect> {
+    let Some(cur) = app.current.as_mut().filter(|c| c.id == run) else {
+        return Vec::new();
+    };
+    let label = cur.label.clone();
+    match outcome {
+        RunOutcome::Finished(out) => {
+            cur.finish(*out);
+            let (imp, st, sl, re) = (
+                cur.count(EventKind::Impact),
+                cur.count(EventKind::Stick),
+                cur.count(EventKind::Slip),
+                cur.count(EventKind::Release),
+            );
+            let t = cur.t_sim;
+            // a run started by a reload keeps saying so
+            let prefix = if app.status.starts_with("reloaded") {
+                format!("reloaded {} · ", app.file_name())
+            } else {
+                String::new()
+            };
+            app.set_status(
+                StatusKind::Ok,
+                format!("{prefix}{label} finished at t = {t:.3} s: {imp} impacts, {st} sticks, {sl} slips, {re} releases"),
+            );
+        }
+        RunOutcome::Cancelled { t } => {
+            cur.status = RunStatus::Cancelled;
+            app.set_status(
+                StatusKind::Warn,
+                format!("{label} cancelled at t = {t:.3} s"),
+            );
+        }
+        RunOutcome::Failed(e) => {
+            cur.status = RunStatus::Failed(e.clone());
+            app.set_status(StatusKind::Error, format!("{label} failed: {e}"));
+        }
+    }
+    app.generation += 1;
+    Vec::new()
+}
