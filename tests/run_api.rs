@@ -66,3 +66,18 @@ fn a_failed_run_keeps_its_output_and_reason() {
     let e = deckspin::run(&scene, &mut deckspin::Silent).unwrap_err();
     assert!(matches!(e, deckspin::SolverError::TooManySteps { .. }));
 }
+
+#[test]
+fn a_fixed_step_run_that_fails_keeps_its_output() {
+    // central differences with k = 1e6 kN/m and h = 1 ms exceed 2/ω of the stiffest contact
+    let set = ["solver.method=\"penalty-explicit\"".to_string()];
+    let scene = deckspin::load(&common::model("models/four-span.toml"), &set).unwrap();
+    let run = deckspin::methods::integrate(&scene, &mut deckspin::Silent);
+    let Stop::Failed(deckspin::SolverError::Unstable { t, .. }) = run.stop else {
+        panic!("{:?}", run.stop)
+    };
+    assert!(t > 1.0 && t < 16.0, "{t}");
+    let last = run.output.samples.last().unwrap().t;
+    assert!(last <= t && last > t - 0.01, "last sample {last}, failure at {t}");
+    assert!(run.output.stats.steps_accepted > 1000);
+}

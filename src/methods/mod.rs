@@ -3,7 +3,7 @@
 
 mod simulate;
 
-pub use simulate::simulate;
+pub use simulate::{integrate, simulate};
 
 use std::fmt;
 

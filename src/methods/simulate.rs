@@ -2,16 +2,23 @@
 
 use super::Method;
 use crate::output::RunOutput;
-use crate::run::{Observer, SolverError};
+use crate::run::{Observer, Run, SolverError};
 use crate::scene::Scene;
-use crate::timestepping::{run_moreau, run_penalty};
+use crate::timestepping::{integrate_moreau, integrate_penalty};
 
-/// Run a scene with the method its settings name.
+/// Run a scene with the method its settings name: the output of a finished run, else the
+/// reason it stopped.
 pub fn simulate(scene: &Scene, observer: &mut dyn Observer) -> Result<RunOutput, SolverError> {
+    integrate(scene, observer).into_result()
+}
+
+/// Run a scene with the method its settings name, keeping what was computed before a cancel
+/// or a failure.
+pub fn integrate(scene: &Scene, observer: &mut dyn Observer) -> Run {
     match scene.settings.method {
-        Method::Event => crate::event_driven::run(scene, observer),
-        Method::Moreau => run_moreau(scene, observer),
-        Method::Penalty => run_penalty(scene, false, observer),
-        Method::PenaltyExplicit => run_penalty(scene, true, observer),
+        Method::Event => crate::event_driven::integrate(scene, observer),
+        Method::Moreau => integrate_moreau(scene, observer),
+        Method::Penalty => integrate_penalty(scene, false, observer),
+        Method::PenaltyExplicit => integrate_penalty(scene, true, observer),
     }
 }

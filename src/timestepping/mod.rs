@@ -12,8 +12,8 @@ mod moreau;
 mod newmark;
 mod penalty;
 
-pub use moreau::run_moreau;
-pub use penalty::run_penalty;
+pub use moreau::{integrate_moreau, run_moreau};
+pub use penalty::{integrate_penalty, run_penalty};
 
 use crate::hysteresis::Hysteretic;
 use crate::output::{
@@ -273,8 +273,9 @@ impl<'a> Stepper<'a> {
         }
     }
 
-    fn finish(mut self, wall: Instant, contact_elastic: f64) -> RunOutput {
-        if self.out.last_sample_time().is_none_or(|t| t < self.t) {
+    /// The output, with a final sample if `complete` (the run reached its end).
+    fn finish(mut self, wall: Instant, contact_elastic: f64, complete: bool) -> RunOutput {
+        if complete && self.out.last_sample_time().is_none_or(|t| t < self.t) {
             self.sample(SampleKind::Grid, contact_elastic);
         }
         self.out.stats.wall_time = wall.elapsed().as_secs_f64();

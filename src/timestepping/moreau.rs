@@ -5,7 +5,7 @@
 use super::{Stepper, number_of_steps};
 use crate::contact::frictional_velocity_lcp;
 use crate::output::{ContactState, RunOutput};
-use crate::run::{Batcher, Observer, SolverError};
+use crate::run::{Batcher, Observer, Run, SolverError};
 use crate::scene::{ContactKinematics, Scene};
 use nalgebra::{DMatrix, DVector};
 use std::time::Instant;
@@ -15,11 +15,24 @@ use std::time::Instant;
 /// LCP over contacts with g_N(q_k) + h/2 ġ_N ≤ 0 (Siconos' γ = ½),
 /// v_{k+1} = v_free + Ŵ⁻¹(W_N P_N + W_T P_T), q_{k+1} = q_k + h(θ v_{k+1} + (1−θ) v_k).
 pub fn run_moreau(scene: &Scene, observer: &mut dyn Observer) -> Result<RunOutput, SolverError> {
+    integrate_moreau(scene, observer).into_result()
+}
+
+/// [`run_moreau`], keeping what was computed before a cancel or a failure.
+pub fn integrate_moreau(scene: &Scene, observer: &mut dyn Observer) -> Run {
     let wall = Instant::now();
+    let mut s = Stepper::new(scene);
+    let result = moreau_steps(&mut s, observer);
+    let complete = result.is_ok();
+    Run::new(s.finish(wall, 0.0, complete), result)
+}
+
+/// The Moreau–Jean steps from t = 0 to t_end.
+fn moreau_steps(s: &mut Stepper, observer: &mut dyn Observer) -> Result<(), SolverError> {
+    let scene = s.scene;
     let steps = number_of_steps(scene)?;
     let h = scene.settings.t_end / steps as f64;
     let th = scene.settings.theta;
-    let mut s = Stepper::new(scene);
     let mut f_k = DVector::zeros(scene.ndof());
     s.prev_power = s.forces_trial(0.0, &s.q.clone(), &s.v.clone(), &mut f_k);
     s.maybe_sample(0.0);
@@ -27,7 +40,7 @@ pub fn run_moreau(scene: &Scene, observer: &mut dyn Observer) -> Result<RunOutpu
     for k in 0..steps {
         let t1 = (k + 1) as f64 * h;
         let (q, v) = (s.q.clone(), s.v.clone());
-        let (v_free, winv) = free_velocity(&mut s, h, t1, &f_k)?;
+        let (v_free, winv) = free_velocity(s, h, t1, &f_k)?;
         // contacts predicted active
         let fr = scene.frame(s.t, &q, &v);
         let kin: Vec<ContactKinematics> = (scene.contacts.iter())
@@ -37,8 +50,8 @@ pub fn run_moreau(scene: &Scene, observer: &mut dyn Observer) -> Result<RunOutpu
             .filter(|&i| kin[i].gap + 0.5 * h * kin[i].gap_rate <= 0.0)
             .collect();
         let before = s.state.clone();
-        let p = percussions(&mut s, &kin, &active, v_free, &winv)?;
-        set_contact_states(&mut s, &kin, &active, &p, h);
+        let p = percussions(s, &kin, &active, v_free, &winv)?;
+        set_contact_states(s, &kin, &active, &p, h);
         s.q = &q + (&p.v_new * th + &v * (1.0 - th)) * h;
         s.v = p.v_new;
         s.t = t1;
@@ -56,7 +69,7 @@ pub fn run_moreau(scene: &Scene, observer: &mut dyn Observer) -> Result<RunOutpu
         batcher.maybe(&s.out, s.t, observer)?;
     }
     batcher.flush(&s.out, s.t, observer);
-    Ok(s.finish(wall, 0.0))
+    Ok(())
 }
 
 /// v_free = v_k + Ŵ⁻¹ h[θ f(t_{k+1}, q_k, v_k) + (1−θ) f_k − hθ K v_k] and Ŵ⁻¹.

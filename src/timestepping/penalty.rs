@@ -8,7 +8,7 @@ use super::newmark::{StepState, newmark_step};
 use super::{Stepper, number_of_steps};
 use crate::methods::Method;
 use crate::output::{ContactState, RunOutput};
-use crate::run::{Batcher, Observer, SolverError};
+use crate::run::{Batcher, Observer, Run, SolverError};
 use crate::scene::Scene;
 use nalgebra::DVector;
 use std::time::Instant;
@@ -20,31 +20,50 @@ pub fn run_penalty(
     explicit: bool,
     observer: &mut dyn Observer,
 ) -> Result<RunOutput, SolverError> {
+    integrate_penalty(scene, explicit, observer).into_result()
+}
+
+/// [`run_penalty`], keeping what was computed before a cancel or a failure.
+pub fn integrate_penalty(scene: &Scene, explicit: bool, observer: &mut dyn Observer) -> Run {
     let wall = Instant::now();
+    let mut s = Stepper::new(scene);
+    let mut contact_elastic = 0.0;
+    let result = penalty_steps(&mut s, explicit, observer, &mut contact_elastic);
+    let complete = result.is_ok();
+    Run::new(s.finish(wall, contact_elastic, complete), result)
+}
+
+/// The penalty steps from t = 0 to t_end; `contact_elastic` ends as the gap elements' energy.
+fn penalty_steps(
+    s: &mut Stepper,
+    explicit: bool,
+    observer: &mut dyn Observer,
+    contact_elastic: &mut f64,
+) -> Result<(), SolverError> {
+    let scene = s.scene;
     let steps = number_of_steps(scene)?;
     let h = scene.settings.t_end / steps as f64;
     let gaps = GapElements::new(scene, scene.settings.contact_stiffness);
-    let mut s = Stepper::new(scene);
     let zero = vec![0.0; scene.contacts.len()];
     let (q0, v0, slip0) = (s.q.clone(), s.v.clone(), s.slip_spring.clone());
-    let (mut a_k, p0, pf0) = gaps.accel(&s, 0.0, &q0, &v0, &slip0, &zero, None);
+    let (mut a_k, p0, pf0) = gaps.accel(s, 0.0, &q0, &v0, &slip0, &zero, None);
     s.prev_power = p0;
-    let mut contact_elastic = pf0.elastic;
-    s.maybe_sample(contact_elastic);
+    *contact_elastic = pf0.elastic;
+    s.maybe_sample(*contact_elastic);
     let mut batcher = Batcher::new();
     // explicit: velocity at the half step
     let mut v_half = &s.v - &a_k * (0.5 * h);
-    let mut guard = EnergyGuard::new(&s, explicit, h);
+    let mut guard = EnergyGuard::new(s, explicit, h);
     let mut prev_absorbed = pf0.absorbed;
     for k in 0..steps {
         let t1 = (k + 1) as f64 * h;
         let before = s.state.clone();
         let (q1, v1, a1, pf) = if explicit {
-            let (vh, step) = central_difference_step(&s, &gaps, &v_half, &a_k, h, t1);
+            let (vh, step) = central_difference_step(s, &gaps, &v_half, &a_k, h, t1);
             v_half = vh;
             step
         } else {
-            newmark_with_substeps(&mut s, &gaps, &a_k, h)?
+            newmark_with_substeps(s, &gaps, &a_k, h)?
         };
         s.q = q1;
         s.v = v1;
@@ -57,17 +76,17 @@ pub fn run_penalty(
         s.add_power(p, h);
         s.ledger[4] += 0.5 * h * (prev_absorbed + pf.absorbed);
         prev_absorbed = pf.absorbed;
-        contact_elastic = pf.elastic;
-        set_contact_states(&mut s, &pf);
+        *contact_elastic = pf.elastic;
+        set_contact_states(s, &pf);
         s.out.stats.steps_accepted += 1;
         s.out.stats.rhs_evals += 1;
-        guard.check(&s, contact_elastic, k)?;
+        guard.check(s, *contact_elastic, k)?;
         s.log_transitions(&before, None);
-        s.maybe_sample(contact_elastic);
+        s.maybe_sample(*contact_elastic);
         batcher.maybe(&s.out, s.t, observer)?;
     }
     batcher.flush(&s.out, s.t, observer);
-    Ok(s.finish(wall, contact_elastic))
+    Ok(())
 }
 
 /// Central difference: v_{k+½} = v_{k−½} + h a_k, q_{k+1} = q_k + h v_{k+½},

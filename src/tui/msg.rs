@@ -1,18 +1,19 @@
 //! Messages into [`super::update`] and the effects it returns.
 
 use super::keymap::Action;
-use super::run_data::RunData;
+use super::run_data::{RunData, RunFailure};
 use crate::output::{EventRecord, RunOutput, Sample};
 use crate::scene::Scene;
 use crossterm::event::KeyEvent;
 use std::path::PathBuf;
+use std::sync::Arc;
 
 /// How a run ended.
 #[derive(Debug)]
 pub enum RunOutcome {
     Finished(Box<RunOutput>),
     Cancelled { t: f64 },
-    Failed(String),
+    Failed(Arc<RunFailure>),
 }
 
 /// Input of [`super::update`].

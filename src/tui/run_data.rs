@@ -2,7 +2,27 @@
 //! ([`Tally`]) of its samples.
 
 use crate::output::{ContactState, EventKind, EventRecord, RunOutput, Sample, Summary, Tally};
+use crate::run::SolverError;
 use crate::scene::Scene;
+use std::sync::Arc;
+
+/// Why a workbench run failed: the engine's typed error, or the end of its worker thread.
+#[derive(Debug, thiserror::Error)]
+pub enum RunFailure {
+    #[error(transparent)]
+    Solver(#[from] SolverError),
+    #[error("the engine panicked: {0}")]
+    Panic(String),
+    #[error("cannot start a worker thread: {0}")]
+    Thread(String),
+}
+
+/// Two failures are the same when they say the same.
+impl PartialEq for RunFailure {
+    fn eq(&self, other: &Self) -> bool {
+        self.to_string() == other.to_string()
+    }
+}
 
 #[derive(Clone, Debug, PartialEq)]
 pub enum RunStatus {
@@ -10,7 +30,7 @@ pub enum RunStatus {
     Cancelling,
     Finished,
     Cancelled,
-    Failed(String),
+    Failed(Arc<RunFailure>),
 }
 
 /// The charted history of one run, in columns.

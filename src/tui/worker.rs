@@ -1,11 +1,12 @@
-//! Simulation runs off the UI thread with `deckspin::simulate` (the method the model's
+//! Simulation runs off the UI thread with `methods::integrate` (the method the model's
 //! `solver.method` names): the engine's observer forwards each batch of new samples and events
 //! as a [`Msg::Batch`]; the end of the run is a [`Msg::RunDone`]. A run is cancelled through a
 //! flag the observer checks at every batch.
 
 use super::msg::{Msg, RunOutcome};
+use super::run_data::RunFailure;
 use crate::output::{EventRecord, Sample};
-use crate::run::{Observer, SolverError};
+use crate::run::{Observer, Run, Stop};
 use crate::scene::Scene;
 use std::cell::RefCell;
 use std::sync::Arc;
@@ -69,11 +70,11 @@ impl<F: FnMut(Msg) -> bool> Observer for Stream<F> {
     }
 }
 
-fn outcome(r: Result<crate::RunOutput, SolverError>) -> RunOutcome {
-    match r {
-        Ok(out) => RunOutcome::Finished(Box::new(out)),
-        Err(SolverError::Cancelled { t }) => RunOutcome::Cancelled { t },
-        Err(e) => RunOutcome::Failed(e.to_string()),
+fn outcome(r: Run) -> RunOutcome {
+    match r.stop {
+        Stop::Finished => RunOutcome::Finished(Box::new(r.output)),
+        Stop::Cancelled { t } => RunOutcome::Cancelled { t },
+        Stop::Failed(e) => RunOutcome::Failed(Arc::new(RunFailure::Solver(e))),
     }
 }
 
@@ -103,20 +104,18 @@ pub fn spawn(id: u64, scene: Scene, tx: Sender<Msg>) -> RunHandle {
                 if test_panic("worker") {
                     panic!("DECKSPIN_TEST_PANIC=worker: a panic in the simulation thread");
                 }
-                crate::simulate(&scene, &mut obs)
+                crate::methods::integrate(&scene, &mut obs)
             }));
             let outcome = match result {
                 Ok(r) => outcome(r),
-                Err(p) => {
-                    RunOutcome::Failed(format!("the engine panicked: {}", panic_text(p.as_ref())))
-                }
+                Err(p) => RunOutcome::Failed(Arc::new(RunFailure::Panic(panic_text(p.as_ref())))),
             };
             let _ = tx.send(Msg::RunDone { run: id, outcome });
         });
     if let Err(e) = spawned {
         let _ = tx2.send(Msg::RunDone {
             run: id,
-            outcome: RunOutcome::Failed(format!("cannot start a worker thread: {e}")),
+            outcome: RunOutcome::Failed(Arc::new(RunFailure::Thread(e.to_string()))),
         });
     }
     RunHandle { id, cancel }
@@ -135,7 +134,7 @@ pub fn run_blocking(id: u64, scene: &Scene) -> Vec<Msg> {
                 true
             },
         };
-        crate::simulate(scene, &mut obs)
+        crate::methods::integrate(scene, &mut obs)
     };
     msgs.push(Msg::RunDone {
         run: id,
