@@ -1,5 +1,6 @@
 //! deckspin — nonsmooth seismic analysis of bridges whose decks pound their abutments and
-//! rotate in plan (reference: the paper in `../shared/reference/paper.txt`).
+//! rotate in plan (reference: "Nonsmooth seismic response analysis of a straight bridge with
+//! deck rotation induced by abutment impact").
 //!
 //! The engine is plain modules; the CLI and the terminal workbench are thin layers over it.
 //! - [`lemke`]: Lemke's algorithm for the LCP.
