@@ -26,7 +26,7 @@ fn impact_lcp(n: usize) -> (DMatrix<f64>, DVector<f64>) {
     let kin: Vec<_> = scene
         .contacts
         .iter()
-        .map(|c| scene.contact_kinematics(c, &q, &v))
+        .map(|c| scene.contact_kinematics(&scene.frame(0.0, &q, &v), c))
         .collect();
     let nc = kin.len();
     let m3 = 3 * nc;

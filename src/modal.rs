@@ -1,7 +1,7 @@
 //! Modal analysis of any model at its initial state: K₀, modes (K₀ φ = ω² M φ) and Rayleigh
 //! damping. The `modes` command and the bridge's `[damping]` both use it.
 
-use crate::scene::{Attachment, MassDamping, Scene};
+use crate::scene::{Attachment, MassDamping, Scene, spread};
 use nalgebra::{DMatrix, DVector};
 
 /// Initial stiffness K₀ = Σ k J Jᵀ of springs and hysteretic elements at q = 0 (contacts open).
@@ -10,8 +10,10 @@ pub fn initial_stiffness(scene: &Scene) -> DMatrix<f64> {
     let z = DVector::zeros(n);
     let mut jac = DVector::zeros(n);
     let mut k = DMatrix::zeros(n, n);
+    let fr = scene.frame(0.0, &z, &z);
     let mut add = |att: &Attachment, stiff: f64, jac: &mut DVector<f64>| {
-        scene.deformation(att, None, 0.0, &z, &z, jac);
+        let (.., sparse, nj) = scene.deformation(&fr, att, None);
+        spread(&sparse[..nj], jac);
         k += &*jac * jac.transpose() * stiff;
     };
     for s in &scene.springs {
@@ -115,15 +117,18 @@ fn support_influence(scene: &Scene) -> Vec<(usize, usize, f64)> {
     let lu = k0.lu();
     let z = DVector::zeros(n);
     let mut jac = DVector::zeros(n);
+    let fr = scene.frame(0.0, &z, &z);
     let mut reference = Vec::new();
     for s in 0..scene.supports.len() {
         let mut f = DVector::zeros(n);
         for sp in scene.springs.iter().filter(|x| x.support == Some(s)) {
-            scene.deformation(&sp.attachment, None, 0.0, &z, &z, &mut jac);
+            let (.., sparse, nj) = scene.deformation(&fr, &sp.attachment, None);
+            spread(&sparse[..nj], &mut jac);
             f.axpy(sp.stiffness, &jac, 1.0);
         }
         for h in scene.hysteretic.iter().filter(|x| x.support == Some(s)) {
-            scene.deformation(&h.attachment, None, 0.0, &z, &z, &mut jac);
+            let (.., sparse, nj) = scene.deformation(&fr, &h.attachment, None);
+            spread(&sparse[..nj], &mut jac);
             f.axpy(h.law.law().initial_stiffness(), &jac, 1.0);
         }
         if let Some(r) = lu.solve(&f) {

@@ -38,7 +38,7 @@ fn jacobians_and_bias_match_finite_differences() {
     let q = DVector::from_vec(vec![0.01, -0.02, 0.03, 0.004, 0.01, -0.05]);
     let v = DVector::from_vec(vec![0.3, -0.1, 0.2, -0.4, 0.25, 0.7]);
     let a = DVector::from_vec(vec![1.0, 0.5, -0.3, 0.2, -0.7, 0.4]);
-    let k = s.contact_kinematics(c, &q, &v);
+    let k = s.contact_kinematics(&s.frame(0.0, &q, &v), c);
     // ∂g/∂q by central differences
     let h = 1e-6;
     for j in 0..6 {
@@ -46,7 +46,8 @@ fn jacobians_and_bias_match_finite_differences() {
         let mut qm = q.clone();
         qp[j] += h;
         qm[j] -= h;
-        let d = (s.contact_kinematics(c, &qp, &v).gap - s.contact_kinematics(c, &qm, &v).gap)
+        let d = (s.contact_kinematics(&s.frame(0.0, &qp, &v), c).gap
+            - s.contact_kinematics(&s.frame(0.0, &qm, &v), c).gap)
             / (2.0 * h);
         assert!(
             (d - k.w_n[j]).abs() < 1e-8,
@@ -60,7 +61,7 @@ fn jacobians_and_bias_match_finite_differences() {
     let at = |t: f64| {
         let qt = &q + &v * t + &a * (0.5 * t * t);
         let vt = &v + &a * t;
-        s.contact_kinematics(c, &qt, &vt)
+        s.contact_kinematics(&s.frame(0.0, &qt, &vt), c)
     };
     let dt = 1e-6;
     let gdd_n = (at(dt).gap_rate - at(-dt).gap_rate) / (2.0 * dt);
@@ -81,7 +82,7 @@ fn gap_at_reference_is_the_declared_gap_and_exact_in_rotation() {
     let s = scene();
     let c = &s.contacts[0];
     let z = DVector::zeros(6);
-    let k = s.contact_kinematics(c, &z, &z);
+    let k = s.contact_kinematics(&s.frame(0.0, &z, &z), c);
     assert!((k.gap - 0.05).abs() < 1e-15);
     // rotate the deck by θ about its centre: exact g_N change = n·(R(θ)r − r)
     let th: f64 = 0.01;
@@ -94,7 +95,7 @@ fn gap_at_reference_is_the_declared_gap_and_exact_in_rotation() {
     );
     let n = nalgebra::Vector2::new(0.9659258262890683, 0.25881904510252074);
     let exact = 0.05 + n.dot(&(rr - r));
-    let g = s.contact_kinematics(c, &q, &z).gap;
+    let g = s.contact_kinematics(&s.frame(0.0, &q, &z), c).gap;
     assert!((g - exact).abs() < 1e-15, "g {g} exact {exact}");
     // the linear form W_Nᵀq misses the second-order term (L/2)θ²/2-type contribution
     let linear = 0.05 + k.w_n.dot(&q);

@@ -78,6 +78,9 @@ fn a_fixed_step_run_that_fails_keeps_its_output() {
     };
     assert!(t > 1.0 && t < 16.0, "{t}");
     let last = run.output.samples.last().unwrap().t;
-    assert!(last <= t && last > t - 0.01, "last sample {last}, failure at {t}");
+    assert!(
+        last <= t && last > t - 0.01,
+        "last sample {last}, failure at {t}"
+    );
     assert!(run.output.stats.steps_accepted > 1000);
 }

@@ -6,7 +6,9 @@ use super::workspace::Workspace;
 use crate::hysteresis::Hysteretic;
 use crate::output::{ContactState, RunOutput};
 use crate::run::SolverError;
-use crate::scene::{Attachment, ContactKinematics, ForceModel, LEDGER_TERMS, Scene, smooth_forces};
+use crate::scene::{
+    Attachment, ContactKinematics, ForceModel, Frame, LEDGER_TERMS, Scene, smooth_forces,
+};
 use nalgebra::DVector;
 
 /// The engine of one run: its scene, the physical [`State`] and reused storage.
@@ -91,16 +93,16 @@ impl<'a> Engine<'a> {
             ws: Workspace::new(n),
         };
         let (q, v) = (eng.q(), eng.v());
+        let fr = scene.frame(0.0, &q, &v);
         // initial hysteretic directions from the initial deformation rates
         let mut laws: Vec<Hysteretic> = scene.hysteretic.iter().map(|h| h.law.clone()).collect();
         for (j, el) in scene.hysteretic.iter().enumerate() {
-            let (e, ed, _) =
-                scene.deformation(&el.attachment, el.support, 0.0, &q, &v, &mut eng.ws.jac);
+            let (e, ed, ..) = scene.deformation(&fr, &el.attachment, el.support);
             laws[j].set_direction(e, if ed < 0.0 { -1.0 } else { 1.0 });
         }
         eng.state.laws = laws;
         for c in &scene.contacts {
-            let k = scene.contact_kinematics(c, &q, &v);
+            let k = scene.contact_kinematics(&fr, c);
             if k.gap < -st.gap_tol {
                 return Err(SolverError::InitialPenetration {
                     contact: c.name.clone(),
@@ -165,8 +167,9 @@ impl<'a> Engine<'a> {
     /// Kinematics of contact i at the current state.
     pub(super) fn contact_kinematics_now(&self, i: usize) -> ContactKinematics {
         let (q, v) = (self.q(), self.v());
-        self.scene
-            .contact_kinematics(&self.scene.contacts[i], &q, &v)
+        let mut fr = Frame::default();
+        self.scene.poses_into(&mut fr, &q, &v);
+        self.scene.contact_kinematics(&fr, &self.scene.contacts[i])
     }
 
     /// Kinematics of every contact at the current state.
@@ -176,7 +179,7 @@ impl<'a> Engine<'a> {
         self.scene
             .contacts
             .iter()
-            .map(|c| self.scene.contact_kinematics_in(&fr, c))
+            .map(|c| self.scene.contact_kinematics(&fr, c))
             .collect()
     }
 }

@@ -116,7 +116,7 @@ impl<'a> Engine<'a> {
         let d = &self.ws.dynamics;
         for f in fns {
             let val = match *f {
-                EventFn::Gap(i) => scene.contact_rates_in(&fr, &scene.contacts[i]).0,
+                EventFn::Gap(i) => scene.contact_rates(&fr, &scene.contacts[i]).0,
                 EventFn::Release(i) => d.lam_n[i],
                 EventFn::StickSlip(i) => {
                     coulomb::stick_margin(scene.contacts[i].mu, d.lam_n[i], d.lam_t[i])
@@ -126,12 +126,12 @@ impl<'a> Engine<'a> {
                         ContactState::Slide(s) => s,
                         _ => 1.0,
                     };
-                    s * scene.contact_rates_in(&fr, &scene.contacts[i]).2
+                    s * scene.contact_rates(&fr, &scene.contacts[i]).2
                 }
                 EventFn::Lower(j) | EventFn::Upper(j) | EventFn::Reversal(j) => {
                     if defo[j].0.is_nan() {
                         let el = &scene.hysteretic[j];
-                        let (e, ed, ..) = scene.deformation_sparse(&fr, &el.attachment, el.support);
+                        let (e, ed, ..) = scene.deformation(&fr, &el.attachment, el.support);
                         defo[j] = (e, ed);
                     }
                     let (e, ed) = defo[j];

@@ -30,7 +30,7 @@ impl Engine<'_> {
         ps.held.clear();
         for i in 0..self.state.contacts.len() {
             if self.state.contacts[i] != ContactState::Open
-                || scene.contact_rates_in(&ps.fr, &scene.contacts[i]).0 < 0.0
+                || scene.contact_rates(&ps.fr, &scene.contacts[i]).0 < 0.0
             {
                 ps.held.push(i);
             }

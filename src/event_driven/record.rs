@@ -29,7 +29,7 @@ impl<'a> Engine<'a> {
                 .resize_with(scene.contacts.len(), ContactKinematics::placeholder);
             for (c, k) in scene.contacts.iter().zip(sc.kin.iter_mut()) {
                 // gap and rates only: no Jacobians needed without forces
-                (k.gap, k.gap_rate, k.slip_rate) = scene.contact_rates_in(&sc.fr, c);
+                (k.gap, k.gap_rate, k.slip_rate) = scene.contact_rates(&sc.fr, c);
             }
             sc.lam_n.clear();
             sc.lam_n.resize(scene.contacts.len(), 0.0);

@@ -241,9 +241,7 @@ impl Engine<'_> {
         for i in 0..scene.contacts.len() {
             let after = self.state.contacts[i];
             if let Some(kind) = transition(before[i], after, impacted[i]) {
-                let q = self.q();
-                let v = self.v();
-                let k = scene.contact_kinematics(&scene.contacts[i], &q, &v);
+                let k = self.contact_kinematics_now(i);
                 self.log(EventRecord {
                     t: self.state.t,
                     contact: i,

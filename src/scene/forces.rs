@@ -55,7 +55,7 @@ pub fn smooth_forces_in(
         ..Default::default()
     };
     for s in &scene.springs {
-        let (e, ed, vg, jj, nj) = scene.deformation_sparse(fr, &s.attachment, s.support);
+        let (e, ed, vg, jj, nj) = scene.deformation(fr, &s.attachment, s.support);
         let f = s.stiffness * e + s.damping * ed;
         for &(k, c) in &jj[..nj] {
             h[k] -= f * c;
@@ -64,7 +64,7 @@ pub fn smooth_forces_in(
         p.damping += s.damping * ed * ed;
     }
     for (j, el) in scene.hysteretic.iter().enumerate() {
-        let (e, ed, vg, jj, nj) = scene.deformation_sparse(fr, &el.attachment, el.support);
+        let (e, ed, vg, jj, nj) = scene.deformation(fr, &el.attachment, el.support);
         if let Some(out) = elements.as_deref_mut() {
             out[j] = (e, ed);
         }
@@ -123,12 +123,11 @@ fn mass_damping(
 impl Scene {
     /// Elastic energy stored in the linear springs.
     pub fn spring_energy(&self, t: f64, q: &DVector<f64>, v: &DVector<f64>) -> f64 {
-        let mut jac = DVector::zeros(self.ndof());
         let fr = self.frame(t, q, v);
         self.springs
             .iter()
             .map(|s| {
-                let (e, _, _) = self.deformation_in(&fr, &s.attachment, s.support, &mut jac);
+                let (e, ..) = self.deformation(&fr, &s.attachment, s.support);
                 0.5 * s.stiffness * e * e
             })
             .sum()

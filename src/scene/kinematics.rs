@@ -103,7 +103,7 @@ impl Frame {
 }
 
 impl Scene {
-    pub fn body_state(&self, b: BodyRef, q: &DVector<f64>, v: &DVector<f64>) -> BodyState {
+    fn body_state(&self, b: BodyRef, q: &DVector<f64>, v: &DVector<f64>) -> BodyState {
         match b {
             BodyRef::Ground => BodyState {
                 position: Vector2::zeros(),
@@ -139,19 +139,6 @@ impl Scene {
                 row[k] += coef * d.dot(&perp(arm));
             }
         }
-    }
-
-    /// Exact planar kinematics of contact `c` (no small-rotation linearisation):
-    /// g_N = n·(P − O), n = R(θ_B) n₀, P = X_A + R(θ_A) r_A, O = X_B + R(θ_B) p_B.
-    pub fn contact_kinematics(
-        &self,
-        c: &Contact,
-        q: &DVector<f64>,
-        v: &DVector<f64>,
-    ) -> ContactKinematics {
-        let a = self.body_state(c.point_body, q, v);
-        let b = self.body_state(c.face_body, q, v);
-        self.contact_kinematics_of(c, &a, &b)
     }
 
     /// Poses of all bodies and support motions at (t, q, q̇).
@@ -202,24 +189,17 @@ impl Scene {
             .extend(self.bodies.iter().map(|b| pose(b, |k| qs[k], |k| vs[k])));
     }
 
-    /// [`Scene::contact_kinematics`] from precomputed poses.
-    pub fn contact_kinematics_in(&self, fr: &Frame, c: &Contact) -> ContactKinematics {
-        self.contact_kinematics_of(c, fr.pose(c.point_body), fr.pose(c.face_body))
-    }
-
-    fn contact_kinematics_of(
-        &self,
-        c: &Contact,
-        a: &BodyState,
-        b: &BodyState,
-    ) -> ContactKinematics {
+    /// Exact planar kinematics of contact `c` (no small-rotation linearisation):
+    /// g_N = n·(P − O), n = R(θ_B) n₀, P = X_A + R(θ_A) r_A, O = X_B + R(θ_B) p_B; W_N, W_T and
+    /// the velocity-product terms of g̈ = Wᵀq̈ + ŵ, at the poses of `fr`.
+    pub fn contact_kinematics(&self, fr: &Frame, c: &Contact) -> ContactKinematics {
         let mut out = ContactKinematics::placeholder();
-        self.contact_kinematics_fill(c, a, b, &mut out);
+        self.contact_kinematics_into(fr, c, &mut out);
         out
     }
 
     /// (g_N, ġ_N, ġ_T) of a contact without its Jacobians (event functions).
-    pub fn contact_rates_in(&self, fr: &Frame, c: &Contact) -> (f64, f64, f64) {
+    pub fn contact_rates(&self, fr: &Frame, c: &Contact) -> (f64, f64, f64) {
         let (a, b) = (fr.pose(c.point_body), fr.pose(c.face_body));
         let rho_a = a.rot(c.point);
         let p = a.position + rho_a;
@@ -231,7 +211,7 @@ impl Scene {
         (n.dot(&(p - o)), n.dot(&v_rel), t.dot(&v_rel))
     }
 
-    /// [`Scene::contact_kinematics_in`] written into `out`, reusing its Jacobian storage.
+    /// [`Scene::contact_kinematics`] written into `out`, reusing its Jacobian storage.
     pub fn contact_kinematics_into(&self, fr: &Frame, c: &Contact, out: &mut ContactKinematics) {
         self.contact_kinematics_fill(c, fr.pose(c.point_body), fr.pose(c.face_body), out);
     }
@@ -285,40 +265,10 @@ impl Scene {
         };
     }
 
-    /// Deformation e, rate ė and generalized direction J = ∂e/∂q of an attachment.
+    /// Deformation e, rate ė, support velocity u̇_g and the Jacobian J = ∂e/∂q as (dof,
+    /// coefficient) pairs (the first `nj` of at most 3) of an attachment, at the poses and
+    /// support motions of `fr` ([`spread`] makes J a dense row).
     pub fn deformation(
-        &self,
-        att: &Attachment,
-        support: Option<usize>,
-        t: f64,
-        q: &DVector<f64>,
-        v: &DVector<f64>,
-        jac: &mut DVector<f64>,
-    ) -> (f64, f64, f64) {
-        let fr = self.frame(t, q, v);
-        self.deformation_in(&fr, att, support, jac)
-    }
-
-    /// [`Scene::deformation`] from precomputed poses and support motions.
-    pub fn deformation_in(
-        &self,
-        fr: &Frame,
-        att: &Attachment,
-        support: Option<usize>,
-        jac: &mut DVector<f64>,
-    ) -> (f64, f64, f64) {
-        // the kinematics of [`Scene::deformation_at`], its sparse Jacobian spread over the DOFs
-        let (e, ed, vg, sparse, nj) = self.deformation_sparse(fr, att, support);
-        jac.fill(0.0);
-        for &(k, c) in &sparse[..nj] {
-            jac[k] = c;
-        }
-        (e, ed, vg)
-    }
-
-    /// [`Scene::deformation_in`] with the Jacobian as (dof, coefficient) pairs (at most 3),
-    /// for the force loop of the right-hand side.
-    pub fn deformation_sparse(
         &self,
         fr: &Frame,
         att: &Attachment,
@@ -433,6 +383,14 @@ pub fn cos_sin(a: f64) -> (f64, f64) {
     let s = a + a * x2 * (S[0] + x2 * (S[1] + x2 * (S[2] + x2 * (S[3] + x2 * S[4]))));
     let c = 1.0 + x2 * (C[0] + x2 * (C[1] + x2 * (C[2] + x2 * (C[3] + x2 * (C[4] + x2 * C[5])))));
     (c, s)
+}
+
+/// A sparse Jacobian row of [`Scene::deformation`] written into the dense row `jac`.
+pub fn spread(sparse: &[(usize, f64)], jac: &mut DVector<f64>) {
+    jac.fill(0.0);
+    for &(k, c) in sparse {
+        jac[k] = c;
+    }
 }
 
 #[cfg(test)]

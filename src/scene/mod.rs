@@ -14,7 +14,7 @@ mod settings;
 
 pub use crate::methods::Method;
 pub use forces::{ForceModel, LEDGER_TERMS, PowerTerms, smooth_forces, smooth_forces_in};
-pub use kinematics::{BodyState, ContactKinematics, Frame, cos_sin, perp};
+pub use kinematics::{BodyState, ContactKinematics, Frame, cos_sin, perp, spread};
 pub use settings::Settings;
 
 use crate::excitation::GroundMotion;

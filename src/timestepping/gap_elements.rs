@@ -78,7 +78,7 @@ fn penalty_forces(
         if mask.is_some_and(|m| !m[i]) {
             continue;
         }
-        let kin = scene.contact_kinematics_in(fr, c);
+        let kin = scene.contact_kinematics(fr, c);
         if mask.is_none() && kin.gap >= 0.0 {
             continue;
         }
@@ -125,7 +125,7 @@ fn dashpots(scene: &Scene, k: f64) -> Vec<(f64, f64)> {
     };
     (scene.contacts.iter())
         .map(|c| {
-            let kin = scene.contact_kinematics_in(&fr, c);
+            let kin = scene.contact_kinematics(&fr, c);
             let e = c.restitution;
             let zeta = if e <= 0.0 {
                 1.0

@@ -21,7 +21,7 @@ use crate::output::{
     SampleView,
 };
 use crate::run::SolverError;
-use crate::scene::{ForceModel, Frame, PowerTerms, Scene};
+use crate::scene::{ForceModel, Frame, PowerTerms, Scene, spread};
 use nalgebra::{DMatrix, DVector};
 use std::cell::RefCell;
 use std::time::Instant;
@@ -146,13 +146,15 @@ impl<'a> Stepper<'a> {
         let mut k = DMatrix::zeros(n, n);
         let mut c = DMatrix::zeros(n, n);
         for s in &scene.springs {
-            scene.deformation_in(&fr, &s.attachment, s.support, &mut self.jac);
+            let (.., sparse, nj) = scene.deformation(&fr, &s.attachment, s.support);
+            spread(&sparse[..nj], &mut self.jac);
             let jj = &self.jac * self.jac.transpose();
             k += &jj * s.stiffness;
             c += &jj * s.damping;
         }
         for (j, el) in scene.hysteretic.iter().enumerate() {
-            scene.deformation_in(&fr, &el.attachment, el.support, &mut self.jac);
+            let (.., sparse, nj) = scene.deformation(&fr, &el.attachment, el.support);
+            spread(&sparse[..nj], &mut self.jac);
             let jj = &self.jac * self.jac.transpose();
             k += &jj * self.laws[j].branch().stiffness;
             c += &jj * el.damping;
@@ -200,7 +202,7 @@ impl<'a> Stepper<'a> {
             .iter()
             .enumerate()
             .map(|(i, c)| {
-                let k = scene.contact_kinematics_in(&fr, c);
+                let k = scene.contact_kinematics(&fr, c);
                 ContactSample {
                     gap: k.gap,
                     gap_rate: k.gap_rate,

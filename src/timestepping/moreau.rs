@@ -44,7 +44,7 @@ fn moreau_steps(s: &mut Stepper, observer: &mut dyn Observer) -> Result<(), Solv
         // contacts predicted active
         let fr = scene.frame(s.t, &q, &v);
         let kin: Vec<ContactKinematics> = (scene.contacts.iter())
-            .map(|c| scene.contact_kinematics_in(&fr, c))
+            .map(|c| scene.contact_kinematics(&fr, c))
             .collect();
         let active: Vec<usize> = (0..kin.len())
             .filter(|&i| kin[i].gap + 0.5 * h * kin[i].gap_rate <= 0.0)

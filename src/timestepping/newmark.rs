@@ -34,7 +34,7 @@ impl Step<'_> {
         let fr1 = scene.frame(self.t1, q1, &v1);
         let dslip: Vec<f64> = (scene.contacts.iter().enumerate())
             .map(|(i, c)| {
-                0.5 * h * (self.slip_rate0[i] + scene.contact_kinematics_in(&fr1, c).slip_rate)
+                0.5 * h * (self.slip_rate0[i] + scene.contact_kinematics(&fr1, c).slip_rate)
             })
             .collect();
         let (acc, _, pf) =
@@ -95,7 +95,7 @@ impl Step<'_> {
         let (k, cd) = (self.gaps.k, &self.gaps.dashpots);
         (scene.contacts.iter().enumerate())
             .map(|(i, c)| {
-                let kin = scene.contact_kinematics_in(&fr, c);
+                let kin = scene.contact_kinematics(&fr, c);
                 kin.gap < 0.0 && -k * kin.gap - cd[i].0 * kin.gap_rate > 0.0
             })
             .collect()
@@ -128,13 +128,13 @@ pub(super) fn newmark_step(
         a_k,
         slip0,
         slip_rate0: (scene.contacts.iter())
-            .map(|c| scene.contact_kinematics_in(&fr0, c).slip_rate)
+            .map(|c| scene.contact_kinematics(&fr0, c).slip_rate)
             .collect(),
     };
     let mut q1 = q + v * h + a_k * (0.5 * h * h);
     let fr = scene.frame(step.t1, &q1, v);
     let mut mask: Vec<bool> = (scene.contacts.iter())
-        .map(|c| scene.contact_kinematics_in(&fr, c).gap < 0.0)
+        .map(|c| scene.contact_kinematics(&fr, c).gap < 0.0)
         .collect();
     for _set in 0..8 {
         let (a1, v1, pf) = step.newton(&mut q1, &mask)?;

@@ -105,7 +105,7 @@ fn central_difference_step(
     let q1 = &s.q + &vh * h;
     let fr_mid = scene.frame(s.t + 0.5 * h, &(&s.q + &vh * (0.5 * h)), &vh);
     let dslip: Vec<f64> = (scene.contacts.iter())
-        .map(|c| scene.contact_kinematics_in(&fr_mid, c).slip_rate * h)
+        .map(|c| scene.contact_kinematics(&fr_mid, c).slip_rate * h)
         .collect();
     let (a1, _, pf) = gaps.accel(s, t1, &q1, &vh, &s.slip_spring, &dslip, None);
     let v1 = &vh + &a1 * (0.5 * h);
