@@ -1,6 +1,7 @@
 //! The `[solver]` table of every model file and its settings.
 
 use super::check::{Check, ModelError};
+use crate::methods::Method;
 use crate::scene::Settings;
 use serde::Deserialize;
 
@@ -88,10 +89,10 @@ pub fn settings(s: &SolverSpec, ck: &Check) -> Result<Settings, ModelError> {
         out.theta = x;
     }
     if let Some(m) = &s.method {
-        out.method = crate::scene::Method::parse(m).ok_or_else(|| {
+        out.method = Method::parse(m).ok_or_else(|| {
             ck.err(
                 "solver.method",
-                format!("unknown method '{m}' (event, moreau, penalty, penalty-explicit)"),
+                format!("unknown method '{m}' ({})", Method::names(", ")),
             )
         })?;
     }

@@ -647,3 +647,17 @@ pub fn error_with_column(e: &crate::ModelError, text: &str) -> (String, Option<(
 pub fn validate(text: &str, path: &Path) -> Result<crate::scene::Scene, crate::ModelError> {
     crate::model::load_str(text, path, &[])
 }
+
+#[cfg(test)]
+mod tests {
+    use crate::methods::Method;
+
+    #[test]
+    fn the_method_field_lists_the_registry() {
+        let spec = super::SOLVER
+            .iter()
+            .find(|s| s.path == "solver.method")
+            .unwrap();
+        assert_eq!(spec.unit, Method::names("|"));
+    }
+}
