@@ -7,7 +7,8 @@
 //! - [`scene`]: planar rigid bodies, contacts, force elements (eq. 1–2).
 //! - [`contact`]: the impact LCP (eq. 5–7) and the contact LCP (eq. 8–10).
 //! - [`dopri`], [`event_driven`]: the event-driven integrator.
-//! - [`timestepping`]: Moreau–Jean and penalty methods; [`methods`]: the registry of methods.
+//! - [`timestepping`]: Moreau–Jean and penalty methods; [`methods`]: the registry of methods;
+//!   [`simulate`]: a scene to the method its settings name.
 //! - [`hysteresis`]: linear, bilinear and Takeda laws for columns.
 //! - [`excitation`]: records, processing, multi-support motions.
 //! - [`model`]: model files (general scenes and bridges).
@@ -28,13 +29,14 @@ pub mod output;
 pub mod precision;
 pub mod run;
 pub mod scene;
+pub mod simulate;
 pub mod studies;
 pub mod timestepping;
 #[cfg(feature = "workbench")]
 pub mod tui;
 
 pub use event_driven::{FrictionFork, run};
-pub use methods::simulate;
 pub use model::{ModelError, load};
 pub use output::RunOutput;
 pub use run::{Observer, Run, Silent, SolverError, Stop};
+pub use simulate::simulate;

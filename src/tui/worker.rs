@@ -1,4 +1,4 @@
-//! Simulation runs off the UI thread with `methods::integrate` (the method the model's
+//! Simulation runs off the UI thread with `simulate::integrate` (the method the model's
 //! `solver.method` names): the engine's observer forwards each batch of new samples and events
 //! as a [`Msg::Batch`]; the end of the run is a [`Msg::RunDone`]. A run is cancelled through a
 //! flag the observer checks at every batch.
@@ -104,7 +104,7 @@ pub fn spawn(id: u64, scene: Scene, tx: Sender<Msg>) -> RunHandle {
                 if test_panic("worker") {
                     panic!("DECKSPIN_TEST_PANIC=worker: a panic in the simulation thread");
                 }
-                crate::methods::integrate(&scene, &mut obs)
+                crate::simulate::integrate(&scene, &mut obs)
             }));
             let outcome = match result {
                 Ok(r) => outcome(r),
@@ -134,7 +134,7 @@ pub fn run_blocking(id: u64, scene: &Scene) -> Vec<Msg> {
                 true
             },
         };
-        crate::methods::integrate(scene, &mut obs)
+        crate::simulate::integrate(scene, &mut obs)
     };
     msgs.push(Msg::RunDone {
         run: id,

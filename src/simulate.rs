@@ -1,6 +1,6 @@
 //! Dispatch of a scene to the method its settings name.
 
-use super::Method;
+use crate::methods::Method;
 use crate::output::RunOutput;
 use crate::run::{Observer, Run, SolverError};
 use crate::scene::Scene;

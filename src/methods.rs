@@ -1,9 +1,5 @@
 //! The integration methods, in one registry: names, parsing, the knob a work–precision diagram
-//! sweeps for each, chart letters, and the dispatch ([`simulate`]).
-
-mod simulate;
-
-pub use simulate::{integrate, simulate};
+//! sweeps for each, and chart letters (the dispatch of a scene to its method is [`crate::simulate`]).
 
 use std::fmt;
 
