@@ -1,7 +1,7 @@
 //! The two LCPs of the paper (§3.2): frictional impact at velocity level (eq. 5–7) and
 //! continuous contact / detachment at acceleration level (eq. 8–10), both solved by Lemke.
 
-use crate::lemke::{LcpError, LcpSolution, LemkeOptions, lemke};
+use crate::lemke::{LcpError, LcpSolution, LemkeOptions, lemke_regularized};
 use crate::scene::ContactKinematics;
 use nalgebra::{DMatrix, DVector};
 
@@ -17,6 +17,8 @@ pub struct ImpactOutcome {
     pub gap_rate_after: Vec<f64>,
     pub slip_rate_after: Vec<f64>,
     pub pivots: usize,
+    /// δ of a regularised solve ([`crate::lemke::lemke_regularized`]), 0 if none was needed.
+    pub regularization: f64,
 }
 
 /// Coulomb's law at a closed contact (paper eq. 2–4, 9): |λ_T| ≤ μ λ_N, with λ_T = −μ s λ_N
@@ -70,7 +72,7 @@ pub fn solve_impact(
         .map(|i| (1.0 + eps[i]) * kin[i].gap_rate)
         .collect();
     let q_t: Vec<f64> = kin.iter().map(|k| k.slip_rate).collect();
-    let (lam_n, lam_t, pivots) = frictional_velocity_lcp(
+    let (lam_n, lam_t, pivots, regularization) = frictional_velocity_lcp(
         &w_n,
         &w_t,
         &|a, b| delassus(a, minv, b),
@@ -99,13 +101,14 @@ pub fn solve_impact(
         gap_rate_after,
         slip_rate_after,
         pivots,
+        regularization,
     })
 }
 
 /// The velocity-level frictional LCP shared by impacts (eq. 5) and Moreau–Jean steps:
 /// v_N = G_NN Λ_N + G_NT Λ_T + q_N ≥ 0 ⊥ Λ_N ≥ 0, Coulomb on Λ_T with the split of eq. 5,
 /// ġ_T⁺ = G_TN Λ_N + G_TT Λ_T + q_T. `g(a, b)` is the Delassus product aᵀ Ŵ⁻¹ b.
-/// Returns (Λ_N, Λ_T, pivots).
+/// Returns (Λ_N, Λ_T, pivots, δ of a regularised solve or 0).
 pub fn frictional_velocity_lcp(
     w_n: &[&DVector<f64>],
     w_t: &[&DVector<f64>],
@@ -114,7 +117,7 @@ pub fn frictional_velocity_lcp(
     q_t: &[f64],
     mu: &[f64],
     opts: &LemkeOptions,
-) -> Result<(Vec<f64>, Vec<f64>, usize), LcpError> {
+) -> Result<(Vec<f64>, Vec<f64>, usize, f64), LcpError> {
     let nc = w_n.len();
     let fr: Vec<usize> = (0..nc).filter(|&i| mu[i] > 0.0).collect();
     let nf = fr.len();
@@ -151,14 +154,14 @@ pub fn frictional_velocity_lcp(
         m[(s, i)] = 2.0 * mu[i];
         m[(s, nc + a)] = -1.0;
     }
-    let LcpSolution { z, pivots, .. } = lemke(&m, &q, opts)?;
+    let (LcpSolution { z, pivots, .. }, delta) = lemke_regularized(&m, &q, opts)?;
     let mut lam_n = vec![0.0; nc];
     let mut lam_t = vec![0.0; nc];
     lam_n.copy_from_slice(&z.as_slice()[..nc]);
     for (a, &i) in fr.iter().enumerate() {
         lam_t[i] = z[nc + a] - mu[i] * lam_n[i];
     }
-    Ok((lam_n, lam_t, pivots))
+    Ok((lam_n, lam_t, pivots, delta))
 }
 
 /// What the acceleration LCP decides for a closed contact.
@@ -178,6 +181,8 @@ pub struct ContactOutcome {
     /// g̈_N per contact (0 where closed).
     pub normal_accel: Vec<f64>,
     pub pivots: usize,
+    /// δ of a regularised solve ([`crate::lemke::lemke_regularized`]), 0 if none was needed.
+    pub regularization: f64,
 }
 
 /// Acceleration LCP (eq. 8–10) over closed contacts. `slide[i] = Some(s)` for a contact already
@@ -238,7 +243,7 @@ pub fn solve_contact(
         m[(s, i)] = 2.0 * mu[i];
         m[(s, nc + a)] = -1.0;
     }
-    let sol = lemke(&m, &q, opts)?;
+    let (sol, regularization) = lemke_regularized(&m, &q, opts)?;
     let (z, w) = (&sol.z, &sol.w);
     let scale_f = 1.0 + z.iter().fold(0.0f64, |a, x| a.max(x.abs()));
     let scale_a = 1.0 + q.iter().fold(0.0f64, |a, x| a.max(x.abs()));
@@ -283,5 +288,6 @@ pub fn solve_contact(
         tangential_force: lam_t,
         normal_accel: acc_n,
         pivots: sol.pivots,
+        regularization,
     })
 }

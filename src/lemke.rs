@@ -222,6 +222,57 @@ pub fn lemke_with_tie_break(
     }
 }
 
+/// Regularisations tried by [`lemke_regularized`], relative to max|M|.
+pub const REGULARIZATIONS: [f64; 3] = [1e-12, 1e-10, 1e-8];
+
+/// [`lemke`]; if it fails (degenerate problems: nearly dependent rows, such as the friction rows
+/// of two corners on one face of a body that cannot move along it), Lemke again on
+/// LCP(q, M + δI) for each δ/max|M| in [`REGULARIZATIONS`], and the first candidate that passes
+/// the check on the *original* data ([`lcp_residual`] ≤ `check_tolerance`) is the solution.
+/// The regularised problem splits what the original leaves undetermined (e.g. the friction
+/// between redundant contacts) equally, and its answer is verified, not assumed. When no
+/// candidate passes, the original error is returned. `regularized` in the result is δ (0 when
+/// the plain problem was solved).
+pub fn lemke_regularized(
+    m: &DMatrix<f64>,
+    q: &DVector<f64>,
+    opts: &LemkeOptions,
+) -> Result<(LcpSolution, f64), LcpError> {
+    let first = match lemke(m, q, opts) {
+        Ok(sol) => return Ok((sol, 0.0)),
+        Err(e @ (LcpError::NonFinite | LcpError::DimensionMismatch { .. })) => return Err(e),
+        Err(e) => e,
+    };
+    let m_max = max_abs(m.iter());
+    let mut pivots = 0;
+    for rel in REGULARIZATIONS {
+        let delta = rel * m_max;
+        let mut reg = m.clone();
+        for i in 0..reg.nrows() {
+            reg[(i, i)] += delta;
+        }
+        let Ok(sol) = lemke(&reg, q, opts) else {
+            continue;
+        };
+        pivots += sol.pivots;
+        let w = m * &sol.z + q;
+        let w_scale = max_abs(q.iter()) + m_max * max_abs(sol.z.iter());
+        let tol = opts.tolerance.max(0.0);
+        let w = w.map(|v| if v.abs() <= tol * w_scale { 0.0 } else { v });
+        if lcp_residual(m, q, &sol.z, &w) <= opts.check_tolerance {
+            return Ok((
+                LcpSolution {
+                    z: sol.z,
+                    w,
+                    pivots,
+                },
+                delta,
+            ));
+        }
+    }
+    Err(first)
+}
+
 /// Residual of a candidate `(z, w)` for LCP(q, M): the largest of
 /// `|w − (Mz+q)|ᵢ / s`, `max(−wᵢ, 0) / s`, `max(−zᵢ, 0) / t` and
 /// `|wᵢ zᵢ| / (s t)`, where `s = 1 + max|q| + max|M|·max|z|` and

@@ -155,6 +155,11 @@ pub struct RunStats {
     pub step_control: Vec<usize>,
     pub lcp_solves: usize,
     pub lemke_pivots: usize,
+    /// LCPs solved only after regularisation (degenerate contact sets).
+    pub lcp_regularized: usize,
+    /// Contacts left approaching by an impact (the impact law forbids it: always 0 unless the
+    /// LCP was solved inaccurately; a debug build stops there).
+    pub approaching_after_impact: usize,
     pub events_located: usize,
     pub branch_events: usize,
     pub impacts: usize,

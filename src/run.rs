@@ -24,13 +24,16 @@ pub enum SolverError {
         detail: String,
     },
     #[error(
-        "t = {t:.9} s: step collapse: {events} events of contact '{contact}' within {window:.3e} s (impact accumulation; enable solver.accumulation_rule)"
+        "t = {t:.9} s: step collapse: {events} events of contact '{contact}' within {window:.3e} s ({})",
+        if *rule { "impact accumulation that the accumulation rule did not close" } else { "impact accumulation; enable solver.accumulation_rule" }
     )]
     StepCollapse {
         t: f64,
         contact: String,
         events: usize,
         window: f64,
+        /// The accumulation rule was on.
+        rule: bool,
     },
     #[error("t = {t:.9} s: step size {h:.3e} s fell below the minimum")]
     StepTooSmall { t: f64, h: f64 },

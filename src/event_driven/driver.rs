@@ -257,7 +257,18 @@ impl<'a> Integration<'a> {
         }
         *h = ctrl.next_h(hh, step.error, true);
         // event search on the dense output
-        let found = locate_event(eng, step, fns, armed)?;
+        // the output instants inside the step
+        let mut grid = [0.0; 16];
+        let mut ng = 0;
+        while ng < grid.len() {
+            let tg = (*next_out + ng) as f64 * st.output_dt;
+            if tg >= step.t1() {
+                break;
+            }
+            grid[ng] = tg;
+            ng += 1;
+        }
+        let found = locate_event(eng, step, fns, armed, &grid[..ng])?;
         let t1 = found.unwrap_or(step.t1());
         track_peaks(&mut eng.state.out, step, t1, n, y0);
         // grid output inside (t0, t1]

@@ -113,10 +113,17 @@ impl<'a> Engine<'a> {
             defo.resize(scene.hysteretic.len(), (f64::NAN, f64::NAN));
         }
         vals.clear();
+        let mut rates = std::mem::take(&mut self.ws.gap_rates);
+        rates.clear();
         let d = &self.ws.dynamics;
         for f in fns {
+            let mut rate = f64::NAN;
             let val = match *f {
-                EventFn::Gap(i) => scene.contact_rates(&fr, &scene.contacts[i]).0,
+                EventFn::Gap(i) => {
+                    let (gap, gap_rate, _) = scene.contact_rates(&fr, &scene.contacts[i]);
+                    rate = gap_rate;
+                    gap
+                }
                 EventFn::Release(i) => d.lam_n[i],
                 EventFn::StickSlip(i) => {
                     coulomb::stick_margin(scene.contacts[i].mu, d.lam_n[i], d.lam_t[i])
@@ -144,7 +151,9 @@ impl<'a> Engine<'a> {
                 }
             };
             vals.push(val);
+            rates.push(rate);
         }
+        self.ws.gap_rates = rates;
         if held {
             std::mem::swap(&mut fr, &mut self.ws.dynamics.fr);
         }
@@ -237,7 +246,8 @@ pub(super) fn arm_into(
         }
     }));
     // they are also the start values of the next step's event search
-    eng.state.last_event_values = Some((eng.state.t, vals.clone()));
+    let rates = eng.ws.gap_rates.clone();
+    eng.state.last_event_values = Some((eng.state.t, vals.clone(), rates));
     eng.state.arm_values = vals;
     Ok(())
 }

@@ -8,8 +8,10 @@ use crate::dopri;
 use crate::run::SolverError;
 use nalgebra::DVector;
 
-/// First event in the step: sample the dense output at θ = ¼, ½, ¾, 1, then Illinois on the
-/// bracketing interval down to `event_time_tol`. Returns t_event, the bracket end where the
+/// First event in the step: sample the dense output at θ = ¼, ½, ¾, 1 (gaps also at the
+/// output grid instants `grid` inside the step, so that no output sample shows a missed
+/// crossing, and between samples by [`dip`]), then Illinois on the bracketing interval down to
+/// `event_time_tol`. Returns t_event, the bracket end where the
 /// function has crossed, with the events to apply there in `eng.state.cluster` ([`coalesce`]).
 /// Updates the armed flags.
 pub(super) fn locate_event(
@@ -17,15 +19,30 @@ pub(super) fn locate_event(
     step: &dopri::Step,
     fns: &[EventFn],
     armed: &mut [bool],
+    grid: &[f64],
 ) -> Result<Option<f64>, SolverError> {
     if fns.is_empty() {
         return Ok(None);
     }
     let mut ls = std::mem::take(&mut eng.ws.locate);
+    // sample instants: (θ, all functions or the gaps only)
+    ls.thetas.clear();
+    ls.thetas
+        .extend([(0.25, false), (0.5, true), (0.75, false), (1.0, true)]);
+    for &t in grid.iter().take(MAX_GRID_SAMPLES) {
+        let theta = (t - step.t0) / step.h;
+        if theta > 0.0 && theta < 1.0 && ls.thetas.iter().all(|(s, _)| (s - theta).abs() > 1e-9) {
+            ls.thetas.push((theta, false));
+        }
+    }
+    ls.thetas.sort_by(|a, b| a.0.total_cmp(&b.0));
     let r = locate_event_in(eng, step, fns, armed, &mut ls);
     eng.ws.locate = ls;
     r
 }
+
+/// Output instants of one step checked for gaps (more are left to the Hermite dip check).
+const MAX_GRID_SAMPLES: usize = 16;
 
 pub(super) fn locate_event_in(
     eng: &mut Engine,
@@ -42,8 +59,12 @@ pub(super) fn locate_event_in(
         gap_fns,
         vals,
         v_end,
+        r_prev,
+        r_vals,
+        r_end,
         y,
         roots,
+        thetas,
         listed,
     } = ls;
     // thresholds and the gap subset change only with the list of functions
@@ -61,9 +82,13 @@ pub(super) fn locate_event_in(
     // the end values first: the last stage evaluated the dynamics there (FSAL), which any
     // other evaluation would overwrite
     eng.event_values_into(step.t1(), &step.y1, fns, v_end)?;
+    r_end.clone_from(&eng.ws.gap_rates);
     match eng.state.last_event_values.take() {
-        Some((t, v)) if t == step.t0 && v.len() == fns.len() => *v_prev = v,
-        _ => eng.event_values_into(step.t0, &step.y0, fns, v_prev)?,
+        Some((t, v, r)) if t == step.t0 && v.len() == fns.len() => (*v_prev, *r_prev) = (v, r),
+        _ => {
+            eng.event_values_into(step.t0, &step.y0, fns, v_prev)?;
+            r_prev.clone_from(&eng.ws.gap_rates);
+        }
     };
     t_prev.clear();
     t_prev.resize(fns.len(), step.t0);
@@ -78,14 +103,14 @@ pub(super) fn locate_event_in(
     if y.len() != step.y0.len() {
         *y = DVector::zeros(step.y0.len());
     }
-    for theta in [0.25, 0.5, 0.75, 1.0] {
-        let full = theta == 0.5 || theta == 1.0;
+    for &(theta, full) in thetas.iter() {
         if !full && gaps.is_empty() {
             continue;
         }
         let t = step.t0 + theta * step.h;
         if theta == 1.0 {
             std::mem::swap(vals, v_end);
+            std::mem::swap(r_vals, r_end);
         } else {
             step.dense_at_into(t, y);
             if full {
@@ -93,6 +118,7 @@ pub(super) fn locate_event_in(
             } else {
                 eng.event_values_into(t, y, gap_fns, vals)?;
             }
+            r_vals.clone_from(&eng.ws.gap_rates);
         }
         let index = |m: usize| if full { m } else { gaps[m] };
         roots.clear();
@@ -103,6 +129,13 @@ pub(super) fn locate_event_in(
             if a > 0.0 && b <= 0.0 {
                 let root = illinois(eng, step, fns, k, t_prev[k], t, a, b, armed[k], thr[k])?;
                 roots.push((root, fns[k]));
+            } else if a > 0.0 && armed[k] && matches!(fns[k], EventFn::Gap(_)) {
+                // both ends open: a corner may still have dipped through the face between
+                let ends = ((t_prev[k], a, r_prev[k]), (t, b, r_vals[m]));
+                if let Some((tc, gc)) = dip(eng, step, fns[k], ends, 8)? {
+                    let root = illinois(eng, step, fns, k, t_prev[k], tc, a, gc, true, thr[k])?;
+                    roots.push((root, fns[k]));
+                }
             }
         }
         if !roots.is_empty() {
@@ -116,11 +149,83 @@ pub(super) fn locate_event_in(
                 armed[k] = true;
             }
             v_prev[k] = val;
+            r_prev[k] = r_vals[m];
             t_prev[k] = t;
         }
     }
-    eng.state.last_event_values = Some((step.t1(), std::mem::take(v_prev)));
+    let last = (step.t1(), std::mem::take(v_prev), std::mem::take(r_prev));
+    eng.state.last_event_values = Some(last);
     Ok(None)
+}
+
+/// A gap g that is positive at both ends of [ta, tb] but approaching at ta and opening at tb
+/// (ġ(ta) < 0 < ġ(tb)) may have dipped below zero in between. The cubic Hermite interpolant of
+/// (g, ġ) at the ends predicts the minimum; where it predicts g ≤ 0 the gap is evaluated there
+/// on the dense output, and the two halves are searched again (to `depth` levels) while it is
+/// still positive. Returns (t, g(t)) with g(t) ≤ 0: the far end of a bracket [ta, t] of the
+/// crossing.
+fn dip(
+    eng: &mut Engine,
+    step: &dopri::Step,
+    f: EventFn,
+    ((ta, ga, ra), (tb, gb, rb)): ((f64, f64, f64), (f64, f64, f64)),
+    depth: u32,
+) -> Result<Option<(f64, f64)>, SolverError> {
+    if !(ra < 0.0 && rb > 0.0 && tb > ta) {
+        return Ok(None);
+    }
+    let Some((s, p)) = hermite_min(ga, ra * (tb - ta), gb, rb * (tb - ta)) else {
+        return Ok(None);
+    };
+    if p > 0.0 {
+        return Ok(None);
+    }
+    let tm = ta + s * (tb - ta);
+    let mut y = step.y0.clone();
+    step.dense_into((tm - step.t0) / step.h, &mut y);
+    let gm = eng.event_values(tm, &y, &[f])?[0];
+    let rm = eng.ws.gap_rates[0];
+    if gm <= 0.0 {
+        return Ok(Some((tm, gm)));
+    }
+    if depth == 0 {
+        return Ok(None);
+    }
+    if let Some(hit) = dip(eng, step, f, ((ta, ga, ra), (tm, gm, rm)), depth - 1)? {
+        return Ok(Some(hit));
+    }
+    dip(eng, step, f, ((tm, gm, rm), (tb, gb, rb)), depth - 1)
+}
+
+/// Minimum over s ∈ (0, 1) of the cubic Hermite interpolant with values `g0`, `g1` and
+/// slopes `d0`, `d1` (per unit s) at the ends: (s, p(s)), or None without an interior minimum.
+pub(super) fn hermite_min(g0: f64, d0: f64, g1: f64, d1: f64) -> Option<(f64, f64)> {
+    let p = |s: f64| {
+        let (s2, s3) = (s * s, s * s * s);
+        (2.0 * s3 - 3.0 * s2 + 1.0) * g0
+            + (s3 - 2.0 * s2 + s) * d0
+            + (-2.0 * s3 + 3.0 * s2) * g1
+            + (s3 - s2) * d1
+    };
+    // p'(s) = a s² + b s + c
+    let a = 6.0 * g0 + 3.0 * d0 - 6.0 * g1 + 3.0 * d1;
+    let b = -6.0 * g0 - 4.0 * d0 + 6.0 * g1 - 2.0 * d1;
+    let c = d0;
+    let mut cands = [f64::NAN; 2];
+    if a.abs() <= 1e-14 * (b.abs() + c.abs()) {
+        cands[0] = -c / b;
+    } else {
+        let disc = b * b - 4.0 * a * c;
+        if disc >= 0.0 {
+            let q = -0.5 * (b + b.signum() * disc.sqrt());
+            cands = [q / a, c / q];
+        }
+    }
+    cands
+        .into_iter()
+        .filter(|s| s.is_finite() && *s > 0.0 && *s < 1.0)
+        .map(|s| (s, p(s)))
+        .min_by(|x, y| x.1.total_cmp(&y.1))
 }
 
 /// The events applied at once from the roots found in one sub-interval (sorted by time):

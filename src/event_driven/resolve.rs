@@ -46,7 +46,19 @@ impl Engine<'_> {
         if approaching.is_empty() {
             return Ok(false);
         }
-        let mut eps: Vec<f64> = set.iter().map(|&i| scene.contacts[i].restitution).collect();
+        // Newton's law ġ⁺ = −ε ġ⁻ for the approaching contacts; the others of the set (resting
+        // or separating) only may not approach afterwards (ε = 0: ġ⁺ ≥ 0)
+        let mut eps: Vec<f64> = set
+            .iter()
+            .map(|&i| {
+                let closing = approaching.contains(&i);
+                if closing {
+                    scene.contacts[i].restitution
+                } else {
+                    0.0
+                }
+            })
+            .collect();
         let mu: Vec<f64> = set.iter().map(|&i| scene.contacts[i].mu).collect();
         let mut accumulated = vec![None; set.len()];
         for (a, &i) in set.iter().enumerate() {
@@ -60,7 +72,11 @@ impl Engine<'_> {
                 st.zeno_velocity,
                 st.min_event_spacing,
             );
-            if let Some(est) = rule {
+            // a burst of impacts closer than min_event_spacing closes the contact even when the
+            // flights do not shrink geometrically
+            let (last, count) = self.state.burst[i];
+            let burst = self.state.t - last < st.min_event_spacing && count + 1 >= BURST_CLOSES;
+            if let Some(est) = rule.or(burst.then_some(self.state.t)) {
                 eps[a] = 0.0;
                 accumulated[a] = Some(est);
             }
@@ -75,10 +91,20 @@ impl Engine<'_> {
         })?;
         self.state.out.stats.lcp_solves += 1;
         self.state.out.stats.lemke_pivots += imp.pivots;
+        self.state.out.stats.lcp_regularized += usize::from(imp.regularization > 0.0);
         for k in 0..self.n {
             self.state.y[self.n + k] += imp.velocity_jump[k];
         }
         for (a, &i) in set.iter().enumerate() {
+            // no contact leaves an impact approaching (the LCP's v_N ≥ 0, to its accuracy)
+            let left_approaching =
+                imp.gap_rate_after[a] < -st.velocity_tol.max(1e-9 * kin[i].gap_rate.abs());
+            debug_assert!(
+                !left_approaching,
+                "contact {i} leaves the impact approaching: {}",
+                imp.gap_rate_after[a]
+            );
+            self.state.out.stats.approaching_after_impact += usize::from(left_approaching);
             let de_n = imp.normal_impulse[a] * (kin[i].gap_rate + imp.gap_rate_after[a]) / 2.0;
             let de_t =
                 imp.tangential_impulse[a] * (kin[i].slip_rate + imp.slip_rate_after[a]) / 2.0;
@@ -170,6 +196,7 @@ impl Engine<'_> {
             .map_err(|e| self.contact_lcp_error(e, &closed, &slide))?;
         self.state.out.stats.lcp_solves += 1;
         self.state.out.stats.lemke_pivots += outcome.pivots;
+        self.state.out.stats.lcp_regularized += usize::from(outcome.regularization > 0.0);
         for (a, &i) in closed.iter().enumerate() {
             self.state.force_scale = self.state.force_scale.max(outcome.normal_force[a].abs());
             self.state.contacts[i] = match outcome.decision[a] {
@@ -259,8 +286,9 @@ impl Engine<'_> {
         Ok(())
     }
 
-    /// Guard against impact accumulation without the accumulation rule (Zeno): 16 impacts in
-    /// a row of one contact, each within `min_event_spacing` of the last, stop the run.
+    /// Guard against impact accumulation (Zeno): impacts in a row of one contact, each within
+    /// `min_event_spacing` of the last, stop the run at 16 without the accumulation rule, at
+    /// [`BURST_FAILS`] with it (the rule closes such a contact from the [`BURST_CLOSES`]th on).
     pub(super) fn check_burst(&mut self, i: usize) -> Result<(), SolverError> {
         let st = &self.scene.settings;
         let (last, count) = self.state.burst[i];
@@ -270,17 +298,28 @@ impl Engine<'_> {
             0
         };
         self.state.burst[i] = (self.state.t, count);
-        if count >= 16 {
+        let limit = if st.accumulation_rule {
+            BURST_FAILS
+        } else {
+            16
+        };
+        if count >= limit {
             return Err(SolverError::StepCollapse {
                 t: self.state.t,
                 contact: self.scene.contacts[i].name.clone(),
                 events: count,
                 window: st.min_event_spacing,
+                rule: st.accumulation_rule,
             });
         }
         Ok(())
     }
 }
+
+/// With the accumulation rule: the impact of a burst (impacts in a row within
+/// `min_event_spacing`) from which the contact is closed, and the one at which the run stops.
+const BURST_CLOSES: usize = 3;
+const BURST_FAILS: usize = 64;
 
 /// The accumulation rule: an impact at `t` of a contact whose flights shrink (the last one
 /// shorter than 0.999 of the one before; or fewer than two impacts in `impacts`, the last

@@ -23,6 +23,9 @@ pub(super) struct Workspace {
     pub(super) sample_rows: (Vec<ContactSample>, Vec<(f64, f64)>),
     /// A Jacobian row of n DOFs.
     pub(super) jac: DVector<f64>,
+    /// ġ_N at the instant of the last `event_values` for each of its gap functions (NaN for
+    /// the other functions).
+    pub(super) gap_rates: Vec<f64>,
 }
 
 impl Workspace {
@@ -36,6 +39,7 @@ impl Workspace {
             defo: Vec::new(),
             sample_rows: Default::default(),
             jac: DVector::zeros(n),
+            gap_rates: Vec::new(),
         }
     }
 
@@ -122,8 +126,14 @@ pub(super) struct LocateScratch {
     pub(super) gap_fns: Vec<EventFn>,
     pub(super) vals: Vec<f64>,
     pub(super) v_end: Vec<f64>,
+    /// ġ_N of the gap functions at `t_prev`, at the current sample and at the step's end.
+    pub(super) r_prev: Vec<f64>,
+    pub(super) r_vals: Vec<f64>,
+    pub(super) r_end: Vec<f64>,
     pub(super) y: DVector<f64>,
     pub(super) roots: Vec<(f64, EventFn)>,
+    /// The step's sample instants: (θ, every function or the gaps only).
+    pub(super) thetas: Vec<(f64, bool)>,
     /// `Engine::fns_generation` of the list `thr` and `gaps` were made for.
     pub(super) listed: u64,
 }

@@ -131,16 +131,15 @@ fn percussions(
     let mu: Vec<f64> = active.iter().map(|&i| scene.contacts[i].mu).collect();
     let g = |a: &DVector<f64>, b: &DVector<f64>| a.dot(&(winv * b));
     let lemke = &scene.settings.lemke;
-    let (pn, pt, piv) =
-        frictional_velocity_lcp(&w_n, &w_t, &g, &q_n, &q_t, &mu, lemke).map_err(|e| {
-            SolverError::Lcp {
-                t: s.t,
-                what: "Moreau–Jean",
-                source: e,
-            }
+    let (pn, pt, piv, delta) = frictional_velocity_lcp(&w_n, &w_t, &g, &q_n, &q_t, &mu, lemke)
+        .map_err(|e| SolverError::Lcp {
+            t: s.t,
+            what: "Moreau–Jean",
+            source: e,
         })?;
     s.out.stats.lcp_solves += 1;
     s.out.stats.lemke_pivots += piv;
+    s.out.stats.lcp_regularized += usize::from(delta > 0.0);
     let mut imp = DVector::zeros(scene.ndof());
     for (a, &i) in active.iter().enumerate() {
         imp.axpy(pn[a], &kin[i].w_n, 1.0);
