@@ -2,7 +2,8 @@
 
 use approx::assert_abs_diff_eq;
 use deckspin::lemke::{
-    LcpError, LcpSolution, LemkeOptions, TieBreak, lcp_residual, lemke, lemke_with_tie_break,
+    LcpError, LcpSolution, LemkeOptions, TieBreak, lcp_residual, lemke, lemke_regularized,
+    lemke_with_tie_break,
 };
 use nalgebra::{DMatrix, DVector};
 use proptest::prelude::*;
@@ -547,4 +548,91 @@ fn error_messages_render() {
         q_len: 3,
     };
     assert!(e.to_string().contains("1x2"));
+}
+
+/// The impact LCP of the bridge at ε = 1 when both corners of one deck end hit an abutment
+/// that cannot move along its face (t = 4.473 s of run 4): the two friction rows are dependent
+/// to 1e-9. Plain Lemke's answer fails its check; the regularised retry is verified on the
+/// original data.
+#[test]
+fn degenerate_friction_rows_are_solved_by_the_regularised_retry() {
+    let m = DMatrix::from_column_slice(
+        6,
+        6,
+        &[
+            6.567765879763651,
+            -3.0918247541016317,
+            -0.011465723917139098,
+            -0.011465841379624484,
+            1.0,
+            0.0,
+            -3.0933007441637543,
+            5.828193700844168,
+            -0.014417821503869614,
+            -0.014417713016776263,
+            0.0,
+            1.0,
+            0.001994151719265691,
+            -0.0009579458854138604,
+            0.02691975127280958,
+            0.026919751236911506,
+            -1.0,
+            0.0,
+            0.001994034238831269,
+            -0.0009578374162681722,
+            0.026919751236911506,
+            0.02691975120101618,
+            0.0,
+            -1.0,
+            0.0,
+            0.0,
+            1.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            1.0,
+            0.0,
+            0.0,
+        ],
+    );
+    let q = DVector::from_vec(vec![
+        -0.002821997802779445,
+        -0.002424417659143129,
+        -0.09140303599481804,
+        -0.09140303599240074,
+        0.0,
+        0.0,
+    ]);
+    let opts = LemkeOptions {
+        check_tolerance: 1e-7,
+        ..LemkeOptions::default()
+    };
+    assert!(matches!(
+        lemke(&m, &q, &opts),
+        Err(LcpError::CheckFailed { .. })
+    ));
+    let (sol, delta) = lemke_regularized(&m, &q, &opts).expect("regularised solve");
+    assert!(delta > 0.0 && delta <= 1e-8 * 6.6, "δ = {delta:e}");
+    let w = &m * &sol.z + &q;
+    assert!(lcp_residual(&m, &q, &sol.z, &w) <= 1e-7);
+    // both normal impulses positive (both corners hit), and w ⊥ z to the check's scale
+    assert!(sol.z[0] > 0.0 && sol.z[1] > 0.0, "{}", sol.z);
+    let s = 1.0 + q.amax() + m.amax() * sol.z.amax();
+    for i in 0..6 {
+        assert!(
+            sol.z[i] >= 0.0 && w[i] >= -1e-7 * s && (sol.z[i] * w[i]).abs() < 1e-7 * s,
+            "{i}: z {} w {}",
+            sol.z[i],
+            w[i]
+        );
+    }
+    // a regular problem is solved by the first attempt, unregularised
+    let m2 = DMatrix::from_row_slice(2, 2, &[2.0, 1.0, 1.0, 2.0]);
+    let q2 = DVector::from_vec(vec![-1.0, -1.0]);
+    let (s2, d2) = lemke_regularized(&m2, &q2, &opts).unwrap();
+    assert_eq!(d2, 0.0);
+    assert!((s2.z[0] - 1.0 / 3.0).abs() < 1e-15 && (s2.z[1] - 1.0 / 3.0).abs() < 1e-15);
 }

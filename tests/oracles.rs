@@ -383,3 +383,64 @@ fn energy_ledger_closes_and_nothing_penetrates_on_every_validation_scene() {
     }
     assert!(n >= 7);
 }
+
+/// A grazing impact inside one step: an oscillator (ω = 2π rad/s, amplitude A = 1/ω) whose stop
+/// sits 10 nm inside its swing, so the gap would dip 10 nm below zero for 0.1 ms, between the
+/// samples of a DP5 step 50 times longer. The crossing must still be found (no penetration beyond the
+/// event tolerance), at the closed-form instant x(t) = A sin ωt = −(A − 1 µm).
+#[test]
+fn a_gap_that_dips_below_zero_inside_one_step_is_found() {
+    let omega = 2.0 * std::f64::consts::PI;
+    let a = 1.0 / omega;
+    let dip = 1e-8;
+    let text = format!(
+        r#"
+title = "grazing stop"
+[solver]
+t_end = 1.0
+output_dt = 1.0
+rtol = 1e-11
+atol = 1e-13
+[[body]]
+name = "mass"
+mass = 1.0
+dofs = ["x"]
+initial_velocity = [1.0, 0.0, 0.0]
+[[spring]]
+name = "spring"
+body = "mass"
+direction = [1.0, 0.0]
+stiffness = {k}
+[[contact]]
+name = "stop"
+body = "mass"
+normal = [1.0, 0.0]
+gap = {gap}
+restitution = 0.5
+"#,
+        k = omega * omega,
+        gap = a - dip
+    );
+    let r = common::run_text(&text, "grazing.toml").unwrap();
+    let impacts = common::impacts(&r);
+    assert_eq!(impacts.len(), 1, "{:?}", r.events);
+    // first passage of x = −(A − dip) after the turn at the top: ωt = π + asin(1 − dip/A)
+    let t_exact = (std::f64::consts::PI + (1.0 - dip / a).asin()) / omega;
+    let v_exact = a * omega * (omega * t_exact).cos();
+    // a grazing crossing is ill-conditioned: a position error δx moves it by δx/|ġ|; DP5 at
+    // rtol 1e-11 keeps δx below 1e-11 m here
+    let dt = (impacts[0].t - t_exact).abs();
+    assert!(dt < 1e-11 / v_exact.abs(), "{} vs {t_exact}", impacts[0].t);
+    // the approach speed, to the same position error: δġ = ω²A δx/|ġ| (plus rounding)
+    let dv = (impacts[0].gap_rate_before - v_exact).abs();
+    assert!(
+        dv < omega * omega * a * 1e-11 / v_exact.abs() + 1e-12,
+        "{dv:e} of {v_exact:e}"
+    );
+    let s = &r.summary;
+    assert!(
+        s.max_penetration <= 1e-9,
+        "penetration {:e}",
+        s.max_penetration
+    );
+}

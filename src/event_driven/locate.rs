@@ -358,3 +358,23 @@ pub(super) fn bracket_root<E>(
     }
     Ok((a, b))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::hermite_min;
+
+    #[test]
+    fn hermite_minimum_of_a_parabola_is_exact() {
+        // g(s) = (s − 0.3)² − 0.01 on [0, 1]: g(0) = 0.08, g'(0) = −0.6, g(1) = 0.48, g'(1) = 1.4
+        let (s, p) = hermite_min(0.08, -0.6, 0.48, 1.4).unwrap();
+        assert!(
+            (s - 0.3).abs() < 1e-15 && (p + 0.01).abs() < 1e-15,
+            "{s} {p}"
+        );
+        // monotone: no interior minimum
+        assert_eq!(hermite_min(0.1, 0.2, 0.5, 0.3), None);
+        // a cubic is reproduced: g(s) = s³ − s² + 0.1 (minimum at s = 2/3)
+        let (s, p) = hermite_min(0.1, 0.0, 0.1, 1.0).unwrap();
+        assert!((s - 2.0 / 3.0).abs() < 1e-15 && (p - (0.1 - 4.0 / 27.0)).abs() < 1e-15);
+    }
+}
