@@ -1560,3 +1560,41 @@ fn save_asks_when_the_file_changed_on_disk_and_was_not_merged() {
     assert!(!app.dirty());
     let _ = std::fs::remove_dir_all(&d);
 }
+
+// ---------------------------------------------------------------------------------------------
+// signals: the unsaved work and the recovery file
+
+#[test]
+fn the_recovery_file_holds_the_unsaved_work_next_to_the_model() {
+    use tui::signals;
+    let (d, model, mut app) = corner_on_disk("recovery");
+    assert_eq!(signals::unsaved(&app), signals::Unsaved::default());
+    edit(&mut app, "contact.0.mu", "0.3");
+    // a valid value being typed is included
+    select_field(&mut app, "contact.0.restitution");
+    update(&mut app, code(KeyCode::Enter));
+    update(&mut app, ctrl('u'));
+    type_str(&mut app, "0.1");
+    let u = signals::unsaved(&app);
+    let want = app
+        .text
+        .replace("mu = 0.5", "mu = 0.3")
+        .replace("restitution = 0.0", "restitution = 0.1");
+    assert_eq!(u.text.as_deref(), Some(want.as_str()));
+    assert_eq!(u.note, None);
+    // one that is not valid is named, the rest kept
+    update(&mut app, ctrl('u'));
+    type_str(&mut app, "-1");
+    let u = signals::unsaved(&app);
+    assert_eq!(u.text, Some(app.draft.clone()));
+    assert!(u.note.unwrap().contains("contact.0.restitution, '-1'"));
+    // the first free name next to the model; the model itself untouched
+    let p = signals::write_recovery(&model, &want).unwrap();
+    assert_eq!(p, d.join("models/corner.toml.recovered"));
+    assert_eq!(read(&p), want);
+    let p1 = signals::write_recovery(&model, "x").unwrap();
+    assert_eq!(p1, d.join("models/corner.toml.recovered.1"));
+    assert_eq!(read(&p), want, "an earlier recovery file is kept");
+    assert_eq!(read(&model), read(&corner_path()));
+    let _ = std::fs::remove_dir_all(&d);
+}

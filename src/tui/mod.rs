@@ -15,6 +15,7 @@ pub mod merge;
 pub mod msg;
 pub mod run_data;
 pub mod runtime;
+pub mod signals;
 pub mod ui;
 pub mod update;
 pub mod watch;

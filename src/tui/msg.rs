@@ -45,6 +45,8 @@ pub enum Msg {
     },
     /// [`Effect::Save`] found the file on disk changed (its content) and wrote nothing.
     SaveConflict(String),
+    /// SIGTERM, SIGHUP or SIGINT arrived (the runtime ends the loop; `update` ignores it).
+    Signal(i32),
     /// Result of [`Effect::Export`]: the written paths.
     Exported(Result<Vec<PathBuf>, String>),
 }

@@ -48,6 +48,8 @@ pub fn update(app: &mut App, msg: Msg) -> Vec<Effect> {
         Msg::Saved { text, result } => file::on_saved(app, text, result),
         Msg::SaveConflict(disk) => reconcile::on_save_conflict(app, disk),
         Msg::Exported(r) => on_exported(app, r),
+        // the runtime ends the loop on it (see `signals`)
+        Msg::Signal(_) => Vec::new(),
     }
 }
 
