@@ -54,7 +54,14 @@ impl Tmux {
         }
     }
     fn alternate_on(&self) -> String {
-        let out = self.cmd(&["display-message", "-p", "-t", "e2e", "#{alternate_on}"]);
+        self.format("#{alternate_on}")
+    }
+    /// 1 when the cursor is shown.
+    fn cursor_flag(&self) -> String {
+        self.format("#{cursor_flag}")
+    }
+    fn format(&self, f: &str) -> String {
+        let out = self.cmd(&["display-message", "-p", "-t", "e2e", f]);
         String::from_utf8_lossy(&out.stdout).trim().to_string()
     }
 }
@@ -117,9 +124,11 @@ fn row(screen: &str, name: &str) -> (String, String) {
 
 /// Starts the workbench on tmp/models/four-span.toml in session "e2e" (120×40) through a shell
 /// that reports the exit code and whether the terminal is back in canonical (cooked) mode.
+/// The workbench's process id goes to tmp/deckspin.pid.
 fn start(tmux: &Tmux, d: &Path, env: &str) {
     let script = format!(
-        "cd '{}' && {env} '{}' models/four-span.toml; echo deckspin-exited-$?; \
+        "cd '{}' && {env} sh -c 'echo $$ > deckspin.pid; exec \"$0\" \"$@\"' '{}' \
+         models/four-span.toml; echo deckspin-exited-$?; \
          stty -a | tr ' ;' '\\n\\n' | grep -x -e icanon -e -icanon; echo stty-done; exec sleep 120",
         d.display(),
         env!("CARGO_BIN_EXE_deckspin")
@@ -289,5 +298,92 @@ fn panics_restore_the_terminal() {
         s.lines().any(|l| l.trim() == "icanon"),
         "raw mode left on:\n{s}"
     );
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+/// Sends `sig` (TERM, HUP, INT) to the workbench started by [`start`] in `d`.
+fn kill(d: &Path, sig: &str) {
+    let pid = std::fs::read_to_string(d.join("deckspin.pid")).unwrap();
+    let out = Command::new("kill")
+        .args([&format!("-{sig}"), pid.trim()])
+        .output()
+        .expect("run kill");
+    assert!(out.status.success(), "kill -{sig} {pid}");
+}
+
+/// Starts the workbench, optionally edits the left_top gap without saving, sends `sig`, and
+/// checks the shell is back on the normal screen with the cursor shown and raw mode off, and
+/// the exit status is the signal's. Returns the screen.
+fn signal_round(d: &Path, sig: &str, status: i32, edit: bool) -> String {
+    let tmux = Tmux {
+        socket: format!("deckspin-e2e-{sig}-{}", std::process::id()),
+    };
+    start(&tmux, d, "");
+    tmux.wait("the workbench", 30, |s| s.contains("deck.theta [rad]"));
+    assert_eq!(tmux.alternate_on(), "1");
+    assert_eq!(tmux.cursor_flag(), "0", "the workbench hides the cursor");
+    if edit {
+        tmux.keys(&["Tab"]);
+        tmux.wait("the form", 5, |s| s.contains("parameters"));
+        for _ in 0..10 {
+            tmux.keys(&["Down"]);
+        }
+        tmux.wait("the gap field", 5, |s| s.contains("contacts.gaps.0"));
+        tmux.keys(&["Enter", "C-u"]);
+        tmux.text("0.002");
+        tmux.wait("a valid value", 5, |s| s.contains("✓ valid"));
+        tmux.keys(&["Enter"]);
+        tmux.wait("the edit", 5, |s| s.contains("four-span.toml [+]"));
+    }
+    kill(d, sig);
+    let s = tmux.wait("the shell", 10, |s| s.contains("stty-done"));
+    assert!(s.contains(&format!("deckspin-exited-{status}")), "{s}");
+    assert_eq!(
+        tmux.alternate_on(),
+        "0",
+        "alternate screen left after {sig}"
+    );
+    assert_eq!(tmux.cursor_flag(), "1", "cursor shown after {sig}");
+    assert!(
+        s.lines().any(|l| l.trim() == "icanon"),
+        "raw mode left on after {sig}:\n{s}"
+    );
+    assert!(
+        !s.contains("deck.theta [rad]"),
+        "workbench still on screen:\n{s}"
+    );
+    assert!(s.contains(&format!("deckspin: SIG{sig} received")), "{s}");
+    s
+}
+
+#[test]
+fn signals_restore_the_terminal_and_keep_unsaved_edits() {
+    if !have_tmux() {
+        println!("tmux is not on PATH: skipping the end-to-end terminal test");
+        return;
+    }
+    let d = workspace();
+    let model = d.join("models/four-span.toml");
+    let original = std::fs::read_to_string(&model).unwrap();
+    let recovered = d.join("models/four-span.toml.recovered");
+    // SIGTERM with an unsaved edit: recovery file, the model untouched
+    let s = signal_round(&d, "TERM", 143, true);
+    assert!(
+        s.contains("unsaved edits written to models/four-span.toml.recovered"),
+        "{s}"
+    );
+    assert_eq!(std::fs::read_to_string(&model).unwrap(), original);
+    let r = std::fs::read_to_string(&recovered).unwrap();
+    assert!(r.contains("gaps = [0.002, 0.0127, 0.0127, 0.0127]"), "{r}");
+    // SIGHUP (the terminal's connection dropped) with an edit: the next free recovery name
+    let s = signal_round(&d, "HUP", 129, true);
+    assert!(s.contains("four-span.toml.recovered.1"), "{s}");
+    let r1 = std::fs::read_to_string(d.join("models/four-span.toml.recovered.1")).unwrap();
+    assert_eq!(r1, r);
+    assert_eq!(std::fs::read_to_string(&model).unwrap(), original);
+    // an external SIGINT without edits: restored, no recovery file
+    let s = signal_round(&d, "INT", 130, false);
+    assert!(!s.contains("unsaved edits"), "{s}");
+    assert!(!d.join("models/four-span.toml.recovered.2").exists());
     let _ = std::fs::remove_dir_all(&d);
 }

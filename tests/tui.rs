@@ -269,6 +269,16 @@ fn every_binding_is_handled_in_its_context() {
                     act(&mut app, Action::FieldEdit);
                 }
                 Ctx::Confirm => app.mode = Mode::Confirm(Confirm::Quit),
+                Ctx::Merge => {
+                    app.mode = Mode::Confirm(Confirm::Merge {
+                        conflicts: vec![tui::merge::Conflict {
+                            path: "contact.0.mu".into(),
+                            mine: Some("0.3".into()),
+                            theirs: Some("0.5".into()),
+                        }],
+                        resume: None,
+                    })
+                }
                 Ctx::Help => app.mode = Mode::Help,
                 Ctx::Form => app.view = View::Form,
                 Ctx::Charts | Ctx::Global => {}
@@ -490,7 +500,7 @@ fn save_keeps_every_comment_and_writes_atomically() {
     edit(&mut app, "contacts.gaps.2", "0.01");
     edit(&mut app, "contacts.mu", "0.35");
     let fx = act(&mut app, Action::Save);
-    let [Effect::Save { path, text }] = fx.as_slice() else {
+    let [Effect::Save { path, text, .. }] = fx.as_slice() else {
         panic!("{fx:?}")
     };
     assert_eq!(path, &model);
@@ -900,41 +910,42 @@ fn reload_with_a_parse_error_keeps_the_last_good_model() {
 }
 
 #[test]
-fn reload_with_unsaved_edits_asks_first() {
+fn reload_with_unsaved_edits_merges_and_a_broken_version_is_not_merged() {
     let mut app = corner_app();
     edit(&mut app, "contact.0.restitution", "0.5");
     assert!(app.dirty());
     let disk = app.text.replace("t_end = 0.5", "t_end = 0.4");
-    assert!(update(&mut app, Msg::FileChanged(disk.clone())).is_empty());
-    assert!(matches!(app.mode, Mode::Confirm(Confirm::Reload { .. })));
-    assert!(app.status.contains("(y/n)"));
-    let s = screen(&render(&mut app, 80, 24));
-    assert!(
-        s.contains("Reload it and discard your unsaved edits?"),
-        "{s}"
-    );
-    // n: edits kept, the same content does not ask again
-    assert!(update(&mut app, key('n')).is_empty());
-    assert!(app.dirty());
-    assert!(app.draft.contains("restitution = 0.5"));
-    assert!(update(&mut app, Msg::FileChanged(disk.clone())).is_empty());
-    assert_eq!(app.mode, Mode::Normal);
-    // a further change asks again; y reloads and reruns
-    let disk2 = disk.replace("t_end = 0.4", "t_end = 0.3");
-    update(&mut app, Msg::FileChanged(disk2.clone()));
-    let fx = update(&mut app, key('y'));
+    let fx = update(&mut app, Msg::FileChanged(disk.clone()));
     assert_eq!(start_ids(&fx), vec![2]);
-    assert!(!app.dirty());
-    assert_eq!(app.draft, disk2);
-    assert!(app.status.contains("reloaded"));
-    // a change while typing a value also asks
-    select_field(&mut app, "contact.0.mu");
-    update(&mut app, code(KeyCode::Enter));
-    update(
-        &mut app,
-        Msg::FileChanged(disk2.replace("t_end = 0.3", "t_end = 0.2")),
+    assert_eq!(app.mode, Mode::Normal);
+    assert_eq!(
+        app.draft,
+        disk.replace("restitution = 0.0", "restitution = 0.5")
     );
-    assert!(matches!(app.mode, Mode::Confirm(Confirm::Reload { .. })));
+    // the same content again is ignored
+    assert!(update(&mut app, Msg::FileChanged(disk.clone())).is_empty());
+    // a version that does not load is not merged: the edits and the last good model stay
+    let bad = disk.replace("mu = 0.5", "mu = 0.5.1");
+    assert!(update(&mut app, Msg::FileChanged(bad.clone())).is_empty());
+    assert!(app.load_error.is_some());
+    assert!(app.status.contains("not merged"), "{}", app.status);
+    assert_eq!(app.text, disk);
+    assert!(app.draft.contains("restitution = 0.5"));
+    // s overwrites the broken version (it was seen)
+    let fx = act(&mut app, Action::Save);
+    let [Effect::Save { base, .. }] = fx.as_slice() else {
+        panic!("{fx:?}")
+    };
+    assert_eq!(*base, Some(tui::app::hash_text(&bad)));
+    // the next good version is merged and clears the error
+    let good = disk.replace("t_end = 0.4", "t_end = 0.3");
+    let fx = update(&mut app, Msg::FileChanged(good.clone()));
+    assert_eq!(start_ids(&fx).len(), 1);
+    assert!(app.load_error.is_none());
+    assert_eq!(
+        app.draft,
+        good.replace("restitution = 0.0", "restitution = 0.5")
+    );
 }
 
 #[test]
@@ -1319,5 +1330,271 @@ fn polling_fallback_sees_changes_by_content() {
     std::fs::write(&model, "a = 22\n").unwrap();
     std::thread::sleep(Duration::from_millis(300));
     assert!(rx.try_iter().next().is_none());
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+// ---------------------------------------------------------------------------------------------
+// outside changes merged with the unsaved edits
+
+fn ctrl(c: char) -> Msg {
+    Msg::Key(KeyEvent::new(KeyCode::Char(c), KeyModifiers::CONTROL))
+}
+
+/// The corner-impact model in a scratch directory, opened from its path.
+fn corner_on_disk(name: &str) -> (PathBuf, PathBuf, App) {
+    let d = scratch(name);
+    let model = d.join("models/corner.toml");
+    std::fs::write(&model, read(&corner_path())).unwrap();
+    let mut app = App::new_from_path(&model, Options::default()).unwrap();
+    let fx = app.start();
+    tui::execute_blocking(&mut app, fx);
+    (d, model, app)
+}
+
+#[test]
+fn a_value_being_typed_survives_an_outside_change_to_another_field() {
+    let mut app = corner_app();
+    select_field(&mut app, "contact.0.mu");
+    update(&mut app, code(KeyCode::Enter));
+    update(&mut app, ctrl('u'));
+    type_str(&mut app, "0.3");
+    let disk = app.text.replace("restitution = 0.0", "restitution = 0.2");
+    let fx = update(&mut app, Msg::FileChanged(disk.clone()));
+    let Mode::Editing { buffer, check } = &app.mode else {
+        panic!(
+            "the value being typed was lost: {:?} ({})",
+            app.mode, app.status
+        )
+    };
+    assert_eq!(buffer, "0.3");
+    assert_eq!(check, &Ok(()));
+    assert_eq!(app.form.selected().unwrap().path, "contact.0.mu");
+    assert_eq!(app.text, disk, "the change on disk is the new base");
+    assert_eq!(app.draft, disk, "and is in the model");
+    assert_eq!(app.scene.as_ref().unwrap().contacts[0].restitution, 0.2);
+    assert_eq!(start_ids(&fx), vec![2], "the merged model reruns");
+    assert!(
+        app.status.contains("contact.0.restitution"),
+        "{}",
+        app.status
+    );
+    // Enter accepts the typed value on top of the outside change
+    update(&mut app, code(KeyCode::Enter));
+    assert_eq!(app.mode, Mode::Normal);
+    assert_eq!(app.draft, disk.replace("mu = 0.5", "mu = 0.3"));
+    assert!(app.dirty());
+}
+
+#[test]
+fn an_outside_change_to_the_field_being_typed_keeps_the_typed_value() {
+    let mut app = corner_app();
+    select_field(&mut app, "contact.0.mu");
+    update(&mut app, code(KeyCode::Enter));
+    update(&mut app, ctrl('u'));
+    type_str(&mut app, "0.3");
+    let disk = app.text.replace("mu = 0.5", "mu = 0.4");
+    update(&mut app, Msg::FileChanged(disk.clone()));
+    let Mode::Editing { buffer, .. } = &app.mode else {
+        panic!("the value being typed was lost: {:?}", app.mode)
+    };
+    assert_eq!(buffer, "0.3");
+    assert!(
+        app.status.contains("contact.0.mu") && app.status.contains("0.4"),
+        "{}",
+        app.status
+    );
+    // Esc abandons the typed value: the outside one stays
+    update(&mut app, code(KeyCode::Esc));
+    assert_eq!(app.draft, disk);
+    assert!(!app.dirty());
+}
+
+#[test]
+fn an_unsaved_edit_and_an_outside_change_to_another_field_are_merged() {
+    let (d, model, mut app) = corner_on_disk("merge");
+    edit(&mut app, "contact.0.mu", "0.3");
+    let disk = app.text.replace("restitution = 0.0", "restitution = 0.2");
+    std::fs::write(&model, &disk).unwrap();
+    let fx = update(&mut app, Msg::FileChanged(disk.clone()));
+    assert_eq!(app.mode, Mode::Normal, "no question: {}", app.status);
+    assert!(app.status.contains("merged"), "{}", app.status);
+    let merged = disk.replace("mu = 0.5", "mu = 0.3");
+    assert_eq!(app.text, disk);
+    assert_eq!(app.draft, merged);
+    assert_eq!(start_ids(&fx), vec![2]);
+    tui::execute_blocking(&mut app, fx);
+    // the form: mu is still an unsaved edit, restitution is the value on disk
+    let mu = &app.form.fields[app.form.index_of("contact.0.mu").unwrap()];
+    assert!(mu.edited());
+    let e = &app.form.fields[app.form.index_of("contact.0.restitution").unwrap()];
+    assert!(!e.edited());
+    assert_eq!(e.value.as_deref(), Some("0.2"));
+    // s writes both
+    let fx = act(&mut app, Action::Save);
+    tui::execute_blocking(&mut app, fx);
+    assert_eq!(read(&model), merged);
+    assert!(!app.dirty(), "{}", app.status);
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+/// mu and restitution edited here and on disk (differently), t_end changed on disk only.
+fn conflict_app() -> (App, String) {
+    let mut app = corner_app();
+    edit(&mut app, "contact.0.mu", "0.3");
+    edit(&mut app, "contact.0.restitution", "0.1");
+    let disk = app
+        .text
+        .replace("mu = 0.5", "mu = 0.4")
+        .replace("restitution = 0.0", "restitution = 0.2")
+        .replace("t_end = 0.5", "t_end = 0.4");
+    let fx = update(&mut app, Msg::FileChanged(disk.clone()));
+    assert!(start_ids(&fx).is_empty(), "no run before the answers");
+    assert!(
+        matches!(app.mode, Mode::Confirm(_)),
+        "a question: {:?} {}",
+        app.mode,
+        app.status
+    );
+    assert!(app.draft.contains("t_end = 0.4"), "outside-only merged");
+    assert_eq!(app.text, disk);
+    (app, disk)
+}
+
+#[test]
+fn a_field_changed_outside_and_by_the_user_is_asked_about() {
+    // per field: keep mine for mu, take theirs for restitution
+    let (mut app, disk) = conflict_app();
+    assert!(app.status.contains("contact.0.mu"), "{}", app.status);
+    let s = screen(&render(&mut app, 80, 24));
+    assert!(s.contains("contact.0.mu"), "{s}");
+    assert!(s.contains("yours 0.3") && s.contains("on disk 0.4"), "{s}");
+    assert!(s.contains("keep mine") && s.contains("take theirs"), "{s}");
+    assert!(update(&mut app, key('m')).is_empty());
+    assert!(matches!(app.mode, Mode::Confirm(_)), "second question");
+    assert!(
+        app.status.contains("contact.0.restitution"),
+        "{}",
+        app.status
+    );
+    let fx = update(&mut app, key('t'));
+    assert_eq!(app.mode, Mode::Normal);
+    assert_eq!(app.draft, disk.replace("mu = 0.4", "mu = 0.3"));
+    assert_eq!(start_ids(&fx), vec![2], "the merged model reruns");
+    // take theirs for all
+    let (mut app, disk) = conflict_app();
+    update(&mut app, key('T'));
+    assert_eq!(app.mode, Mode::Normal);
+    assert_eq!(app.draft, disk);
+    assert!(!app.dirty());
+    // keep mine for all
+    let (mut app, disk) = conflict_app();
+    update(&mut app, key('M'));
+    assert_eq!(app.mode, Mode::Normal);
+    assert_eq!(
+        app.draft,
+        disk.replace("mu = 0.4", "mu = 0.3")
+            .replace("restitution = 0.2", "restitution = 0.1")
+    );
+}
+
+#[test]
+fn a_question_while_typing_keeps_the_typed_value() {
+    let (mut app, disk) = conflict_app();
+    update(&mut app, key('T'));
+    // type t_end, then a conflicting outside change to mu arrives
+    edit(&mut app, "contact.0.mu", "0.25");
+    select_field(&mut app, "solver.t_end");
+    update(&mut app, code(KeyCode::Enter));
+    update(&mut app, ctrl('u'));
+    type_str(&mut app, "0.3");
+    update(
+        &mut app,
+        Msg::FileChanged(disk.replace("mu = 0.4", "mu = 0.45")),
+    );
+    assert!(matches!(app.mode, Mode::Confirm(_)));
+    update(&mut app, key('m'));
+    let Mode::Editing { buffer, .. } = &app.mode else {
+        panic!("the value being typed was lost: {:?}", app.mode)
+    };
+    assert_eq!(buffer, "0.3");
+    assert_eq!(app.form.selected().unwrap().path, "solver.t_end");
+    assert!(app.draft.contains("mu = 0.25"));
+}
+
+#[test]
+fn save_asks_when_the_file_changed_on_disk_and_was_not_merged() {
+    let (d, model, mut app) = corner_on_disk("save-check");
+    edit(&mut app, "contact.0.mu", "0.3");
+    // changed on disk; the watcher has not reported it yet
+    let disk = app.text.replace("restitution = 0.0", "restitution = 0.2");
+    std::fs::write(&model, &disk).unwrap();
+    let fx = act(&mut app, Action::Save);
+    tui::execute_blocking(&mut app, fx);
+    assert_eq!(read(&model), disk, "the outside change was overwritten");
+    assert!(
+        matches!(app.mode, Mode::Confirm(_)),
+        "asks: {:?} {}",
+        app.mode,
+        app.status
+    );
+    let s = screen(&render(&mut app, 80, 24));
+    assert!(s.contains("changed on disk"), "{s}");
+    // n: nothing is written, the edits stay
+    update(&mut app, key('n'));
+    assert_eq!(app.mode, Mode::Normal);
+    assert_eq!(read(&model), disk);
+    assert!(app.draft.contains("mu = 0.3"));
+    assert!(app.status.contains("not saved"), "{}", app.status);
+    // s again asks again; y merges the change into the edits, then s saves both
+    let fx = act(&mut app, Action::Save);
+    tui::execute_blocking(&mut app, fx);
+    assert!(matches!(app.mode, Mode::Confirm(_)));
+    let fx = update(&mut app, key('y'));
+    tui::execute_blocking(&mut app, fx);
+    let merged = disk.replace("mu = 0.5", "mu = 0.3");
+    assert_eq!(app.draft, merged);
+    assert_eq!(read(&model), disk, "merging does not save");
+    let fx = act(&mut app, Action::Save);
+    tui::execute_blocking(&mut app, fx);
+    assert_eq!(read(&model), merged);
+    assert!(!app.dirty());
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+// ---------------------------------------------------------------------------------------------
+// signals: the unsaved work and the recovery file
+
+#[test]
+fn the_recovery_file_holds_the_unsaved_work_next_to_the_model() {
+    use tui::signals;
+    let (d, model, mut app) = corner_on_disk("recovery");
+    assert_eq!(signals::unsaved(&app), signals::Unsaved::default());
+    edit(&mut app, "contact.0.mu", "0.3");
+    // a valid value being typed is included
+    select_field(&mut app, "contact.0.restitution");
+    update(&mut app, code(KeyCode::Enter));
+    update(&mut app, ctrl('u'));
+    type_str(&mut app, "0.1");
+    let u = signals::unsaved(&app);
+    let want = app
+        .text
+        .replace("mu = 0.5", "mu = 0.3")
+        .replace("restitution = 0.0", "restitution = 0.1");
+    assert_eq!(u.text.as_deref(), Some(want.as_str()));
+    assert_eq!(u.note, None);
+    // one that is not valid is named, the rest kept
+    update(&mut app, ctrl('u'));
+    type_str(&mut app, "-1");
+    let u = signals::unsaved(&app);
+    assert_eq!(u.text, Some(app.draft.clone()));
+    assert!(u.note.unwrap().contains("contact.0.restitution, '-1'"));
+    // the first free name next to the model; the model itself untouched
+    let p = signals::write_recovery(&model, &want).unwrap();
+    assert_eq!(p, d.join("models/corner.toml.recovered"));
+    assert_eq!(read(&p), want);
+    let p1 = signals::write_recovery(&model, "x").unwrap();
+    assert_eq!(p1, d.join("models/corner.toml.recovered.1"));
+    assert_eq!(read(&p), want, "an earlier recovery file is kept");
+    assert_eq!(read(&model), read(&corner_path()));
     let _ = std::fs::remove_dir_all(&d);
 }

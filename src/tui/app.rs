@@ -3,6 +3,7 @@
 
 use super::form::{self, Form};
 use super::keymap::{self, Ctx};
+pub use super::merge::Conflict;
 use super::run_data::RunData;
 use crate::scene::Scene;
 use std::hash::{Hash, Hasher};
@@ -20,8 +21,16 @@ pub enum View {
 
 #[derive(Clone, Debug, PartialEq)]
 pub enum Confirm {
-    /// The file changed on disk while the form has unsaved edits.
-    Reload { text: String },
+    /// Values changed both on disk and in the workbench (the first is asked about; the draft
+    /// holds mine until answered). `resume`: the field path and the value being typed when
+    /// the change arrived, given back after the last answer.
+    Merge {
+        conflicts: Vec<Conflict>,
+        resume: Option<(String, String)>,
+    },
+    /// `s` found the file on disk changed since the version the edits were based on, and the
+    /// change not merged: `text` is what is on disk now.
+    SaveConflict { text: String },
     /// Quit with unsaved edits.
     Quit,
 }
@@ -270,6 +279,7 @@ impl App {
         let mode = match self.mode {
             Mode::Normal => None,
             Mode::Editing { .. } => Some(Ctx::Edit),
+            Mode::Confirm(Confirm::Merge { .. }) => Some(Ctx::Merge),
             Mode::Confirm(_) => Some(Ctx::Confirm),
             Mode::Help => Some(Ctx::Help),
         };

@@ -76,6 +76,14 @@ pub fn perform(app: &mut App, host: &mut impl Host, effects: Vec<Effect>) {
     }
 }
 
+/// The file's content when it is not the version `base` (a hash of [`super::app::hash_text`]);
+/// None when it is, when no version is expected, or when the file cannot be read (gone).
+fn changed_on_disk(path: &Path, base: Option<u64>) -> Option<String> {
+    let base = base?;
+    let disk = std::fs::read_to_string(path).ok()?;
+    (super::app::hash_text(&disk) != base).then_some(disk)
+}
+
 /// Executes one effect.
 fn execute(app: &mut App, host: &mut impl Host, e: Effect) -> Vec<Msg> {
     match e {
@@ -84,7 +92,10 @@ fn execute(app: &mut App, host: &mut impl Host, e: Effect) -> Vec<Msg> {
             host.cancel_run(id);
             Vec::new()
         }
-        Effect::Save { path, text } => {
+        Effect::Save { path, text, base } => {
+            if let Some(disk) = changed_on_disk(&path, base) {
+                return vec![Msg::SaveConflict(disk)];
+            }
             let result = save_atomic(&path, &text)
                 .map(|_| path)
                 .map_err(|e| e.to_string());

@@ -168,6 +168,8 @@ struct Leaf {
     path: String,
     kind: Kind,
     value: String,
+    /// The value itself, without its decor.
+    raw: Value,
     note: String,
 }
 
@@ -237,15 +239,41 @@ fn walk_value(v: &Value, p: &str, note: String, out: &mut Vec<Leaf>) {
         }
         _ => {
             if let Some(kind) = Kind::of(v) {
+                let mut raw = v.clone();
+                raw.decor_mut().clear();
                 out.push(Leaf {
                     path: p.to_string(),
                     kind,
                     value: display(v),
+                    raw,
                     note,
                 });
             }
         }
     }
+}
+
+/// Every scalar leaf of a TOML text in document order: (dotted path, value without its
+/// decor). None when the text is not TOML.
+pub fn scalars(text: &str) -> Option<Vec<(String, Value)>> {
+    let doc = text.parse::<DocumentMut>().ok()?;
+    Some(leaves(&doc).into_iter().map(|l| (l.path, l.raw)).collect())
+}
+
+/// A value as the form shows it (a string without its quotes).
+pub fn show(v: &Value) -> String {
+    display(v)
+}
+
+/// Sets the leaf at `path` to `value` as it is (a law kind changes alone: no keys are added
+/// or dropped), keeping comments and layout. Missing tables and keys are created.
+pub fn set_leaf(text: &str, path: &str, value: Value) -> Result<String, String> {
+    let mut doc: DocumentMut = text
+        .parse()
+        .map_err(|e: toml_edit::TomlError| format!("the file is not valid TOML: {e}"))?;
+    let segs: Vec<&str> = path.split('.').collect();
+    set_in_item(doc.as_item_mut(), &segs, value)?;
+    Ok(doc.to_string())
 }
 
 /// Whether a model text is a bridge file (has a `[deck]` table).

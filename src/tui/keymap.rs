@@ -38,6 +38,10 @@ pub enum Action {
     EditClear,
     Yes,
     No,
+    KeepMine,
+    TakeTheirs,
+    KeepMineAll,
+    TakeTheirsAll,
     CloseHelp,
 }
 
@@ -50,6 +54,7 @@ pub enum Ctx {
     Form,
     Edit,
     Confirm,
+    Merge,
     Help,
 }
 
@@ -61,6 +66,7 @@ impl Ctx {
             Ctx::Form => "form view",
             Ctx::Edit => "editing a value",
             Ctx::Confirm => "answering a question",
+            Ctx::Merge => "a value changed on disk and here",
             Ctx::Help => "this help",
         }
     }
@@ -132,6 +138,11 @@ pub const KEYMAP: &[Binding] = &[
     // questions
     b(Ctx::Confirm, &[K::Ch('y')], "y", A::Yes, "yes", Some(("y", "yes"))),
     b(Ctx::Confirm, &[K::Ch('n'), K::Code(KC::Esc)], "n/Esc", A::No, "no", Some(("n/Esc", "no"))),
+    // a value changed both on disk and in the workbench
+    b(Ctx::Merge, &[K::Ch('m')], "m", A::KeepMine, "keep my value", Some(("m", "keep mine"))),
+    b(Ctx::Merge, &[K::Ch('t')], "t", A::TakeTheirs, "take the value on disk", Some(("t", "take theirs"))),
+    b(Ctx::Merge, &[K::Ch('M')], "M", A::KeepMineAll, "keep mine for all of them", Some(("M", "mine for all"))),
+    b(Ctx::Merge, &[K::Ch('T')], "T", A::TakeTheirsAll, "take theirs for all of them", Some(("T", "theirs for all"))),
     // help
     b(Ctx::Help, &[K::Ch('?'), K::Code(KC::Esc), K::Ch('q')], "?/Esc/q", A::CloseHelp, "close the help", Some(("?/Esc/q", "close"))),
     // charts view
@@ -207,6 +218,7 @@ pub fn help() -> Vec<(&'static str, Vec<(&'static str, &'static str)>)> {
         Ctx::Form,
         Ctx::Edit,
         Ctx::Confirm,
+        Ctx::Merge,
         Ctx::Help,
     ]
     .iter()

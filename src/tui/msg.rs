@@ -43,6 +43,10 @@ pub enum Msg {
         text: String,
         result: Result<PathBuf, String>,
     },
+    /// [`Effect::Save`] found the file on disk changed (its content) and wrote nothing.
+    SaveConflict(String),
+    /// SIGTERM, SIGHUP or SIGINT arrived (the runtime ends the loop; `update` ignores it).
+    Signal(i32),
     /// Result of [`Effect::Export`]: the written paths.
     Exported(Result<Vec<PathBuf>, String>),
 }
@@ -58,9 +62,12 @@ pub enum Effect {
         id: u64,
     },
     /// Write `text` to `path` atomically (temporary file in the same directory, then rename).
+    /// With `base`, the file is read first and written only if its content hashes to `base`
+    /// (or it is gone); otherwise the answer is [`Msg::SaveConflict`].
     Save {
         path: PathBuf,
         text: String,
+        base: Option<u64>,
     },
     /// Format the charted columns of `run` in `window` and its event log as CSV (off the UI
     /// thread) and write `<stem>-chart.csv`, `<stem>-events.csv` into the first directory of

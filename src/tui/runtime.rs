@@ -1,4 +1,5 @@
-//! The terminal runtime: raw mode and alternate screen (restored on every exit and on panics),
+//! The terminal runtime: raw mode and alternate screen (restored on every exit, on panics and
+//! on SIGTERM, SIGHUP and SIGINT),
 //! the input thread, and the loop that drains the message channel, feeds [`update`], executes
 //! effects through [`Threads`] and draws once per drain.
 
@@ -7,7 +8,7 @@ use super::effects::{Host, Job, perform};
 use super::msg::Msg;
 use super::ui;
 use super::update::update;
-use super::{watch, worker};
+use super::{signals, watch, worker};
 use crate::scene::Scene;
 use crossterm::event::{self, Event};
 use crossterm::execute;
@@ -185,6 +186,8 @@ pub fn run(model: &Path) -> Result<(), Box<dyn std::error::Error>> {
     let mut app = App::new_from_path(model, Options::from_env())?;
     let (tx, rx) = mpsc::channel::<Msg>();
     install_panic_hook();
+    // before the terminal is taken: from here on a signal restores it
+    signals::spawn(tx.clone(), restore_terminal)?;
     let guard = TerminalGuard::enter()?;
     let mut terminal = Terminal::new(CrosstermBackend::new(io::stdout()))?;
     terminal.clear()?;
@@ -199,13 +202,33 @@ pub fn run(model: &Path) -> Result<(), Box<dyn std::error::Error>> {
     };
     let fx = app.start();
     perform(&mut app, &mut host, fx);
+    let ended = event_loop(&mut terminal, &mut app, &mut host, &rx);
+    host.cancel_all();
+    drop(terminal);
+    drop(guard);
+    // a signal ends the loop, or the terminal went away after one (SIGHUP) and drawing failed
+    match (ended, signals::received()) {
+        (Ok(Some(sig)), _) | (Err(_), Some(sig)) => signals::exit_after(sig, &app),
+        (Ok(None), _) => Ok(()),
+        (Err(e), None) => Err(e.into()),
+    }
+}
+
+/// Draws, drains the channel into [`update`] and performs the effects until the app quits
+/// (None) or a signal arrives (Some).
+fn event_loop(
+    terminal: &mut Terminal<CrosstermBackend<io::Stdout>>,
+    app: &mut App,
+    host: &mut Threads,
+    rx: &Receiver<Msg>,
+) -> io::Result<Option<i32>> {
     let mut cache = ui::Cache::default();
     let mut first_frame = true;
     // run id whose first batch arrived but is not drawn yet
     let mut first_batch_of: Option<u64> = None;
     let mut framed: u64 = 0;
     loop {
-        terminal.draw(|f| ui::draw(f, &app, &mut cache))?;
+        terminal.draw(|f| ui::draw(f, app, &mut cache))?;
         if first_frame {
             host.timing.log("first-frame");
             first_frame = false;
@@ -218,11 +241,14 @@ pub fn run(model: &Path) -> Result<(), Box<dyn std::error::Error>> {
             framed = id;
         }
         if app.quit {
-            break;
+            return Ok(None);
         }
-        let Some(batch) = drain(&rx) else { break };
+        let Some(batch) = drain(rx) else {
+            return Ok(None);
+        };
         for m in batch {
             match &m {
+                Msg::Signal(sig) => return Ok(Some(*sig)),
                 Msg::Batch { run, .. }
                     if *run > framed && app.current.as_ref().is_some_and(|c| c.id == *run) =>
                 {
@@ -231,12 +257,8 @@ pub fn run(model: &Path) -> Result<(), Box<dyn std::error::Error>> {
                 Msg::FileChanged(_) => host.timing.log("file-changed"),
                 _ => {}
             }
-            let fx = update(&mut app, m);
-            perform(&mut app, &mut host, fx);
+            let fx = update(app, m);
+            perform(app, host, fx);
         }
     }
-    host.cancel_all();
-    drop(terminal);
-    drop(guard);
-    Ok(())
 }

@@ -104,17 +104,60 @@ pub(super) fn draw_help(frame: &mut Frame, area: Rect, th: &Theme) {
     frame.render_widget(Paragraph::new(c1), b);
 }
 
+/// The question's lines and its keys (key, meaning).
+fn question(app: &App, c: &Confirm) -> (Vec<String>, Vec<(&'static str, &'static str)>) {
+    let yes_no = vec![("y", "yes"), ("n", "no")];
+    let name = app.file_name();
+    match c {
+        Confirm::Merge { conflicts, .. } => {
+            let v = |x: &Option<String>| x.clone().unwrap_or_else(|| "(none)".into());
+            let mut q = vec![format!(
+                "{name} changed on disk, and so did this value here:"
+            )];
+            if let Some(c) = conflicts.first() {
+                q.push(format!(
+                    "{}: yours {}, on disk {}",
+                    c.path,
+                    v(&c.mine),
+                    v(&c.theirs)
+                ));
+            }
+            if conflicts.len() > 1 {
+                q.push(format!("({} more after this one)", conflicts.len() - 1));
+            }
+            let keys = vec![
+                ("m", "keep mine"),
+                ("t", "take theirs"),
+                ("M", "mine for all"),
+                ("T", "theirs for all"),
+            ];
+            (q, keys)
+        }
+        Confirm::SaveConflict { .. } => (
+            vec![
+                format!("Not saved: {name} changed on disk since your edits were made on it."),
+                "Merge that change into your edits first (then s saves)?".to_string(),
+            ],
+            yes_no,
+        ),
+        Confirm::Quit => (
+            vec!["Quit and lose your unsaved edits?".to_string()],
+            yes_no,
+        ),
+    }
+}
+
 /// Draws the pending question.
 pub(super) fn draw_confirm(frame: &mut Frame, area: Rect, app: &App, c: &Confirm, th: &Theme) {
-    let q = match c {
-        Confirm::Reload { .. } => vec![
-            format!("{} changed on disk.", app.file_name()),
-            "Reload it and discard your unsaved edits?".to_string(),
-        ],
-        Confirm::Quit => vec!["Quit and lose your unsaved edits?".to_string()],
-    };
+    let (q, keys) = question(app, c);
     let w = (area.width.saturating_sub(8)).min(64);
-    let rect = centered(area, w, q.len() as u16 + 4);
+    // each line, wrapped to the inside width, then a blank line, the keys and the borders
+    let inside = w.saturating_sub(2).max(1) as usize;
+    let rows: usize = q
+        .iter()
+        .map(|l| l.chars().count().div_ceil(inside).max(1))
+        .sum();
+    let rect = centered(area, w, rows as u16 + 4);
     let block = th
         .block(" question ")
         .border_style(th.status(StatusKind::Warn));
@@ -122,14 +165,17 @@ pub(super) fn draw_confirm(frame: &mut Frame, area: Rect, app: &App, c: &Confirm
     frame.render_widget(Clear, rect);
     frame.render_widget(block, rect);
     let mut lines: Vec<Line> = q.into_iter().map(Line::from).collect();
-    lines.extend([
-        Line::from(""),
-        Line::from(vec![
-            Span::styled(" y ", th.selected().patch(th.bold())),
-            Span::raw(" yes   "),
-            Span::styled(" n ", th.selected().patch(th.bold())),
-            Span::raw(" no"),
-        ]),
-    ]);
+    let mut row = Vec::new();
+    for (i, (k, what)) in keys.into_iter().enumerate() {
+        if i > 0 {
+            row.push(Span::raw("   "));
+        }
+        row.push(Span::styled(
+            format!(" {k} "),
+            th.selected().patch(th.bold()),
+        ));
+        row.push(Span::raw(format!(" {what}")));
+    }
+    lines.extend([Line::from(""), Line::from(row)]);
     frame.render_widget(Paragraph::new(lines).wrap(Wrap { trim: true }), inner);
 }

@@ -1,5 +1,6 @@
 //! The model file: save, saved, changed on disk, reload; the export request.
 
+use super::reconcile::merge_outside;
 use super::run::start_run;
 use crate::tui::app::{App, Confirm, LoadError, Mode, StatusKind, hash_text};
 use crate::tui::form;
@@ -21,9 +22,11 @@ pub(super) fn save(app: &mut App) -> Vec<Effect> {
     }
     app.expected_save = Some(hash_text(&app.draft));
     app.set_status(StatusKind::Info, format!("saving {}…", app.path.display()));
+    // written only over the version the edits are based on (or a broken one already seen)
     vec![Effect::Save {
         path: app.path.clone(),
         text: app.draft.clone(),
+        base: Some(app.disk_hash),
     }]
 }
 
@@ -51,7 +54,8 @@ pub(super) fn on_saved(
     }
 }
 
-/// The file changed on disk: reload, ask first (unsaved edits), or ignore (same content).
+/// The file changed on disk: reload, merge with the unsaved edits (or the value being typed),
+/// or ignore (same content).
 pub(super) fn on_file_changed(app: &mut App, text: String) -> Vec<Effect> {
     let h = hash_text(&text);
     if h == app.disk_hash {
@@ -62,23 +66,18 @@ pub(super) fn on_file_changed(app: &mut App, text: String) -> Vec<Effect> {
         return Vec::new();
     }
     let editing = matches!(app.mode, Mode::Editing { .. });
-    let pending = matches!(app.mode, Mode::Confirm(Confirm::Reload { .. }));
+    let pending = matches!(
+        app.mode,
+        Mode::Confirm(Confirm::Merge { .. } | Confirm::SaveConflict { .. })
+    );
     if app.dirty() || editing || pending {
-        app.mode = Mode::Confirm(Confirm::Reload { text });
-        app.set_status(
-            StatusKind::Warn,
-            format!(
-                "{} changed on disk and you have unsaved edits: reload and discard them? (y/n)",
-                app.file_name()
-            ),
-        );
-        return Vec::new();
+        return merge_outside(app, text);
     }
-    apply_reload(app, text, false)
+    apply_reload(app, text)
 }
 
 /// Reloads `text`: rerun, or keep the last good model and show the error.
-pub(super) fn apply_reload(app: &mut App, text: String, discard: bool) -> Vec<Effect> {
+pub(super) fn apply_reload(app: &mut App, text: String) -> Vec<Effect> {
     app.disk_hash = hash_text(&text);
     match form::validate(&text, &app.path) {
         Ok(scene) => {
@@ -97,17 +96,9 @@ pub(super) fn apply_reload(app: &mut App, text: String, discard: bool) -> Vec<Ef
         }
         Err(e) => {
             let le = LoadError::new(&e, &text);
-            let keep = if discard {
-                " (your edits are kept)"
-            } else {
-                ""
-            };
             app.set_status(
                 StatusKind::Error,
-                format!(
-                    "reload failed, keeping the last good model{keep}: {}",
-                    le.message
-                ),
+                format!("reload failed, keeping the last good model: {}", le.message),
             );
             app.load_error = Some(le);
             Vec::new()

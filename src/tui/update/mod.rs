@@ -4,10 +4,10 @@
 
 mod edit;
 mod file;
+mod reconcile;
 mod run;
 mod view;
 
-use crate::tui::app::hash_text;
 use crate::tui::app::{App, Confirm, Mode, StatusKind};
 use crate::tui::keymap::{self, Action};
 use crate::tui::msg::{Effect, Msg};
@@ -46,7 +46,10 @@ pub fn update(app: &mut App, msg: Msg) -> Vec<Effect> {
             Vec::new()
         }
         Msg::Saved { text, result } => file::on_saved(app, text, result),
+        Msg::SaveConflict(disk) => reconcile::on_save_conflict(app, disk),
         Msg::Exported(r) => on_exported(app, r),
+        // the runtime ends the loop on it (see `signals`)
+        Msg::Signal(_) => Vec::new(),
     }
 }
 
@@ -96,6 +99,10 @@ fn on_action(app: &mut App, a: Action) -> Vec<Effect> {
         A::Save => file::save(app),
         A::Export => file::export(app),
         A::Yes | A::No => answer(app, a == A::Yes),
+        A::KeepMine | A::KeepMineAll => reconcile::answer_conflict(app, true, a == A::KeepMineAll),
+        A::TakeTheirs | A::TakeTheirsAll => {
+            reconcile::answer_conflict(app, false, a == A::TakeTheirsAll)
+        }
         A::SwitchView | A::ToggleMarker | A::ToggleOverlay => {
             view::toggle(app, a);
             Vec::new()
@@ -159,7 +166,7 @@ fn quit(app: &mut App) -> Vec<Effect> {
     fx
 }
 
-/// The answer to the pending question (quit, reload).
+/// The answer to a yes/no question (quit, save over a change on disk).
 fn answer(app: &mut App, yes: bool) -> Vec<Effect> {
     let Mode::Confirm(c) = std::mem::replace(&mut app.mode, Mode::Normal) else {
         return Vec::new();
@@ -170,25 +177,10 @@ fn answer(app: &mut App, yes: bool) -> Vec<Effect> {
             app.set_status(StatusKind::Info, "not quitting");
             Vec::new()
         }
-        (Confirm::Reload { text }, true) => {
-            let fx = file::apply_reload(app, text, true);
-            if app.load_error.is_none() {
-                app.set_status(
-                    StatusKind::Ok,
-                    format!("reloaded {} (your edits were discarded)", app.file_name()),
-                );
-            }
-            fx
-        }
-        (Confirm::Reload { text }, false) => {
-            app.disk_hash = hash_text(&text);
-            app.set_status(
-                StatusKind::Warn,
-                format!(
-                    "kept your edits; {} changed on disk (s overwrites it)",
-                    app.file_name()
-                ),
-            );
+        (Confirm::SaveConflict { text }, yes) => reconcile::answer_save_conflict(app, text, yes),
+        (c @ Confirm::Merge { .. }, _) => {
+            // answered with m/t/M/T, not y/n
+            app.mode = Mode::Confirm(c);
             Vec::new()
         }
     }
