@@ -45,6 +45,24 @@ pub enum SolverError {
     InitialPenetration { contact: String, gap: f64 },
     #[error("t = {t:.9} s: state became non-finite")]
     NonFinite { t: f64 },
+    #[error(
+        "too stiff for the step budget: the stiffest mode (ω = {omega:.4e} rad/s) needs at least {steps:.3e} DP5 steps over t_end, more than solver.max_steps = {limit}"
+    )]
+    TooStiff {
+        omega: f64,
+        steps: f64,
+        limit: usize,
+    },
+    #[error(
+        "t = {t:.9} s: time stopped advancing: {events} events since t = {since:.9} s (contacts: {contacts})"
+    )]
+    Stalled {
+        t: f64,
+        since: f64,
+        events: usize,
+        /// Each contact's state, gap and gap rate at `t`.
+        contacts: String,
+    },
     #[error("t = {t:.9} s: {method} with step {step:.3e} s is unstable: {detail}")]
     Unstable {
         t: f64,

@@ -46,16 +46,16 @@ fn a_cancelled_run_keeps_its_output() {
 
 #[test]
 fn a_failed_run_keeps_its_output_and_reason() {
-    let set = ["solver.max_steps=400".to_string()];
+    let set = ["solver.max_steps=2000".to_string()];
     let scene = deckspin::load(&common::model("models/four-span.toml"), &set).unwrap();
     let run = deckspin::event_driven::integrate(&scene, &mut deckspin::Silent);
     let Stop::Failed(deckspin::SolverError::TooManySteps { t, limit }) = run.stop else {
         panic!("{:?}", run.stop)
     };
-    assert_eq!(limit, 400);
+    assert_eq!(limit, 2000);
     assert_eq!(
         run.output.stats.steps_accepted + run.output.stats.steps_rejected,
-        400
+        2000
     );
     let last = run.output.samples.last().unwrap().t;
     assert!(
@@ -83,4 +83,63 @@ fn a_fixed_step_run_that_fails_keeps_its_output() {
         "last sample {last}, failure at {t}"
     );
     assert!(run.output.stats.steps_accepted > 1000);
+}
+
+#[test]
+fn time_that_stops_advancing_is_reported_with_the_contacts() {
+    // a velocity tolerance of 0.1 m/s treats an approach at 0.06 m/s as resting: the corner
+    // is found crossing again and again at one instant (set on the scene: model files refuse it)
+    let mut scene = deckspin::load(&common::model("models/four-span.toml"), &[]).unwrap();
+    scene.settings.velocity_tol = 0.1;
+    let run = deckspin::simulate::integrate(&scene, &mut deckspin::Silent);
+    let Stop::Failed(deckspin::SolverError::Stalled {
+        t,
+        since,
+        events,
+        contacts,
+    }) = &run.stop
+    else {
+        panic!("{:?}", run.stop)
+    };
+    assert_eq!(*events, 10_000);
+    assert!(t - since <= 16e-6 && *t > 2.0, "{since} → {t}");
+    assert!(
+        contacts.contains("right_bottom") && contacts.contains("ġ"),
+        "{contacts}"
+    );
+    // bounded: the steps taken before the report
+    let st = &run.output.stats;
+    assert!(st.steps_accepted + st.steps_rejected < 40_000, "{st:?}");
+    assert!(run.output.samples.last().unwrap().t <= *t);
+}
+
+#[test]
+fn a_scene_too_stiff_for_the_step_budget_is_refused_before_it_runs() {
+    // actuators of 1e12 kN/m on the 0.65 t abutments: ω ≈ 2.3e6 rad/s
+    let set = ["abutment.actuator_stiffness=1e12".to_string()];
+    let scene = deckspin::load(&common::model("models/four-span.toml"), &set).unwrap();
+    let run = deckspin::simulate::integrate(&scene, &mut deckspin::Silent);
+    let Stop::Failed(deckspin::SolverError::TooStiff {
+        omega,
+        steps,
+        limit,
+    }) = run.stop
+    else {
+        panic!("{:?}", run.stop)
+    };
+    // the abutment's rotation: ω² = 2 k (0.9 m)² / 0.31 t·m²
+    let expected = (2.0 * 1e12 * 0.81 / 0.31f64).sqrt();
+    assert!(
+        (omega - expected).abs() < 0.01 * expected,
+        "{omega:e} vs {expected:e}"
+    );
+    assert!((steps - 16.0 * omega / 3.5).abs() < 1e-6 * steps);
+    assert_eq!(limit, 5_000_000);
+    assert_eq!(run.output.stats.steps_accepted, 0);
+    // the same scene with room for its steps is not refused up front
+    let mut roomy = scene.clone();
+    roomy.settings.max_steps = 20_000_000;
+    roomy.settings.t_end = 1e-4;
+    let run = deckspin::simulate::integrate(&roomy, &mut deckspin::Silent);
+    assert!(run.finished(), "{:?}", run.stop);
 }

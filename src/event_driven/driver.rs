@@ -62,7 +62,14 @@ pub(super) struct Clock {
     /// Events located at `eng.state.t` (in `eng.state.cluster`) and not applied yet: the run
     /// paused there.
     pending: bool,
+    /// (start, events located since) of the current stall window.
+    stall: (f64, usize),
 }
+
+/// Located events within [`STALL_WINDOW`] × max(t_end, 1 s) that mean time has stopped
+/// advancing (a legitimate run has thousands of times fewer).
+const STALL_EVENTS: usize = 10_000;
+const STALL_WINDOW: f64 = 1e-6;
 
 /// The outcome of one step attempt.
 enum Attempt {
@@ -78,6 +85,7 @@ impl<'a> Integration<'a> {
         let wall = Instant::now();
         let n = scene.ndof();
         let st = &scene.settings;
+        check_stiffness(scene)?;
         let mut eng = Engine::new(scene)?;
         settle_initial(&mut eng)?;
         let mut f0 = DVector::zeros(y_len(n));
@@ -106,6 +114,7 @@ impl<'a> Integration<'a> {
             rhs_evals: 1,
             wall: wall.elapsed().as_secs_f64(),
             pending: false,
+            stall: (0.0, 0),
         };
         Ok(Self {
             eng,
@@ -161,6 +170,7 @@ impl<'a> Integration<'a> {
                 }
             }
             let restart = if found.is_some() {
+                self.check_stall()?;
                 let cluster = std::mem::take(&mut self.eng.state.cluster);
                 for &f in &cluster {
                     self.eng.state.out.stats.events_located += 1;
@@ -294,6 +304,27 @@ impl<'a> Integration<'a> {
         Ok(Attempt::Accepted(found))
     }
 
+    /// Time that stops advancing (events located again and again at nearly one instant) is
+    /// an error with the contacts' state, within [`STALL_EVENTS`] events.
+    fn check_stall(&mut self) -> Result<(), SolverError> {
+        let t = self.eng.state.t;
+        let window = STALL_WINDOW * self.eng.scene.settings.t_end.max(1.0);
+        let (start, count) = &mut self.clock.stall;
+        if t - *start > window {
+            (*start, *count) = (t, 0);
+        }
+        *count += 1;
+        if *count >= STALL_EVENTS {
+            return Err(SolverError::Stalled {
+                t,
+                since: *start,
+                events: *count,
+                contacts: self.eng.describe_contacts(),
+            });
+        }
+        Ok(())
+    }
+
     /// A new phase after events or a projection: f(t, y), the event functions and their arming;
     /// then the events already due at this instant (simultaneous crossings, e.g. symmetric
     /// columns reversing together), each processed before any step.
@@ -343,6 +374,26 @@ impl<'a> Integration<'a> {
         std::mem::replace(&mut eng.state.out, RunOutput::new(eng.scene))
     }
 }
+
+/// Explicit DP5 needs h ≤ 3.3/ω for the stiffest mode (its stability region on the imaginary
+/// axis): a run that cannot finish within `max_steps` is refused before it starts.
+fn check_stiffness(scene: &Scene) -> Result<(), SolverError> {
+    let st = &scene.settings;
+    let omega = crate::modal::modes(scene).last().map_or(0.0, |m| m.omega);
+    let steps = st.t_end * omega / DP5_IMAGINARY_STABILITY;
+    if steps > st.max_steps as f64 {
+        return Err(SolverError::TooStiff {
+            omega,
+            steps,
+            limit: st.max_steps,
+        });
+    }
+    Ok(())
+}
+
+/// Extent of DP5's stability region along the imaginary axis (Hairer & Wanner, *Solving ODEs
+/// II*, §IV.2), rounded up so that the estimate of the steps needed is a lower bound.
+const DP5_IMAGINARY_STABILITY: f64 = 3.5;
 
 /// The initial instant: a pre-event sample if resolving it makes events (then the post-event
 /// one), else a grid sample.

@@ -173,6 +173,21 @@ impl<'a> Engine<'a> {
         self.scene.contact_kinematics(&fr, &self.scene.contacts[i])
     }
 
+    /// Each contact's name, state, g_N and ġ_N at the current state (for error reports).
+    pub(super) fn describe_contacts(&self) -> String {
+        let kin = self.all_kinematics();
+        let scene = self.scene;
+        (scene.contacts.iter().zip(&kin).zip(&self.state.contacts))
+            .map(|((c, k), st)| {
+                format!(
+                    "{} {st:?} g {:.3e} m ġ {:.3e} m/s",
+                    c.name, k.gap, k.gap_rate
+                )
+            })
+            .collect::<Vec<_>>()
+            .join("; ")
+    }
+
     /// Kinematics of every contact at the current state.
     pub(super) fn all_kinematics(&self) -> Vec<ContactKinematics> {
         let (q, v) = (self.q(), self.v());
