@@ -21,7 +21,8 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Run a model and write history.csv, events.csv and summary.json.
+    /// Run a model and write history.csv (streamed), events.csv and summary.json, also when
+    /// the run fails (summary.json's "status" says how it ended).
     Run {
         model: PathBuf,
         /// Output directory.
@@ -63,7 +64,7 @@ enum Command {
         #[arg(long)]
         csv: Option<PathBuf>,
     },
-    /// Run a model over every combination of swept scalars, in parallel.
+    /// Run a model over every combination of swept scalars, in parallel (at most 100 000).
     Sweep {
         model: PathBuf,
         /// key=a:b:step or key=v1,v2,... (repeatable: the cartesian product is run).
@@ -242,10 +243,7 @@ fn cmd_run(
     if let (Some(t), Some(s)) = (at, &written.nearest) {
         print_state_at(&run.output, s, t);
     }
-    let wrote = format!(
-        "{}/{{history.csv,events.csv,summary.json}}",
-        out.display()
-    );
+    let wrote = format!("{}/{{history.csv,events.csv,summary.json}}", out.display());
     match run.stop {
         Stop::Finished => {
             println!("  wrote {wrote}");

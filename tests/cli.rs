@@ -50,7 +50,9 @@ fn model(rel: &str) -> String {
 }
 
 fn dir(name: &str) -> PathBuf {
-    let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("cli").join(name);
+    let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
+        .join("cli")
+        .join(name);
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(d.parent().unwrap()).unwrap();
     d
@@ -78,7 +80,10 @@ fn a_failed_run_writes_its_files_and_exits_1() {
     ]);
     assert_eq!(r.status.code(), Some(1), "{}", text(&r.stderr));
     let stderr = text(&r.stderr);
-    assert!(stderr.contains("t = 1.952588443 s: more than 400 steps"), "{stderr}");
+    assert!(
+        stderr.contains("t = 1.952588443 s: more than 400 steps"),
+        "{stderr}"
+    );
     assert!(text(&r.stdout).contains("up to t = 1.952588443 s"));
     let s = json(&out.join("summary.json"));
     assert_eq!(s["status"], "failed");
@@ -98,7 +103,12 @@ fn a_failed_run_writes_its_files_and_exits_1() {
 fn a_finished_run_reports_its_status() {
     let out = dir("finished");
     let o = out.display().to_string();
-    let r = deckspin(&["run", &model("models/validation/bouncing-ball.toml"), "--out", &o]);
+    let r = deckspin(&[
+        "run",
+        &model("models/validation/bouncing-ball.toml"),
+        "--out",
+        &o,
+    ]);
     assert!(r.status.success(), "{}", text(&r.stderr));
     let s = json(&out.join("summary.json"));
     assert_eq!(s["status"], "finished");
@@ -133,7 +143,16 @@ fn a_long_run_streams_its_history_in_bounded_memory() {
     let m = model("models/validation/block-on-plane.toml");
     let run = |t_end: &str| {
         let t = format!("solver.t_end={t_end}");
-        peak_memory(&["run", &m, "--out", &o, "--set", &t, "--set", "solver.output_dt=1e-3"])
+        peak_memory(&[
+            "run",
+            &m,
+            "--out",
+            &o,
+            "--set",
+            &t,
+            "--set",
+            "solver.output_dt=1e-3",
+        ])
     };
     let (code, long) = run("1000");
     assert_eq!(code, 0);
@@ -142,7 +161,10 @@ fn a_long_run_streams_its_history_in_bounded_memory() {
     let (code, short) = run("10");
     assert_eq!(code, 0);
     assert!(long < 40_000, "peak {long} kB for 1e6 rows");
-    assert!(long < short + 8_000, "peak {long} kB for 1e6 rows, {short} kB for 1e4");
+    assert!(
+        long < short + 8_000,
+        "peak {long} kB for 1e6 rows, {short} kB for 1e4"
+    );
 }
 
 #[test]
@@ -151,20 +173,42 @@ fn runs_above_the_limits_are_refused_before_they_start() {
     let o = out.display().to_string();
     let m = model("models/validation/block-on-plane.toml");
     let r = deckspin(&[
-        "run", &m, "--out", &o, "--set", "solver.t_end=1e5", "--set", "solver.output_dt=1e-3",
+        "run",
+        &m,
+        "--out",
+        &o,
+        "--set",
+        "solver.t_end=1e5",
+        "--set",
+        "solver.output_dt=1e-3",
     ]);
     assert_eq!(r.status.code(), Some(2));
     let e = text(&r.stderr);
-    for part in ["solver.t_end = 100000 s", "solver.output_dt = 0.001 s", "1.004e8 rows", "5e7 rows"] {
+    for part in [
+        "solver.t_end = 100000 s",
+        "solver.output_dt = 0.001 s",
+        "1.004e8 rows",
+        "5e7 rows",
+    ] {
         assert!(e.contains(part), "'{part}' not in: {e}");
     }
     assert!(!out.exists(), "a refused run wrote {}", out.display());
     let r = deckspin(&[
-        "run", &m, "--out", &o, "--method", "moreau", "--set", "solver.t_end=1e4",
+        "run",
+        &m,
+        "--out",
+        &o,
+        "--method",
+        "moreau",
+        "--set",
+        "solver.t_end=1e4",
     ]);
     assert_eq!(r.status.code(), Some(2));
     let e = text(&r.stderr);
-    assert!(e.contains("1.000e7 steps") && e.contains("solver.max_steps = 5000000"), "{e}");
+    assert!(
+        e.contains("1.000e7 steps") && e.contains("solver.max_steps = 5000000"),
+        "{e}"
+    );
     assert!(!out.exists());
 }
 
@@ -185,7 +229,10 @@ fn sweeps_are_capped_by_the_product_of_their_axes() {
     ]);
     assert_eq!(r.status.code(), Some(2));
     let e = text(&r.stderr);
-    assert!(e.contains("300030000 runs") && e.contains("limit of 100000"), "{e}");
+    assert!(
+        e.contains("300030000 runs") && e.contains("limit of 100000"),
+        "{e}"
+    );
     assert!(!csv.exists());
     assert!(t0.elapsed().as_secs_f64() < 5.0);
     // at the cap: every combination is counted, none run
@@ -193,7 +240,10 @@ fn sweeps_are_capped_by_the_product_of_their_axes() {
         deckspin::studies::parse_axis("a=1:1000:1").unwrap(),
         deckspin::studies::parse_axis("b=1:100:1").unwrap(),
     ];
-    assert_eq!(deckspin::studies::sweep_size(&axes, 100_000).unwrap(), 100_000);
+    assert_eq!(
+        deckspin::studies::sweep_size(&axes, 100_000).unwrap(),
+        100_000
+    );
     let e = deckspin::studies::sweep_size(&axes, 99_999).unwrap_err();
     assert_eq!((e.runs, e.cap), (100_000, 99_999));
 }
@@ -216,6 +266,11 @@ fn a_sweep_with_failing_runs_writes_every_row() {
     let rows = std::fs::read_to_string(&csv).unwrap();
     let rows: Vec<&str> = rows.lines().skip(1).collect();
     assert_eq!(rows.len(), 4);
-    assert_eq!(rows.iter().filter(|l| l.contains("more than 400 steps")).count(), 2);
+    assert_eq!(
+        rows.iter()
+            .filter(|l| l.contains("more than 400 steps"))
+            .count(),
+        2
+    );
     assert!(rows[2].starts_with("1000000,0,") && rows[2].ends_with(","));
 }

@@ -17,7 +17,9 @@ fn scene(rel: &str, set: &[&str]) -> Scene {
 }
 
 fn dir(name: &str) -> PathBuf {
-    let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("run_files").join(name);
+    let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
+        .join("run_files")
+        .join(name);
     let _ = std::fs::remove_dir_all(&d);
     d
 }
@@ -44,8 +46,14 @@ fn a_streamed_history_has_the_bytes_of_the_in_memory_writer() {
         ("models/validation/elastic-rattle.toml", &[]),
         ("models/validation/bouncing-ball.toml", &[]),
         // fixed-step methods record their last sample after their last batch
-        ("models/validation/double-impact.toml", &["solver.method=\"moreau\""]),
-        ("models/validation/corner-impact.toml", &["solver.method=\"penalty\""]),
+        (
+            "models/validation/double-impact.toml",
+            &["solver.method=\"moreau\""],
+        ),
+        (
+            "models/validation/corner-impact.toml",
+            &["solver.method=\"penalty\""],
+        ),
     ];
     for (i, (model, set)) in cases.iter().enumerate() {
         let s = scene(model, set);
@@ -78,7 +86,10 @@ fn the_summary_of_a_finished_run_gains_only_its_status_line() {
     assert!(run.finished());
     let old = serde_json::to_string_pretty(&run.output.summary).unwrap();
     let new = run.summary_json().unwrap();
-    assert_eq!(new, old.replacen("{\n", "{\n  \"status\": \"finished\",\n", 1));
+    assert_eq!(
+        new,
+        old.replacen("{\n", "{\n  \"status\": \"finished\",\n", 1)
+    );
     let d = dir("summary");
     run.write_all(&d).unwrap();
     assert_eq!(read(&d, "summary.json"), new);
@@ -108,11 +119,7 @@ fn a_failed_run_writes_its_files_up_to_the_failure() {
     // last batch)
     let cases: [(&[&str], &str, f64); 2] = [
         (&["solver.max_steps=400"], "TooManySteps", 1.952588443),
-        (
-            &["solver.method=\"penalty-explicit\""],
-            "Unstable",
-            2.628,
-        ),
+        (&["solver.method=\"penalty-explicit\""], "Unstable", 2.628),
     ];
     for (i, (set, kind, t_fail)) in cases.iter().enumerate() {
         let s = scene("models/four-span.toml", set);
@@ -123,9 +130,16 @@ fn a_failed_run_writes_its_files_up_to_the_failure() {
         assert_eq!(json["failure"]["kind"], *kind);
         assert_eq!(json["failure"]["reason"], e.to_string());
         let t = json["failure"]["t"].as_f64().unwrap();
-        assert!((t - e.time()).abs() <= 1e-12 * e.time(), "{t} vs {}", e.time());
+        assert!(
+            (t - e.time()).abs() <= 1e-12 * e.time(),
+            "{t} vs {}",
+            e.time()
+        );
         let last = *times.last().unwrap();
-        assert!(last > 0.0 && last <= e.time(), "last row at {last}, failure at {t}");
+        assert!(
+            last > 0.0 && last <= e.time(),
+            "last row at {last}, failure at {t}"
+        );
         assert!(last > e.time() - 0.01, "last row at {last}, failure at {t}");
         // the rows are the in-memory run's, byte for byte
         let memory = deckspin::simulate::integrate(&s, &mut deckspin::Silent);
@@ -135,7 +149,10 @@ fn a_failed_run_writes_its_files_up_to_the_failure() {
             read(&d.join("memory"), "history.csv")
         );
         assert_eq!(times.len(), memory.output.samples.len());
-        assert_eq!(read(&d, "events.csv"), read(&d.join("memory"), "events.csv"));
+        assert_eq!(
+            read(&d, "events.csv"),
+            read(&d.join("memory"), "events.csv")
+        );
     }
 }
 
@@ -143,9 +160,15 @@ fn a_failed_run_writes_its_files_up_to_the_failure() {
 fn streaming_bounds_the_steps_of_the_event_method_only() {
     let mut s = scene("models/validation/block-on-plane.toml", &[]);
     let dt = s.settings.output_dt;
-    assert_eq!(bound_steps_for_streaming(&mut s), Some(STREAM_SAMPLES_PER_STEP * dt));
+    assert_eq!(
+        bound_steps_for_streaming(&mut s),
+        Some(STREAM_SAMPLES_PER_STEP * dt)
+    );
     assert_eq!(s.settings.h_max, 4096.0 * dt);
-    let mut small = scene("models/validation/block-on-plane.toml", &["solver.h_max=0.5"]);
+    let mut small = scene(
+        "models/validation/block-on-plane.toml",
+        &["solver.h_max=0.5"],
+    );
     assert_eq!(bound_steps_for_streaming(&mut small), None);
     assert_eq!(small.settings.h_max, 0.5);
     let mut moreau = scene(
@@ -177,9 +200,15 @@ fn the_estimate_bounds_the_history_written() {
         est.row_bytes
     );
     // a fixed-step method: one row per step at most
-    let m = scene("models/four-span.toml", &["solver.method=\"moreau\"", "solver.output_dt=1e-4"]);
+    let m = scene(
+        "models/four-span.toml",
+        &["solver.method=\"moreau\"", "solver.output_dt=1e-4"],
+    );
     let est = OutputEstimate::of(&m);
-    assert_eq!((est.steps, est.grid_rows, est.event_rows), (Some(16_000.0), 16_002.0, 0.0));
+    assert_eq!(
+        (est.steps, est.grid_rows, est.event_rows),
+        (Some(16_000.0), 16_002.0, 0.0)
+    );
 }
 
 #[test]
@@ -211,10 +240,16 @@ fn runs_above_the_budget_are_refused_with_their_estimate() {
     assert!(rows < 5e7 && bytes > 2e10, "{rows} rows, {bytes} bytes");
     let m = scene(
         "models/validation/block-on-plane.toml",
-        &["solver.method=\"moreau\"", "solver.t_end=1e4", "solver.output_dt=1"],
+        &[
+            "solver.method=\"moreau\"",
+            "solver.t_end=1e4",
+            "solver.output_dt=1",
+        ],
     );
     match check_output(&m, &OutputBudget::default()) {
-        Err(LimitError::Steps { steps, max_steps, .. }) => {
+        Err(LimitError::Steps {
+            steps, max_steps, ..
+        }) => {
             assert_eq!((steps, max_steps), (1e7, 5_000_000));
         }
         r => panic!("{r:?}"),
