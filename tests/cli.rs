@@ -118,6 +118,7 @@ fn a_finished_run_reports_its_status() {
 }
 
 /// Exit status and peak resident memory (kB) of `deckspin args`.
+#[allow(clippy::zombie_processes)] // reaped by wait4, which reports its peak memory
 fn peak_memory(args: &[&str]) -> (i32, i64) {
     let child = Command::new(env!("CARGO_BIN_EXE_deckspin"))
         .args(args)
