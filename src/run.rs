@@ -169,9 +169,13 @@ pub struct Run {
 
 impl Run {
     /// The run that ended with `result` (a [`SolverError::Cancelled`] is a cancel). The samples
-    /// handed to an observer that keeps them are dropped from the output.
+    /// handed to an observer that keeps them are dropped from the output; an output its method
+    /// never summarised (a failure at the start) gets the summary of what it recorded.
     pub fn new(mut output: RunOutput, result: Result<(), SolverError>) -> Self {
         output.drop_handed();
+        if output.summary.peaks.len() != output.dof_names.len() {
+            output.finish(0.0);
+        }
         let stop = match result {
             Ok(()) => Stop::Finished,
             Err(SolverError::Cancelled { t }) => Stop::Cancelled { t },

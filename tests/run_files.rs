@@ -255,3 +255,16 @@ fn runs_above_the_budget_are_refused_with_their_estimate() {
         r => panic!("{r:?}"),
     }
 }
+
+#[test]
+fn a_run_failing_at_its_start_writes_a_summary_of_its_scene() {
+    let s = scene("models/validation/painleve.toml", &[]);
+    let d = dir("start");
+    let (e, json, times) = failed_streamed(&s, &d);
+    assert_eq!((e.time(), e.kind()), (0.0, "Painleve"));
+    assert_eq!(json["failure"]["t"], 0.0);
+    assert_eq!(json["title"], "Painleve rod");
+    assert_eq!(json["peaks"].as_array().unwrap().len(), 3);
+    assert!(times.is_empty());
+    assert_eq!(read(&d, "history.csv").lines().count(), 1);
+}
