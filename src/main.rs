@@ -21,7 +21,8 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Run a model and write history.csv, events.csv and summary.json.
+    /// Run a model and write history.csv (streamed), events.csv and summary.json, also when
+    /// the run fails (summary.json's "status" says how it ended).
     Run {
         model: PathBuf,
         /// Output directory.
@@ -63,7 +64,7 @@ enum Command {
         #[arg(long)]
         csv: Option<PathBuf>,
     },
-    /// Run a model over every combination of swept scalars, in parallel.
+    /// Run a model over every combination of swept scalars, in parallel (at most 100 000).
     Sweep {
         model: PathBuf,
         /// key=a:b:step or key=v1,v2,... (repeatable: the cartesian product is run).
@@ -204,24 +205,63 @@ fn main() -> ExitCode {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("deckspin: {e}");
-            ExitCode::FAILURE
+            exit_code(e.as_ref())
         }
+    }
+}
+
+/// 2 for a job refused before it starts (its output or its number of runs above a limit),
+/// else 1.
+fn exit_code(e: &(dyn std::error::Error + 'static)) -> ExitCode {
+    if e.is::<deckspin::run::LimitError>() || e.is::<deckspin::studies::SweepTooLarge>() {
+        ExitCode::from(2)
+    } else {
+        ExitCode::FAILURE
     }
 }
 
 type CliResult = Result<(), Box<dyn std::error::Error>>;
 
+/// Run a model, streaming its history to `out/history.csv`; events.csv and summary.json
+/// (with the run's status) are written however the run ends. Refused (exit 2) before it starts
+/// when its output would exceed the budget.
 fn cmd_run(
     model: &std::path::Path,
     out: &std::path::Path,
     set: &[String],
     at: Option<f64>,
 ) -> CliResult {
-    let scene = deckspin::load(model, set)?;
-    let run = deckspin::simulate(&scene, &mut deckspin::Silent)?;
-    run.write_all(out)
-        .map_err(|e| format!("{}: cannot write results: {e}", out.display()))?;
-    let s = &run.summary;
+    use deckspin::run::{OutputBudget, RunFiles, Stop, bound_steps_for_streaming, check_output};
+    let mut scene = deckspin::load(model, set)?;
+    check_output(&scene, &OutputBudget::default())?;
+    bound_steps_for_streaming(&mut scene);
+    let cannot = |e: std::io::Error| format!("{}: cannot write results: {e}", out.display());
+    let mut files = RunFiles::create(out, &scene, at).map_err(cannot)?;
+    let run = deckspin::simulate::integrate(&scene, &mut files);
+    let written = files.finish(&run).map_err(cannot)?;
+    print_report(&run.output.summary, &scene);
+    if let (Some(t), Some(s)) = (at, &written.nearest) {
+        print_state_at(&run.output, s, t);
+    }
+    let wrote = format!("{}/{{history.csv,events.csv,summary.json}}", out.display());
+    match run.stop {
+        Stop::Finished => {
+            println!("  wrote {wrote}");
+            Ok(())
+        }
+        Stop::Failed(e) => {
+            println!("  failed: {e}");
+            println!("  wrote {wrote} (up to t = {:.9} s)", e.time());
+            Err(Box::new(e))
+        }
+        Stop::Cancelled { t } => {
+            println!("  wrote {wrote} (up to t = {t:.9} s)");
+            Err(format!("t = {t:.9} s: cancelled").into())
+        }
+    }
+}
+
+fn print_report(s: &deckspin::output::Summary, scene: &deckspin::scene::Scene) {
     println!(
         "{} — t = {:.3} s ({})",
         s.title,
@@ -260,24 +300,9 @@ fn cmd_run(
     for (c, t) in &s.accumulation_times {
         println!("  accumulation of impacts at '{c}': t∞ ≈ {t:.9} s");
     }
-    if let Some(t) = at {
-        print_state_at(&run, t);
-    }
-    println!(
-        "  wrote {}/{{history.csv,events.csv,summary.json}}",
-        out.display()
-    );
-    Ok(())
 }
 
-fn print_state_at(run: &deckspin::RunOutput, t: f64) {
-    let Some(s) = run
-        .samples
-        .iter()
-        .min_by(|a, b| (a.t - t).abs().total_cmp(&(b.t - t).abs()))
-    else {
-        return;
-    };
+fn print_state_at(run: &deckspin::RunOutput, s: &deckspin::output::Sample, t: f64) {
     println!("  state at t = {:.4} s (nearest sample to {t}):", s.t);
     for (i, n) in run.dof_names.iter().enumerate() {
         println!("    {n:<16} {:>13.6e}   rate {:>13.6e}", s.q[i], s.v[i]);
@@ -390,14 +415,15 @@ fn cmd_sweep(
     fix: &[String],
     out: &std::path::Path,
 ) -> CliResult {
-    use deckspin::studies::{Study, parse_axis, table, write_csv};
+    use deckspin::studies::{MAX_SWEEP_RUNS, Study, parse_axis, sweep_size, table, write_csv};
     let axes = set
         .iter()
         .map(|s| parse_axis(s))
         .collect::<Result<Vec<_>, _>>()?;
+    sweep_size(&axes, MAX_SWEEP_RUNS)?;
     let study = Study::open(model, fix)?;
     let t0 = std::time::Instant::now();
-    let rows = study.sweep(&axes);
+    let rows = study.try_sweep(&axes)?;
     let wall = t0.elapsed().as_secs_f64();
     print!("{}", table(&rows));
     if let Some(dir) = out.parent() {

@@ -6,6 +6,7 @@ use crate::scene::Scene;
 use serde::Serialize;
 use std::io::Write;
 use std::path::Path;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// State of one contact.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -359,12 +360,46 @@ pub struct RunOutput {
     /// (max |q|, time) per DOF over every step, dense output included (empty for fixed-step
     /// methods, whose samples are their steps).
     pub step_peaks: Vec<(f64, f64)>,
-    /// Store every sample in `samples` (else only the running summary is kept).
+    /// Store every sample in `samples` (else only the running summary is kept). A run whose
+    /// observer keeps the samples ([`crate::run::Observer::keeps_samples`]) holds only those
+    /// not handed over yet: at its end, those after the last batch.
     pub keep_history: bool,
     /// The summary so far, over every recorded sample.
     pub tally: Tally,
     pub summary: Summary,
+    /// The leading `samples` already handed to an observer that keeps them
+    /// ([`crate::run::Observer::keeps_samples`]): the next sample recorded drops them.
+    pub(crate) handed: Handed,
 }
+
+/// A count of samples shared by a run's output and its batcher (which only borrows the
+/// output): set when a batch is handed over, read and reset by the next [`RunOutput::record`].
+#[derive(Debug, Default)]
+pub(crate) struct Handed(AtomicUsize);
+
+impl Handed {
+    pub(crate) fn get(&self) -> usize {
+        self.0.load(Ordering::Relaxed)
+    }
+
+    pub(crate) fn set(&self, n: usize) {
+        self.0.store(n, Ordering::Relaxed);
+    }
+
+    fn take(&self) -> usize {
+        self.0.swap(0, Ordering::Relaxed)
+    }
+}
+
+impl Clone for Handed {
+    fn clone(&self) -> Self {
+        Self(AtomicUsize::new(self.get()))
+    }
+}
+
+/// Capacity a streamed output's sample buffer is brought back to when it holds more (the
+/// engine reserves room for the whole history when it keeps one).
+const STREAMED_CAPACITY: usize = 1024;
 
 impl RunOutput {
     pub fn new(scene: &Scene) -> Self {
@@ -382,6 +417,7 @@ impl RunOutput {
             keep_history: true,
             tally: Tally::default(),
             summary: Summary::default(),
+            handed: Handed::default(),
         }
     }
 
@@ -395,6 +431,7 @@ impl RunOutput {
     pub fn record(&mut self, s: SampleView) {
         self.tally.add(&s);
         if self.keep_history {
+            self.drop_handed();
             self.samples.push(Sample {
                 t: s.t,
                 kind: s.kind,
@@ -404,6 +441,18 @@ impl RunOutput {
                 elements: s.elements.to_vec(),
                 energy: s.energy,
             });
+        }
+    }
+
+    /// Drops the samples handed to an observer that keeps them (at every new sample, and when
+    /// the run ends: `samples` then holds only those recorded after the last batch).
+    pub(crate) fn drop_handed(&mut self) {
+        let handed = self.handed.take().min(self.samples.len());
+        if handed > 0 {
+            self.samples.drain(..handed);
+            if self.samples.capacity() > 4 * STREAMED_CAPACITY {
+                self.samples.shrink_to(STREAMED_CAPACITY);
+            }
         }
     }
 
@@ -505,91 +554,10 @@ impl RunOutput {
     }
 
     pub fn write_history(&self, path: &Path) -> std::io::Result<()> {
-        let mut w = std::io::BufWriter::new(std::fs::File::create(path)?);
-        let mut head = vec!["t".to_string(), "row".to_string()];
-        for n in &self.dof_names {
-            head.push(n.clone());
-        }
-        for n in &self.dof_names {
-            head.push(format!("d/dt {n}"));
-        }
-        for c in &self.contact_names {
-            for f in [
-                "gap",
-                "gap_rate",
-                "slip_rate",
-                "normal_force",
-                "tangential_force",
-                "state",
-            ] {
-                head.push(format!("{c}.{f}"));
-            }
-        }
-        for e in &self.element_names {
-            head.push(format!("{e}.deformation"));
-            head.push(format!("{e}.force"));
-        }
-        for f in [
-            "kinetic",
-            "elastic",
-            "hysteretic",
-            "damping",
-            "friction",
-            "impact_normal",
-            "impact_tangential",
-            "loads",
-            "supports",
-            "closure",
-        ] {
-            head.push(format!("energy.{f}"));
-        }
-        writeln!(w, "{}", head.join(","))?;
-        // written field by field: no string per value
-        let num = |w: &mut std::io::BufWriter<std::fs::File>, x: f64| write!(w, ",{x:.12e}");
-        for s in &self.samples {
-            let kind = match s.kind {
-                SampleKind::Grid => "grid",
-                SampleKind::PreEvent => "pre-event",
-                SampleKind::PostEvent => "post-event",
-            };
-            write!(w, "{:.12e},{kind}", s.t)?;
-            for &x in s.q.iter().chain(s.v.iter()) {
-                num(&mut w, x)?;
-            }
-            for c in &s.contacts {
-                for x in [
-                    c.gap,
-                    c.gap_rate,
-                    c.slip_rate,
-                    c.normal_force,
-                    c.tangential_force,
-                ] {
-                    num(&mut w, x)?;
-                }
-                write!(w, ",{}", c.state.label())?;
-            }
-            for &(e, f) in &s.elements {
-                num(&mut w, e)?;
-                num(&mut w, f)?;
-            }
-            let en = &s.energy;
-            for x in [
-                en.kinetic,
-                en.elastic,
-                en.hysteretic,
-                en.damping,
-                en.friction,
-                en.impact_normal,
-                en.impact_tangential,
-                en.loads,
-                en.supports,
-                en.closure,
-            ] {
-                num(&mut w, x)?;
-            }
-            writeln!(w)?;
-        }
-        w.flush()
+        let file = std::io::BufWriter::new(std::fs::File::create(path)?);
+        let mut w = HistoryWriter::new(file, self)?;
+        w.write(&self.samples)?;
+        w.finish().map(|_| ())
     }
 
     pub fn write_events(&self, path: &Path) -> std::io::Result<()> {
@@ -608,4 +576,121 @@ impl RunOutput {
         self.write_events(&dir.join("events.csv"))?;
         self.write_summary(&dir.join("summary.json"))
     }
+}
+
+/// Writes history.csv: the header, then rows as they come (a run streamed to disk writes each
+/// batch of samples as the observer is handed it; [`RunOutput::write_history`] all at once).
+pub struct HistoryWriter<W: Write> {
+    w: W,
+    rows: usize,
+}
+
+impl<W: Write> HistoryWriter<W> {
+    /// The writer, its header written: the columns of `out`'s DOFs, contacts and elements.
+    pub fn new(mut w: W, out: &RunOutput) -> std::io::Result<Self> {
+        writeln!(w, "{}", history_header(out).join(","))?;
+        Ok(Self { w, rows: 0 })
+    }
+
+    /// Rows written so far.
+    pub fn rows(&self) -> usize {
+        self.rows
+    }
+
+    /// One row per sample, written field by field: no string per value.
+    pub fn write(&mut self, samples: &[Sample]) -> std::io::Result<()> {
+        let w = &mut self.w;
+        let num = |w: &mut W, x: f64| write!(w, ",{x:.12e}");
+        for s in samples {
+            let kind = match s.kind {
+                SampleKind::Grid => "grid",
+                SampleKind::PreEvent => "pre-event",
+                SampleKind::PostEvent => "post-event",
+            };
+            write!(w, "{:.12e},{kind}", s.t)?;
+            for &x in s.q.iter().chain(s.v.iter()) {
+                num(w, x)?;
+            }
+            for c in &s.contacts {
+                for x in [
+                    c.gap,
+                    c.gap_rate,
+                    c.slip_rate,
+                    c.normal_force,
+                    c.tangential_force,
+                ] {
+                    num(w, x)?;
+                }
+                write!(w, ",{}", c.state.label())?;
+            }
+            for &(e, f) in &s.elements {
+                num(w, e)?;
+                num(w, f)?;
+            }
+            let en = &s.energy;
+            for x in [
+                en.kinetic,
+                en.elastic,
+                en.hysteretic,
+                en.damping,
+                en.friction,
+                en.impact_normal,
+                en.impact_tangential,
+                en.loads,
+                en.supports,
+                en.closure,
+            ] {
+                num(w, x)?;
+            }
+            writeln!(w)?;
+        }
+        self.rows += samples.len();
+        Ok(())
+    }
+
+    /// Flushes and returns the inner writer.
+    pub fn finish(mut self) -> std::io::Result<W> {
+        self.w.flush()?;
+        Ok(self.w)
+    }
+}
+
+/// The energy columns of history.csv, in order.
+const ENERGY_COLUMNS: [&str; 10] = [
+    "kinetic",
+    "elastic",
+    "hysteretic",
+    "damping",
+    "friction",
+    "impact_normal",
+    "impact_tangential",
+    "loads",
+    "supports",
+    "closure",
+];
+
+/// The columns of a contact in history.csv, in order.
+const CONTACT_COLUMNS: [&str; 6] = [
+    "gap",
+    "gap_rate",
+    "slip_rate",
+    "normal_force",
+    "tangential_force",
+    "state",
+];
+
+/// The header of history.csv.
+fn history_header(out: &RunOutput) -> Vec<String> {
+    let mut head = vec!["t".to_string(), "row".to_string()];
+    head.extend(out.dof_names.iter().cloned());
+    head.extend(out.dof_names.iter().map(|n| format!("d/dt {n}")));
+    for c in &out.contact_names {
+        head.extend(CONTACT_COLUMNS.iter().map(|f| format!("{c}.{f}")));
+    }
+    for e in &out.element_names {
+        head.push(format!("{e}.deformation"));
+        head.push(format!("{e}.force"));
+    }
+    head.extend(ENERGY_COLUMNS.iter().map(|f| format!("energy.{f}")));
+    head
 }

@@ -2,7 +2,13 @@
 //! in progress, and the batching of what a run adds for them.
 
 use crate::lemke::LcpError;
-use crate::output::{EventRecord, RunOutput, Sample};
+use crate::methods::Method;
+use crate::output::{EventRecord, HistoryWriter, RunOutput, Sample, Summary};
+use crate::scene::Scene;
+use serde::Serialize;
+use std::fs::File;
+use std::io::BufWriter;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 /// Why a run stopped early. Every variant names the time.
@@ -83,6 +89,13 @@ pub enum SolverError {
 /// Receives results while a run goes on (for live charts); return false to cancel.
 pub trait Observer {
     fn batch(&mut self, samples: &[Sample], events: &[EventRecord], t: f64) -> bool;
+
+    /// True when the observer keeps (or writes) every sample it is handed: the run's output
+    /// then drops them, so that its memory does not grow with the run's length; the samples
+    /// after the last batch stay in the [`Run`]'s `output.samples`.
+    fn keeps_samples(&self) -> bool {
+        false
+    }
 }
 
 /// An observer that only lets the run go on.
@@ -99,6 +112,9 @@ pub(crate) struct Batcher {
     samples: usize,
     events: usize,
     at: Instant,
+    /// The observer keeps the samples: the output drops those handed over, and the first new
+    /// one is at `RunOutput::handed`.
+    streamed: bool,
 }
 
 impl Batcher {
@@ -107,6 +123,16 @@ impl Batcher {
             samples: 0,
             events: 0,
             at: Instant::now(),
+            streamed: false,
+        }
+    }
+
+    /// Index of the first sample of `out` not handed over yet.
+    fn first_new(&self, out: &RunOutput) -> usize {
+        if self.streamed {
+            out.handed.get().min(out.samples.len())
+        } else {
+            self.samples
         }
     }
 
@@ -117,7 +143,7 @@ impl Batcher {
         t: f64,
         observer: &mut dyn Observer,
     ) -> Result<(), SolverError> {
-        if out.samples.len() - self.samples >= 256 || self.at.elapsed().as_millis() >= 40 {
+        if out.samples.len() - self.first_new(out) >= 256 || self.at.elapsed().as_millis() >= 40 {
             let go = self.flush(out, t, observer);
             if !go {
                 return Err(SolverError::Cancelled { t });
@@ -127,11 +153,17 @@ impl Batcher {
     }
 
     pub(crate) fn flush(&mut self, out: &RunOutput, t: f64, observer: &mut dyn Observer) -> bool {
-        let go = observer.batch(&out.samples[self.samples..], &out.events[self.events..], t);
+        let from = self.first_new(out);
+        let go = observer.batch(&out.samples[from..], &out.events[self.events..], t);
+        let streamed = observer.keeps_samples();
+        if streamed {
+            out.handed.set(out.samples.len());
+        }
         *self = Self {
             samples: out.samples.len(),
             events: out.events.len(),
             at: Instant::now(),
+            streamed,
         };
         go
     }
@@ -157,8 +189,14 @@ pub struct Run {
 }
 
 impl Run {
-    /// The run that ended with `result` (a [`SolverError::Cancelled`] is a cancel).
-    pub fn new(output: RunOutput, result: Result<(), SolverError>) -> Self {
+    /// The run that ended with `result` (a [`SolverError::Cancelled`] is a cancel). The samples
+    /// handed to an observer that keeps them are dropped from the output; an output its method
+    /// never summarised (a failure at the start) gets the summary of what it recorded.
+    pub fn new(mut output: RunOutput, result: Result<(), SolverError>) -> Self {
+        output.drop_handed();
+        if output.summary.peaks.len() != output.dof_names.len() {
+            output.finish(0.0);
+        }
         let stop = match result {
             Ok(()) => Stop::Finished,
             Err(SolverError::Cancelled { t }) => Stop::Cancelled { t },
@@ -179,4 +217,355 @@ impl Run {
             Stop::Failed(e) => Err(e),
         }
     }
+}
+
+impl SolverError {
+    /// The instant the run stopped at (the start for an initial penetration).
+    pub fn time(&self) -> f64 {
+        match self {
+            SolverError::InitialPenetration { .. } => 0.0,
+            SolverError::Lcp { t, .. }
+            | SolverError::Painleve { t, .. }
+            | SolverError::StepCollapse { t, .. }
+            | SolverError::StepTooSmall { t, .. }
+            | SolverError::TooManyEvents { t, .. }
+            | SolverError::TooManySteps { t, .. }
+            | SolverError::NonFinite { t }
+            | SolverError::Unstable { t, .. }
+            | SolverError::NoConvergence { t, .. }
+            | SolverError::Cancelled { t } => *t,
+        }
+    }
+
+    /// The variant's name (`"Lcp"`, `"TooManySteps"`, …), for files and scripts.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            SolverError::Lcp { .. } => "Lcp",
+            SolverError::Painleve { .. } => "Painleve",
+            SolverError::StepCollapse { .. } => "StepCollapse",
+            SolverError::StepTooSmall { .. } => "StepTooSmall",
+            SolverError::TooManyEvents { .. } => "TooManyEvents",
+            SolverError::TooManySteps { .. } => "TooManySteps",
+            SolverError::InitialPenetration { .. } => "InitialPenetration",
+            SolverError::NonFinite { .. } => "NonFinite",
+            SolverError::Unstable { .. } => "Unstable",
+            SolverError::NoConvergence { .. } => "NoConvergence",
+            SolverError::Cancelled { .. } => "Cancelled",
+        }
+    }
+}
+
+impl Stop {
+    /// `"finished"`, `"cancelled"` or `"failed"` (the `status` of summary.json).
+    pub fn label(&self) -> &'static str {
+        match self {
+            Stop::Finished => "finished",
+            Stop::Cancelled { .. } => "cancelled",
+            Stop::Failed(_) => "failed",
+        }
+    }
+}
+
+/// Why a run failed, as summary.json reports it.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct FailureReport {
+    /// [`SolverError::time`].
+    pub t: f64,
+    /// The error's text.
+    pub reason: String,
+    /// [`SolverError::kind`].
+    pub kind: &'static str,
+}
+
+impl From<&SolverError> for FailureReport {
+    fn from(e: &SolverError) -> Self {
+        Self {
+            t: e.time(),
+            reason: e.to_string(),
+            kind: e.kind(),
+        }
+    }
+}
+
+/// summary.json: how the run stopped, then the summary's fields.
+#[derive(Serialize)]
+struct SummaryReport<'a> {
+    status: &'static str,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    failure: Option<FailureReport>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    cancelled_at: Option<f64>,
+    #[serde(flatten)]
+    summary: &'a Summary,
+}
+
+impl Run {
+    /// Why the run failed, if it did.
+    pub fn failure(&self) -> Option<FailureReport> {
+        match &self.stop {
+            Stop::Failed(e) => Some(e.into()),
+            _ => None,
+        }
+    }
+
+    /// summary.json: `"status"` (`"finished"`, `"cancelled"`, `"failed"`), for a failure
+    /// `"failure": {"t", "reason", "kind"}`, for a cancel `"cancelled_at"`, then the fields of
+    /// the output's [`Summary`].
+    pub fn summary_json(&self) -> Result<String, serde_json::Error> {
+        serde_json::to_string_pretty(&SummaryReport {
+            status: self.stop.label(),
+            failure: self.failure(),
+            cancelled_at: match self.stop {
+                Stop::Cancelled { t } => Some(t),
+                _ => None,
+            },
+            summary: &self.output.summary,
+        })
+    }
+
+    /// history.csv (the samples the output kept), events.csv and summary.json (with the status)
+    /// in `dir` (created).
+    pub fn write_all(&self, dir: &Path) -> std::io::Result<()> {
+        std::fs::create_dir_all(dir)?;
+        self.output.write_history(&dir.join("history.csv"))?;
+        self.output.write_events(&dir.join("events.csv"))?;
+        let json = self.summary_json().map_err(std::io::Error::other)?;
+        std::fs::write(dir.join("summary.json"), json)
+    }
+}
+
+/// Writes a run into a directory while it goes: the rows of history.csv from each batch (the
+/// output keeps none of them: memory does not grow with the run's length), then, however the
+/// run ended, the last rows, events.csv and summary.json ([`RunFiles::finish`]).
+pub struct RunFiles {
+    dir: PathBuf,
+    history: HistoryWriter<BufWriter<File>>,
+    /// The first write error (the run is cancelled at it).
+    error: Option<std::io::Error>,
+    /// Keep the sample nearest to this instant.
+    at: Option<f64>,
+    nearest: Option<Sample>,
+}
+
+/// Most output-grid samples one event-driven step may span when a run is streamed: the
+/// samples a step interpolates are handed over together, after the step.
+pub const STREAM_SAMPLES_PER_STEP: f64 = 4096.0;
+
+/// Prepares `scene` for a streamed run ([`RunFiles`]): its event-driven steps span at most
+/// [`STREAM_SAMPLES_PER_STEP`] output intervals (`solver.h_max` lowered to that when it is
+/// larger or 0), so that the samples held between two batches are bounded whatever `t_end`.
+/// A step that long only happens where nothing moves (a body at rest), where it changes no
+/// result; it returns the `h_max` set, if it was changed.
+pub fn bound_steps_for_streaming(scene: &mut Scene) -> Option<f64> {
+    let st = &mut scene.settings;
+    let cap = STREAM_SAMPLES_PER_STEP * st.output_dt;
+    if st.method == Method::Event && cap.is_finite() && (st.h_max <= 0.0 || st.h_max > cap) {
+        st.h_max = cap;
+        return Some(cap);
+    }
+    None
+}
+
+/// What [`RunFiles::finish`] wrote.
+#[derive(Debug)]
+pub struct Written {
+    /// Rows of history.csv.
+    pub rows: usize,
+    /// The sample nearest to the instant asked for.
+    pub nearest: Option<Sample>,
+}
+
+impl RunFiles {
+    /// `dir` (created) with the header of `dir/history.csv` for `scene`'s columns; keeps the
+    /// sample nearest to `at`.
+    pub fn create(dir: &Path, scene: &Scene, at: Option<f64>) -> std::io::Result<Self> {
+        std::fs::create_dir_all(dir)?;
+        let file = BufWriter::new(File::create(dir.join("history.csv"))?);
+        Ok(Self {
+            dir: dir.to_path_buf(),
+            history: HistoryWriter::new(file, &RunOutput::new(scene))?,
+            error: None,
+            at,
+            nearest: None,
+        })
+    }
+
+    fn take(&mut self, samples: &[Sample]) -> std::io::Result<()> {
+        if let Some(at) = self.at {
+            let dist = |s: &Sample| (s.t - at).abs();
+            if let Some(s) = samples.iter().min_by(|a, b| dist(a).total_cmp(&dist(b)))
+                && self.nearest.as_ref().is_none_or(|n| dist(s) < dist(n))
+            {
+                self.nearest = Some(s.clone());
+            }
+        }
+        self.history.write(samples)
+    }
+
+    /// The rows after the last batch, events.csv and summary.json of `run` (the run this
+    /// observed); the first write error, if any.
+    pub fn finish(mut self, run: &Run) -> std::io::Result<Written> {
+        if let Some(e) = self.error.take() {
+            return Err(e);
+        }
+        self.take(&run.output.samples)?;
+        let rows = self.history.rows();
+        self.history.finish()?;
+        run.output.write_events(&self.dir.join("events.csv"))?;
+        let json = run.summary_json().map_err(std::io::Error::other)?;
+        std::fs::write(self.dir.join("summary.json"), json)?;
+        Ok(Written {
+            rows,
+            nearest: self.nearest,
+        })
+    }
+}
+
+impl Observer for RunFiles {
+    fn batch(&mut self, samples: &[Sample], _: &[EventRecord], _: f64) -> bool {
+        if self.error.is_some() {
+            return false;
+        }
+        match self.take(samples) {
+            Ok(()) => true,
+            Err(e) => {
+                self.error = Some(e);
+                false
+            }
+        }
+    }
+
+    fn keeps_samples(&self) -> bool {
+        true
+    }
+}
+
+/// The size of a run's output, estimated from its settings before it runs.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OutputEstimate {
+    /// Rows on the output grid: ⌊t_end / output_dt⌋ + 2 (the last sample at t_end); for a
+    /// fixed-step method at most one per step.
+    pub grid_rows: f64,
+    /// Rows at events, at most: a pre- and a post-event row per logged event, and
+    /// `solver.max_events` bounds the log (event-driven; 0 for the fixed-step methods).
+    pub event_rows: f64,
+    /// Bytes of one row of history.csv, every number at its widest.
+    pub row_bytes: f64,
+    /// ⌈t_end / step⌉ of a fixed-step method (None for the event-driven one).
+    pub steps: Option<f64>,
+}
+
+impl OutputEstimate {
+    pub fn of(scene: &Scene) -> Self {
+        let st = &scene.settings;
+        let mut grid_rows = (st.t_end / st.output_dt).floor() + 2.0;
+        let (steps, event_rows) = match st.method {
+            Method::Event => (None, 2.0 * st.max_events as f64),
+            _ => {
+                let steps = (st.t_end / st.step).ceil();
+                grid_rows = grid_rows.min(steps + 2.0);
+                (Some(steps), 0.0)
+            }
+        };
+        // ",-1.234567890123e-100": 21 bytes; t, ",post-event", ",slide+" per contact, newline
+        let numbers = 2 * scene.ndof() + 5 * scene.contacts.len() + 2 * scene.hysteretic.len();
+        let row_bytes = 20.0 + 11.0 + 21.0 * (numbers + 10) as f64;
+        Self {
+            grid_rows: nan_to_inf(grid_rows),
+            event_rows,
+            row_bytes: row_bytes + 7.0 * scene.contacts.len() as f64 + 1.0,
+            steps: steps.map(nan_to_inf),
+        }
+    }
+
+    /// Rows of history.csv at most.
+    pub fn rows(&self) -> f64 {
+        self.grid_rows + self.event_rows
+    }
+
+    /// Bytes of history.csv at most.
+    pub fn bytes(&self) -> f64 {
+        self.rows() * self.row_bytes
+    }
+}
+
+fn nan_to_inf(x: f64) -> f64 {
+    if x.is_nan() { f64::INFINITY } else { x }
+}
+
+/// The most a run may write: runs whose estimate is above are refused before they start.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OutputBudget {
+    pub max_rows: f64,
+    pub max_bytes: f64,
+}
+
+impl Default for OutputBudget {
+    /// 5·10⁷ rows and 20 GB of history.csv.
+    fn default() -> Self {
+        Self {
+            max_rows: 5e7,
+            max_bytes: 2e10,
+        }
+    }
+}
+
+/// A run refused before it starts: what it would take, and the limit.
+#[derive(Debug, thiserror::Error)]
+pub enum LimitError {
+    #[error(
+        "history.csv would hold up to {rows:.3e} rows ({grid_rows:.3e} from solver.t_end = {t_end} s / solver.output_dt = {output_dt} s, {event_rows:.3e} at events from solver.max_events = {max_events}), about {bytes:.3e} bytes: above the limit of {max_rows:.0e} rows and {max_bytes:.0e} bytes (raise solver.output_dt, lower solver.t_end or solver.max_events)"
+    )]
+    History {
+        rows: f64,
+        grid_rows: f64,
+        event_rows: f64,
+        bytes: f64,
+        t_end: f64,
+        output_dt: f64,
+        max_events: usize,
+        max_rows: f64,
+        max_bytes: f64,
+    },
+    #[error(
+        "solver.t_end = {t_end} s / solver.step = {step} s is {steps:.3e} steps, more than solver.max_steps = {max_steps} (raise solver.step or solver.max_steps, or lower solver.t_end)"
+    )]
+    Steps {
+        steps: f64,
+        t_end: f64,
+        step: f64,
+        max_steps: usize,
+    },
+}
+
+/// The estimate of `scene`'s output, or why the run is refused: a fixed-step method needing
+/// more than `solver.max_steps` steps, or a history above `budget`.
+pub fn check_output(scene: &Scene, budget: &OutputBudget) -> Result<OutputEstimate, LimitError> {
+    let st = &scene.settings;
+    let est = OutputEstimate::of(scene);
+    if let Some(steps) = est.steps
+        && steps > st.max_steps as f64
+    {
+        return Err(LimitError::Steps {
+            steps,
+            t_end: st.t_end,
+            step: st.step,
+            max_steps: st.max_steps,
+        });
+    }
+    // negated: a NaN estimate is refused too
+    if !(est.rows() <= budget.max_rows && est.bytes() <= budget.max_bytes) {
+        return Err(LimitError::History {
+            rows: est.rows(),
+            grid_rows: est.grid_rows,
+            event_rows: est.event_rows,
+            bytes: est.bytes(),
+            t_end: st.t_end,
+            output_dt: st.output_dt,
+            max_events: st.max_events,
+            max_rows: budget.max_rows,
+            max_bytes: budget.max_bytes,
+        });
+    }
+    Ok(est)
 }

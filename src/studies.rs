@@ -93,6 +93,39 @@ pub fn parse_axis(spec: &str) -> Result<Axis, String> {
     Ok(Axis { key, values })
 }
 
+/// Most runs one sweep makes (the product of its axes' lengths): 100 000, about an hour of
+/// the default model on two cores.
+pub const MAX_SWEEP_RUNS: usize = 100_000;
+
+/// A sweep refused before it starts: its axes make too many runs.
+#[derive(Debug, thiserror::Error)]
+#[error(
+    "the sweep's axes make {runs} runs ({sizes}), more than the limit of {cap}: use fewer values or a coarser step"
+)]
+pub struct SweepTooLarge {
+    /// The product of the axes' lengths (saturated at `u128::MAX`).
+    pub runs: u128,
+    /// Each axis's key and number of values, `a (n) × b (m)`.
+    pub sizes: String,
+    pub cap: usize,
+}
+
+/// The number of runs of a sweep over `axes`, or why it is refused (above `cap`).
+pub fn sweep_size(axes: &[Axis], cap: usize) -> Result<usize, SweepTooLarge> {
+    let runs = (axes.iter()).fold(1u128, |p, a| p.saturating_mul(a.values.len() as u128));
+    if runs > cap as u128 {
+        let sizes: Vec<String> = (axes.iter())
+            .map(|a| format!("{} ({})", a.key, a.values.len()))
+            .collect();
+        return Err(SweepTooLarge {
+            runs,
+            sizes: sizes.join(" × "),
+            cap,
+        });
+    }
+    Ok(runs as usize)
+}
+
 /// What a sweep records of one run.
 #[derive(Clone, Debug, Serialize)]
 pub struct Row {
@@ -192,7 +225,14 @@ impl Study {
         }
     }
 
-    /// All combinations of the axes, run in parallel on all cores; rows in input order.
+    /// [`Study::sweep`] if the axes make at most [`MAX_SWEEP_RUNS`] runs.
+    pub fn try_sweep(&self, axes: &[Axis]) -> Result<Vec<Row>, SweepTooLarge> {
+        sweep_size(axes, MAX_SWEEP_RUNS)?;
+        Ok(self.sweep(axes))
+    }
+
+    /// All combinations of the axes, run in parallel on all cores; rows in input order (axes
+    /// from the user go through [`Study::try_sweep`]).
     pub fn sweep(&self, axes: &[Axis]) -> Vec<Row> {
         let mut combos: Vec<Vec<(String, String)>> = vec![vec![]];
         for ax in axes {

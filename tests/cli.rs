@@ -1,0 +1,277 @@
+//! The command line's robustness: `run` writes its files however the run ends, streams its
+//! history (memory independent of `t_end`), refuses runs and sweeps above their limits before
+//! they start (exit 2); a sweep with failing runs writes every row.
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+
+/// `deckspin args`, killed (and the test failed) after 60 s: a limit that no longer refuses
+/// must not leave the test running.
+fn deckspin(args: &[&str]) -> Output {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_deckspin"))
+        .args(args)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("deckspin runs");
+    let drain = |r: Option<Box<dyn std::io::Read + Send>>| {
+        std::thread::spawn(move || {
+            let mut buf = Vec::new();
+            if let Some(mut r) = r {
+                r.read_to_end(&mut buf).unwrap();
+            }
+            buf
+        })
+    };
+    let stdout = drain(child.stdout.take().map(|r| Box::new(r) as _));
+    let stderr = drain(child.stderr.take().map(|r| Box::new(r) as _));
+    let t0 = std::time::Instant::now();
+    let status = loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            break status;
+        }
+        if t0.elapsed().as_secs() > 60 {
+            child.kill().unwrap();
+            child.wait().unwrap();
+            panic!("deckspin {args:?} still running after 60 s");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    };
+    Output {
+        status,
+        stdout: stdout.join().unwrap(),
+        stderr: stderr.join().unwrap(),
+    }
+}
+
+fn model(rel: &str) -> String {
+    common::model(rel).display().to_string()
+}
+
+fn dir(name: &str) -> PathBuf {
+    let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
+        .join("cli")
+        .join(name);
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(d.parent().unwrap()).unwrap();
+    d
+}
+
+fn text(b: &[u8]) -> String {
+    String::from_utf8_lossy(b).into_owned()
+}
+
+fn json(path: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+#[test]
+fn a_failed_run_writes_its_files_and_exits_1() {
+    let out = dir("failed");
+    let o = out.display().to_string();
+    let r = deckspin(&[
+        "run",
+        &model("models/four-span.toml"),
+        "--out",
+        &o,
+        "--set",
+        "solver.max_steps=400",
+    ]);
+    assert_eq!(r.status.code(), Some(1), "{}", text(&r.stderr));
+    let stderr = text(&r.stderr);
+    assert!(
+        stderr.contains("t = 1.952588443 s: more than 400 steps"),
+        "{stderr}"
+    );
+    assert!(text(&r.stdout).contains("up to t = 1.952588443 s"));
+    let s = json(&out.join("summary.json"));
+    assert_eq!(s["status"], "failed");
+    assert_eq!(s["failure"]["kind"], "TooManySteps");
+    let t = s["failure"]["t"].as_f64().unwrap();
+    assert!((t - 1.952588443).abs() < 1e-9, "{t}");
+    let history = std::fs::read_to_string(out.join("history.csv")).unwrap();
+    let last: f64 = (history.lines().last().unwrap().split(',').next().unwrap())
+        .parse()
+        .unwrap();
+    assert!(last > 1.9 && last <= t, "last row at {last}");
+    assert!(out.join("events.csv").exists());
+    assert_eq!(s["t_end"].as_f64().unwrap(), last);
+}
+
+#[test]
+fn a_finished_run_reports_its_status() {
+    let out = dir("finished");
+    let o = out.display().to_string();
+    let r = deckspin(&[
+        "run",
+        &model("models/validation/bouncing-ball.toml"),
+        "--out",
+        &o,
+    ]);
+    assert!(r.status.success(), "{}", text(&r.stderr));
+    let s = json(&out.join("summary.json"));
+    assert_eq!(s["status"], "finished");
+    assert!(s.get("failure").is_none());
+    let summary = std::fs::read_to_string(out.join("summary.json")).unwrap();
+    assert!(summary.starts_with("{\n  \"status\": \"finished\",\n  \"title\""));
+}
+
+/// Exit status and peak resident memory (kB) of `deckspin args`.
+#[allow(clippy::zombie_processes)] // reaped by wait4, which reports its peak memory
+fn peak_memory(args: &[&str]) -> (i32, i64) {
+    let child = Command::new(env!("CARGO_BIN_EXE_deckspin"))
+        .args(args)
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let mut status = 0;
+    // SAFETY: rusage is plain data; wait4 fills it for this child, which it reaps
+    let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
+    let pid = unsafe { libc::wait4(child.id() as libc::pid_t, &mut status, 0, &mut usage) };
+    assert_eq!(pid, child.id() as libc::pid_t);
+    (libc::WEXITSTATUS(status), usage.ru_maxrss)
+}
+
+#[test]
+fn a_long_run_streams_its_history_in_bounded_memory() {
+    // 1e6 rows of a block at rest after 1 s: it used to hold them all (239 MB)
+    let out = dir("long");
+    std::fs::create_dir_all(&out).unwrap();
+    std::os::unix::fs::symlink("/dev/null", out.join("history.csv")).unwrap();
+    let o = out.display().to_string();
+    let m = model("models/validation/block-on-plane.toml");
+    let run = |t_end: &str| {
+        let t = format!("solver.t_end={t_end}");
+        peak_memory(&[
+            "run",
+            &m,
+            "--out",
+            &o,
+            "--set",
+            &t,
+            "--set",
+            "solver.output_dt=1e-3",
+        ])
+    };
+    let (code, long) = run("1000");
+    assert_eq!(code, 0);
+    let s = json(&out.join("summary.json"));
+    assert_eq!(s["t_end"].as_f64(), Some(1000.0));
+    let (code, short) = run("10");
+    assert_eq!(code, 0);
+    assert!(long < 40_000, "peak {long} kB for 1e6 rows");
+    assert!(
+        long < short + 8_000,
+        "peak {long} kB for 1e6 rows, {short} kB for 1e4"
+    );
+}
+
+#[test]
+fn runs_above_the_limits_are_refused_before_they_start() {
+    let out = dir("refused");
+    let o = out.display().to_string();
+    let m = model("models/validation/block-on-plane.toml");
+    let r = deckspin(&[
+        "run",
+        &m,
+        "--out",
+        &o,
+        "--set",
+        "solver.t_end=1e5",
+        "--set",
+        "solver.output_dt=1e-3",
+    ]);
+    assert_eq!(r.status.code(), Some(2));
+    let e = text(&r.stderr);
+    for part in [
+        "solver.t_end = 100000 s",
+        "solver.output_dt = 0.001 s",
+        "1.004e8 rows",
+        "5e7 rows",
+    ] {
+        assert!(e.contains(part), "'{part}' not in: {e}");
+    }
+    assert!(!out.exists(), "a refused run wrote {}", out.display());
+    let r = deckspin(&[
+        "run",
+        &m,
+        "--out",
+        &o,
+        "--method",
+        "moreau",
+        "--set",
+        "solver.t_end=1e4",
+    ]);
+    assert_eq!(r.status.code(), Some(2));
+    let e = text(&r.stderr);
+    assert!(
+        e.contains("1.000e7 steps") && e.contains("solver.max_steps = 5000000"),
+        "{e}"
+    );
+    assert!(!out.exists());
+}
+
+#[test]
+fn sweeps_are_capped_by_the_product_of_their_axes() {
+    let csv = dir("sweep-cap").join("sweep.csv");
+    let c = csv.display().to_string();
+    let t0 = std::time::Instant::now();
+    let r = deckspin(&[
+        "sweep",
+        &model("models/four-span.toml"),
+        "--set",
+        "contacts.mu=0:1:0.0001",
+        "--set",
+        "excitation.run=1:30000:1",
+        "--out",
+        &c,
+    ]);
+    assert_eq!(r.status.code(), Some(2));
+    let e = text(&r.stderr);
+    assert!(
+        e.contains("300030000 runs") && e.contains("limit of 100000"),
+        "{e}"
+    );
+    assert!(!csv.exists());
+    assert!(t0.elapsed().as_secs_f64() < 5.0);
+    // at the cap: every combination is counted, none run
+    let axes = [
+        deckspin::studies::parse_axis("a=1:1000:1").unwrap(),
+        deckspin::studies::parse_axis("b=1:100:1").unwrap(),
+    ];
+    assert_eq!(
+        deckspin::studies::sweep_size(&axes, 100_000).unwrap(),
+        100_000
+    );
+    let e = deckspin::studies::sweep_size(&axes, 99_999).unwrap_err();
+    assert_eq!((e.runs, e.cap), (100_000, 99_999));
+}
+
+#[test]
+fn a_sweep_with_failing_runs_writes_every_row() {
+    let csv = dir("sweep-failing").join("sweep.csv");
+    let c = csv.display().to_string();
+    let r = deckspin(&[
+        "sweep",
+        &model("models/four-span.toml"),
+        "--set",
+        "solver.max_steps=400,1000000",
+        "--set",
+        "contacts.mu=0,0.3",
+        "--out",
+        &c,
+    ]);
+    assert_eq!(r.status.code(), Some(1), "{}", text(&r.stderr));
+    let rows = std::fs::read_to_string(&csv).unwrap();
+    let rows: Vec<&str> = rows.lines().skip(1).collect();
+    assert_eq!(rows.len(), 4);
+    assert_eq!(
+        rows.iter()
+            .filter(|l| l.contains("more than 400 steps"))
+            .count(),
+        2
+    );
+    assert!(rows[2].starts_with("1000000,0,") && rows[2].ends_with(","));
+}
