@@ -223,8 +223,9 @@ impl SolverError {
     /// The instant the run stopped at (the start for an initial penetration).
     pub fn time(&self) -> f64 {
         match self {
-            SolverError::InitialPenetration { .. } => 0.0,
-            SolverError::Lcp { t, .. }
+            SolverError::InitialPenetration { .. } | SolverError::TooStiff { .. } => 0.0,
+            SolverError::Stalled { t, .. }
+            | SolverError::Lcp { t, .. }
             | SolverError::Painleve { t, .. }
             | SolverError::StepCollapse { t, .. }
             | SolverError::StepTooSmall { t, .. }
@@ -248,6 +249,8 @@ impl SolverError {
             SolverError::TooManySteps { .. } => "TooManySteps",
             SolverError::InitialPenetration { .. } => "InitialPenetration",
             SolverError::NonFinite { .. } => "NonFinite",
+            SolverError::TooStiff { .. } => "TooStiff",
+            SolverError::Stalled { .. } => "Stalled",
             SolverError::Unstable { .. } => "Unstable",
             SolverError::NoConvergence { .. } => "NoConvergence",
             SolverError::Cancelled { .. } => "Cancelled",

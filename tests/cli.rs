@@ -76,20 +76,20 @@ fn a_failed_run_writes_its_files_and_exits_1() {
         "--out",
         &o,
         "--set",
-        "solver.max_steps=400",
+        "solver.max_steps=2000",
     ]);
     assert_eq!(r.status.code(), Some(1), "{}", text(&r.stderr));
     let stderr = text(&r.stderr);
     assert!(
-        stderr.contains("t = 1.952588443 s: more than 400 steps"),
+        stderr.contains("t = 6.783023683 s: more than 2000 steps"),
         "{stderr}"
     );
-    assert!(text(&r.stdout).contains("up to t = 1.952588443 s"));
+    assert!(text(&r.stdout).contains("up to t = 6.783023683 s"));
     let s = json(&out.join("summary.json"));
     assert_eq!(s["status"], "failed");
     assert_eq!(s["failure"]["kind"], "TooManySteps");
     let t = s["failure"]["t"].as_f64().unwrap();
-    assert!((t - 1.952588443).abs() < 1e-9, "{t}");
+    assert!((t - 6.783023683).abs() < 1e-9, "{t}");
     let history = std::fs::read_to_string(out.join("history.csv")).unwrap();
     let last: f64 = (history.lines().last().unwrap().split(',').next().unwrap())
         .parse()
@@ -257,7 +257,7 @@ fn a_sweep_with_failing_runs_writes_every_row() {
         "sweep",
         &model("models/four-span.toml"),
         "--set",
-        "solver.max_steps=400,1000000",
+        "solver.max_steps=2000,1000000",
         "--set",
         "contacts.mu=0,0.3",
         "--out",
@@ -269,7 +269,7 @@ fn a_sweep_with_failing_runs_writes_every_row() {
     assert_eq!(rows.len(), 4);
     assert_eq!(
         rows.iter()
-            .filter(|l| l.contains("more than 400 steps"))
+            .filter(|l| l.contains("more than 2000 steps"))
             .count(),
         2
     );

@@ -118,7 +118,7 @@ fn a_failed_run_writes_its_files_up_to_the_failure() {
     // event-driven: the step limit; penalty-explicit: unstable (its last rows come after its
     // last batch)
     let cases: [(&[&str], &str, f64); 2] = [
-        (&["solver.max_steps=400"], "TooManySteps", 1.952588443),
+        (&["solver.max_steps=2000"], "TooManySteps", 6.783023683),
         (&["solver.method=\"penalty-explicit\""], "Unstable", 2.628),
     ];
     for (i, (set, kind, t_fail)) in cases.iter().enumerate() {
