@@ -231,10 +231,9 @@ fn cmd_run(
     set: &[String],
     at: Option<f64>,
 ) -> CliResult {
-    use deckspin::run::{OutputBudget, RunFiles, Stop, bound_steps_for_streaming, check_output};
-    let mut scene = deckspin::load(model, set)?;
+    use deckspin::run::{OutputBudget, RunFiles, Stop, check_output};
+    let scene = deckspin::load(model, set)?;
     check_output(&scene, &OutputBudget::default())?;
-    bound_steps_for_streaming(&mut scene);
     let cannot = |e: std::io::Error| format!("{}: cannot write results: {e}", out.display());
     let mut files = RunFiles::create(out, &scene, at).map_err(cannot)?;
     let run = deckspin::simulate::integrate(&scene, &mut files);

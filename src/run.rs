@@ -350,25 +350,6 @@ pub struct RunFiles {
     nearest: Option<Sample>,
 }
 
-/// Most output-grid samples one event-driven step may span when a run is streamed: the
-/// samples a step interpolates are handed over together, after the step.
-pub const STREAM_SAMPLES_PER_STEP: f64 = 4096.0;
-
-/// Prepares `scene` for a streamed run ([`RunFiles`]): its event-driven steps span at most
-/// [`STREAM_SAMPLES_PER_STEP`] output intervals (`solver.h_max` lowered to that when it is
-/// larger or 0), so that the samples held between two batches are bounded whatever `t_end`.
-/// A step that long only happens where nothing moves (a body at rest), where it changes no
-/// result; it returns the `h_max` set, if it was changed.
-pub fn bound_steps_for_streaming(scene: &mut Scene) -> Option<f64> {
-    let st = &mut scene.settings;
-    let cap = STREAM_SAMPLES_PER_STEP * st.output_dt;
-    if st.method == Method::Event && cap.is_finite() && (st.h_max <= 0.0 || st.h_max > cap) {
-        st.h_max = cap;
-        return Some(cap);
-    }
-    None
-}
-
 /// What [`RunFiles::finish`] wrote.
 #[derive(Debug)]
 pub struct Written {

@@ -4,10 +4,7 @@
 mod common;
 
 use deckspin::Stop;
-use deckspin::run::{
-    LimitError, OutputBudget, OutputEstimate, RunFiles, STREAM_SAMPLES_PER_STEP,
-    bound_steps_for_streaming, check_output,
-};
+use deckspin::run::{LimitError, OutputBudget, OutputEstimate, RunFiles, check_output};
 use deckspin::scene::Scene;
 use std::path::PathBuf;
 
@@ -154,29 +151,6 @@ fn a_failed_run_writes_its_files_up_to_the_failure() {
             read(&d.join("memory"), "events.csv")
         );
     }
-}
-
-#[test]
-fn streaming_bounds_the_steps_of_the_event_method_only() {
-    let mut s = scene("models/validation/block-on-plane.toml", &[]);
-    let dt = s.settings.output_dt;
-    assert_eq!(
-        bound_steps_for_streaming(&mut s),
-        Some(STREAM_SAMPLES_PER_STEP * dt)
-    );
-    assert_eq!(s.settings.h_max, 4096.0 * dt);
-    let mut small = scene(
-        "models/validation/block-on-plane.toml",
-        &["solver.h_max=0.5"],
-    );
-    assert_eq!(bound_steps_for_streaming(&mut small), None);
-    assert_eq!(small.settings.h_max, 0.5);
-    let mut moreau = scene(
-        "models/validation/block-on-plane.toml",
-        &["solver.method=\"moreau\""],
-    );
-    assert_eq!(bound_steps_for_streaming(&mut moreau), None);
-    assert_eq!(moreau.settings.h_max, 0.0);
 }
 
 #[test]

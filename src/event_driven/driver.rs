@@ -159,7 +159,7 @@ impl<'a> Integration<'a> {
                         limit: st.max_steps,
                     });
                 }
-                match self.attempt()? {
+                match self.attempt(observer)? {
                     Attempt::Rejected => continue,
                     Attempt::Accepted(f) => found = f,
                 }
@@ -202,8 +202,15 @@ impl<'a> Integration<'a> {
 
     /// One DP5 step from the current state (to the next breakpoint at most), the event search
     /// on its dense output, the grid samples inside it and the move to its end or first event.
-    fn attempt(&mut self) -> Result<Attempt, SolverError> {
-        let Integration { eng, clock, ws, .. } = self;
+    /// The grid samples go to `observer` as they are made (a long step over a quiet stretch
+    /// holds many).
+    fn attempt(&mut self, observer: &mut dyn Observer) -> Result<Attempt, SolverError> {
+        let Integration {
+            eng,
+            clock,
+            ws,
+            batcher,
+        } = self;
         let Clock {
             breakpoints,
             bp,
@@ -290,6 +297,7 @@ impl<'a> Integration<'a> {
             eng.state.t = tg.min(st.t_end);
             step.dense_at_into(eng.state.t, &mut eng.state.y);
             eng.record_sample(SampleKind::Grid)?;
+            batcher.maybe(&eng.state.out, eng.state.t, observer)?;
             *next_out += 1;
         }
         eng.state.t = t1;
