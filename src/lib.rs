@@ -30,6 +30,7 @@ pub mod precision;
 pub mod run;
 pub mod scene;
 pub mod simulate;
+pub mod stress;
 pub mod studies;
 pub mod timestepping;
 #[cfg(feature = "workbench")]

@@ -1,5 +1,7 @@
 //! `deckspin` command line: a thin layer over the library.
 
+mod cli;
+
 use clap::{Parser, Subcommand};
 use deckspin::methods::Method;
 use std::path::PathBuf;
@@ -127,6 +129,8 @@ enum Command {
         #[arg(long, default_value_t = 3)]
         sweeps: usize,
     },
+    /// Stress test: the bridge under every record pair of a folder × runs × ε × μ × column law.
+    Stress(cli::stress::StressArgs),
 }
 
 fn main() -> ExitCode {
@@ -191,6 +195,7 @@ fn main() -> ExitCode {
             repeat,
             sweeps,
         }) => cmd_bench(&model, repeat, sweeps),
+        Some(Command::Stress(a)) => cli::stress::cmd_stress(&a),
         None => match cli.model {
             #[cfg(feature = "workbench")]
             Some(m) => deckspin::tui::run(&m),

@@ -143,3 +143,31 @@ fn a_scene_too_stiff_for_the_step_budget_is_refused_before_it_runs() {
     let run = deckspin::simulate::integrate(&roomy, &mut deckspin::Silent);
     assert!(run.finished(), "{:?}", run.stop);
 }
+
+/// A slice of the stress test (`deckspin stress`): two real record pairs of different lengths
+/// at the strongest run, ε = 0 and 0.5, Takeda and bilinear columns. Every run finishes with no
+/// penetration above 1e-9 m and its energy closed within rtol/10.
+#[test]
+fn a_slice_of_the_record_stress_test_passes() {
+    use deckspin::stress::{StressGrid, record_pairs, stress};
+    let (pairs, single) = record_pairs(&common::model("excitations/far-field")).unwrap();
+    assert_eq!((pairs.len(), single.len()), (19, 0));
+    let pick: Vec<_> = pairs
+        .into_iter()
+        .filter(|p| p.name == "MANJIL_ABB" || p.name == "NORTHR_LOS")
+        .collect();
+    assert_eq!(pick.len(), 2);
+    let grid = StressGrid {
+        runs: vec![7],
+        restitution: vec![0.0, 0.5],
+        mu: vec![0.5],
+        ..StressGrid::default()
+    };
+    let rows = stress(&common::model("models/four-span.toml"), &pick, &grid).unwrap();
+    assert_eq!(rows.len(), 8);
+    for r in &rows {
+        assert!(r.passes(), "{r:?}");
+        // to the end of the longer component (time scale 0.5) and the 2 s tail
+        assert!(r.t_end > 2.0 && r.t_end < 40.0, "{r:?}");
+    }
+}

@@ -1,0 +1,3 @@
+//! Commands of the `deckspin` binary kept apart from `main.rs`.
+
+pub mod stress;

@@ -1,0 +1,281 @@
+//! The stress test of real records: a bridge model under every record pair of a folder, at
+//! each of its runs (target PGAs), restitution, friction and column law, each run to the end of
+//! its longer record plus a free-vibration tail. Every run must finish with no penetration
+//! above 1e-9 m and an energy closure within rtol/10.
+
+use crate::model::ModelError;
+use crate::run::Stop;
+use crate::scene::Motion;
+use rayon::prelude::*;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// A record pair: longitudinal and transverse components of one station.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RecordPair {
+    pub name: String,
+    pub longitudinal: PathBuf,
+    pub transverse: PathBuf,
+}
+
+/// The `.AT2` files of `dir` in pairs: sorted by name, two consecutive files of one station
+/// (their names equal but for the last 3 characters of the stem) make a pair; the first is
+/// the longitudinal component. Files without a partner are returned apart.
+pub fn record_pairs(dir: &Path) -> std::io::Result<(Vec<RecordPair>, Vec<PathBuf>)> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x.eq_ignore_ascii_case("at2")))
+        .collect();
+    files.sort();
+    let stem = |p: &Path| {
+        p.file_stem()
+            .unwrap_or_default()
+            .to_string_lossy()
+            .to_string()
+    };
+    let station = |s: &str| s[..s.len().saturating_sub(3)].to_string();
+    let (mut pairs, mut single) = (Vec::new(), Vec::new());
+    let mut i = 0;
+    while i < files.len() {
+        let a = stem(&files[i]);
+        match files.get(i + 1) {
+            Some(b) if station(&stem(b)) == station(&a) => {
+                pairs.push(RecordPair {
+                    name: station(&a).trim_end_matches(['_', '-']).to_string(),
+                    longitudinal: files[i].clone(),
+                    transverse: b.clone(),
+                });
+                i += 2;
+            }
+            _ => {
+                single.push(files[i].clone());
+                i += 1;
+            }
+        }
+    }
+    Ok((pairs, single))
+}
+
+/// The grid of a stress test.
+#[derive(Clone, Debug)]
+pub struct StressGrid {
+    /// Indices of the model's `[[run]]` table (1-based, as `excitation.run`).
+    pub runs: Vec<usize>,
+    pub restitution: Vec<f64>,
+    pub mu: Vec<f64>,
+    /// Column laws: "takeda" (the model's) and/or "bilinear" (its backbone without the
+    /// Takeda unloading rules).
+    pub laws: Vec<String>,
+    /// Free vibration after the end of the longer record, s.
+    pub tail: f64,
+}
+
+impl Default for StressGrid {
+    fn default() -> Self {
+        Self {
+            runs: (1..=7).collect(),
+            restitution: vec![0.0, 0.5, 1.0],
+            mu: vec![0.1, 0.5, 1.0],
+            laws: vec!["takeda".into(), "bilinear".into()],
+            tail: 2.0,
+        }
+    }
+}
+
+/// One run of a stress test.
+#[derive(Clone, Debug)]
+pub struct StressRow {
+    pub record: String,
+    pub run: usize,
+    pub restitution: f64,
+    pub mu: f64,
+    pub law: String,
+    pub t_end: f64,
+    /// "finished", "failed: <error>" or "refused: <model error>".
+    pub status: String,
+    pub max_penetration: f64,
+    pub closure_rel: f64,
+    pub rtol: f64,
+    pub wall: f64,
+}
+
+impl StressRow {
+    /// Finished, no penetration above 1e-9 m, energy closure within rtol/10.
+    pub fn passes(&self) -> bool {
+        self.status == "finished"
+            && self.max_penetration <= 1e-9
+            && self.closure_rel <= self.rtol / 10.0
+    }
+}
+
+/// The model text with its column law replaced by the bilinear law of the same backbone (the
+/// Takeda parameters other than stiffness, yield force and post-yield ratio dropped).
+fn bilinear_text(text: &str) -> Result<String, String> {
+    let mut doc: toml_edit::DocumentMut = text.parse().map_err(|e| format!("{e}"))?;
+    let law = doc
+        .get_mut("column")
+        .and_then(|c| c.get_mut("law"))
+        .and_then(|l| l.as_inline_table_mut())
+        .ok_or("the model has no inline [column] law")?;
+    let keep = ["stiffness", "yield_force", "post_yield_ratio"];
+    let mut out = toml_edit::InlineTable::new();
+    out.insert("law", "bilinear".into());
+    for k in keep {
+        if let Some(v) = law.get(k) {
+            out.insert(k, v.clone());
+        }
+    }
+    *law = out;
+    Ok(doc.to_string())
+}
+
+/// The longest support record of a scene ends at this time (0 without records).
+fn records_end(scene: &crate::scene::Scene) -> f64 {
+    (scene.supports.iter())
+        .filter_map(|s| match &s.motion {
+            Motion::Record(g) => Some(g.end_time()),
+            Motion::Harmonic { .. } => None,
+        })
+        .fold(0.0, f64::max)
+}
+
+/// One stress run: the model under `pair` with the grid point's settings.
+fn stress_run(
+    text: &str,
+    path: &Path,
+    pair: &RecordPair,
+    (run, eps, mu, law): (usize, f64, f64, &str),
+    tail: f64,
+) -> StressRow {
+    let wall = Instant::now();
+    let mut row = StressRow {
+        record: pair.name.clone(),
+        run,
+        restitution: eps,
+        mu,
+        law: law.to_string(),
+        t_end: 0.0,
+        status: String::new(),
+        max_penetration: 0.0,
+        closure_rel: 0.0,
+        rtol: 0.0,
+        wall: 0.0,
+    };
+    let mut set = vec![
+        format!(
+            "excitation.longitudinal=\"{}\"",
+            pair.longitudinal.display()
+        ),
+        format!("excitation.transverse=\"{}\"", pair.transverse.display()),
+        format!("excitation.run={run}"),
+        format!("contacts.restitution={eps}"),
+        format!("contacts.mu={mu}"),
+    ];
+    let load = |set: &[String]| -> Result<crate::scene::Scene, ModelError> {
+        crate::model::load_str(text, path, set)
+    };
+    let scene = load(&set).and_then(|s| {
+        // to the end of the longer record plus the tail
+        set.push(format!("solver.t_end={}", records_end(&s) + tail));
+        let mut s = load(&set)?;
+        s.settings.keep_history = false;
+        Ok(s)
+    });
+    match scene {
+        Err(e) => row.status = format!("refused: {e}"),
+        Ok(scene) => {
+            row.t_end = scene.settings.t_end;
+            row.rtol = scene.settings.rtol;
+            let r = crate::simulate::integrate(&scene, &mut crate::Silent);
+            row.max_penetration = r.output.summary.max_penetration;
+            row.closure_rel = r.output.summary.energy_closure_rel;
+            row.status = match r.stop {
+                Stop::Finished => "finished".into(),
+                Stop::Cancelled { t } => format!("cancelled at {t}"),
+                Stop::Failed(e) => format!("failed: {e}"),
+            };
+        }
+    }
+    row.wall = wall.elapsed().as_secs_f64();
+    row
+}
+
+/// Every record pair × run × ε × μ × column law of `grid` on the bridge model at `path`, in
+/// parallel.
+pub fn stress(
+    path: &Path,
+    pairs: &[RecordPair],
+    grid: &StressGrid,
+) -> Result<Vec<StressRow>, ModelError> {
+    let text = std::fs::read_to_string(path).map_err(|e| ModelError::Io {
+        path: path.to_path_buf(),
+        source: e,
+    })?;
+    let bilinear = bilinear_text(&text).unwrap_or_else(|_| text.clone());
+    let mut jobs = Vec::new();
+    for pair in pairs {
+        for &run in &grid.runs {
+            for &eps in &grid.restitution {
+                for &mu in &grid.mu {
+                    for law in &grid.laws {
+                        jobs.push((pair, run, eps, mu, law.as_str()));
+                    }
+                }
+            }
+        }
+    }
+    Ok(jobs
+        .par_iter()
+        .map(|&(pair, run, eps, mu, law)| {
+            let text = if law == "bilinear" { &bilinear } else { &text };
+            stress_run(text, path, pair, (run, eps, mu, law), grid.tail)
+        })
+        .collect())
+}
+
+/// The tally of a stress test: runs, finished, passing, the failures by reason, the worst
+/// penetration, the worst closure relative to rtol and the slowest run.
+pub fn tally(rows: &[StressRow]) -> String {
+    let finished = rows.iter().filter(|r| r.status == "finished").count();
+    let passing = rows.iter().filter(|r| r.passes()).count();
+    let worst = |f: &dyn Fn(&StressRow) -> f64| {
+        rows.iter()
+            .max_by(|a, b| f(a).total_cmp(&f(b)))
+            .map(|r| (f(r), r))
+    };
+    let label = |r: &StressRow| {
+        format!(
+            "{} run {} ε {} μ {} {}",
+            r.record, r.run, r.restitution, r.mu, r.law
+        )
+    };
+    let mut out = format!(
+        "{} runs: {finished} finished, {passing} pass (penetration ≤ 1e-9 m, closure ≤ rtol/10)\n",
+        rows.len()
+    );
+    for r in rows.iter().filter(|r| !r.passes()) {
+        out += &format!(
+            "  {}: {} (penetration {:.3e} m, closure {:.3e})\n",
+            label(r),
+            r.status,
+            r.max_penetration,
+            r.closure_rel
+        );
+    }
+    if let Some((p, r)) = worst(&|r| r.max_penetration) {
+        out += &format!("worst penetration {p:.3e} m ({})\n", label(r));
+    }
+    if let Some((c, r)) = worst(&|r| r.closure_rel / r.rtol.max(1e-300)) {
+        out += &format!(
+            "worst closure {:.3e} = {c:.3} rtol ({})\n",
+            c * r.rtol,
+            label(r)
+        );
+    }
+    if let Some((w, r)) = worst(&|r| r.wall) {
+        out += &format!("slowest {w:.2} s ({}, t_end {:.1} s)\n", label(r), r.t_end);
+    }
+    let cpu: f64 = rows.iter().map(|r| r.wall).sum();
+    out += &format!("CPU {cpu:.1} s in all\n");
+    out
+}
