@@ -110,7 +110,8 @@ pub fn apply_rayleigh(
 }
 
 /// Quasi-static influence of each support, r_s = K₀⁻¹ Σ k J (unit support displacement), as
-/// (DOF, support, r) entries above 1e-14.
+/// (DOF, support, r) entries above 1e-14. One pass over the elements (grouped by support, in
+/// file order: springs, then hysteretic elements), so the cost is linear in their number.
 fn support_influence(scene: &Scene) -> Vec<(usize, usize, f64)> {
     let k0 = initial_stiffness(scene);
     let n = scene.ndof();
@@ -118,18 +119,23 @@ fn support_influence(scene: &Scene) -> Vec<(usize, usize, f64)> {
     let z = DVector::zeros(n);
     let mut jac = DVector::zeros(n);
     let fr = scene.frame(0.0, &z, &z);
-    let mut reference = Vec::new();
-    for s in 0..scene.supports.len() {
-        let mut f = DVector::zeros(n);
-        for sp in scene.springs.iter().filter(|x| x.support == Some(s)) {
-            let (.., sparse, nj) = scene.deformation(&fr, &sp.attachment, None);
-            spread(&sparse[..nj], &mut jac);
-            f.axpy(sp.stiffness, &jac, 1.0);
+    let ns = scene.supports.len();
+    let mut driven: Vec<Vec<(&Attachment, f64)>> = vec![Vec::new(); ns];
+    let springs = scene.springs.iter().map(|x| (x.support, &x.attachment, x.stiffness));
+    let hyst = (scene.hysteretic.iter())
+        .map(|x| (x.support, &x.attachment, x.law.law().initial_stiffness()));
+    for (s, att, k) in springs.chain(hyst) {
+        if let Some(list) = s.and_then(|s| driven.get_mut(s)) {
+            list.push((att, k));
         }
-        for h in scene.hysteretic.iter().filter(|x| x.support == Some(s)) {
-            let (.., sparse, nj) = scene.deformation(&fr, &h.attachment, None);
+    }
+    let mut reference = Vec::new();
+    for (s, list) in driven.iter().enumerate() {
+        let mut f = DVector::zeros(n);
+        for (att, k) in list {
+            let (.., sparse, nj) = scene.deformation(&fr, att, None);
             spread(&sparse[..nj], &mut jac);
-            f.axpy(h.law.law().initial_stiffness(), &jac, 1.0);
+            f.axpy(*k, &jac, 1.0);
         }
         if let Some(r) = lu.solve(&f) {
             for k in 0..n {
