@@ -371,27 +371,6 @@ fn validate_excitation(e: &ExcitationSpec, nb: usize, ck: &Check) -> Result<(), 
             ck.nonneg(&format!("{field}.{i}"), *l)?;
         }
     }
-    let unread: &[(&str, bool)] = match e.kind.as_str() {
-        "harmonic" => &[
-            ("longitudinal", e.longitudinal.is_some()),
-            ("transverse", e.transverse.is_some()),
-            ("run", e.run.is_some()),
-            ("taper", e.taper.is_some()),
-        ],
-        "record" => &[
-            ("amplitude_x", e.amplitude_x.is_some()),
-            ("amplitude_y", e.amplitude_y.is_some()),
-            ("frequency", e.frequency.is_some()),
-        ],
-        _ => &[],
-    };
-    if let Some((k, _)) = unread.iter().find(|(_, given)| *given) {
-        let kind = &e.kind;
-        return Err(ck.err(
-            &format!("excitation.{k}"),
-            format!("not read by kind = \"{kind}\": remove it or change the kind"),
-        ));
-    }
     Ok(())
 }
 
@@ -670,7 +649,6 @@ fn record_supports(
             "target_pga" => e
                 .run
                 .map(|r| format!("run.{}.pga_{axis}", r.wrapping_sub(1))),
-            "baseline" => Some("excitation.baseline_order".into()),
             "time_scale" | "taper" => Some(format!("excitation.{f}")),
             _ => None,
         };
@@ -697,20 +675,46 @@ fn record_supports(
     Ok(out)
 }
 
-/// What a bridge file leaves to defaults that changes the run: no `[excitation]`, `[[run]]`
-/// tables that no `excitation.run` picks.
-pub fn warnings(f: &BridgeFile, path: &Path) -> Vec<ModelWarning> {
-    let path = path.to_path_buf();
-    match &f.excitation {
-        None => vec![ModelWarning::NoExcitation { path }],
-        Some(e) if e.kind == "record" && e.run.is_none() && !f.runs.is_empty() => {
-            vec![ModelWarning::RunsUnused {
-                path,
-                runs: f.runs.len(),
-            }]
-        }
-        Some(_) => Vec::new(),
+/// What a bridge file leaves to defaults or does not use: no `[excitation]`, `[[run]]` tables
+/// that no `excitation.run` picks, excitation fields its kind does not read (kept so that
+/// `--set excitation.kind=…` can switch kinds).
+pub fn warnings(f: &BridgeFile, ck: &Check) -> Vec<ModelWarning> {
+    let path = ck.path.to_path_buf();
+    let Some(e) = &f.excitation else {
+        return vec![ModelWarning::NoExcitation { path }];
+    };
+    let mut out = Vec::new();
+    if e.kind == "record" && e.run.is_none() && !f.runs.is_empty() {
+        let runs = f.runs.len();
+        out.push(ModelWarning::RunsUnused {
+            path: path.clone(),
+            runs,
+        });
     }
+    let unread: &[(&str, bool)] = match e.kind.as_str() {
+        "harmonic" => &[
+            ("longitudinal", e.longitudinal.is_some()),
+            ("transverse", e.transverse.is_some()),
+            ("run", e.run.is_some()),
+            ("taper", e.taper.is_some()),
+        ],
+        "record" => &[
+            ("amplitude_x", e.amplitude_x.is_some()),
+            ("amplitude_y", e.amplitude_y.is_some()),
+            ("frequency", e.frequency.is_some()),
+        ],
+        _ => &[],
+    };
+    for (k, _) in unread.iter().filter(|(_, given)| *given) {
+        let field = format!("excitation.{k}");
+        out.push(ModelWarning::Unread {
+            path: path.clone(),
+            line: ck.line(&field),
+            field,
+            kind: e.kind.clone(),
+        });
+    }
+    out
 }
 
 /// The tables only a bridge file has.

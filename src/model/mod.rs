@@ -105,7 +105,7 @@ fn compile_text(
     let (mut scene, solver) = if table.contains_key("deck") {
         let file = bridge::BridgeFile::deserialize(Deserializer::from(doc)).map_err(located)?;
         let scene = bridge::compile(&file, &ck, motions)?;
-        warnings.extend(bridge::warnings(&file, path));
+        warnings.extend(bridge::warnings(&file, &ck));
         (scene, file.solver)
     } else {
         bridge::refuse_without_deck(&table, &ck)?;

@@ -74,7 +74,7 @@ impl Motions {
 }
 
 /// An error of reading or processing the record `file` that model field `field` names, located
-/// at that field; when the processing field it is about was written by a `--set` argument
+/// at that field (or at the model field of the processing parameter it is about); when the processing field it is about was written by a `--set` argument
 /// (`model_field` maps processing fields to model fields), the argument is named instead.
 pub(super) fn record_error(
     e: ModelError,
@@ -96,10 +96,16 @@ pub(super) fn record_error(
             reason: source.to_string(),
         };
     }
+    // about a processing parameter the model file gives: located there
+    let field = match &source {
+        ExcitationError::Invalid { field: f, .. } => model_field(f),
+        _ => None,
+    }
+    .unwrap_or_else(|| field.to_string());
     ModelError::Record {
         path: ck.path.to_path_buf(),
-        line: ck.line(field),
-        field: field.to_string(),
+        line: ck.line(&field),
+        field,
         record: file.to_string(),
         source,
     }

@@ -10,14 +10,14 @@ use std::path::PathBuf;
 pub enum ModelWarning {
     /// No `[solver]` table: every setting is its documented default.
     #[error(
-        "{}: no [solver] table: the defaults are used (method event, t_end {t_end} s, rtol 1e-8, \
+        "{}: no [solver] table: the defaults are used (method event, t_end {t_end:.3} s, rtol 1e-8, \
          atol 1e-10, output_dt 0.01 s; docs/engine.md)",
         path.display()
     )]
     NoSolver { path: PathBuf, t_end: f64 },
     /// `solver.t_end` absent: the end of the longest record plus the free-vibration tail.
     #[error(
-        "{}: solver.t_end absent: {t_end} s = end of the longest record ({record_end} s, \
+        "{}: solver.t_end absent: {t_end:.3} s = end of the longest record ({record_end:.3} s, \
          {field}) + {tail} s of free vibration",
         path.display()
     )]
@@ -33,8 +33,8 @@ pub enum ModelWarning {
     TEndDefault { path: PathBuf, t_end: f64 },
     /// A record runs past `t_end`: its end is not applied.
     #[error(
-        "{}:{line}: solver.t_end: {t_end} s ends before the record of {field} ({record_end} s): \
-         its last {} s are not applied",
+        "{}:{line}: solver.t_end: {t_end} s ends before the record of {field} ({record_end:.3} \
+         s): its last {:.3} s are not applied",
         path.display(),
         record_end - t_end
     )]
@@ -90,5 +90,16 @@ pub enum ModelWarning {
         limit: f64,
         omega: f64,
         what: String,
+    },
+    /// A field the chosen kind of excitation does not read.
+    #[error(
+        "{}:{line}: {field}: not read by excitation kind = \"{kind}\" (ignored)",
+        path.display()
+    )]
+    Unread {
+        path: PathBuf,
+        line: usize,
+        field: String,
+        kind: String,
     },
 }
