@@ -368,6 +368,18 @@ fn solver_values_out_of_range_are_refused_with_the_numbers() {
         let msg = set_err(&[set]);
         assert!(msg.contains(want), "{set}: {msg}");
     }
+    // with h_max, loose tolerances are a fixed-step DP5 (order studies): accepted, said
+    let l = four_span(
+        &same,
+        &["solver.rtol=1e3", "solver.atol=1e3", "solver.h_max=0.01"],
+    )
+    .unwrap();
+    let msg = l.warnings[0].to_string();
+    assert!(
+        msg.contains("solver.rtol = 1000, solver.atol = 1000: no error control")
+            && msg.contains("solver.h_max = 0.01 s"),
+        "{msg}"
+    );
     // in the file: the line of the field
     let atol = line_of("atol = 1e-7");
     let edit = |t: String| t.replace("atol = 1e-7", "atol = 0.1");

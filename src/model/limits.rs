@@ -52,7 +52,7 @@ pub(super) fn finish(
             format!("must be ≤ solver.t_end = {t} s, got {dt} s"),
         ));
     }
-    tolerances(scene, ck)?;
+    tolerances(scene, ck, warnings)?;
     fixed_step(scene, given.step_limit, ck, warnings)
 }
 
@@ -107,9 +107,36 @@ fn run_length(scene: &mut Scene, given: &Given, ck: &Check, warnings: &mut Vec<M
     }
 }
 
-/// `atol`, `gap_tol` against the smallest positive initial gap, `velocity_tol` against
-/// gap·ω₁ ([`TOLERANCE_FRACTION`]).
-fn tolerances(scene: &Scene, ck: &Check) -> Result<(), ModelError> {
+/// `rtol` < 1, `atol` and `gap_tol` against the smallest positive initial gap, `velocity_tol`
+/// against gap·ω₁ ([`TOLERANCE_FRACTION`]). With `h_max` > 0, loose `rtol`/`atol` make a
+/// fixed-step DP5 (order studies): accepted and said.
+fn tolerances(
+    scene: &Scene,
+    ck: &Check,
+    warnings: &mut Vec<ModelWarning>,
+) -> Result<(), ModelError> {
+    let st = &scene.settings;
+    let fixed = st.h_max > 0.0;
+    let (rtol, atol, h_max) = (st.rtol, st.atol, st.h_max);
+    if rtol >= 1.0 && !fixed {
+        return Err(ck.err(
+            "solver.rtol",
+            format!(
+                "must be in (0, 1): a relative error of {rtol} is no error control (with \
+                 solver.h_max > 0 it would make a fixed-step DP5), got {rtol}"
+            ),
+        ));
+    }
+    let path = ck.path.to_path_buf();
+    if fixed && rtol >= 1.0 {
+        let path = path.clone();
+        warnings.push(ModelWarning::ErrorControlOff {
+            path,
+            rtol,
+            atol,
+            h_max,
+        });
+    }
     let fr = scene.frame(0.0, &scene.q0, &scene.v0);
     let smallest = (scene.contacts.iter())
         .map(|c| (c.name.as_str(), scene.contact_kinematics(&fr, c).gap))
@@ -118,10 +145,17 @@ fn tolerances(scene: &Scene, ck: &Check) -> Result<(), ModelError> {
     let Some((contact, gap)) = smallest else {
         return Ok(());
     };
-    let st = &scene.settings;
     let limit = TOLERANCE_FRACTION * gap;
+    if fixed && rtol < 1.0 && atol > limit {
+        warnings.push(ModelWarning::ErrorControlOff {
+            path,
+            rtol,
+            atol,
+            h_max,
+        });
+    }
     for (field, x) in [("solver.atol", st.atol), ("solver.gap_tol", st.gap_tol)] {
-        if x > limit {
+        if x > limit && !(fixed && field == "solver.atol") {
             return Err(ck.err(
                 field,
                 format!(

@@ -54,13 +54,6 @@ pub fn settings(s: &SolverSpec, ck: &Check) -> Result<Settings, ModelError> {
     pos!(velocity_tol);
     pos!(zeno_velocity);
     pos!(min_event_spacing);
-    if out.rtol >= 1.0 {
-        let x = out.rtol;
-        return Err(ck.err(
-            "solver.rtol",
-            format!("must be in (0, 1): a relative error of {x} is no error control, got {x}"),
-        ));
-    }
     if let Some(x) = s.h_max {
         out.h_max = ck.nonneg("solver.h_max", x)?;
     }

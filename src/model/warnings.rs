@@ -102,4 +102,16 @@ pub enum ModelWarning {
         field: String,
         kind: String,
     },
+    /// Tolerances too loose for error control, with `h_max` set: a fixed-step DP5 at h_max.
+    #[error(
+        "{}: solver.rtol = {rtol}, solver.atol = {atol}: no error control, the event-driven \
+         method steps at solver.h_max = {h_max} s (a fixed-step DP5)",
+        path.display()
+    )]
+    ErrorControlOff {
+        path: PathBuf,
+        rtol: f64,
+        atol: f64,
+        h_max: f64,
+    },
 }
