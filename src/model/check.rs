@@ -1,10 +1,18 @@
 //! Validation helpers: [`ModelError`] with file, line and field, [`Check`] for located
 //! `Invalid` errors, and the search of a dotted field path in the TOML text.
 
-use super::overrides::Applied;
 use crate::excitation::ExcitationError;
 use nalgebra::Vector2;
 use std::path::{Path, PathBuf};
+
+/// One field set by a `--set` argument: the argument as given and the concrete dotted path it
+/// set (`bent.*.x=1` sets `bent.0.x`, `bent.1.x`, …), so errors about the field name the
+/// argument rather than a line of the file.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Applied {
+    pub argument: String,
+    pub field: String,
+}
 
 /// Errors of reading, overriding or validating a model.
 #[derive(Debug, thiserror::Error)]

@@ -14,9 +14,9 @@ pub mod scene_file;
 pub mod solver;
 pub mod warnings;
 
-pub use check::{Check, ModelError, locate};
+pub use check::{Applied, Check, ModelError, locate};
 pub use limits::{FREE_VIBRATION_TAIL, StepLimit, TOLERANCE_FRACTION};
-pub use overrides::{Applied, apply_overrides, apply_overrides_traced};
+pub use overrides::{apply_overrides, apply_overrides_traced};
 pub use records::{Motions, load_motion};
 pub use scene_file::{
     BodySpec, ContactSpec, HystereticSpec, SceneFile, SpringSpec, SupportSpec, compile,

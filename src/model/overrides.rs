@@ -1,15 +1,6 @@
 //! `--set key.path=value` overrides, applied to the TOML text before it is read.
 
-use super::check::ModelError;
-
-/// One field set by a `--set` argument: the argument as given and the concrete dotted path it
-/// set (`bent.*.x=1` sets `bent.0.x`, `bent.1.x`, …), so errors about the field name the
-/// argument rather than a line of the file.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct Applied {
-    pub argument: String,
-    pub field: String,
-}
+use super::check::{Applied, ModelError};
 
 /// Applies `key.path=value` overrides to TOML text. Array-of-table segments are an index, a
 /// `name`, or `*` (all). The value is parsed as TOML (number, bool, string) or taken as a string.
