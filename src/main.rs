@@ -237,7 +237,11 @@ fn cmd_run(
     at: Option<f64>,
 ) -> CliResult {
     use deckspin::run::{OutputBudget, RunFiles, Stop, check_output};
-    let scene = deckspin::load(model, set)?;
+    let loaded = deckspin::model::load_checked(model, set)?;
+    for w in &loaded.warnings {
+        eprintln!("deckspin: warning: {w}");
+    }
+    let scene = loaded.scene;
     check_output(&scene, &OutputBudget::default())?;
     let cannot = |e: std::io::Error| format!("{}: cannot write results: {e}", out.display());
     let mut files = RunFiles::create(out, &scene, at).map_err(cannot)?;

@@ -25,6 +25,36 @@ pub fn initial_stiffness(scene: &Scene) -> DMatrix<f64> {
     k
 }
 
+/// Largest ω of M⁻¹K for the stiffness `k` (√ of the largest eigenvalue of M^-½ K M^-½).
+fn omega_max_of(scene: &Scene, k: &DMatrix<f64>) -> f64 {
+    let s: DVector<f64> = scene.mass.map(|m| 1.0 / m.sqrt());
+    let a = DMatrix::from_fn(k.nrows(), k.ncols(), |i, j| k[(i, j)] * s[i] * s[j]);
+    let top = nalgebra::SymmetricEigen::new(a)
+        .eigenvalues
+        .iter()
+        .fold(0.0f64, |m, x| m.max(*x));
+    top.sqrt()
+}
+
+/// ω_max of the initial system: the fastest mode of K₀ (contacts open).
+pub fn omega_max(scene: &Scene) -> f64 {
+    omega_max_of(scene, &initial_stiffness(scene))
+}
+
+/// ω_max of the stiffest linearised system a penalty method meets: K₀ plus, for every
+/// contact, `contact_stiffness` along its normal and (sticking) its tangent, W_N W_Nᵀ and
+/// W_T W_Tᵀ at the initial state, as if every contact were closed. For each contact alone this
+/// contains ω_c = √(k / m_eff), m_eff = 1/(W_Nᵀ M⁻¹ W_N); together it bounds them all.
+pub fn omega_max_closed(scene: &Scene, contact_stiffness: f64) -> f64 {
+    let mut k = initial_stiffness(scene);
+    let fr = scene.frame(0.0, &scene.q0, &scene.v0);
+    for c in &scene.contacts {
+        let ck = scene.contact_kinematics(&fr, c);
+        k += (&ck.w_n * ck.w_n.transpose() + &ck.w_t * ck.w_t.transpose()) * contact_stiffness;
+    }
+    omega_max_of(scene, &k)
+}
+
 /// A mode of the initial system (K₀ φ = ω² M φ, φᵀMφ = 1).
 #[derive(Clone, Debug)]
 pub struct Mode {
@@ -110,7 +140,8 @@ pub fn apply_rayleigh(
 }
 
 /// Quasi-static influence of each support, r_s = K₀⁻¹ Σ k J (unit support displacement), as
-/// (DOF, support, r) entries above 1e-14.
+/// (DOF, support, r) entries above 1e-14. One pass over the elements (grouped by support, in
+/// file order: springs, then hysteretic elements), so the cost is linear in their number.
 fn support_influence(scene: &Scene) -> Vec<(usize, usize, f64)> {
     let k0 = initial_stiffness(scene);
     let n = scene.ndof();
@@ -118,18 +149,26 @@ fn support_influence(scene: &Scene) -> Vec<(usize, usize, f64)> {
     let z = DVector::zeros(n);
     let mut jac = DVector::zeros(n);
     let fr = scene.frame(0.0, &z, &z);
-    let mut reference = Vec::new();
-    for s in 0..scene.supports.len() {
-        let mut f = DVector::zeros(n);
-        for sp in scene.springs.iter().filter(|x| x.support == Some(s)) {
-            let (.., sparse, nj) = scene.deformation(&fr, &sp.attachment, None);
-            spread(&sparse[..nj], &mut jac);
-            f.axpy(sp.stiffness, &jac, 1.0);
+    let ns = scene.supports.len();
+    let mut driven: Vec<Vec<(&Attachment, f64)>> = vec![Vec::new(); ns];
+    let springs = scene
+        .springs
+        .iter()
+        .map(|x| (x.support, &x.attachment, x.stiffness));
+    let hyst = (scene.hysteretic.iter())
+        .map(|x| (x.support, &x.attachment, x.law.law().initial_stiffness()));
+    for (s, att, k) in springs.chain(hyst) {
+        if let Some(list) = s.and_then(|s| driven.get_mut(s)) {
+            list.push((att, k));
         }
-        for h in scene.hysteretic.iter().filter(|x| x.support == Some(s)) {
-            let (.., sparse, nj) = scene.deformation(&fr, &h.attachment, None);
+    }
+    let mut reference = Vec::new();
+    for (s, list) in driven.iter().enumerate() {
+        let mut f = DVector::zeros(n);
+        for (att, k) in list {
+            let (.., sparse, nj) = scene.deformation(&fr, att, None);
             spread(&sparse[..nj], &mut jac);
-            f.axpy(h.law.law().initial_stiffness(), &jac, 1.0);
+            f.axpy(*k, &jac, 1.0);
         }
         if let Some(r) = lu.solve(&f) {
             for k in 0..n {

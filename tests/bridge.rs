@@ -316,7 +316,7 @@ fn bad_excitation_input_is_a_clear_error() {
         .unwrap_err()
         .to_string();
     assert!(
-        e.contains("excitation.run") && e.contains("four-span.toml:"),
+        e.contains("--set excitation.run=9: excitation.run: no run 9 (1..=7)"),
         "{e}"
     );
     let e = deckspin::load(&model(FOUR_SPAN), &["deck.mass=-1".into()])

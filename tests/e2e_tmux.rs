@@ -90,7 +90,9 @@ fn workspace() -> PathBuf {
     std::fs::create_dir_all(d.join("excitations")).unwrap();
     for e in std::fs::read_dir(root.join("excitations")).unwrap() {
         let e = e.unwrap();
-        std::fs::copy(e.path(), d.join("excitations").join(e.file_name())).unwrap();
+        if e.path().is_file() {
+            std::fs::copy(e.path(), d.join("excitations").join(e.file_name())).unwrap();
+        }
     }
     let text = std::fs::read_to_string(root.join("models/four-span.toml")).unwrap();
     let text = deckspin::tui::form::set_value(

@@ -545,7 +545,7 @@ fn bad_processing_parameters_are_invalid() {
     };
     assert_eq!(
         invalid_field(GroundMotion::from_samples(0.01, vec![0.0; 10], &zero)),
-        "target_pga"
+        "acc"
     );
 }
 

@@ -173,3 +173,381 @@ fn cli_run_writes_history_events_and_summary() {
     assert!(sum["energy_closure_rel"].as_f64().unwrap() < 1e-8);
     std::fs::remove_dir_all(&dir).ok();
 }
+
+// ---- every bad input refused clearly (docs/engine.md, bad input) ----
+
+use deckspin::model::{Loaded, ModelWarning, Motions, load_str_checked, load_str_with};
+use std::path::{Path, PathBuf};
+
+const FOUR_SPAN: &str = "models/four-span.toml";
+
+/// The default model's text with `edit` applied, loaded as if it were the default model file.
+fn four_span(edit: &dyn Fn(String) -> String, set: &[&str]) -> Result<Loaded, ModelError> {
+    let path = model(FOUR_SPAN);
+    let text = edit(std::fs::read_to_string(&path).unwrap());
+    let set: Vec<String> = set.iter().map(|s| s.to_string()).collect();
+    load_str_checked(&text, &path, &set, &Motions::default())
+}
+
+fn same(t: String) -> String {
+    t
+}
+
+/// The error message of the default model with `set`.
+fn set_err(set: &[&str]) -> String {
+    four_span(&same, set).expect_err("must fail").to_string()
+}
+
+/// 1-based line of the first line of the default model containing `needle`.
+fn line_of(needle: &str) -> usize {
+    let text = std::fs::read_to_string(model(FOUR_SPAN)).unwrap();
+    text.lines().position(|l| l.contains(needle)).unwrap() + 1
+}
+
+/// A two-column record (g) of `seconds` at dt 0.01 in a fresh directory: a(t) = f(t).
+fn record(name: &str, seconds: f64, f: &dyn Fn(f64) -> f64) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("deckspin-bad-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let n = (seconds / 0.01).round() as usize;
+    let mut s = String::from("# units: g\n");
+    for i in 0..=n {
+        let t = i as f64 * 0.01;
+        s.push_str(&format!("{t:.2} {:.9e}\n", f(t)));
+    }
+    let p = dir.join(format!("{name}.txt"));
+    std::fs::write(&p, s).unwrap();
+    p
+}
+
+/// The default model driven by `rec` in both directions.
+fn with_record(rec: &Path) -> impl Fn(String) -> String {
+    let r = rec.display().to_string();
+    move |t: String| {
+        t.replace("../excitations/NORTHR_MUL009.AT2", &r)
+            .replace("../excitations/NORTHR_MUL279.AT2", &r)
+    }
+}
+
+fn sine(t: f64) -> f64 {
+    0.2 * (2.0 * std::f64::consts::PI * 1.3 * t).sin() * (1.0 - (-t).exp())
+}
+
+#[test]
+fn record_longer_than_t_end_is_said_and_absent_t_end_follows_the_records() {
+    let rec = record("long", 90.0, &sine);
+    // t_end = 16 s given, the record (90 s × time_scale 0.5) ends at 45 s: accepted, said
+    let l = four_span(&with_record(&rec), &[]).unwrap();
+    let w = &l.warnings[0];
+    assert!(
+        matches!(w, ModelWarning::RecordCut { t_end: 16.0, .. }),
+        "{w}"
+    );
+    let msg = w.to_string();
+    let line = line_of("t_end = 16.0");
+    assert!(
+        msg.contains(&format!(
+            "four-span.toml:{line}: solver.t_end: 16 s ends before"
+        )) && msg.contains("(45.000 s)")
+            && msg.contains("last 29.000 s"),
+        "{msg}"
+    );
+    // t_end absent: end of the longest record + the free-vibration tail
+    let no_t_end = |t: String| with_record(&rec)(t).replace("t_end = 16.0", "");
+    let l = four_span(&no_t_end, &[]).unwrap();
+    let tail = deckspin::model::FREE_VIBRATION_TAIL;
+    assert_eq!(l.scene.settings.t_end, 45.0 + tail);
+    let msg = l.warnings[0].to_string();
+    assert!(
+        msg.contains("solver.t_end absent: 50.000 s = end of the longest record (45.000 s")
+            && msg.contains("+ 5 s of free vibration"),
+        "{msg}"
+    );
+    // the default model: its record ends before its t_end, nothing to say
+    let l = four_span(&same, &[]).unwrap();
+    assert!(l.warnings.is_empty(), "{:?}", l.warnings);
+}
+
+#[test]
+fn constant_record_is_refused_with_its_pgas() {
+    let rec = record("constant", 10.0, &|_| 0.1);
+    let e = four_span(&with_record(&rec), &[]).unwrap_err();
+    assert!(matches!(e, ModelError::Record { .. }), "{e}");
+    let msg = e.to_string();
+    let line = line_of("longitudinal = ");
+    assert!(
+        msg.contains(&format!("four-span.toml:{line}: excitation.longitudinal: "))
+            && msg.contains("constant.txt")
+            && msg.contains("no signal after processing: raw PGA 1.0000e-1 g, processed PGA"),
+        "{msg}"
+    );
+    // all zeros
+    let rec = record("zeros", 10.0, &|_| 0.0);
+    let msg = four_span(&with_record(&rec), &[]).unwrap_err().to_string();
+    assert!(msg.contains("no signal: every sample is zero"), "{msg}");
+}
+
+#[test]
+fn absurd_scaling_is_refused_with_the_factor() {
+    // a real-looking record at 1e-3 of its amplitude: 0.6 g needs a factor ≈ 3000
+    let rec = record("weak", 20.0, &|t| 1e-3 * sine(t));
+    let msg = four_span(&with_record(&rec), &[]).unwrap_err().to_string();
+    let line = line_of("pga_x = 0.60");
+    assert!(
+        msg.contains(&format!("four-span.toml:{line}: run.3.pga_x: "))
+            && msg.contains("target 0.6 g needs a factor")
+            && msg.contains("outside [0.01, 100]")
+            && msg.contains("raw PGA 2.0"),
+        "{msg}"
+    );
+}
+
+#[test]
+fn tiny_time_scale_is_blamed_on_the_time_scale() {
+    let edit = |t: String| t.replace("time_scale = 0.5", "time_scale = 1e-9");
+    let msg = four_span(&edit, &[]).unwrap_err().to_string();
+    let line = line_of("time_scale = 0.5");
+    assert!(
+        msg.contains(&format!("four-span.toml:{line}: excitation.time_scale: "))
+            && msg
+                .contains("invalid time_scale: the record lasts 29.98 s × time_scale 0.000000001")
+            && msg.contains("taper of 0.5 s"),
+        "{msg}"
+    );
+    let msg = set_err(&["excitation.time_scale=1e-9"]);
+    assert!(
+        msg.starts_with(
+            "--set excitation.time_scale=1e-9: excitation.time_scale: invalid time_scale"
+        ),
+        "{msg}"
+    );
+}
+
+#[test]
+fn solver_values_out_of_range_are_refused_with_the_numbers() {
+    let rtol = line_of("rtol = 1e-4");
+    let edit = |t: String| t.replace("rtol = 1e-4", "rtol = 1.5");
+    let msg = four_span(&edit, &[]).unwrap_err().to_string();
+    assert!(
+        msg.contains(&format!(
+            "four-span.toml:{rtol}: solver.rtol: must be in (0, 1)"
+        )) && msg.contains("got 1.5"),
+        "{msg}"
+    );
+    for (set, want) in [
+        (
+            "solver.rtol=1",
+            "--set solver.rtol=1: solver.rtol: must be in (0, 1)",
+        ),
+        (
+            "solver.atol=0.1",
+            "--set solver.atol=0.1: solver.atol: 0.1 is above 1e-3 × the smallest initial gap \
+             (1.2700e-2 m, contact left_top) = 1.270e-5",
+        ),
+        (
+            "solver.gap_tol=1e-4",
+            "--set solver.gap_tol=1e-4: solver.gap_tol: 0.0001 is above 1e-3",
+        ),
+        (
+            "solver.velocity_tol=0.1",
+            "--set solver.velocity_tol=0.1: solver.velocity_tol: 0.1 is above 1e-3 × gap·ω₁ = \
+             1e-3 × 1.2700e-2 m × 16.1420 rad/s = 2.050e-4 m/s",
+        ),
+        (
+            "solver.output_dt=20",
+            "--set solver.output_dt=20: solver.output_dt: must be ≤ solver.t_end = 16 s, got 20 s",
+        ),
+        (
+            "solver.t_end=0",
+            "--set solver.t_end=0: solver.t_end: must be > 0, got 0",
+        ),
+        (
+            "solver.t_end=inf",
+            "--set solver.t_end=inf: solver.t_end: must be a finite number",
+        ),
+    ] {
+        let msg = set_err(&[set]);
+        assert!(msg.contains(want), "{set}: {msg}");
+    }
+    // with h_max, loose tolerances are a fixed-step DP5 (order studies): accepted, said
+    let l = four_span(
+        &same,
+        &["solver.rtol=1e3", "solver.atol=1e3", "solver.h_max=0.01"],
+    )
+    .unwrap();
+    let msg = l.warnings[0].to_string();
+    assert!(
+        msg.contains("solver.rtol = 1000, solver.atol = 1000: no error control")
+            && msg.contains("solver.h_max = 0.01 s"),
+        "{msg}"
+    );
+    // in the file: the line of the field
+    let atol = line_of("atol = 1e-7");
+    let edit = |t: String| t.replace("atol = 1e-7", "atol = 0.1");
+    let msg = four_span(&edit, &[]).unwrap_err().to_string();
+    assert!(
+        msg.contains(&format!("four-span.toml:{atol}: solver.atol: 0.1 is above")),
+        "{msg}"
+    );
+}
+
+#[test]
+fn fixed_steps_are_judged_against_the_stability_limit() {
+    let explicit = "solver.method=\"penalty-explicit\"";
+    // above 2/ω_max of K₀ (contacts open): refused
+    let msg = set_err(&[explicit, "solver.step=0.01"]);
+    assert!(
+        msg.contains("solver.step: 0.01 s is above the stability limit 2/ω_max = 8.749e-3 s")
+            && msg.contains("ω_max = 2.2860e2 rad/s"),
+        "{msg}"
+    );
+    // … but accepted by the studies' entry, which probes where methods fail
+    let path = model(FOUR_SPAN);
+    let text = std::fs::read_to_string(&path).unwrap();
+    let set = [explicit.to_string(), "solver.step=0.01".to_string()];
+    assert!(load_str_with(&text, &path, &set, &Motions::default()).is_ok());
+    // above the limit with the contacts closed: accepted, said
+    let l = four_span(&same, &[explicit]).unwrap();
+    let msg = l.warnings[0].to_string();
+    let line = line_of("step = 0.001");
+    assert!(
+        matches!(l.warnings[0], ModelWarning::StepAboveStability { .. })
+            && msg.contains(&format!(
+                "four-span.toml:{line}: solver.step: 0.001 s > 2/ω_max = 6.543e-4 s"
+            ))
+            && msg.contains("every contact closed and sticking at contact_stiffness 1e6"),
+        "{msg}"
+    );
+    // implicit: stable, the unresolved contact dynamics said
+    let l = four_span(&same, &["solver.method=\"penalty\""]).unwrap();
+    let msg = l.warnings[0].to_string();
+    assert!(
+        matches!(l.warnings[0], ModelWarning::StepUnresolved { .. })
+            && msg.contains("the penalty method stays stable"),
+        "{msg}"
+    );
+    let l = four_span(&same, &["solver.method=\"moreau\""]).unwrap();
+    assert!(l.warnings.is_empty(), "{:?}", l.warnings);
+}
+
+#[test]
+fn nothing_in_a_bridge_file_is_silently_ignored() {
+    let gaps = line_of("gaps = [");
+    let edit = |t: String| t.replace("0.0127, 0.0127]", "0.0127, 0.0127, 0.5]");
+    let msg = four_span(&edit, &[]).unwrap_err().to_string();
+    assert!(
+        msg.contains(&format!("four-span.toml:{gaps}:"))
+            && msg.contains(
+                "expected 4 contacts.gaps (left_top, left_bottom, right_top, right_bottom), got 5"
+            ),
+        "{msg}"
+    );
+    for (set, want) in [
+        (
+            "excitation.lag_bents=[0.0,0.0,0.0,0.0]",
+            "excitation.lag_bents: 4 lags for 3 bents: give one per bent or none (all 0)",
+        ),
+        (
+            "bent.0.x=1000",
+            "--set bent.0.x=1000: bent.0.x: bent.0.x = 1000 m is off the deck: a bent must stand \
+             under it, |x| ≤ deck.length/2 = 16.1 m",
+        ),
+        (
+            "deck.width=2.4e-6",
+            "--set deck.width=2.4e-6: deck.width: columns at ±0.75 m (column.offset) stand outside \
+             the deck: offset ≤ deck.width/2 = 0.0000012 m",
+        ),
+        (
+            "run.3.pga_x=0",
+            "--set run.3.pga_x=0: run.3.pga_x: must be > 0, got 0",
+        ),
+    ] {
+        let msg = set_err(&[set]);
+        assert!(msg.contains(want), "{set}: {msg}");
+    }
+    // a harmonic kind does not read the records: said
+    let l = four_span(
+        &same,
+        &["excitation.kind=\"harmonic\"", "excitation.frequency=2"],
+    )
+    .unwrap();
+    let msg = l.warnings[0].to_string();
+    let line = line_of("longitudinal = ");
+    assert!(
+        msg.contains(&format!(
+            "four-span.toml:{line}: excitation.longitudinal: not read by excitation kind = \"harmonic\""
+        )),
+        "{msg}"
+    );
+}
+
+#[test]
+fn missing_tables_are_refused_or_said() {
+    // no [solver]: the defaults, said; t_end from the records
+    let edit = |t: String| t[..t.find("[solver]").unwrap()].to_string();
+    let l = four_span(&edit, &[]).unwrap();
+    assert!(matches!(l.warnings[0], ModelWarning::NoSolver { .. }));
+    let msg = l.warnings[0].to_string();
+    assert!(
+        msg.contains(
+            "four-span.toml: no [solver] table: the defaults are used (method event, t_end 19.990 s"
+        ),
+        "{msg}"
+    );
+    assert!(
+        l.warnings[1]
+            .to_string()
+            .contains("19.990 s = end of the longest record (14.990 s")
+    );
+    // no [excitation]: nothing moves the bridge, said
+    let edit = |t: String| {
+        let (a, b) = (
+            t.find("[excitation]").unwrap(),
+            t.find("# The seven test runs").unwrap(),
+        );
+        format!("{}{}", &t[..a], &t[b..])
+    };
+    let l = four_span(&edit, &[]).unwrap();
+    let msg = l.warnings[0].to_string();
+    assert!(
+        msg.contains("four-span.toml: no [excitation]: the bridge starts at rest"),
+        "{msg}"
+    );
+    // no [deck] but bridge tables: a bridge file missing its deck
+    let text = "[abutment]\nmass = 0.65\ninertia = 0.31\nactuator_stiffness = 1e4\nactuator_offset = 0.9\n";
+    let msg = deckspin::model::load_str(text, Path::new("b.toml"), &[])
+        .unwrap_err()
+        .to_string();
+    assert_eq!(
+        msg,
+        "b.toml:1: deck: missing: [abutment] (line 1) makes this a bridge file, which needs a \
+         [deck] table (mass, inertia, length, width)"
+    );
+}
+
+#[test]
+fn bad_set_values_name_the_argument_not_a_line() {
+    let msg = set_err(&["deck.mass=abc"]);
+    assert_eq!(
+        msg,
+        "--set deck.mass=abc: deck.mass: invalid type: string \"abc\", expected f64"
+    );
+    let msg = set_err(&["contacts.mu=-1"]);
+    assert_eq!(
+        msg,
+        "--set contacts.mu=-1: contacts.mu: must be ≥ 0, got -1"
+    );
+    let msg = set_err(&["bent.*.height=-1"]);
+    assert_eq!(
+        msg,
+        "--set bent.*.height=-1: bent.0.height: must be > 0, got -1"
+    );
+    // the same value in the file: its line
+    let line = line_of("mu = 0.5");
+    let msg = four_span(&|t| t.replace("mu = 0.5", "mu = -1.0"), &[])
+        .unwrap_err()
+        .to_string();
+    assert!(
+        msg.contains(&format!("four-span.toml:{line}: contacts.mu: must be ≥ 0")),
+        "{msg}"
+    );
+}

@@ -190,7 +190,9 @@ fn scratch(name: &str) -> PathBuf {
     std::fs::create_dir_all(d.join("excitations")).unwrap();
     for e in std::fs::read_dir(root().join("excitations")).unwrap() {
         let e = e.unwrap();
-        std::fs::copy(e.path(), d.join("excitations").join(e.file_name())).unwrap();
+        if e.path().is_file() {
+            std::fs::copy(e.path(), d.join("excitations").join(e.file_name())).unwrap();
+        }
     }
     d
 }

@@ -29,7 +29,9 @@ mod stats;
 
 pub use error::ExcitationError;
 pub use motion::GroundMotion;
-pub use processing::{Baseline, END_TOLERANCE, MAX_POLY_ORDER, Processing};
+pub use processing::{
+    Baseline, END_TOLERANCE, MAX_POLY_ORDER, MAX_SCALE_FACTOR, MIN_SIGNAL_FRACTION, Processing,
+};
 pub use readers::{
     G, MAX_SAMPLES, Record, parse_at2, parse_two_column, read_any, read_at2, read_two_column,
 };

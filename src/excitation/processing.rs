@@ -14,6 +14,17 @@ pub const END_TOLERANCE: f64 = 1e-9;
 /// Highest accepted [`Baseline::Polynomial`] order.
 pub const MAX_POLY_ORDER: usize = 10;
 
+/// A processed record must keep at least this fraction of its raw PGA: baseline correction
+/// and taper change the PGA of a real accelerogram by a few per cent; a record they reduce
+/// below 1 % (a constant, a pure drift) has no signal left, and scaling its round-off to a
+/// target PGA would be noise.
+pub const MIN_SIGNAL_FRACTION: f64 = 1e-2;
+
+/// A `target_pga` factor must lie in [1/MAX_SCALE_FACTOR, MAX_SCALE_FACTOR]: recorded PGAs and
+/// test targets both lie within 0.05–2 g (at most a factor 40 apart), while a record read in
+/// the wrong unit is off by 981 (cm/s² as g) or a noise record by far more.
+pub const MAX_SCALE_FACTOR: f64 = 100.0;
+
 /// Baseline correction (Boore & Bommer 2005).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Serialize)]
 #[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
@@ -283,18 +294,74 @@ fn taper(a: &mut [f64], dt: f64, seconds: f64) -> Result<()> {
     Ok(())
 }
 
-/// Step 6: the amplitude factor, to `target_pga` (of the corrected PGA) or `scale`, else 1.
-fn amplitude_factor(p: &Processing, pga_corr: f64) -> Result<f64> {
+/// A record with signal left after processing ([`MIN_SIGNAL_FRACTION`]); PGAs in m/s².
+fn check_signal(pga_raw: f64, pga_corr: f64) -> Result<()> {
+    if pga_raw == 0.0 {
+        return Err(invalid("acc", "no signal: every sample is zero"));
+    }
+    if !(pga_corr >= MIN_SIGNAL_FRACTION * pga_raw) {
+        return Err(invalid(
+            "baseline",
+            format!(
+                "no signal after processing: raw PGA {:.4e} g, processed PGA {:.4e} g ({:.2e} \
+                 of raw, below {MIN_SIGNAL_FRACTION}): baseline correction and taper removed \
+                 the record (a constant or a pure drift)",
+                pga_raw / G,
+                pga_corr / G,
+                pga_corr / pga_raw
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// Step 6: the amplitude factor, to `target_pga` (of the corrected PGA, within
+/// [`MAX_SCALE_FACTOR`]) or `scale`, else 1.
+fn amplitude_factor(p: &Processing, pga_raw: f64, pga_corr: f64) -> Result<f64> {
     Ok(match (p.target_pga, p.scale) {
         (Some(t), _) => {
-            if pga_corr == 0.0 {
-                return Err(invalid("target_pga", "motion has zero PGA"));
+            let factor = t * G / pga_corr;
+            if !(1.0 / MAX_SCALE_FACTOR..=MAX_SCALE_FACTOR).contains(&factor) {
+                return Err(invalid(
+                    "target_pga",
+                    format!(
+                        "target {t} g needs a factor {factor:.4e} on the processed PGA \
+                         {:.4e} g (raw PGA {:.4e} g), outside [{}, {MAX_SCALE_FACTOR}]: record \
+                         and target are orders of magnitude apart (a unit mistake?)",
+                        pga_corr / G,
+                        pga_raw / G,
+                        1.0 / MAX_SCALE_FACTOR
+                    ),
+                ));
             }
-            t * G / pga_corr
+            factor
         }
         (None, Some(s)) => s,
         (None, None) => 1.0,
     })
+}
+
+/// The taper must fit twice in the time-scaled record; a short record from a small
+/// `time_scale` is blamed on the time scale.
+fn check_length(n: usize, dt_raw: f64, p: &Processing) -> Result<()> {
+    let raw = (n - 1) as f64 * dt_raw;
+    let len = raw * p.time_scale;
+    if 2.0 * p.taper <= len {
+        return Ok(());
+    }
+    let field = if p.time_scale != 1.0 && 2.0 * p.taper <= raw {
+        "time_scale"
+    } else {
+        "taper"
+    };
+    let (ts, tp) = (p.time_scale, p.taper);
+    Err(invalid(
+        field,
+        format!(
+            "the record lasts {raw} s × time_scale {ts} = {len:.4e} s, shorter than the taper \
+             of {tp} s at each end"
+        ),
+    ))
 }
 
 impl GroundMotion {
@@ -328,6 +395,7 @@ impl GroundMotion {
         if let Some(i) = acc_m_s2.iter().position(|x| !x.is_finite()) {
             return Err(invalid("acc", format!("sample {i} is not finite")));
         }
+        check_length(n, dt, p)?;
         let dt = dt * p.time_scale;
         if !(dt.is_finite() && dt > 0.0) {
             return Err(invalid(
@@ -355,12 +423,13 @@ impl GroundMotion {
         }
 
         let pga_corr = max_abs(&a);
+        check_signal(pga_raw, pga_corr)?;
         let correction_pga_change = if pga_raw > 0.0 {
             pga_corr / pga_raw - 1.0
         } else {
             0.0
         };
-        let factor = amplitude_factor(p, pga_corr)?;
+        let factor = amplitude_factor(p, pga_raw, pga_corr)?;
         if factor != 1.0 {
             a.iter_mut().for_each(|x| *x *= factor);
         }

@@ -6,8 +6,9 @@
 //! Units: t, kN, m, s (1 t·m/s² = 1 kN).
 
 use super::check::{Check, ModelError};
-use super::records::Motions;
+use super::records::{Motions, record_error};
 use super::solver::{SolverSpec, settings};
+use super::warnings::ModelWarning;
 use crate::excitation::{Baseline, Processing};
 use crate::hysteresis::{Hysteretic, Law};
 use crate::modal::apply_rayleigh;
@@ -59,8 +60,20 @@ pub struct ContactsSpec {
     pub enabled: bool,
     pub mu: f64,
     pub restitution: f64,
-    /// Initial gaps of corners 1–4 (left +y, left −y, right +y, right −y), m.
+    /// Initial gaps of corners 1–4 (left +y, left −y, right +y, right −y), m: exactly four.
+    #[serde(deserialize_with = "four_gaps")]
     pub gaps: [f64; 4],
+}
+
+/// `gaps` with exactly four entries (a fixed-size array would drop a fifth silently).
+fn four_gaps<'de, D: serde::Deserializer<'de>>(d: D) -> Result<[f64; 4], D::Error> {
+    let v = Vec::<f64>::deserialize(d)?;
+    let n = v.len();
+    v.try_into().map_err(|_| {
+        serde::de::Error::custom(format!(
+            "expected 4 contacts.gaps (left_top, left_bottom, right_top, right_bottom), got {n}"
+        ))
+    })
 }
 
 fn yes() -> bool {
@@ -212,15 +225,10 @@ fn scale_law(law: &Law, kf: f64, ff: f64) -> Law {
 pub const CORNERS: [&str; 4] = ["left_top", "left_bottom", "right_top", "right_bottom"];
 
 /// Validate and compile a bridge file into the engine's general scene.
-pub fn compile(
-    f: &BridgeFile,
-    text: &str,
-    path: &Path,
-    motions: &Motions,
-) -> Result<Scene, ModelError> {
-    let ck = Check { text, path };
-    let settings = settings(&f.solver, &ck)?;
-    validate(f, &ck)?;
+pub fn compile(f: &BridgeFile, ck: &Check, motions: &Motions) -> Result<Scene, ModelError> {
+    let (ck, path) = (ck, ck.path);
+    let settings = settings(&f.solver, ck)?;
+    validate(f, ck)?;
     let plan = Plan::of(f);
     let (bodies, mass, dof_names) = deck_and_abutments(f, &plan);
     let contacts = corner_contacts(&f.contacts, &plan, &bodies);
@@ -228,12 +236,12 @@ pub fn compile(
     let nb = f.bents.len();
     let ex = f.excitation.as_ref();
     let supports = match ex {
-        Some(e) => excitation_supports(e, &f.runs, nb, &ck, path, motions)?,
+        Some(e) => excitation_supports(e, &f.runs, nb, ck, path, motions)?,
         None => Vec::new(),
     };
     let driven = !supports.is_empty();
     let mut springs = actuator_springs(&f.abutment, ex, nb, driven);
-    let hysteretic = bent_columns(f, &plan, &ck, driven, &mut springs)?;
+    let hysteretic = bent_columns(f, &plan, ck, driven, &mut springs)?;
     let mut scene = Scene {
         title: f.title.clone().unwrap_or_else(|| "bridge".into()),
         bodies,
@@ -299,9 +307,69 @@ fn validate(f: &BridgeFile, ck: &Check) -> Result<(), ModelError> {
             Err(e)
         }
     })?;
+    validate_layout(f, ck)?;
+    for (i, r) in f.runs.iter().enumerate() {
+        ck.positive(&format!("run.{i}.pga_x"), r.pga_x)?;
+        ck.positive(&format!("run.{i}.pga_y"), r.pga_y)?;
+    }
+    Ok(())
+}
+
+/// Bents and columns under the deck: |x| ≤ length/2, column offset ≤ width/2.
+fn validate_layout(f: &BridgeFile, ck: &Check) -> Result<(), ModelError> {
+    let (half_l, half_w) = (f.deck.length / 2.0, f.deck.width / 2.0);
     for (i, b) in f.bents.iter().enumerate() {
-        ck.finite(&format!("bent.{i}.x"), b.x)?;
+        let x = ck.finite(&format!("bent.{i}.x"), b.x)?;
+        if x.abs() > half_l {
+            let by_length = ck.set_by("deck.length").is_some();
+            return Err(ck.err(
+                &if by_length {
+                    "deck.length".into()
+                } else {
+                    format!("bent.{i}.x")
+                },
+                format!(
+                    "bent.{i}.x = {x} m is off the deck: a bent must stand under it, |x| ≤ \
+                     deck.length/2 = {half_l} m"
+                ),
+            ));
+        }
         ck.positive(&format!("bent.{i}.height"), b.height)?;
+    }
+    let off = f.column.offset;
+    if off > half_w {
+        let by_width = ck.set_by("deck.width").is_some();
+        return Err(ck.err(
+            if by_width {
+                "deck.width"
+            } else {
+                "column.offset"
+            },
+            format!(
+                "columns at ±{off} m (column.offset) stand outside the deck: offset ≤ \
+                 deck.width/2 = {half_w} m"
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// Per-support lags: none (all 0) or one per support; fields the kind does not read refused.
+fn validate_excitation(e: &ExcitationSpec, nb: usize, ck: &Check) -> Result<(), ModelError> {
+    for (field, lags, n, what) in [
+        ("excitation.lag_bents", &e.lag_bents, nb, "bent"),
+        ("excitation.lag_abutments", &e.lag_abutments, 2, "abutment"),
+    ] {
+        if !lags.is_empty() && lags.len() != n {
+            let k = lags.len();
+            return Err(ck.err(
+                field,
+                format!("{k} lags for {n} {what}s: give one per {what} or none (all 0)"),
+            ));
+        }
+        for (i, l) in lags.iter().enumerate() {
+            ck.nonneg(&format!("{field}.{i}"), *l)?;
+        }
     }
     Ok(())
 }
@@ -492,12 +560,7 @@ fn excitation_supports(
     path: &Path,
     motions: &Motions,
 ) -> Result<Vec<Support>, ModelError> {
-    for (i, l) in e.lag_bents.iter().enumerate() {
-        ck.nonneg(&format!("excitation.lag_bents.{i}"), *l)?;
-    }
-    for (i, l) in e.lag_abutments.iter().enumerate() {
-        ck.nonneg(&format!("excitation.lag_abutments.{i}"), *l)?;
-    }
+    validate_excitation(e, nb, ck)?;
     match e.kind.as_str() {
         "harmonic" => harmonic_supports(e, nb, ck),
         "record" => record_supports(e, runs, nb, ck, path, motions),
@@ -577,7 +640,19 @@ fn record_supports(
             lag,
             ..base.clone()
         };
-        motions.get(path, file, p)
+        let axis = if field.ends_with("longitudinal") {
+            "x"
+        } else {
+            "y"
+        };
+        let model_field = |f: &str| match f {
+            "target_pga" => e
+                .run
+                .map(|r| format!("run.{}.pga_{axis}", r.wrapping_sub(1))),
+            "time_scale" | "taper" => Some(format!("excitation.{f}")),
+            _ => None,
+        };
+        (motions.get(path, file, p)).map_err(|e| record_error(e, ck, field, file, &model_field))
     };
     let record = |name: String, m| Support {
         name,
@@ -598,4 +673,75 @@ fn record_supports(
         out.push(record(format!("{side}_abutment.x"), m));
     }
     Ok(out)
+}
+
+/// What a bridge file leaves to defaults or does not use: no `[excitation]`, `[[run]]` tables
+/// that no `excitation.run` picks, excitation fields its kind does not read (kept so that
+/// `--set excitation.kind=…` can switch kinds).
+pub fn warnings(f: &BridgeFile, ck: &Check) -> Vec<ModelWarning> {
+    let path = ck.path.to_path_buf();
+    let Some(e) = &f.excitation else {
+        return vec![ModelWarning::NoExcitation { path }];
+    };
+    let mut out = Vec::new();
+    if e.kind == "record" && e.run.is_none() && !f.runs.is_empty() {
+        let runs = f.runs.len();
+        out.push(ModelWarning::RunsUnused {
+            path: path.clone(),
+            runs,
+        });
+    }
+    let unread: &[(&str, bool)] = match e.kind.as_str() {
+        "harmonic" => &[
+            ("longitudinal", e.longitudinal.is_some()),
+            ("transverse", e.transverse.is_some()),
+            ("run", e.run.is_some()),
+            ("taper", e.taper.is_some()),
+        ],
+        "record" => &[
+            ("amplitude_x", e.amplitude_x.is_some()),
+            ("amplitude_y", e.amplitude_y.is_some()),
+            ("frequency", e.frequency.is_some()),
+        ],
+        _ => &[],
+    };
+    for (k, _) in unread.iter().filter(|(_, given)| *given) {
+        let field = format!("excitation.{k}");
+        out.push(ModelWarning::Unread {
+            path: path.clone(),
+            line: ck.line(&field),
+            field,
+            kind: e.kind.clone(),
+        });
+    }
+    out
+}
+
+/// The tables only a bridge file has.
+const BRIDGE_TABLES: [&str; 7] = [
+    "abutment",
+    "contacts",
+    "bent",
+    "column",
+    "damping",
+    "excitation",
+    "run",
+];
+
+/// A file without `[deck]` but with a bridge's tables is a bridge missing its deck (not a
+/// general scene with unknown fields).
+pub fn refuse_without_deck(table: &toml::Table, ck: &Check) -> Result<(), ModelError> {
+    let Some(key) = BRIDGE_TABLES.iter().find(|k| table.contains_key(**k)) else {
+        return Ok(());
+    };
+    let line = ck.line(key);
+    Err(ModelError::Invalid {
+        path: ck.path.to_path_buf(),
+        line,
+        field: "deck".into(),
+        reason: format!(
+            "missing: [{key}] (line {line}) makes this a bridge file, which needs a [deck] \
+             table (mass, inertia, length, width)"
+        ),
+    })
 }

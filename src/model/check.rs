@@ -5,6 +5,15 @@ use crate::excitation::ExcitationError;
 use nalgebra::Vector2;
 use std::path::{Path, PathBuf};
 
+/// One field set by a `--set` argument: the argument as given and the concrete dotted path it
+/// set (`bent.*.x=1` sets `bent.0.x`, `bent.1.x`, …), so errors about the field name the
+/// argument rather than a line of the file.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Applied {
+    pub argument: String,
+    pub field: String,
+}
+
 /// Errors of reading, overriding or validating a model.
 #[derive(Debug, thiserror::Error)]
 pub enum ModelError {
@@ -31,6 +40,26 @@ pub enum ModelError {
     },
     #[error("--set {key}: {reason}")]
     Override { key: String, reason: String },
+    /// A value given by a `--set` argument that the model refuses: the argument is named, not
+    /// the line of the file it replaced.
+    #[error("--set {argument}: {field}: {reason}")]
+    OverrideInvalid {
+        argument: String,
+        field: String,
+        reason: String,
+    },
+    /// A record refused for what processing made of it (no signal left, absurd scaling), with
+    /// the model field naming it.
+    #[error("{}:{line}: {field}: {record}: {source}", path.display())]
+    Record {
+        path: PathBuf,
+        /// 0 when the field is absent from the file.
+        line: usize,
+        field: String,
+        record: String,
+        #[source]
+        source: ExcitationError,
+    },
     #[error("{}: {source}", path.display())]
     Excitation {
         path: PathBuf,
@@ -43,7 +72,11 @@ impl ModelError {
     /// Line of the error in the model file, when known.
     pub fn line(&self) -> Option<usize> {
         match self {
-            ModelError::Parse { line, .. } | ModelError::Invalid { line, .. } if *line > 0 => {
+            ModelError::Parse { line, .. }
+            | ModelError::Invalid { line, .. }
+            | ModelError::Record { line, .. }
+                if *line > 0 =>
+            {
                 Some(*line)
             }
             _ => None,
@@ -119,9 +152,25 @@ fn line_col(text: &str, offset: usize) -> (usize, usize) {
     (line, col)
 }
 
-/// A TOML syntax or schema error, located in `text` (file:line:column).
-pub(super) fn parse_error(e: &toml::de::Error, text: &str, path: &Path) -> ModelError {
+/// A TOML syntax or schema error, located in `text` (file:line:column); on a line whose value
+/// a `--set` argument wrote, the argument is named instead.
+pub(super) fn parse_error(
+    e: &toml::de::Error,
+    text: &str,
+    path: &Path,
+    applied: &[Applied],
+) -> ModelError {
     let (line, column) = e.span().map_or((0, 0), |s| line_col(text, s.start));
+    let by_set = applied
+        .iter()
+        .find(|a| line > 0 && locate(text, &a.field).map(|l| l.0) == Some(line));
+    if let Some(a) = by_set {
+        return ModelError::OverrideInvalid {
+            argument: a.argument.clone(),
+            field: a.field.clone(),
+            reason: e.message().to_string(),
+        };
+    }
     ModelError::Parse {
         path: path.to_path_buf(),
         line,
@@ -130,14 +179,35 @@ pub(super) fn parse_error(e: &toml::de::Error, text: &str, path: &Path) -> Model
     }
 }
 
-/// Validation context: builds `Invalid` errors located in the text.
+/// Validation context: builds `Invalid` errors located in the text, or naming the `--set`
+/// argument that gave the field its value.
 pub struct Check<'a> {
     pub text: &'a str,
     pub path: &'a Path,
+    /// The fields `--set` arguments wrote.
+    pub applied: &'a [Applied],
 }
 
 impl Check<'_> {
+    /// The `--set` argument that wrote `field`, a table containing it, or a part of it.
+    pub fn set_by(&self, field: &str) -> Option<&Applied> {
+        let within = |a: &str, b: &str| a == b || a.starts_with(&format!("{b}."));
+        (self.applied.iter().rev()).find(|a| within(field, &a.field) || within(&a.field, field))
+    }
+
+    /// Line of `field` in the file, 0 when absent.
+    pub fn line(&self, field: &str) -> usize {
+        locate(self.text, field).map_or(0, |l| l.0)
+    }
+
     pub fn err(&self, field: &str, reason: impl Into<String>) -> ModelError {
+        if let Some(a) = self.set_by(field) {
+            return ModelError::OverrideInvalid {
+                argument: a.argument.clone(),
+                field: field.to_string(),
+                reason: reason.into(),
+            };
+        }
         ModelError::Invalid {
             path: self.path.to_path_buf(),
             line: locate(self.text, field).map_or(0, |l| l.0),

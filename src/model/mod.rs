@@ -7,56 +7,116 @@
 
 pub mod bridge;
 pub mod check;
+pub mod limits;
 pub mod overrides;
 pub mod records;
 pub mod scene_file;
 pub mod solver;
+pub mod warnings;
 
-pub use check::{Check, ModelError, locate};
-pub use overrides::apply_overrides;
+pub use check::{Applied, Check, ModelError, locate};
+pub use limits::{FREE_VIBRATION_TAIL, StepLimit, TOLERANCE_FRACTION};
+pub use overrides::{apply_overrides, apply_overrides_traced};
 pub use records::{Motions, load_motion};
 pub use scene_file::{
     BodySpec, ContactSpec, HystereticSpec, SceneFile, SpringSpec, SupportSpec, compile,
 };
 pub use solver::{SolverSpec, settings};
+pub use warnings::ModelWarning;
 
 use crate::scene::Scene;
 use serde::Deserialize;
 use std::path::Path;
 use toml::de::{DeTable, Deserializer};
 
+/// A compiled model and what it was compiled with that its file does not say.
+#[derive(Debug)]
+pub struct Loaded {
+    pub scene: Scene,
+    /// Defaults taken, records cut, unresolved steps (docs/engine.md, bad input); the front
+    /// ends show them, the library never prints.
+    pub warnings: Vec<ModelWarning>,
+}
+
 /// Reads a model file (general scene or bridge), applies overrides, validates, compiles.
+/// Warnings are dropped: [`load_checked`] returns them.
 pub fn load(path: &Path, overrides: &[String]) -> Result<Scene, ModelError> {
+    load_checked(path, overrides).map(|l| l.scene)
+}
+
+/// As [`load`], with the warnings.
+pub fn load_checked(path: &Path, overrides: &[String]) -> Result<Loaded, ModelError> {
     let text = std::fs::read_to_string(path).map_err(|e| ModelError::Io {
         path: path.to_path_buf(),
         source: e,
     })?;
-    load_str(&text, path, overrides)
+    load_str_checked(&text, path, overrides, &Motions::default())
 }
 
 /// As [`load`], from text already read (`path` names it in errors and resolves relative files).
 pub fn load_str(text: &str, path: &Path, overrides: &[String]) -> Result<Scene, ModelError> {
-    load_str_with(text, path, overrides, &Motions::default())
+    load_str_checked(text, path, overrides, &Motions::default()).map(|l| l.scene)
 }
 
-/// As [`load_str`], taking processed records from (and adding them to) `motions`.
+/// As [`load_str`], with the warnings, taking processed records from (and adding them to)
+/// `motions`. An explicit step above its stability limit is refused.
+pub fn load_str_checked(
+    text: &str,
+    path: &Path,
+    overrides: &[String],
+    motions: &Motions,
+) -> Result<Loaded, ModelError> {
+    compile_text(text, path, overrides, motions, StepLimit::Refuse)
+}
+
+/// As [`load_str`], taking processed records from (and adding them to) `motions`: the entry
+/// of the studies, which probe where methods fail, so an explicit step above its stability
+/// limit is accepted here (with a warning, dropped) and fails at run time as unstable.
 pub fn load_str_with(
     text: &str,
     path: &Path,
     overrides: &[String],
     motions: &Motions,
 ) -> Result<Scene, ModelError> {
-    let text = apply_overrides(text, overrides)?;
-    let located = |e: toml::de::Error| check::parse_error(&e, &text, path);
+    compile_text(text, path, overrides, motions, StepLimit::Warn).map(|l| l.scene)
+}
+
+/// The one path: overrides applied, the TOML parsed once, compiled as a bridge or a general
+/// scene, then the checks of the whole scene (`limits`).
+fn compile_text(
+    text: &str,
+    path: &Path,
+    overrides: &[String],
+    motions: &Motions,
+    step_limit: StepLimit,
+) -> Result<Loaded, ModelError> {
+    let (text, applied) = apply_overrides_traced(text, overrides)?;
+    let located = |e: toml::de::Error| check::parse_error(&e, &text, path, &applied);
     let doc = DeTable::parse(&text).map_err(located)?;
     // the document as a plain table: what kind of file, and the values toml's own `Table`
     // rejects (integers beyond i64) rejected first, as when it was read that way
     let table = toml::Table::deserialize(Deserializer::from(doc.clone())).map_err(located)?;
-    if table.contains_key("deck") {
+    let ck = Check {
+        text: &text,
+        path,
+        applied: &applied,
+    };
+    let mut warnings = Vec::new();
+    let (mut scene, solver) = if table.contains_key("deck") {
         let file = bridge::BridgeFile::deserialize(Deserializer::from(doc)).map_err(located)?;
-        bridge::compile(&file, &text, path, motions)
+        let scene = bridge::compile(&file, &ck, motions)?;
+        warnings.extend(bridge::warnings(&file, &ck));
+        (scene, file.solver)
     } else {
+        bridge::refuse_without_deck(&table, &ck)?;
         let file = SceneFile::deserialize(Deserializer::from(doc)).map_err(located)?;
-        scene_file::compile(&file, &text, path, motions)
-    }
+        (scene_file::compile(&file, &ck, motions)?, file.solver)
+    };
+    let given = limits::Given {
+        solver: table.contains_key("solver"),
+        t_end: solver.t_end.is_some(),
+        step_limit,
+    };
+    limits::finish(&mut scene, &given, &ck, &mut warnings)?;
+    Ok(Loaded { scene, warnings })
 }

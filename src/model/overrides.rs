@@ -1,12 +1,21 @@
 //! `--set key.path=value` overrides, applied to the TOML text before it is read.
 
-use super::check::ModelError;
+use super::check::{Applied, ModelError};
 
 /// Applies `key.path=value` overrides to TOML text. Array-of-table segments are an index, a
 /// `name`, or `*` (all). The value is parsed as TOML (number, bool, string) or taken as a string.
 pub fn apply_overrides(text: &str, overrides: &[String]) -> Result<String, ModelError> {
+    apply_overrides_traced(text, overrides).map(|(t, _)| t)
+}
+
+/// As [`apply_overrides`], also returning the concrete fields each argument set.
+pub fn apply_overrides_traced(
+    text: &str,
+    overrides: &[String],
+) -> Result<(String, Vec<Applied>), ModelError> {
+    let mut applied = Vec::new();
     if overrides.is_empty() {
-        return Ok(text.to_string());
+        return Ok((text.to_string(), applied));
     }
     let mut doc: toml_edit::DocumentMut =
         text.parse()
@@ -24,11 +33,17 @@ pub fn apply_overrides(text: &str, overrides: &[String]) -> Result<String, Model
             .parse()
             .unwrap_or_else(|_| toml_edit::Value::from(raw.trim()));
         let segs: Vec<&str> = key.trim().split('.').collect();
-        let n =
-            set_path(doc.as_item_mut(), &segs, &value).map_err(|reason| ModelError::Override {
+        let mut set = Vec::new();
+        let n = set_path(doc.as_item_mut(), &segs, &value, "", &mut set).map_err(|reason| {
+            ModelError::Override {
                 key: key.to_string(),
                 reason,
-            })?;
+            }
+        })?;
+        applied.extend(set.into_iter().map(|field| Applied {
+            argument: o.clone(),
+            field,
+        }));
         if n == 0 {
             return Err(ModelError::Override {
                 key: key.to_string(),
@@ -36,13 +51,24 @@ pub fn apply_overrides(text: &str, overrides: &[String]) -> Result<String, Model
             });
         }
     }
-    Ok(doc.to_string())
+    Ok((doc.to_string(), applied))
+}
+
+/// `prefix.seg` (or `seg` at the top).
+fn join(prefix: &str, seg: impl std::fmt::Display) -> String {
+    if prefix.is_empty() {
+        seg.to_string()
+    } else {
+        format!("{prefix}.{seg}")
+    }
 }
 
 fn set_path(
     item: &mut toml_edit::Item,
     segs: &[&str],
     value: &toml_edit::Value,
+    prefix: &str,
+    set: &mut Vec<String>,
 ) -> Result<usize, String> {
     let Some((first, rest)) = segs.split_first() else {
         return Err("empty key".into());
@@ -54,7 +80,7 @@ fn set_path(
                 let named = t.get("name").and_then(|v| v.as_str()) == Some(*first);
                 if *first == "*" || first.parse::<usize>() == Ok(i) || named {
                     let mut it = toml_edit::Item::Table(t.clone());
-                    count += set_path(&mut it, rest, value)?;
+                    count += set_path(&mut it, rest, value, &join(prefix, i), set)?;
                     if let toml_edit::Item::Table(nt) = it {
                         *t = nt;
                     }
@@ -83,15 +109,16 @@ fn set_path(
                         t.insert(first, toml_edit::Item::Value(value.clone()));
                     }
                 }
+                set.push(join(prefix, first));
                 Ok(1)
             } else {
                 let child = t
                     .get_mut(first)
                     .ok_or_else(|| format!("no table '{first}'"))?;
-                set_path(child, rest, value)
+                set_path(child, rest, value, &join(prefix, first), set)
             }
         }
-        toml_edit::Item::Value(v) => set_in_value(v, segs, value),
+        toml_edit::Item::Value(v) => set_in_value(v, segs, value, prefix, set),
         _ => Err(format!("cannot descend into '{first}'")),
     }
 }
@@ -101,6 +128,8 @@ fn set_in_value(
     v: &mut toml_edit::Value,
     segs: &[&str],
     value: &toml_edit::Value,
+    prefix: &str,
+    set: &mut Vec<String>,
 ) -> Result<usize, String> {
     let Some((first, rest)) = segs.split_first() else {
         return Err("empty key".into());
@@ -109,6 +138,7 @@ fn set_in_value(
         toml_edit::Value::InlineTable(t) => {
             if rest.is_empty() && !t.contains_key(first) {
                 t.insert(*first, value.clone());
+                set.push(join(prefix, first));
                 return Ok(1);
             }
             t.get_mut(first)
@@ -133,8 +163,9 @@ fn set_in_value(
         let decor = child.decor().clone();
         *child = value.clone();
         *child.decor_mut() = decor;
+        set.push(join(prefix, first));
         Ok(1)
     } else {
-        set_in_value(child, rest, value)
+        set_in_value(child, rest, value, &join(prefix, first), set)
     }
 }

@@ -1,8 +1,8 @@
 //! The excitation records of a model: found relative to the model file, read and processed
 //! once per (file, processing) and shared.
 
-use super::check::ModelError;
-use crate::excitation::{GroundMotion, Processing};
+use super::check::{Check, ModelError};
+use crate::excitation::{ExcitationError, GroundMotion, Processing};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -70,5 +70,43 @@ impl Motions {
         }
         list.push((rp, p, g.clone()));
         Ok(g)
+    }
+}
+
+/// An error of reading or processing the record `file` that model field `field` names, located
+/// at that field (or at the model field of the processing parameter it is about); when the processing field it is about was written by a `--set` argument
+/// (`model_field` maps processing fields to model fields), the argument is named instead.
+pub(super) fn record_error(
+    e: ModelError,
+    ck: &Check,
+    field: &str,
+    file: &str,
+    model_field: &dyn Fn(&str) -> Option<String>,
+) -> ModelError {
+    let ModelError::Excitation { source, .. } = e else {
+        return e;
+    };
+    if let ExcitationError::Invalid { field: f, .. } = &source
+        && let Some(mf) = model_field(f)
+        && let Some(a) = ck.set_by(&mf)
+    {
+        return ModelError::OverrideInvalid {
+            argument: a.argument.clone(),
+            field: mf,
+            reason: source.to_string(),
+        };
+    }
+    // about a processing parameter the model file gives: located there
+    let field = match &source {
+        ExcitationError::Invalid { field: f, .. } => model_field(f),
+        _ => None,
+    }
+    .unwrap_or_else(|| field.to_string());
+    ModelError::Record {
+        path: ck.path.to_path_buf(),
+        line: ck.line(&field),
+        field,
+        record: file.to_string(),
+        source,
     }
 }

@@ -2,7 +2,7 @@
 //! compilation into a [`Scene`].
 
 use super::check::{Check, ModelError};
-use super::records::Motions;
+use super::records::{Motions, record_error};
 use super::solver::{SolverSpec, settings};
 use crate::excitation::Processing;
 use crate::hysteresis::{Hysteretic, Law};
@@ -147,22 +147,17 @@ fn axis_index(s: &str) -> Option<usize> {
 }
 
 /// Validate and compile a general scene file.
-pub fn compile(
-    f: &SceneFile,
-    text: &str,
-    path: &Path,
-    motions: &Motions,
-) -> Result<Scene, ModelError> {
-    let ck = Check { text, path };
-    let settings = settings(&f.solver, &ck)?;
+pub fn compile(f: &SceneFile, ck: &Check, motions: &Motions) -> Result<Scene, ModelError> {
+    let (ck, path) = (ck, ck.path);
+    let settings = settings(&f.solver, ck)?;
     let gravity = match f.gravity {
         Some(g) => ck.vec2("gravity", g)?,
         None => Vector2::zeros(),
     };
-    let dofs = compile_bodies(f, &ck, gravity)?;
-    let (supports, support_names) = compile_supports(f, &ck, path, motions)?;
+    let dofs = compile_bodies(f, ck, gravity)?;
+    let (supports, support_names) = compile_supports(f, ck, path, motions)?;
     let refs = Refs {
-        ck: &ck,
+        ck,
         bodies: &dofs.bodies,
         names: &dofs.names,
         supports: &support_names,
@@ -365,7 +360,10 @@ fn support_motion(
                 .file
                 .as_ref()
                 .ok_or_else(|| ck.err(&fld("file"), "required for a record support"))?;
-            let motion = motions.get(path, file, s.processing.clone().unwrap_or_default())?;
+            let p = s.processing.clone().unwrap_or_default();
+            let processing = |f: &str| Some(fld(&format!("processing.{f}")));
+            let motion = (motions.get(path, file, p))
+                .map_err(|e| record_error(e, ck, &fld("file"), file, &processing))?;
             Motion::Record(motion)
         }
         k => {

@@ -16,7 +16,8 @@ pub struct Settings {
     pub theta: f64,
     /// Penalty contact stiffness, normal and tangential stick spring, force/length (P, X; 1e6).
     pub contact_stiffness: f64,
-    /// End of the run, s (all; 1).
+    /// End of the run, s (all; 1; a model file with records and no `t_end`: the end of the
+    /// longest record + 5 s, `model::FREE_VIBRATION_TAIL`).
     pub t_end: f64,
     /// Output step of the time history, s; event instants are always added (all; 0.01).
     pub output_dt: f64,

@@ -1,0 +1,257 @@
+//! Checks of the compiled scene as a whole, where a setting is judged against the model: the
+//! run length against the records, the output step against the run, the tolerances against
+//! the gaps, the fixed step against the fastest dynamics (docs/engine.md, bad input).
+
+use super::check::{Check, ModelError};
+use super::warnings::ModelWarning;
+use crate::methods::Method;
+use crate::modal::{modes, omega_max, omega_max_closed};
+use crate::scene::{Motion, Scene};
+
+/// Free vibration after the end of the longest record when `solver.t_end` is absent, s: at
+/// 2 % damping a 0.3 s mode keeps 12 % of its amplitude after 5 s and a 2 s (full-scale) mode
+/// has made 2.5 cycles, so the peaks of the free vibration after the record are inside.
+pub const FREE_VIBRATION_TAIL: f64 = 5.0;
+
+/// A tolerance on gaps (`gap_tol`, `atol`) must be at most this fraction of the smallest
+/// positive initial gap, and `velocity_tol` this fraction of the speed of a fundamental-mode
+/// oscillation with that gap as amplitude (gap·ω₁): three digits of the quantity it decides on.
+pub const TOLERANCE_FRACTION: f64 = 1e-3;
+
+/// What to do with an explicit step above its stability limit.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StepLimit {
+    /// Refuse it (every entry but the studies').
+    Refuse,
+    /// Accept it with a warning (studies that map where methods fail).
+    Warn,
+}
+
+/// What the file said, as far as the checks need it.
+pub(super) struct Given {
+    /// A `[solver]` table is present.
+    pub solver: bool,
+    /// `solver.t_end` is present.
+    pub t_end: bool,
+    pub step_limit: StepLimit,
+}
+
+/// The checks in order: run length (may set `t_end`), output step, tolerances, fixed step.
+pub(super) fn finish(
+    scene: &mut Scene,
+    given: &Given,
+    ck: &Check,
+    warnings: &mut Vec<ModelWarning>,
+) -> Result<(), ModelError> {
+    run_length(scene, given, ck, warnings);
+    let st = &scene.settings;
+    if st.output_dt > st.t_end {
+        let (dt, t) = (st.output_dt, st.t_end);
+        return Err(ck.err(
+            "solver.output_dt",
+            format!("must be ≤ solver.t_end = {t} s, got {dt} s"),
+        ));
+    }
+    tolerances(scene, ck, warnings)?;
+    fixed_step(scene, given.step_limit, ck, warnings)
+}
+
+/// The support whose record ends last, and when.
+fn longest_record(scene: &Scene) -> Option<(String, f64)> {
+    let mut best: Option<(String, f64)> = None;
+    for s in &scene.supports {
+        if let Motion::Record(m) = &s.motion
+            && best.as_ref().is_none_or(|b| m.end_time() > b.1)
+        {
+            best = Some((s.name.clone(), m.end_time()));
+        }
+    }
+    best
+}
+
+/// `t_end` absent: the end of the longest record plus [`FREE_VIBRATION_TAIL`] (else the
+/// default); given but shorter than a record: said.
+fn run_length(scene: &mut Scene, given: &Given, ck: &Check, warnings: &mut Vec<ModelWarning>) {
+    let path = ck.path.to_path_buf();
+    let longest = longest_record(scene);
+    let st = &mut scene.settings;
+    match longest {
+        Some((field, record_end)) if given.t_end && record_end > st.t_end => {
+            warnings.push(ModelWarning::RecordCut {
+                path: path.clone(),
+                line: ck.line("solver.t_end"),
+                t_end: st.t_end,
+                record_end,
+                field,
+            });
+        }
+        Some((field, record_end)) if !given.t_end => {
+            st.t_end = record_end + FREE_VIBRATION_TAIL;
+            warnings.push(ModelWarning::TEndFromRecords {
+                path: path.clone(),
+                t_end: st.t_end,
+                record_end,
+                tail: FREE_VIBRATION_TAIL,
+                field,
+            });
+        }
+        None if given.solver && !given.t_end => warnings.push(ModelWarning::TEndDefault {
+            path: path.clone(),
+            t_end: st.t_end,
+        }),
+        _ => {}
+    }
+    if !given.solver {
+        let t_end = st.t_end;
+        warnings.insert(0, ModelWarning::NoSolver { path, t_end });
+    }
+}
+
+/// `rtol` < 1, `atol` and `gap_tol` against the smallest positive initial gap, `velocity_tol`
+/// against gap·ω₁ ([`TOLERANCE_FRACTION`]). With `h_max` > 0, loose `rtol`/`atol` make a
+/// fixed-step DP5 (order studies): accepted and said.
+fn tolerances(
+    scene: &Scene,
+    ck: &Check,
+    warnings: &mut Vec<ModelWarning>,
+) -> Result<(), ModelError> {
+    let st = &scene.settings;
+    let fixed = st.h_max > 0.0;
+    let (rtol, atol, h_max) = (st.rtol, st.atol, st.h_max);
+    if rtol >= 1.0 && !fixed {
+        return Err(ck.err(
+            "solver.rtol",
+            format!(
+                "must be in (0, 1): a relative error of {rtol} is no error control (with \
+                 solver.h_max > 0 it would make a fixed-step DP5), got {rtol}"
+            ),
+        ));
+    }
+    let path = ck.path.to_path_buf();
+    if fixed && rtol >= 1.0 {
+        let path = path.clone();
+        warnings.push(ModelWarning::ErrorControlOff {
+            path,
+            rtol,
+            atol,
+            h_max,
+        });
+    }
+    let fr = scene.frame(0.0, &scene.q0, &scene.v0);
+    let smallest = (scene.contacts.iter())
+        .map(|c| (c.name.as_str(), scene.contact_kinematics(&fr, c).gap))
+        .filter(|(_, g)| *g > 0.0)
+        .min_by(|a, b| a.1.total_cmp(&b.1));
+    let Some((contact, gap)) = smallest else {
+        return Ok(());
+    };
+    let limit = TOLERANCE_FRACTION * gap;
+    if fixed && rtol < 1.0 && atol > limit {
+        warnings.push(ModelWarning::ErrorControlOff {
+            path,
+            rtol,
+            atol,
+            h_max,
+        });
+    }
+    for (field, x) in [("solver.atol", st.atol), ("solver.gap_tol", st.gap_tol)] {
+        if x > limit && !(fixed && field == "solver.atol") {
+            return Err(ck.err(
+                field,
+                format!(
+                    "{x} is above {TOLERANCE_FRACTION:e} × the smallest initial gap \
+                     ({gap:.4e} m, contact {contact}) = {limit:.3e}: it would not resolve the gap"
+                ),
+            ));
+        }
+    }
+    let w1 = modes(scene).iter().map(|m| m.omega).find(|w| *w > 0.0);
+    if let Some(w1) = w1 {
+        let speed = gap * w1;
+        let limit = TOLERANCE_FRACTION * speed;
+        let x = st.velocity_tol;
+        if x > limit {
+            return Err(ck.err(
+                "solver.velocity_tol",
+                format!(
+                    "{x} is above {TOLERANCE_FRACTION:e} × gap·ω₁ = {TOLERANCE_FRACTION:e} × \
+                     {gap:.4e} m × {w1:.4} rad/s = {limit:.3e} m/s (smallest initial gap, contact \
+                     {contact}; ω₁ of the initial system): impacts this slow would count as rest"
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The fixed step against 2/ω_max. Explicit: above the limit of K₀ (unstable from the first
+/// step, whatever the contacts do) refused (or warned, [`StepLimit::Warn`]); above the limit
+/// with every contact closed (unstable while contacts are closed; the run-time energy guard
+/// stops it) warned. Implicit methods are stable at any step: warned when the fastest
+/// dynamics are not resolved.
+fn fixed_step(
+    scene: &Scene,
+    step_limit: StepLimit,
+    ck: &Check,
+    warnings: &mut Vec<ModelWarning>,
+) -> Result<(), ModelError> {
+    let st = &scene.settings;
+    let (step, k) = (st.step, st.contact_stiffness);
+    let open = || (omega_max(scene), "K₀ of springs and columns".to_string());
+    let closed = || {
+        let what = format!("K₀ with every contact closed and sticking at contact_stiffness {k:e}");
+        (omega_max_closed(scene, k), what)
+    };
+    let (path, line) = (ck.path.to_path_buf(), ck.line("solver.step"));
+    match st.method {
+        Method::Event => {}
+        Method::PenaltyExplicit => {
+            let (omega, what) = open();
+            let limit = 2.0 / omega;
+            if step > limit && step_limit == StepLimit::Refuse {
+                let reason = format!(
+                    "{step} s is above the stability limit 2/ω_max = {limit:.3e} s of the \
+                     explicit central-difference scheme (ω_max = {omega:.4e} rad/s, {what})"
+                );
+                return Err(ck.err("solver.step", reason));
+            }
+            let (omega, what) = if step > limit {
+                (omega, what)
+            } else {
+                closed()
+            };
+            let limit = 2.0 / omega;
+            if step > limit {
+                warnings.push(ModelWarning::StepAboveStability {
+                    path,
+                    line,
+                    step,
+                    limit,
+                    omega,
+                    what,
+                });
+            }
+        }
+        Method::Moreau | Method::Penalty => {
+            let (omega, what) = if st.method == Method::Moreau {
+                open()
+            } else {
+                closed()
+            };
+            let limit = 2.0 / omega;
+            if step > limit {
+                let method = st.method.name().to_string();
+                warnings.push(ModelWarning::StepUnresolved {
+                    path,
+                    line,
+                    step,
+                    limit,
+                    omega,
+                    what,
+                    method,
+                });
+            }
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,117 @@
+//! What a model was compiled with that its file does not say: defaults taken for absent
+//! tables and fields, records cut by the end of the run, steps that resolve no contact
+//! dynamics. The library never prints: [`super::load_checked`] returns these with the scene
+//! and the front ends show them.
+
+use std::path::PathBuf;
+
+/// A warning about a model that was accepted (see `docs/engine.md`, bad input).
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum ModelWarning {
+    /// No `[solver]` table: every setting is its documented default.
+    #[error(
+        "{}: no [solver] table: the defaults are used (method event, t_end {t_end:.3} s, rtol 1e-8, \
+         atol 1e-10, output_dt 0.01 s; docs/engine.md)",
+        path.display()
+    )]
+    NoSolver { path: PathBuf, t_end: f64 },
+    /// `solver.t_end` absent: the end of the longest record plus the free-vibration tail.
+    #[error(
+        "{}: solver.t_end absent: {t_end:.3} s = end of the longest record ({record_end:.3} s, \
+         {field}) + {tail} s of free vibration",
+        path.display()
+    )]
+    TEndFromRecords {
+        path: PathBuf,
+        t_end: f64,
+        record_end: f64,
+        tail: f64,
+        field: String,
+    },
+    /// `solver.t_end` absent and no record to end with: the default.
+    #[error("{}: solver.t_end absent: {t_end} s (the default)", path.display())]
+    TEndDefault { path: PathBuf, t_end: f64 },
+    /// A record runs past `t_end`: its end is not applied.
+    #[error(
+        "{}:{line}: solver.t_end: {t_end} s ends before the record of {field} ({record_end:.3} \
+         s): its last {:.3} s are not applied",
+        path.display(),
+        record_end - t_end
+    )]
+    RecordCut {
+        path: PathBuf,
+        line: usize,
+        t_end: f64,
+        record_end: f64,
+        field: String,
+    },
+    /// A bridge without `[excitation]`: it starts at rest and nothing moves it.
+    #[error(
+        "{}: no [excitation]: the bridge starts at rest and nothing moves it (the response is \
+         zero; modes and settings are still meaningful)",
+        path.display()
+    )]
+    NoExcitation { path: PathBuf },
+    /// `[[run]]` tables present but no `excitation.run` to pick one: records unscaled.
+    #[error(
+        "{}: excitation.run absent: the {runs} [[run]] tables are not used, the records keep \
+         their own amplitude",
+        path.display()
+    )]
+    RunsUnused { path: PathBuf, runs: usize },
+    /// An implicit fixed step longer than 2/ω_max of the stiffest linearised system: the
+    /// fastest modes (contact, with the penalty method) are not resolved, only damped.
+    #[error(
+        "{}:{line}: solver.step: {step} s > 2/ω_max = {limit:.3e} s (ω_max = {omega:.4e} rad/s, \
+         {what}): the {method} method stays stable but does not resolve these dynamics",
+        path.display()
+    )]
+    StepUnresolved {
+        path: PathBuf,
+        line: usize,
+        step: f64,
+        limit: f64,
+        omega: f64,
+        what: String,
+        method: String,
+    },
+    /// An explicit step above the stability limit of the system with its contacts closed
+    /// (unstable while a contact is closed), or above that of K₀ in the studies' entry
+    /// ([`super::load_str_with`]), which probes where methods fail (refused elsewhere).
+    #[error(
+        "{}:{line}: solver.step: {step} s > 2/ω_max = {limit:.3e} s (ω_max = {omega:.4e} rad/s, \
+         {what}): the central-difference scheme is unstable there",
+        path.display()
+    )]
+    StepAboveStability {
+        path: PathBuf,
+        line: usize,
+        step: f64,
+        limit: f64,
+        omega: f64,
+        what: String,
+    },
+    /// A field the chosen kind of excitation does not read.
+    #[error(
+        "{}:{line}: {field}: not read by excitation kind = \"{kind}\" (ignored)",
+        path.display()
+    )]
+    Unread {
+        path: PathBuf,
+        line: usize,
+        field: String,
+        kind: String,
+    },
+    /// Tolerances too loose for error control, with `h_max` set: a fixed-step DP5 at h_max.
+    #[error(
+        "{}: solver.rtol = {rtol}, solver.atol = {atol}: no error control, the event-driven \
+         method steps at solver.h_max = {h_max} s (a fixed-step DP5)",
+        path.display()
+    )]
+    ErrorControlOff {
+        path: PathBuf,
+        rtol: f64,
+        atol: f64,
+        h_max: f64,
+    },
+}
