@@ -225,14 +225,14 @@ fn new_number() -> impl Strategy<Value = NewNumber> {
 
 fn model_mutation() -> impl Strategy<Value = Mutation> {
     prop_oneof![
-        6 => (any::<Index>(), new_number()).prop_map(|(i, n)| Mutation::Number(i, n)),
+        10 => (any::<Index>(), new_number()).prop_map(|(i, n)| Mutation::Number(i, n)),
         1 => any::<Index>().prop_map(Mutation::DeleteLine),
         1 => any::<Index>().prop_map(Mutation::DuplicateLine),
         1 => (any::<Index>(), any::<Index>()).prop_map(|(a, b)| Mutation::SwapTables(a, b)),
         1 => (any::<Index>(), proptest::sample::select(JUNK)).prop_map(|(i, j)| Mutation::JunkKey(i, j)),
         1 => any::<Index>().prop_map(Mutation::Truncate),
         1 => (any::<Index>(), any::<bool>()).prop_map(|(i, b)| Mutation::ArrayLength(i, b)),
-        1 => proptest::sample::select(METHODS).prop_map(Mutation::Method),
+        2 => proptest::sample::select(METHODS).prop_map(Mutation::Method),
     ]
 }
 
@@ -268,7 +268,7 @@ pub fn input(base: u64, case: u64, seeds: &[Seed]) -> Input {
     } else {
         model_mutation().boxed()
     };
-    let mutations = proptest::collection::vec(one, 1..=4)
+    let mutations = proptest::collection::vec(one, 1..=3)
         .new_tree(&mut runner)
         .unwrap()
         .current();
