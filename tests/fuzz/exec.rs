@@ -1,0 +1,214 @@
+//! One fuzz input run and classified: refused at load, refused by the output budget,
+//! finished (with its checks), failed with a typed error, cancelled by the watchdog, panicked.
+
+use deckspin::output::{EnergySample, EventRecord, Sample};
+use deckspin::run::{OutputBudget, Stop, check_output};
+use std::panic::AssertUnwindSafe;
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+/// Simulated time each input runs at most (longer `t_end` are cut to it).
+pub const T_END_MAX: f64 = 4.0;
+/// Rows and bytes of history an input may ask for (the output is streamed, not kept).
+pub const BUDGET: OutputBudget = OutputBudget {
+    max_rows: 2e6,
+    max_bytes: 2e9,
+};
+/// Finding categories the CI run asserts to be absent.
+pub const MUST_BE_ZERO: &[&str] = &["panic", "hang", "crash", "non-finite"];
+/// Largest energy closure (relative), penetration (m) a finished run may show.
+pub const CLOSURE_MAX: f64 = 1e-3;
+pub const PENETRATION_MAX: f64 = 1e-6;
+
+/// How one input ended.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Outcome {
+    /// The model file (or its record) was refused at load, with the error's kind.
+    Refused(String),
+    /// Loaded, but its output estimate is above [`BUDGET`] (`check_output`).
+    OverBudget,
+    /// Reached its end: the method, energy closure, penetration, and whether a value of a
+    /// sample or of the summary was NaN or infinite.
+    Finished {
+        method: String,
+        closure: f64,
+        penetration: f64,
+        non_finite: bool,
+    },
+    /// Stopped with a typed `SolverError` (its kind).
+    Failed(String),
+    /// Cancelled by the watchdog after the wall-time limit: a hang.
+    Hang(String),
+    /// A panic, with its message.
+    Panic(String),
+}
+
+impl Outcome {
+    /// The finding categories this outcome falls in (none for an acceptable one).
+    pub fn findings(&self) -> Vec<&'static str> {
+        match self {
+            Outcome::Hang(_) => vec!["hang"],
+            Outcome::Panic(_) => vec!["panic"],
+            Outcome::Finished {
+                method,
+                closure,
+                penetration,
+                non_finite,
+            } => {
+                let mut f = Vec::new();
+                if *non_finite || !closure.is_finite() || !penetration.is_finite() {
+                    f.push("non-finite");
+                }
+                // the fixed-step methods' closure and penetration depend on their step (the
+                // penalty methods penetrate by design): counted apart
+                let event = method == "Event";
+                if *closure > CLOSURE_MAX {
+                    f.push(if event { "closure" } else { "closure:fixed-step" });
+                }
+                if *penetration > PENETRATION_MAX {
+                    f.push(if event { "penetration" } else { "penetration:fixed-step" });
+                }
+                f
+            }
+            _ => Vec::new(),
+        }
+    }
+
+    /// One word for the tally: `refused:Invalid`, `failed:TooManySteps`, `finished`, …
+    pub fn class(&self) -> String {
+        match self {
+            Outcome::Refused(k) => format!("refused:{k}"),
+            Outcome::OverBudget => "refused:budget".into(),
+            Outcome::Finished { method, .. } => format!("finished:{method}"),
+            Outcome::Failed(k) => format!("failed:{k}"),
+            Outcome::Hang(_) => "hang".into(),
+            Outcome::Panic(_) => "panic".into(),
+        }
+    }
+}
+
+/// Cancels the run after `limit`; notes any non-finite value of the samples it is handed.
+struct Watchdog {
+    start: Instant,
+    limit: Duration,
+    non_finite: bool,
+}
+
+fn energy_finite(e: &EnergySample) -> bool {
+    [
+        e.kinetic,
+        e.elastic,
+        e.loads,
+        e.supports,
+        e.damping,
+        e.hysteretic,
+        e.friction,
+        e.impact_normal,
+        e.impact_tangential,
+        e.initial,
+        e.closure,
+    ]
+    .iter()
+    .all(|x| x.is_finite())
+}
+
+fn sample_finite(s: &Sample) -> bool {
+    s.t.is_finite()
+        && s.q.iter().chain(&s.v).all(|x| x.is_finite())
+        && s.contacts.iter().all(|c| {
+            [c.gap, c.gap_rate, c.slip_rate, c.normal_force, c.tangential_force]
+                .iter()
+                .all(|x| x.is_finite())
+        })
+        && s.elements.iter().all(|(d, f)| d.is_finite() && f.is_finite())
+        && energy_finite(&s.energy)
+}
+
+impl deckspin::Observer for Watchdog {
+    fn batch(&mut self, samples: &[Sample], _: &[EventRecord], _: f64) -> bool {
+        self.non_finite |= !samples.iter().all(sample_finite);
+        self.start.elapsed() < self.limit
+    }
+
+    fn keeps_samples(&self) -> bool {
+        true
+    }
+}
+
+/// The variant name of a `Debug` text (`Invalid { … }` → `Invalid`).
+fn variant(debug: &str) -> String {
+    debug
+        .split(|c: char| !c.is_alphanumeric())
+        .next()
+        .unwrap_or("?")
+        .to_string()
+}
+
+/// Where each process writes the record of its inputs.
+pub fn scratch() -> PathBuf {
+    let d = std::env::temp_dir().join(format!("deckspin-fuzz-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// Loads `model` (as if at `path`, with `at2` written next to it as `rec.AT2`) and runs it.
+pub fn run_input(model: &str, path: &Path, at2: Option<&str>, limit: Duration) -> Outcome {
+    let path = match at2 {
+        Some(a) => {
+            let dir = scratch();
+            std::fs::write(dir.join("rec.AT2"), a).unwrap();
+            dir.join(path)
+        }
+        None => path.to_path_buf(),
+    };
+    let caught = std::panic::catch_unwind(AssertUnwindSafe(|| load_and_run(model, &path, limit)));
+    caught.unwrap_or_else(|p| {
+        let msg = p
+            .downcast_ref::<String>()
+            .cloned()
+            .or_else(|| p.downcast_ref::<&str>().map(|s| s.to_string()))
+            .unwrap_or_else(|| "?".into());
+        Outcome::Panic(msg)
+    })
+}
+
+fn load_and_run(model: &str, path: &Path, limit: Duration) -> Outcome {
+    let start = Instant::now();
+    let mut scene = match deckspin::model::load_str(model, path, &[]) {
+        Ok(s) => s,
+        Err(e) => return Outcome::Refused(variant(&format!("{e:?}"))),
+    };
+    if scene.settings.t_end > T_END_MAX {
+        scene.settings.t_end = T_END_MAX;
+    }
+    if check_output(&scene, &BUDGET).is_err() {
+        return Outcome::OverBudget;
+    }
+    let mut dog = Watchdog {
+        start,
+        limit,
+        non_finite: false,
+    };
+    let run = deckspin::simulate::integrate(&scene, &mut dog);
+    let s = &run.output.summary;
+    match run.stop {
+        Stop::Finished => {
+            let peaks = s.peaks.iter().all(|p| {
+                p.max_abs.is_finite() && p.residual.is_finite() && p.max_abs_velocity.is_finite()
+            });
+            let rest = run.output.samples.iter().all(sample_finite);
+            Outcome::Finished {
+                method: format!("{:?}", scene.settings.method),
+                closure: s.energy_closure_rel,
+                penetration: s.max_penetration,
+                non_finite: dog.non_finite || !rest || !peaks || !energy_finite(&s.energy_final),
+            }
+        }
+        Stop::Cancelled { t } => Outcome::Hang(format!(
+            "cancelled at t = {t:.6e} s of {} s after {:.1} s",
+            scene.settings.t_end,
+            start.elapsed().as_secs_f64()
+        )),
+        Stop::Failed(e) => Outcome::Failed(e.kind().to_string()),
+    }
+}
