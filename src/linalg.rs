@@ -8,6 +8,11 @@ use nalgebra::{DMatrix, DVector};
 /// λ = Aᵀ(AAᵀ + δI)⁻¹ b (→ A⁺b as δ → 0), δ = 1e-12 max diag(AAᵀ), by Cholesky; the SVD
 /// solution if that does not reproduce b. It splits forces equally between redundant rows.
 pub fn min_norm_solve(a: &DMatrix<f64>, b: &DVector<f64>) -> DVector<f64> {
+    // a non-finite system has no solution to find (and nalgebra's SVD panics on NaN): NaN goes
+    // on, and the integrator reports a non-finite state
+    if !a.iter().chain(b.iter()).all(|x| x.is_finite()) {
+        return DVector::from_element(b.len(), f64::NAN);
+    }
     let aat = a * a.transpose();
     let delta = 1e-12 * aat.diagonal().amax().max(1e-300);
     let mut reg = aat;
@@ -313,6 +318,15 @@ mod tests {
             // equal split between the redundant copies
             assert!((x[0] - x[2]).abs() < 1e-9 && (x[1] - x[3]).abs() < 1e-9);
         }
+    }
+
+    #[test]
+    fn a_non_finite_system_gives_nan_not_a_panic() {
+        let a = DMatrix::from_row_slice(2, 2, &[1.0, f64::NAN, 0.0, 1.0]);
+        let b = DVector::from_vec(vec![1.0, 1.0]);
+        assert!(min_norm_solve(&a, &b).iter().all(|x| x.is_nan()));
+        let (x, _) = solve(&a, &b);
+        assert!(x.iter().any(|x| !x.is_finite()));
     }
 
     #[test]

@@ -383,11 +383,14 @@ impl<'a> Integration<'a> {
     }
 }
 
-/// Explicit DP5 needs h ≤ 3.3/ω for the stiffest mode (its stability region on the imaginary
-/// axis): a run that cannot finish within `max_steps` is refused before it starts.
+/// Explicit DP5 needs h ≤ 3.3/|λ| for the fastest eigenvalue of the linearised system: ω of the
+/// stiffest mode (its stability region on the imaginary axis) or the decay rate c Jᵀ M⁻¹ J of
+/// the stiffest dashpot (on the real axis). A run that cannot finish within `max_steps` is
+/// refused before it starts.
 fn check_stiffness(scene: &Scene) -> Result<(), SolverError> {
     let st = &scene.settings;
-    let omega = crate::modal::modes(scene).last().map_or(0.0, |m| m.omega);
+    let modes = crate::modal::modes(scene).last().map_or(0.0, |m| m.omega);
+    let omega = modes.max(damping_rate(scene));
     let steps = st.t_end * omega / DP5_IMAGINARY_STABILITY;
     if steps > st.max_steps as f64 {
         return Err(SolverError::TooStiff {
@@ -397,6 +400,26 @@ fn check_stiffness(scene: &Scene) -> Result<(), SolverError> {
         });
     }
     Ok(())
+}
+
+/// The largest decay rate of a single dashpot, c Σ J_k²/m_k, and of the mass-proportional
+/// damping a₀, 1/s.
+fn damping_rate(scene: &Scene) -> f64 {
+    let z = DVector::zeros(scene.ndof());
+    let fr = scene.frame(0.0, &z, &z);
+    let rate = |att, support, c: f64| {
+        let (.., jac, nj) = scene.deformation(&fr, att, support);
+        let g: f64 = jac[..nj].iter().map(|&(k, j)| j * j / scene.mass[k]).sum();
+        c * g
+    };
+    let springs = scene
+        .springs
+        .iter()
+        .map(|s| rate(&s.attachment, s.support, s.damping));
+    let columns = (scene.hysteretic.iter()).map(|h| rate(&h.attachment, h.support, h.damping));
+    springs
+        .chain(columns)
+        .fold(scene.mass_damping.alpha, f64::max)
 }
 
 /// Extent of DP5's stability region along the imaginary axis (Hairer & Wanner, *Solving ODEs

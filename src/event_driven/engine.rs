@@ -112,6 +112,9 @@ impl<'a> Engine<'a> {
             }
         }
         eng.state.e0 = scene.kinetic_energy(&v) + scene.spring_energy(0.0, &q, &v);
+        if !eng.state.e0.is_finite() {
+            return Err(SolverError::NonFinite { t: 0.0 });
+        }
         let mut h = DVector::zeros(n);
         smooth_forces(
             scene,

@@ -31,6 +31,9 @@ pub fn integrate_moreau(scene: &Scene, observer: &mut dyn Observer) -> Run {
 fn moreau_steps(s: &mut Stepper, observer: &mut dyn Observer) -> Result<(), SolverError> {
     let scene = s.scene;
     let steps = number_of_steps(scene)?;
+    if !s.e0.is_finite() {
+        return Err(SolverError::NonFinite { t: 0.0 });
+    }
     let h = scene.settings.t_end / steps as f64;
     let th = scene.settings.theta;
     let mut f_k = DVector::zeros(scene.ndof());

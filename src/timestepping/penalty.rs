@@ -42,6 +42,9 @@ fn penalty_steps(
 ) -> Result<(), SolverError> {
     let scene = s.scene;
     let steps = number_of_steps(scene)?;
+    if !s.e0.is_finite() {
+        return Err(SolverError::NonFinite { t: 0.0 });
+    }
     let h = scene.settings.t_end / steps as f64;
     let gaps = GapElements::new(scene, scene.settings.contact_stiffness);
     let zero = vec![0.0; scene.contacts.len()];
@@ -65,6 +68,9 @@ fn penalty_steps(
         } else {
             newmark_with_substeps(s, &gaps, &a_k, h)?
         };
+        if !q1.iter().chain(v1.iter()).all(|x| x.is_finite()) {
+            return Err(SolverError::NonFinite { t: t1 });
+        }
         s.q = q1;
         s.v = v1;
         a_k = a1;

@@ -49,9 +49,9 @@ fn new_number(tok: &str, n: &NewNumber) -> String {
         NewNumber::Scale(k) => {
             let integer = !tok.contains(['.', 'e', 'E']);
             match (integer, tok.parse::<i128>()) {
-                (true, Ok(v)) if *k >= 0 => {
-                    v.saturating_mul(10i128.saturating_pow(*k as u32)).to_string()
-                }
+                (true, Ok(v)) if *k >= 0 => v
+                    .saturating_mul(10i128.saturating_pow(*k as u32))
+                    .to_string(),
                 (true, Ok(v)) => (v / 10i128.pow(k.unsigned_abs().min(30))).to_string(),
                 _ => match tok.replace('_', "").parse::<f64>() {
                     Ok(v) => float(v * 10f64.powi(*k)),
@@ -178,7 +178,9 @@ pub fn model(text: &str, m: &Mutation) -> String {
         Mutation::Number(i, n) => {
             let nums = numbers(text);
             match pick(i, nums.len()).map(|k| nums[k]) {
-                Some((a, b)) => format!("{}{}{}", &text[..a], new_number(&text[a..b], n), &text[b..]),
+                Some((a, b)) => {
+                    format!("{}{}{}", &text[..a], new_number(&text[a..b], n), &text[b..])
+                }
                 None => text.to_string(),
             }
         }

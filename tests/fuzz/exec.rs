@@ -63,10 +63,18 @@ impl Outcome {
                 // penalty methods penetrate by design): counted apart
                 let event = method == "Event";
                 if *closure > CLOSURE_MAX {
-                    f.push(if event { "closure" } else { "closure:fixed-step" });
+                    f.push(if event {
+                        "closure"
+                    } else {
+                        "closure:fixed-step"
+                    });
                 }
                 if *penetration > PENETRATION_MAX {
-                    f.push(if event { "penetration" } else { "penetration:fixed-step" });
+                    f.push(if event {
+                        "penetration"
+                    } else {
+                        "penetration:fixed-step"
+                    });
                 }
                 f
             }
@@ -116,11 +124,19 @@ fn sample_finite(s: &Sample) -> bool {
     s.t.is_finite()
         && s.q.iter().chain(&s.v).all(|x| x.is_finite())
         && s.contacts.iter().all(|c| {
-            [c.gap, c.gap_rate, c.slip_rate, c.normal_force, c.tangential_force]
-                .iter()
-                .all(|x| x.is_finite())
+            [
+                c.gap,
+                c.gap_rate,
+                c.slip_rate,
+                c.normal_force,
+                c.tangential_force,
+            ]
+            .iter()
+            .all(|x| x.is_finite())
         })
-        && s.elements.iter().all(|(d, f)| d.is_finite() && f.is_finite())
+        && s.elements
+            .iter()
+            .all(|(d, f)| d.is_finite() && f.is_finite())
         && energy_finite(&s.energy)
 }
 

@@ -115,7 +115,10 @@ fn fuzz_case() {
     println!("seed file: {}\nmutations: {:?}", s.name, input.mutations);
     let out = run(&model, at2.as_deref());
     println!("outcome: {out:?}");
-    let changed: Vec<&str> = model.lines().filter(|l| !s.model.lines().any(|m| m == *l)).collect();
+    let changed: Vec<&str> = model
+        .lines()
+        .filter(|l| !s.model.lines().any(|m| m == *l))
+        .collect();
     println!("model lines not in the seed: {changed:?}");
     let Some(&finding) = out.findings().first() else {
         println!("no finding");
@@ -170,7 +173,11 @@ fn seeds_run_clean() {
     for s in &seeds {
         let t0 = Instant::now();
         let out = exec::run_input(&s.model, &s.path, s.at2.as_deref(), LIMIT);
-        println!("{:<55} {:>7.3} s  {out:?}", s.name, t0.elapsed().as_secs_f64());
+        println!(
+            "{:<55} {:>7.3} s  {out:?}",
+            s.name,
+            t0.elapsed().as_secs_f64()
+        );
         let ok = matches!(out, exec::Outcome::Finished { .. })
             || s.name.contains("painleve") && out == exec::Outcome::Failed("Painleve".into());
         assert!(ok && out.findings().is_empty(), "{}: {out:?}", s.name);

@@ -85,7 +85,11 @@ impl Tally {
             self.inputs as f64 / self.wall.max(1e-9)
         );
         let group = |p: &str| -> u64 {
-            self.classes.iter().filter(|(k, _)| k.starts_with(p)).map(|(_, v)| v).sum()
+            self.classes
+                .iter()
+                .filter(|(k, _)| k.starts_with(p))
+                .map(|(_, v)| v)
+                .sum()
         };
         s += &format!(
             "refused {}, finished {}, failed {}, hang {}, panic {}, crash {}\n",
@@ -110,14 +114,23 @@ impl Tally {
         for f in shown.chain(self.findings.iter().filter(fixed).take(50)) {
             s += &format!("  case {} [{}] {}\n", f.case, f.category, f.detail);
         }
-        s += &format!("slowest input: case {} in {:.2} s\n", self.slowest.1, self.slowest.0);
+        s += &format!(
+            "slowest input: case {} in {:.2} s\n",
+            self.slowest.1, self.slowest.0
+        );
         s
     }
 }
 
 fn spawn(seed: u64, from: u64, to: u64, limit: Duration) -> Child {
     Command::new(std::env::current_exe().unwrap())
-        .args(["fuzz_child", "--exact", "--ignored", "--nocapture", "--test-threads=1"])
+        .args([
+            "fuzz_child",
+            "--exact",
+            "--ignored",
+            "--nocapture",
+            "--test-threads=1",
+        ])
         .env("FUZZ_CHILD", "1")
         .env("FUZZ_SEED", seed.to_string())
         .env("FUZZ_FROM", from.to_string())
@@ -177,7 +190,13 @@ fn worker(seed: u64, from: u64, to: u64, limit: Duration) -> Tally {
                         next = c + 1;
                     } else if next < to {
                         // the child ended without starting its next input: give up on it
-                        tally.add(next, "crash", "crash", 0.0, &format!("child ended: {status}"));
+                        tally.add(
+                            next,
+                            "crash",
+                            "crash",
+                            0.0,
+                            &format!("child ended: {status}"),
+                        );
                         next += 1;
                     }
                     break;
