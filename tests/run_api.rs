@@ -28,7 +28,7 @@ fn a_cancelled_run_keeps_its_output() {
     let Stop::Cancelled { t } = run.stop else {
         panic!("{:?}", run.stop)
     };
-    assert!(t >= 5.0 && t < 16.0, "cancelled at {t}");
+    assert!((5.0..16.0).contains(&t), "cancelled at {t}");
     let last = run.output.samples.last().unwrap().t;
     assert!(
         last <= t && last > 4.9,

@@ -129,17 +129,17 @@ fn without_tests(code: &str) -> String {
     let pat: Vec<char> = "#[cfg(test)]".chars().collect();
     let mut i = 0;
     while i + pat.len() <= code.len() {
-        if code[i..i + pat.len()] == pat[..] {
-            if let Some(open) = (i..code.len()).find(|&k| code[k] == '{' || code[k] == ';') {
-                let end = if code[open] == '{' {
-                    closing(&code, open)
-                } else {
-                    open
-                };
-                for c in &mut code[i..=end] {
-                    if *c != '\n' {
-                        *c = ' ';
-                    }
+        if code[i..i + pat.len()] == pat[..]
+            && let Some(open) = (i..code.len()).find(|&k| code[k] == '{' || code[k] == ';')
+        {
+            let end = if code[open] == '{' {
+                closing(&code, open)
+            } else {
+                open
+            };
+            for c in &mut code[i..=end] {
+                if *c != '\n' {
+                    *c = ' ';
                 }
             }
         }

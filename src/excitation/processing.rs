@@ -299,7 +299,8 @@ fn check_signal(pga_raw: f64, pga_corr: f64) -> Result<()> {
     if pga_raw == 0.0 {
         return Err(invalid("acc", "no signal: every sample is zero"));
     }
-    if !(pga_corr >= MIN_SIGNAL_FRACTION * pga_raw) {
+    // (a NaN PGA has no signal either)
+    if pga_corr.is_nan() || pga_corr < MIN_SIGNAL_FRACTION * pga_raw {
         return Err(invalid(
             "baseline",
             format!(

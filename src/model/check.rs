@@ -58,7 +58,7 @@ pub enum ModelError {
         field: String,
         record: String,
         #[source]
-        source: ExcitationError,
+        source: Box<ExcitationError>,
     },
     #[error("{}: {source}", path.display())]
     Excitation {

@@ -107,6 +107,6 @@ pub(super) fn record_error(
         line: ck.line(&field),
         field,
         record: file.to_string(),
-        source,
+        source: Box::new(source),
     }
 }
