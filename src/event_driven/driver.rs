@@ -37,6 +37,8 @@ pub(super) struct Integration<'a> {
     pub(super) clock: Clock,
     pub(super) batcher: Batcher,
     pub(super) ws: dopri::Workspace,
+    /// The step to a located contact event ([`Engine::state_at_event`]).
+    pub(super) ws_event: dopri::Workspace,
 }
 
 /// The integrator's state between steps (cloned with the engine's state by a fork).
@@ -121,6 +123,7 @@ impl<'a> Integration<'a> {
             clock,
             batcher: Batcher::new(),
             ws: dopri::Workspace::default(),
+            ws_event: dopri::Workspace::default(),
         })
     }
 
@@ -209,6 +212,7 @@ impl<'a> Integration<'a> {
             eng,
             clock,
             ws,
+            ws_event,
             batcher,
         } = self;
         let Clock {
@@ -289,6 +293,7 @@ impl<'a> Integration<'a> {
         let t1 = found.unwrap_or(step.t1());
         track_peaks(&mut eng.state.out, step, t1, n, y0);
         // grid output inside (t0, t1]
+        let mut t_min = t0;
         while (*next_out as f64) * st.output_dt <= t1 * (1.0 + 1e-14) && eng.state.t < st.t_end {
             let tg = (*next_out as f64) * st.output_dt;
             if tg > t1 {
@@ -299,10 +304,25 @@ impl<'a> Integration<'a> {
             eng.record_sample(SampleKind::Grid)?;
             batcher.maybe(&eng.state.out, eng.state.t, observer)?;
             *next_out += 1;
+            t_min = eng.state.t;
         }
         eng.state.t = t1;
         if found.is_some() {
-            step.dense_at_into(t1, &mut eng.state.y);
+            // a contact event from a step of its own; branch changes from the dense output
+            let contact = match eng.state.cluster[..] {
+                [f] if !f.is_branch() => Some(f),
+                _ => None,
+            };
+            let mut y = std::mem::take(&mut eng.state.y);
+            let at = match contact {
+                Some(f) => eng.state_at_event(ws_event, step, f0, f, t1, t_min, &mut y),
+                None => Ok(None),
+            };
+            eng.state.y = y;
+            match at? {
+                Some(t) => eng.state.t = t,
+                None => step.dense_at_into(t1, &mut eng.state.y),
+            }
         } else {
             eng.state
                 .y

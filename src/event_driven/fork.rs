@@ -87,6 +87,7 @@ impl<'a> Integration<'a> {
             clock: self.clock.clone(),
             batcher: Batcher::new(),
             ws: dopri::Workspace::default(),
+            ws_event: dopri::Workspace::default(),
         }
     }
 }

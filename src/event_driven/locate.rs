@@ -158,8 +158,9 @@ pub(super) fn locate_event_in(
     Ok(None)
 }
 
-/// A gap g that is positive at both ends of [ta, tb] but approaching at ta and opening at tb
-/// (ġ(ta) < 0 < ġ(tb)) may have dipped below zero in between. The cubic Hermite interpolant of
+/// A gap g that is positive at both ends of [ta, tb] may have dipped below zero in between
+/// (approaching at ta and opening at tb, or just released with a small opening rate and
+/// pulled back by the contact next to it). The cubic Hermite interpolant of
 /// (g, ġ) at the ends predicts the minimum; where it predicts g ≤ 0 the gap is evaluated there
 /// on the dense output, and the two halves are searched again (to `depth` levels) while it is
 /// still positive. Returns (t, g(t)) with g(t) ≤ 0: the far end of a bracket [ta, t] of the
@@ -171,7 +172,7 @@ fn dip(
     ((ta, ga, ra), (tb, gb, rb)): ((f64, f64, f64), (f64, f64, f64)),
     depth: u32,
 ) -> Result<Option<(f64, f64)>, SolverError> {
-    if !(ra < 0.0 && rb > 0.0 && tb > ta) {
+    if !(ra.is_finite() && rb.is_finite() && tb > ta) {
         return Ok(None);
     }
     let Some((s, p)) = hermite_min(ga, ra * (tb - ta), gb, rb * (tb - ta)) else {

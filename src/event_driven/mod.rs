@@ -7,7 +7,8 @@
 //! - [`engine`]: the physical state of a run (a fork is a clone); [`workspace`]: reused storage;
 //! - [`dynamics`]: the constrained right-hand side between events (eq. 1–4);
 //! - [`event_fn`], [`events`], [`locate`]: event functions, their arming, their location on the
-//!   dense output (Illinois);
+//!   dense output (Illinois); [`restep`]: the state at a located contact event (a DP5 step to
+//!   it, then Newton onto g_N = 0);
 //! - [`resolve`]: at an event — impacts (eq. 5–7) with the accumulation rule, the contact phase
 //!   (eq. 8–10), transitions; [`project`]: the projection onto the closed constraints;
 //! - [`record`]: output samples, the energy ledger, peaks;
@@ -23,6 +24,7 @@ mod locate;
 mod project;
 mod record;
 mod resolve;
+mod restep;
 mod workspace;
 
 pub use driver::{integrate, run};

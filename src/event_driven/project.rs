@@ -7,9 +7,13 @@ use crate::output::ContactState;
 use crate::scene::ContactKinematics;
 use nalgebra::DVector;
 
+/// Position passes at most (Newton on the gaps, which are nearly linear in q over a projection).
+const PASSES: usize = 4;
+
 impl Engine<'_> {
-    /// Minimum-M-norm projection of q onto g_N = 0 for closed contacts, and of q̇ onto
-    /// ġ_N = 0 (closed) and ġ_T = 0 (stick). Returns the largest correction made.
+    /// Minimum-M-norm projection of q onto g_N = 0 for closed contacts and open ones that
+    /// penetrate (also those a correction pushes in), and of q̇ onto ġ_N = 0 (closed) and
+    /// ġ_T = 0 (stick). Returns the largest correction made.
     pub(super) fn project(&mut self) -> f64 {
         let n = self.n;
         let scene = self.scene;
@@ -37,7 +41,7 @@ impl Engine<'_> {
         }
         let mut moved = 0.0f64;
         if !ps.held.is_empty() {
-            for _ in 0..3 {
+            for pass in 0..PASSES {
                 load(&mut ps, &self.state.y, self.state.t);
                 let ProjectScratch {
                     fr,
@@ -47,6 +51,15 @@ impl Engine<'_> {
                     pos_singular,
                     ..
                 } = &mut ps;
+                if pass > 0 {
+                    // a correction that turns a body may push another corner into its face
+                    for i in 0..scene.contacts.len() {
+                        if !held.contains(&i) && scene.contact_rates(fr, &scene.contacts[i]).0 < 0.0
+                        {
+                            held.push(i);
+                        }
+                    }
+                }
                 res.clear();
                 for &i in held.iter() {
                     scene.contact_kinematics_into(fr, &scene.contacts[i], &mut kin[i]);

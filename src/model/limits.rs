@@ -33,6 +33,8 @@ pub(super) struct Given {
     pub solver: bool,
     /// `solver.t_end` is present.
     pub t_end: bool,
+    /// `solver.max_events` is present.
+    pub max_events: bool,
     pub step_limit: StepLimit,
 }
 
@@ -44,6 +46,9 @@ pub(super) fn finish(
     warnings: &mut Vec<ModelWarning>,
 ) -> Result<(), ModelError> {
     run_length(scene, given, ck, warnings);
+    if !given.max_events {
+        scene.settings.max_events = event_limit(scene.settings.t_end);
+    }
     let st = &scene.settings;
     if st.output_dt > st.t_end {
         let (dt, t) = (st.output_dt, st.t_end);
@@ -54,6 +59,23 @@ pub(super) fn finish(
     }
     tolerances(scene, ck, warnings)?;
     fixed_step(scene, given.step_limit, ck, warnings)
+}
+
+/// Events a run may log per simulated second when `solver.max_events` is absent: a light
+/// abutment rattling against the deck at ε = 1 makes about 21 000 per second under the
+/// far-field records (docs/robustness.md).
+pub const EVENTS_PER_SECOND: f64 = 50_000.0;
+/// The event limit when `solver.max_events` is absent: at least 200 000, at most 5·10⁶ (an
+/// event record is 88 bytes, two history rows).
+pub const EVENT_LIMIT: (usize, usize) = (200_000, 5_000_000);
+
+/// `solver.max_events` absent: [`EVENTS_PER_SECOND`] × `t_end` within [`EVENT_LIMIT`].
+pub fn event_limit(t_end: f64) -> usize {
+    let n = (EVENTS_PER_SECOND * t_end).ceil();
+    if n.is_nan() {
+        return EVENT_LIMIT.0;
+    }
+    (n.min(EVENT_LIMIT.1 as f64) as usize).max(EVENT_LIMIT.0)
 }
 
 /// The support whose record ends last, and when.

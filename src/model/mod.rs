@@ -115,6 +115,7 @@ fn compile_text(
     let given = limits::Given {
         solver: table.contains_key("solver"),
         t_end: solver.t_end.is_some(),
+        max_events: solver.max_events.is_some(),
         step_limit,
     };
     limits::finish(&mut scene, &given, &ck, &mut warnings)?;

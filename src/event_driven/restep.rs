@@ -1,0 +1,83 @@
+//! The state at a located contact event. The root is found on the dense output, which is of
+//! order 4 where the step is of order 5; a run that restarts from it at thousands of impacts
+//! (ε = 1, a light abutment rattling against the deck) drifts off its energy balance. So the
+//! state is taken from a DP5 step of its own from the step's start to the event, and for a
+//! gap the remaining offset (of the order of the dense output's error) is removed by Newton's
+//! method along the flow: Δt = −g_N/ġ_N, q ← q + Δt q̇ + ½ Δt² q̈, q̇ ← q̇ + Δt q̈.
+
+use super::engine::Engine;
+use super::event_fn::EventFn;
+use crate::dopri;
+use crate::run::SolverError;
+use nalgebra::DVector;
+
+/// Newton moves along the flow at most; each needs the gap only.
+const NEWTON_MOVES: usize = 4;
+/// The largest move along the flow, as a fraction of the step to the event: beyond it the
+/// gap is grazing (ġ_N ≈ 0) and the dense output's state is kept.
+const MAX_MOVE: f64 = 1e-3;
+
+impl Engine<'_> {
+    /// The state at the event `f` located at `te` in `step` (started from `step.y0` with
+    /// f(t0, y0) = `f0`), into `y`: returns the event's time, or None where the re-step is
+    /// rejected by its error estimate or the gap cannot be moved onto its root (grazing) —
+    /// then the caller keeps the dense output. `t_min`: no earlier time may be returned (an
+    /// output sample was made there).
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn state_at_event(
+        &mut self,
+        ws: &mut dopri::Workspace,
+        step: &dopri::Step,
+        f0: &DVector<f64>,
+        f: EventFn,
+        te: f64,
+        t_min: f64,
+        y: &mut DVector<f64>,
+    ) -> Result<Option<f64>, SolverError> {
+        let st = &self.scene.settings;
+        let (t0, tau) = (step.t0, te - step.t0);
+        if tau <= 0.0 {
+            return Ok(None);
+        }
+        let n = self.n;
+        let mut rhs = |t: f64, y: &DVector<f64>, out: &mut DVector<f64>| self.rhs(t, y, out);
+        dopri::step_into(ws, &mut rhs, t0, &step.y0, f0, tau, st.rtol, st.atol, 2 * n)?;
+        let rs = &ws.step;
+        if !(rs.error <= 1.0) || rs.y1.iter().any(|x| !x.is_finite()) {
+            return Ok(None);
+        }
+        y.as_mut_slice().copy_from_slice(rs.y1.as_slice());
+        let EventFn::Gap(_) = f else {
+            return Ok(Some(te));
+        };
+        // Newton on g_N(te + Δt) along the Taylor polynomial of the flow at (te, y1)
+        let thr = self.threshold(f);
+        let one = [f];
+        let mut dt = 0.0;
+        for _ in 0..=NEWTON_MOVES {
+            let g = self.event_values(te + dt, y, &one)?[0];
+            let rate = self.ws.gap_rates[0];
+            if g.abs() <= thr {
+                let t = te + dt;
+                return Ok((t > t_min && t <= step.t1()).then_some(t));
+            }
+            if !(rate < 0.0) {
+                return Ok(None);
+            }
+            dt -= g / rate;
+            if !(dt.abs() <= MAX_MOVE * tau) {
+                return Ok(None);
+            }
+            let (y1, f1) = (rs.y1.as_slice(), rs.f1.as_slice());
+            let ys = y.as_mut_slice();
+            for i in 0..n {
+                ys[i] = y1[i] + dt * f1[i] + 0.5 * dt * dt * f1[n + i];
+                ys[n + i] = y1[n + i] + dt * f1[n + i];
+            }
+            for i in 2 * n..ys.len() {
+                ys[i] = y1[i] + dt * f1[i];
+            }
+        }
+        Ok(None)
+    }
+}
