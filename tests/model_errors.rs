@@ -551,3 +551,66 @@ fn bad_set_values_name_the_argument_not_a_line() {
         "{msg}"
     );
 }
+
+/// The double-impact validation scene with one line replaced.
+fn double_impact_with(old: &str, new: &str) -> Result<deckspin::scene::Scene, ModelError> {
+    let path = model("models/validation/double-impact.toml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    assert!(text.contains(old));
+    deckspin::model::load_str(&text.replacen(old, new, 1), &path, &[])
+}
+
+#[test]
+fn contact_point_beyond_the_resolvable_reach_is_refused() {
+    // at 1.2e9 m from the centre rounding is ~1.7e-4 m, far above gap_tol = 1e-9 m
+    let e = double_impact_with("point = [-16.1, 1.2]", "point = [-16.1, 1.2e9]").unwrap_err();
+    let msg = e.to_string();
+    assert!(matches!(e, ModelError::Invalid { line: 18, .. }), "{msg}");
+    assert!(
+        msg.contains("contact.0.point") && msg.contains("1.200e9 m"),
+        "{msg}"
+    );
+    // 7 km is the reach at gap_tol = 1e-9 m: 5 km is accepted
+    double_impact_with("point = [-16.1, 1.2]", "point = [-16.1, 5000.0]").unwrap();
+}
+
+#[test]
+fn initial_speed_beyond_event_resolution_is_refused() {
+    // 1e8 m/s × event_time_tol 1e-13 s = 1e-5 m of penetration at an event
+    let e = double_impact_with(
+        "initial_velocity = [-0.3, 0.0, 0.0]",
+        "initial_velocity = [-1e8, 0.0, 0.0]",
+    )
+    .unwrap_err();
+    let msg = e.to_string();
+    assert!(matches!(e, ModelError::Invalid { line: 13, .. }), "{msg}");
+    assert!(
+        msg.contains("body.0.initial_velocity") && msg.contains("1.000e-5 m"),
+        "{msg}"
+    );
+    // 2000 m/s leaves 2e-10 m: accepted
+    double_impact_with(
+        "initial_velocity = [-0.3, 0.0, 0.0]",
+        "initial_velocity = [-2000.0, 0.0, 0.0]",
+    )
+    .unwrap();
+}
+
+#[test]
+fn mass_ratio_beyond_double_precision_is_refused() {
+    let scene = |m: f64| {
+        format!(
+            "[solver]\nt_end = 0.1\n\n[[body]]\nname = \"a\"\nmass = 1.0\ndofs = [\"x\"]\n\n\
+             [[body]]\nname = \"b\"\nmass = {m:e}\ndofs = [\"x\"]\n"
+        )
+    };
+    let path = std::path::Path::new("two-bodies.toml");
+    let e = deckspin::model::load_str(&scene(1e13), path, &[]).unwrap_err();
+    let msg = e.to_string();
+    assert!(matches!(e, ModelError::Invalid { line: 11, .. }), "{msg}");
+    assert!(
+        msg.contains("body.1.mass") && msg.contains("1.000e13 times"),
+        "{msg}"
+    );
+    deckspin::model::load_str(&scene(1e11), path, &[]).unwrap();
+}

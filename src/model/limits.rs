@@ -35,6 +35,8 @@ pub(super) struct Given {
     pub t_end: bool,
     /// `solver.max_events` is present.
     pub max_events: bool,
+    /// A bridge file (else a scene file): the fields to blame.
+    pub bridge: bool,
     pub step_limit: StepLimit,
 }
 
@@ -58,6 +60,7 @@ pub(super) fn finish(
         ));
     }
     tolerances(scene, ck, warnings)?;
+    resolution(scene, given.bridge, ck)?;
     fixed_step(scene, given.step_limit, ck, warnings)
 }
 
@@ -129,6 +132,92 @@ fn run_length(scene: &mut Scene, given: &Given, ck: &Check, warnings: &mut Vec<M
     }
 }
 
+/// Rounding of a coordinate x after the pose arithmetic, in ulp(x): a gap is resolved to
+/// `gap_tol` only while 640 ε |x| ≤ gap_tol / 10 (7 km at the default 1e-9 m).
+pub const ROUNDING_ULPS: f64 = 640.0;
+/// Largest ratio of two body masses: the impact LCP's Delassus matrix has a condition number
+/// of that order, and at 1e12 it keeps 4 of the 16 digits.
+pub const MAX_MASS_RATIO: f64 = 1e12;
+
+/// What double precision can resolve: contact points and faces within the reach where
+/// rounding stays below `gap_tol` ([`ROUNDING_ULPS`]); initial speeds at which an event located
+/// to `event_time_tol` penetrates at most `gap_tol` (speed × event_time_tol ≤ gap_tol); body
+/// masses within [`MAX_MASS_RATIO`].
+fn resolution(scene: &Scene, bridge: bool, ck: &Check) -> Result<(), ModelError> {
+    let st = &scene.settings;
+    let reach = st.gap_tol / (ROUNDING_ULPS * f64::EPSILON);
+    let mut arm = vec![0.0f64; scene.bodies.len()];
+    for (i, c) in scene.contacts.iter().enumerate() {
+        let (p, f) = (c.point.norm(), c.face_point.norm());
+        if let crate::scene::BodyRef::Body(b) = c.point_body {
+            arm[b] = arm[b].max(p);
+        }
+        let x = p.max(f);
+        if !(x <= reach) {
+            let field = match (bridge, p >= f) {
+                (true, _) => "deck.length".to_string(),
+                (false, true) => format!("contact.{i}.point"),
+                (false, false) => format!("contact.{i}.gap"),
+            };
+            return Err(ck.err(
+ &field,
+ format!(
+ "contact '{}' lies {x:.3e} m from its body's centre: rounding there ({ROUNDING_ULPS} ulp = {:.1e} m) is above solver.gap_tol / 10 = {:.1e} m, so its gap cannot be resolved (at most {reach:.3e} m at this gap_tol)",
+ c.name,
+ ROUNDING_ULPS * f64::EPSILON * x,
+ st.gap_tol / 10.0
+ ),
+ ));
+        }
+    }
+    let v_max = st.gap_tol / st.event_time_tol;
+    for (i, b) in scene.bodies.iter().enumerate() {
+        let v = |a: usize| b.dofs[a].map_or(0.0, |d| scene.v0[d]);
+        let speed = v(0).hypot(v(1)) + v(2).abs() * arm[i];
+        if !(speed <= v_max) && !bridge {
+            return Err(ck.err(
+ &format!("body.{i}.initial_velocity"),
+ format!(
+ "body '{}' starts at {speed:.3e} m/s (at its contact points): an event located to solver.event_time_tol = {:e} s would leave up to {:.3e} m of penetration, above solver.gap_tol = {:e} m (at most {v_max:.3e} m/s)",
+ b.name,
+ st.event_time_tol,
+ speed * st.event_time_tol,
+ st.gap_tol
+ ),
+ ));
+        }
+    }
+    let masses = || {
+        scene
+            .bodies
+            .iter()
+            .enumerate()
+            .filter(|(_, b)| b.mass > 0.0)
+    };
+    let heavy = masses().max_by(|a, b| a.1.mass.total_cmp(&b.1.mass));
+    let light = masses().min_by(|a, b| a.1.mass.total_cmp(&b.1.mass));
+    if let (Some((i, h)), Some((j, l))) = (heavy, light)
+        && !(h.mass <= MAX_MASS_RATIO * l.mass)
+    {
+        let field = match bridge {
+            true if h.name == "deck" => "deck.mass".to_string(),
+            true => "abutment.mass".to_string(),
+            false => format!("body.{i}.mass"),
+        };
+        return Err(ck.err(
+ &field,
+ format!(
+ "body '{}' ({:e}) is {:.3e} times as heavy as body '{}' (body.{j}): above {MAX_MASS_RATIO:e}, the impact LCP would lose the lighter body's velocities to rounding",
+ h.name,
+ h.mass,
+ h.mass / l.mass,
+ l.name
+ ),
+        ));
+    }
+    Ok(())
+}
+
 /// `rtol` < 1, `atol` and `gap_tol` against the smallest positive initial gap, `velocity_tol`
 /// against gap·ω₁ ([`TOLERANCE_FRACTION`]). With `h_max` > 0, loose `rtol`/`atol` make a
 /// fixed-step DP5 (order studies): accepted and said.
@@ -145,7 +234,7 @@ fn tolerances(
             "solver.rtol",
             format!(
                 "must be in (0, 1): a relative error of {rtol} is no error control (with \
-                 solver.h_max > 0 it would make a fixed-step DP5), got {rtol}"
+ solver.h_max > 0 it would make a fixed-step DP5), got {rtol}"
             ),
         ));
     }
@@ -182,7 +271,7 @@ fn tolerances(
                 field,
                 format!(
                     "{x} is above {TOLERANCE_FRACTION:e} × the smallest initial gap \
-                     ({gap:.4e} m, contact {contact}) = {limit:.3e}: it would not resolve the gap"
+ ({gap:.4e} m, contact {contact}) = {limit:.3e}: it would not resolve the gap"
                 ),
             ));
         }
@@ -197,8 +286,8 @@ fn tolerances(
                 "solver.velocity_tol",
                 format!(
                     "{x} is above {TOLERANCE_FRACTION:e} × gap·ω₁ = {TOLERANCE_FRACTION:e} × \
-                     {gap:.4e} m × {w1:.4} rad/s = {limit:.3e} m/s (smallest initial gap, contact \
-                     {contact}; ω₁ of the initial system): impacts this slow would count as rest"
+ {gap:.4e} m × {w1:.4} rad/s = {limit:.3e} m/s (smallest initial gap, contact \
+ {contact}; ω₁ of the initial system): impacts this slow would count as rest"
                 ),
             ));
         }
@@ -233,7 +322,7 @@ fn fixed_step(
             if step > limit && step_limit == StepLimit::Refuse {
                 let reason = format!(
                     "{step} s is above the stability limit 2/ω_max = {limit:.3e} s of the \
-                     explicit central-difference scheme (ω_max = {omega:.4e} rad/s, {what})"
+ explicit central-difference scheme (ω_max = {omega:.4e} rad/s, {what})"
                 );
                 return Err(ck.err("solver.step", reason));
             }

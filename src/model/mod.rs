@@ -116,6 +116,7 @@ fn compile_text(
         solver: table.contains_key("solver"),
         t_end: solver.t_end.is_some(),
         max_events: solver.max_events.is_some(),
+        bridge: table.contains_key("deck"),
         step_limit,
     };
     limits::finish(&mut scene, &given, &ck, &mut warnings)?;
