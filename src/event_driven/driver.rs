@@ -320,7 +320,10 @@ impl<'a> Integration<'a> {
             };
             eng.state.y = y;
             match at? {
-                Some(t) => eng.state.t = t,
+                Some((t, f)) => {
+                    eng.state.t = t;
+                    eng.state.cluster[0] = f;
+                }
                 None => step.dense_at_into(t1, &mut eng.state.y),
             }
         } else {

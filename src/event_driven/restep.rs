@@ -8,18 +8,21 @@
 use super::engine::Engine;
 use super::event_fn::EventFn;
 use crate::dopri;
+use crate::output::ContactState;
 use crate::run::SolverError;
 use nalgebra::DVector;
 
 /// Newton moves along the flow at most; each needs the gap only.
 const NEWTON_MOVES: usize = 4;
+/// Times the event may pass to a corner that crossed first.
+const SWITCHES: usize = 3;
 /// The largest move along the flow, as a fraction of the step to the event: beyond it the
 /// gap is grazing (ġ_N ≈ 0) and the dense output's state is kept.
 const MAX_MOVE: f64 = 1e-3;
 
 impl Engine<'_> {
     /// The state at the event `f` located at `te` in `step` (started from `step.y0` with
-    /// f(t0, y0) = `f0`), into `y`: returns the event's time, or None where the re-step is
+    /// f(t0, y0) = `f0`), into `y`: returns the event's time and function, or None where the re-step is
     /// rejected by its error estimate or the gap cannot be moved onto its root (grazing) —
     /// then the caller keeps the dense output. `t_min`: no earlier time may be returned (an
     /// output sample was made there).
@@ -33,7 +36,7 @@ impl Engine<'_> {
         te: f64,
         t_min: f64,
         y: &mut DVector<f64>,
-    ) -> Result<Option<f64>, SolverError> {
+    ) -> Result<Option<(f64, EventFn)>, SolverError> {
         let st = &self.scene.settings;
         let (t0, tau) = (step.t0, te - step.t0);
         if tau <= 0.0 {
@@ -47,19 +50,50 @@ impl Engine<'_> {
             return Ok(None);
         }
         y.as_mut_slice().copy_from_slice(rs.y1.as_slice());
-        let EventFn::Gap(_) = f else {
-            return Ok(Some(te));
+        let EventFn::Gap(mut i) = f else {
+            return Ok(Some((te, f)));
         };
-        // Newton on g_N(te + Δt) along the Taylor polynomial of the flow at (te, y1)
-        let thr = self.threshold(f);
-        let one = [f];
+        // Newton on g_N(te + Δt) along the Taylor polynomial of the flow at (te, y1); a corner
+        // that this trajectory has taken through its face first (two crossings closer than the
+        // dense output's error) takes the event over
         let mut dt = 0.0;
+        for _ in 0..=SWITCHES {
+            dt = match self.newton_on_gap(rs, i, te, dt, tau, y)? {
+                Some(dt) => dt,
+                None => return Ok(None),
+            };
+            match self.earlier_crossing(i, te + dt, te - t0, y)? {
+                Some(k) => i = k,
+                None => {
+                    let t = te + dt;
+                    let ok = t > t_min && t <= step.t1();
+                    return Ok(ok.then_some((t, EventFn::Gap(i))));
+                }
+            }
+        }
+        Ok(None)
+    }
+
+    /// Newton on the gap of contact `i` from the move `dt` along the flow at the end of `rs`
+    /// (the state in `y`): the move that closes it to the gap threshold, or None (not
+    /// approaching, or a move beyond [`MAX_MOVE`]).
+    fn newton_on_gap(
+        &mut self,
+        rs: &dopri::Step,
+        i: usize,
+        te: f64,
+        mut dt: f64,
+        tau: f64,
+        y: &mut DVector<f64>,
+    ) -> Result<Option<f64>, SolverError> {
+        let n = self.n;
+        let one = [EventFn::Gap(i)];
+        let thr = self.threshold(one[0]);
         for _ in 0..=NEWTON_MOVES {
             let g = self.event_values(te + dt, y, &one)?[0];
             let rate = self.ws.gap_rates[0];
             if g.abs() <= thr {
-                let t = te + dt;
-                return Ok((t > t_min && t <= step.t1()).then_some(t));
+                return Ok(Some(dt));
             }
             if !(rate < 0.0) {
                 return Ok(None);
@@ -70,14 +104,48 @@ impl Engine<'_> {
             }
             let (y1, f1) = (rs.y1.as_slice(), rs.f1.as_slice());
             let ys = y.as_mut_slice();
-            for i in 0..n {
-                ys[i] = y1[i] + dt * f1[i] + 0.5 * dt * dt * f1[n + i];
-                ys[n + i] = y1[n + i] + dt * f1[n + i];
+            for k in 0..n {
+                ys[k] = y1[k] + dt * f1[k] + 0.5 * dt * dt * f1[n + k];
+                ys[n + k] = y1[n + k] + dt * f1[n + k];
             }
-            for i in 2 * n..ys.len() {
-                ys[i] = y1[i] + dt * f1[i];
+            for k in 2 * n..ys.len() {
+                ys[k] = y1[k] + dt * f1[k];
             }
         }
         Ok(None)
+    }
+
+    /// An open contact other than `i` that is through its face at (t, y) and approaching, and
+    /// went through within the last `span` (g_N/ġ_N ago): the one that went through first.
+    fn earlier_crossing(
+        &mut self,
+        i: usize,
+        t: f64,
+        span: f64,
+        y: &DVector<f64>,
+    ) -> Result<Option<usize>, SolverError> {
+        let open: Vec<EventFn> = (0..self.state.contacts.len())
+            .filter(|&k| k != i && self.state.contacts[k] == ContactState::Open)
+            .map(EventFn::Gap)
+            .collect();
+        if open.is_empty() {
+            return Ok(None);
+        }
+        let vals = self.event_values(t, y, &open)?;
+        let mut first: Option<(usize, f64)> = None;
+        for (m, f) in open.iter().enumerate() {
+            let (g, rate) = (vals[m], self.ws.gap_rates[m]);
+            let ago = g / rate;
+            if g < -self.threshold(*f)
+                && rate < 0.0
+                && ago < span
+                && first.is_none_or(|b| ago > b.1)
+            {
+                if let EventFn::Gap(k) = *f {
+                    first = Some((k, ago));
+                }
+            }
+        }
+        Ok(first.map(|b| b.0))
     }
 }
