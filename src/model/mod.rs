@@ -15,7 +15,7 @@ pub mod solver;
 pub mod warnings;
 
 pub use check::{Applied, Check, ModelError, locate};
-pub use limits::{FREE_VIBRATION_TAIL, StepLimit, TOLERANCE_FRACTION};
+pub use limits::{FREE_VIBRATION_TAIL, StepLimit, TOLERANCE_FRACTION, event_limit, step_limit};
 pub use overrides::{apply_overrides, apply_overrides_traced};
 pub use records::{Motions, load_motion};
 pub use scene_file::{
@@ -116,6 +116,7 @@ fn compile_text(
         solver: table.contains_key("solver"),
         t_end: solver.t_end.is_some(),
         max_events: solver.max_events.is_some(),
+        max_steps: solver.max_steps.is_some(),
         bridge: table.contains_key("deck"),
         step_limit,
     };

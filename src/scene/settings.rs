@@ -46,7 +46,8 @@ pub struct Settings {
     /// Largest number of logged events (E; 200 000; a model file without it gets 50 000 per
     /// second of `t_end` within 200 000 … 5·10⁶, `model::limits::event_limit`).
     pub max_events: usize,
-    /// Largest number of steps, accepted and rejected (E, M, P, X; 5 000 000).
+    /// Largest number of steps, accepted and rejected (E, M, P, X; 5 000 000; a model file without it gets
+    /// 200 000 per second of `t_end` within 10⁶ … 5·10⁷, `model::limits::step_limit`).
     pub max_steps: usize,
     /// Never step over the sample instants of recorded support motions (E; off).
     pub stop_at_samples: bool,

@@ -195,7 +195,11 @@ fn load_and_run(model: &str, path: &Path, limit: Duration) -> Outcome {
         Err(e) => return Outcome::Refused(variant(&format!("{e:?}"))),
     };
     if scene.settings.t_end > T_END_MAX {
-        scene.settings.t_end = T_END_MAX;
+        // the limits that scale with t_end scale down with it (a file's own stay if smaller)
+        let st = &mut scene.settings;
+        st.t_end = T_END_MAX;
+        st.max_events = st.max_events.min(deckspin::model::event_limit(T_END_MAX));
+        st.max_steps = st.max_steps.min(deckspin::model::step_limit(T_END_MAX));
     }
     if check_output(&scene, &BUDGET).is_err() {
         return Outcome::OverBudget;
