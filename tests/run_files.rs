@@ -115,7 +115,7 @@ fn a_failed_run_writes_its_files_up_to_the_failure() {
     // event-driven: the step limit; penalty-explicit: unstable (its last rows come after its
     // last batch)
     let cases: [(&[&str], &str, f64); 2] = [
-        (&["solver.max_steps=2000"], "TooManySteps", 6.783023683),
+        (&["solver.max_steps=2000"], "TooManySteps", 6.721453364),
         (&["solver.method=\"penalty-explicit\""], "Unstable", 2.628),
     ];
     for (i, (set, kind, t_fail)) in cases.iter().enumerate() {
@@ -159,7 +159,7 @@ fn the_estimate_bounds_the_history_written() {
     let est = check_output(&s, &OutputBudget::default()).unwrap();
     // t_end 16 s / output_dt 0.005 s, and a pre- and post-event row per event at most
     assert_eq!(est.grid_rows, 3202.0);
-    assert_eq!(est.event_rows, 400_000.0);
+    assert_eq!(est.event_rows, 1_600_000.0); // max_events absent: 5e4 per second of t_end
     assert_eq!(est.steps, None);
     let d = dir("estimate");
     let mut files = RunFiles::create(&d, &s, None).unwrap();
@@ -200,7 +200,7 @@ fn runs_above_the_budget_are_refused_with_their_estimate() {
             ..
         }) => {
             assert_eq!(grid_rows, 1e8 + 2.0);
-            assert_eq!(rows, grid_rows + 400_000.0);
+            assert_eq!(rows, grid_rows + 1e7); // max_events absent: at most 5e6
             assert_eq!((max_rows, max_bytes), (5e7, 2e10));
         }
         r => panic!("{r:?}"),
@@ -216,15 +216,16 @@ fn runs_above_the_budget_are_refused_with_their_estimate() {
         "models/validation/block-on-plane.toml",
         &[
             "solver.method=\"moreau\"",
-            "solver.t_end=1e4",
-            "solver.output_dt=1",
+            "solver.t_end=1e6",
+            "solver.output_dt=100",
         ],
     );
     match check_output(&m, &OutputBudget::default()) {
         Err(LimitError::Steps {
             steps, max_steps, ..
         }) => {
-            assert_eq!((steps, max_steps), (1e7, 5_000_000));
+            // max_steps absent: 2e5 per second of t_end, at most 5e7
+            assert_eq!((steps, max_steps), (1e9, 50_000_000));
         }
         r => panic!("{r:?}"),
     }

@@ -294,6 +294,7 @@ impl<'a> Integration<'a> {
         track_peaks(&mut eng.state.out, step, t1, n, y0);
         // grid output inside (t0, t1]
         let mut t_min = t0;
+        let closed = eng.state.contacts.iter().any(|s| *s != ContactState::Open);
         while (*next_out as f64) * st.output_dt <= t1 * (1.0 + 1e-14) && eng.state.t < st.t_end {
             let tg = (*next_out as f64) * st.output_dt;
             if tg > t1 {
@@ -301,36 +302,20 @@ impl<'a> Integration<'a> {
             }
             eng.state.t = tg.min(st.t_end);
             step.dense_at_into(eng.state.t, &mut eng.state.y);
+            if closed {
+                // projected like the step ends: between two of them the dense output leaves
+                // the closed constraints by its own error
+                eng.project();
+            }
             eng.record_sample(SampleKind::Grid)?;
             batcher.maybe(&eng.state.out, eng.state.t, observer)?;
             *next_out += 1;
             t_min = eng.state.t;
         }
         eng.state.t = t1;
-        if found.is_some() {
-            // a contact event from a step of its own; branch changes from the dense output
-            let contact = match eng.state.cluster[..] {
-                [f] if !f.is_branch() => Some(f),
-                _ => None,
-            };
-            let mut y = std::mem::take(&mut eng.state.y);
-            let at = match contact {
-                Some(f) => eng.state_at_event(ws_event, step, f0, f, t1, t_min, &mut y),
-                None => Ok(None),
-            };
-            eng.state.y = y;
-            match at? {
-                Some((t, f)) => {
-                    eng.state.t = t;
-                    eng.state.cluster[0] = f;
-                }
-                None => step.dense_at_into(t1, &mut eng.state.y),
-            }
-        } else {
-            eng.state
-                .y
-                .as_mut_slice()
-                .copy_from_slice(step.y1.as_slice());
+        match found {
+            Some(_) => move_to_event(eng, ws_event, step, f0, t_min)?,
+            None => (eng.state.y.as_mut_slice()).copy_from_slice(step.y1.as_slice()),
         }
         Ok(Attempt::Accepted(found))
     }
@@ -404,6 +389,38 @@ impl<'a> Integration<'a> {
         eng.state.out.finish(eng.state.energy_scale);
         std::mem::replace(&mut eng.state.out, RunOutput::new(eng.scene))
     }
+}
+
+/// The state at the event located at `eng.state.t` in `step`: a contact event from a step
+/// of its own ([`Engine::state_at_event`]; it may move the event's instant by Newton, or pass
+/// it to a corner that went through first), branch changes (and a contact event that cannot
+/// be re-stepped) from the dense output.
+fn move_to_event(
+    eng: &mut Engine,
+    ws_event: &mut dopri::Workspace,
+    step: &dopri::Step,
+    f0: &DVector<f64>,
+    t_min: f64,
+) -> Result<(), SolverError> {
+    let t1 = eng.state.t;
+    let contact = match eng.state.cluster[..] {
+        [f] if !f.is_branch() => Some(f),
+        _ => None,
+    };
+    let mut y = std::mem::take(&mut eng.state.y);
+    let at = match contact {
+        Some(f) => eng.state_at_event(ws_event, step, f0, f, t1, t_min, &mut y),
+        None => Ok(None),
+    };
+    eng.state.y = y;
+    match at? {
+        Some((t, f)) => {
+            eng.state.t = t;
+            eng.state.cluster[0] = f;
+        }
+        None => step.dense_at_into(t1, &mut eng.state.y),
+    }
+    Ok(())
 }
 
 /// Explicit DP5 needs h ≤ 3.3/|λ| for the fastest eigenvalue of the linearised system: ω of the

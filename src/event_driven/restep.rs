@@ -46,7 +46,7 @@ impl Engine<'_> {
         let mut rhs = |t: f64, y: &DVector<f64>, out: &mut DVector<f64>| self.rhs(t, y, out);
         dopri::step_into(ws, &mut rhs, t0, &step.y0, f0, tau, st.rtol, st.atol, 2 * n)?;
         let rs = &ws.step;
-        if !(rs.error <= 1.0) || rs.y1.iter().any(|x| !x.is_finite()) {
+        if rs.error.is_nan() || rs.error > 1.0 || rs.y1.iter().any(|x| !x.is_finite()) {
             return Ok(None);
         }
         y.as_mut_slice().copy_from_slice(rs.y1.as_slice());
@@ -95,11 +95,11 @@ impl Engine<'_> {
             if g.abs() <= thr {
                 return Ok(Some(dt));
             }
-            if !(rate < 0.0) {
+            if rate.is_nan() || rate >= 0.0 {
                 return Ok(None);
             }
             dt -= g / rate;
-            if !(dt.abs() <= MAX_MOVE * tau) {
+            if dt.is_nan() || dt.abs() > MAX_MOVE * tau {
                 return Ok(None);
             }
             let (y1, f1) = (rs.y1.as_slice(), rs.f1.as_slice());
@@ -140,10 +140,9 @@ impl Engine<'_> {
                 && rate < 0.0
                 && ago < span
                 && first.is_none_or(|b| ago > b.1)
+                && let EventFn::Gap(k) = *f
             {
-                if let EventFn::Gap(k) = *f {
-                    first = Some((k, ago));
-                }
+                first = Some((k, ago));
             }
         }
         Ok(first.map(|b| b.0))

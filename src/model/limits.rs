@@ -174,7 +174,7 @@ fn resolution(scene: &Scene, bridge: bool, ck: &Check) -> Result<(), ModelError>
             arm[b] = arm[b].max(p);
         }
         let x = p.max(f);
-        if !(x <= reach) {
+        if x.is_nan() || x > reach {
             let field = match (bridge, p >= f) {
                 (true, _) => "deck.length".to_string(),
                 (false, true) => format!("contact.{i}.point"),
@@ -195,7 +195,7 @@ fn resolution(scene: &Scene, bridge: bool, ck: &Check) -> Result<(), ModelError>
     for (i, b) in scene.bodies.iter().enumerate() {
         let v = |a: usize| b.dofs[a].map_or(0.0, |d| scene.v0[d]);
         let speed = v(0).hypot(v(1)) + v(2).abs() * arm[i];
-        if !(speed <= v_max) && !bridge {
+        if (speed.is_nan() || speed > v_max) && !bridge {
             return Err(ck.err(
  &format!("body.{i}.initial_velocity"),
  format!(
@@ -218,7 +218,7 @@ fn resolution(scene: &Scene, bridge: bool, ck: &Check) -> Result<(), ModelError>
     let heavy = masses().max_by(|a, b| a.1.mass.total_cmp(&b.1.mass));
     let light = masses().min_by(|a, b| a.1.mass.total_cmp(&b.1.mass));
     if let (Some((i, h)), Some((j, l))) = (heavy, light)
-        && !(h.mass <= MAX_MASS_RATIO * l.mass)
+        && h.mass > MAX_MASS_RATIO * l.mass
     {
         let field = match bridge {
             true if h.name == "deck" => "deck.mass".to_string(),
