@@ -104,7 +104,7 @@ impl Bench {
     }
 
     pub fn run(&self, set: &[String]) -> Result<(RunOutput, f64), RunFailure> {
-        self.study.simulate(set)
+        self.study.measure(set)
     }
 
     /// The converged event-driven reference.

@@ -84,6 +84,19 @@ pub enum SolverError {
     },
     #[error("t = {t:.9} s: cancelled")]
     Cancelled { t: f64 },
+    #[error(
+        "t = {t:.9} s: finished, but not to the accuracy asked for: {what} {value:.3e} above solver.{setting} = {limit:e} ({hint})"
+    )]
+    Inaccurate {
+        t: f64,
+        /// "energy closure" (relative) or "penetration" (m).
+        what: &'static str,
+        value: f64,
+        /// The setting that bounds it: "max_closure" or "max_penetration".
+        setting: &'static str,
+        limit: f64,
+        hint: String,
+    },
 }
 
 /// Receives results while a run goes on (for live charts); return false to cancel.
@@ -234,6 +247,7 @@ impl SolverError {
             | SolverError::NonFinite { t }
             | SolverError::Unstable { t, .. }
             | SolverError::NoConvergence { t, .. }
+            | SolverError::Inaccurate { t, .. }
             | SolverError::Cancelled { t } => *t,
         }
     }
@@ -254,6 +268,7 @@ impl SolverError {
             SolverError::Unstable { .. } => "Unstable",
             SolverError::NoConvergence { .. } => "NoConvergence",
             SolverError::Cancelled { .. } => "Cancelled",
+            SolverError::Inaccurate { .. } => "Inaccurate",
         }
     }
 }

@@ -2,7 +2,7 @@
 
 use crate::methods::Method;
 use crate::output::RunOutput;
-use crate::run::{Observer, Run, SolverError};
+use crate::run::{Observer, Run, SolverError, Stop};
 use crate::scene::Scene;
 use crate::timestepping::{integrate_moreau, integrate_penalty};
 
@@ -13,12 +13,65 @@ pub fn simulate(scene: &Scene, observer: &mut dyn Observer) -> Result<RunOutput,
 }
 
 /// Run a scene with the method its settings name, keeping what was computed before a cancel
-/// or a failure.
+/// or a failure; a run that finishes outside its accuracy bounds fails ([`judge`]).
 pub fn integrate(scene: &Scene, observer: &mut dyn Observer) -> Run {
+    judge(scene, integrate_unjudged(scene, observer))
+}
+
+/// [`integrate`] without the accuracy bounds: for studies that measure the error themselves
+/// (work–precision, stability maps), where an inaccurate run is a data point.
+pub fn integrate_unjudged(scene: &Scene, observer: &mut dyn Observer) -> Run {
     match scene.settings.method {
         Method::Event => crate::event_driven::integrate(scene, observer),
         Method::Moreau => integrate_moreau(scene, observer),
         Method::Penalty => integrate_penalty(scene, false, observer),
         Method::PenaltyExplicit => integrate_penalty(scene, true, observer),
     }
+}
+
+/// A finished run whose energy balance closes worse than `solver.max_closure` (relative to the
+/// energy scale), or whose corners went deeper than `solver.max_penetration` into their faces,
+/// is a failure [`SolverError::Inaccurate`] (its output kept). The penalty methods are not
+/// judged on penetration: the gap elements' compression is their contact law.
+pub fn judge(scene: &Scene, mut run: Run) -> Run {
+    if !matches!(run.stop, Stop::Finished) {
+        return run;
+    }
+    let st = &scene.settings;
+    let s = &run.output.summary;
+    let t = run
+        .output
+        .samples
+        .last()
+        .map_or(st.t_end, |x| x.t)
+        .max(s.t_end);
+    let hint = match st.method {
+        Method::Event => "tighten solver.rtol and solver.atol".to_string(),
+        m => format!(
+            "{} at solver.step = {:e} s: a smaller step",
+            m.name(),
+            st.step
+        ),
+    };
+    let compliant = matches!(st.method, Method::Penalty | Method::PenaltyExplicit);
+    let closure = s.energy_closure_rel;
+    let error = if closure.is_nan() || closure > st.max_closure {
+        Some(("energy closure", closure, "max_closure", st.max_closure))
+    } else if !compliant && s.max_penetration > st.max_penetration {
+        let p = s.max_penetration;
+        Some(("penetration", p, "max_penetration", st.max_penetration))
+    } else {
+        None
+    };
+    if let Some((what, value, setting, limit)) = error {
+        run.stop = Stop::Failed(SolverError::Inaccurate {
+            t,
+            what,
+            value,
+            setting,
+            limit,
+            hint: format!("{hint}, or raise solver.{setting}"),
+        });
+    }
+    run
 }

@@ -213,6 +213,15 @@ impl Study {
         simulate_scene(&self.scene(set)?)
     }
 
+    /// [`Study::simulate`] without the accuracy bounds (`simulate::judge`): for studies that
+    /// measure the error themselves.
+    pub fn measure(&self, set: &[String]) -> Result<(RunOutput, f64), RunFailure> {
+        let scene = self.scene(set)?;
+        let t0 = std::time::Instant::now();
+        let r = crate::simulate::integrate_unjudged(&scene, &mut crate::Silent).into_result()?;
+        Ok((r, t0.elapsed().as_secs_f64()))
+    }
+
     /// Run with extra overrides: the row of its summary.
     pub fn run(&self, set: &[(String, String)]) -> Row {
         match self

@@ -438,9 +438,15 @@ fn summary_without_history_equals_the_summary_of_the_history() {
             &format!("solver.method=\"{method}\""),
             "solver.step=1e-3",
         ]);
-        let full = deckspin::simulate(&scene, &mut deckspin::Silent).unwrap();
+        // unjudged: Moreau–Jean at this step is outside the default accuracy bounds
+        let run = |s: &deckspin::scene::Scene| {
+            deckspin::simulate::integrate_unjudged(s, &mut deckspin::Silent)
+                .into_result()
+                .unwrap()
+        };
+        let full = run(&scene);
         scene.settings.keep_history = false;
-        let lean = deckspin::simulate(&scene, &mut deckspin::Silent).unwrap();
+        let lean = run(&scene);
         assert!(
             full.samples.len() > 500 && lean.samples.is_empty(),
             "{method}"

@@ -648,7 +648,13 @@ fn the_models_solver_method_is_used() {
     let fx = act(&mut app, Action::Rerun);
     tui::execute_blocking(&mut app, fx);
     let cur = app.current.as_ref().unwrap();
-    assert_eq!(cur.status, RunStatus::Finished, "{}", app.status);
+    // Moreau–Jean at its 1 ms step sinks the corner 0.25 mm: the run is kept and judged
+    // inaccurate, by the method the model names
+    assert!(
+        app.status.contains("penetration 2.500e-4") && app.status.contains("moreau at solver.step"),
+        "{}",
+        app.status
+    );
     assert!(cur.t.len() > 10);
 }
 

@@ -33,6 +33,8 @@ pub struct SolverSpec {
     pub contact_stiffness: Option<f64>,
     /// θ of the Moreau–Jean scheme (0.5–1).
     pub theta: Option<f64>,
+    pub max_closure: Option<f64>,
+    pub max_penetration: Option<f64>,
 }
 
 /// Settings from `[solver]`.
@@ -54,6 +56,8 @@ pub fn settings(s: &SolverSpec, ck: &Check) -> Result<Settings, ModelError> {
     pos!(velocity_tol);
     pos!(zeno_velocity);
     pos!(min_event_spacing);
+    pos!(max_closure);
+    pos!(max_penetration);
     if let Some(x) = s.h_max {
         out.h_max = ck.nonneg("solver.h_max", x)?;
     }

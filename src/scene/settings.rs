@@ -21,6 +21,12 @@ pub struct Settings {
     pub t_end: f64,
     /// Output step of the time history, s; event instants are always added (all; 0.01).
     pub output_dt: f64,
+    /// A finished run whose energy balance closes worse than this (relative to the energy
+    /// scale) fails as inaccurate, its output kept (all; 1e-3; `simulate::judge`).
+    pub max_closure: f64,
+    /// A finished run with a corner deeper than this in its face fails as inaccurate, length
+    /// (E, M; not the penalty methods, whose gap elements compress by design; 1e-6).
+    pub max_penetration: f64,
     /// Relative tolerance of the DP5 error control (E; 1e-8).
     pub rtol: f64,
     /// Absolute tolerance of the DP5 error control, in the units of each state component
@@ -69,6 +75,8 @@ impl Default for Settings {
             contact_stiffness: 1e6,
             t_end: 1.0,
             output_dt: 0.01,
+            max_closure: 1e-3,
+            max_penetration: 1e-6,
             rtol: 1e-8,
             atol: 1e-10,
             h_max: 0.0,
