@@ -507,6 +507,10 @@ fn process_event(eng: &mut Engine, f: EventFn) -> Result<(), SolverError> {
             eng.state.out.stats.branch_events += 1;
         }
         _ => {
+            if eng.state.contacts.iter().any(|s| *s != ContactState::Open) {
+                // the state reached from the step's start, back on the closed constraints
+                eng.project();
+            }
             eng.record_sample(SampleKind::PreEvent)?;
             eng.resolve()?;
             eng.ws.new_contact_mode();
