@@ -1606,3 +1606,38 @@ fn the_recovery_file_holds_the_unsaved_work_next_to_the_model() {
     assert_eq!(read(&model), read(&corner_path()));
     let _ = std::fs::remove_dir_all(&d);
 }
+
+#[test]
+fn a_run_whose_output_grid_exceeds_the_memory_limit_is_refused_before_it_starts() {
+    // 0.5 s at 1e-9 s: 5e8 rows, above the 1e6 the workbench keeps in memory
+    let scene = deckspin::load(&corner_path(), &["solver.output_dt=1e-9".into()]).unwrap();
+    let msgs = tui::worker::run_blocking(5, &scene);
+    let [
+        Msg::RunDone {
+            run: 5,
+            outcome: RunOutcome::Failed(f),
+        },
+    ] = msgs.as_slice()
+    else {
+        panic!("{msgs:?}")
+    };
+    let text = f.to_string();
+    assert!(
+        text.contains("5.000e8 rows") && text.contains("1e6") && text.contains("solver.output_dt"),
+        "{text}"
+    );
+    // 1e-6 s: 5e5 rows, within the limit
+    let scene = deckspin::load(&corner_path(), &["solver.output_dt=1e-6".into()]).unwrap();
+    let msgs = tui::worker::run_blocking(6, &scene);
+    assert!(
+        matches!(
+            msgs.last(),
+            Some(Msg::RunDone {
+                outcome: RunOutcome::Finished(_),
+                ..
+            })
+        ),
+        "{:?}",
+        msgs.last()
+    );
+}

@@ -15,6 +15,10 @@ pub enum RunFailure {
     Panic(String),
     #[error("cannot start a worker thread: {0}")]
     Thread(String),
+    #[error(
+        "t = {t:.9} s: the run's output comes to {rows:.3e} rows, more than the workbench keeps in memory ({limit:e}): raise solver.output_dt or lower solver.t_end (`deckspin run` streams its history to disk)"
+    )]
+    Memory { rows: f64, limit: f64, t: f64 },
 }
 
 /// Two failures are the same when they say the same.

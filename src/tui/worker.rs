@@ -40,11 +40,22 @@ impl RunHandle {
     }
 }
 
-/// Forwards batches to a sink; stops the run when cancelled or when the sink is gone.
+/// Rows (output samples) a workbench run keeps in memory at most: about 1 kB each for the
+/// bridge, so 1 GB. A run whose output grid alone is larger is refused before it starts; one
+/// that reaches the limit through its events stops there with [`RunFailure::Memory`], its
+/// samples so far shown.
+pub const MEMORY_ROWS: f64 = 1e6;
+
+/// Forwards batches to a sink; stops the run when cancelled, when the sink is gone or at
+/// [`MEMORY_ROWS`].
 struct Stream<F: FnMut(Msg) -> bool> {
     id: u64,
     cancel: Option<Arc<AtomicBool>>,
     sink: F,
+    /// Rows forwarded so far.
+    rows: usize,
+    /// The run reached [`MEMORY_ROWS`] at this instant.
+    full: Option<f64>,
 }
 
 impl<F: FnMut(Msg) -> bool> Stream<F> {
@@ -60,6 +71,11 @@ impl<F: FnMut(Msg) -> bool> Observer for Stream<F> {
         if self.cancelled() {
             return false;
         }
+        self.rows += samples.len();
+        if self.rows as f64 > MEMORY_ROWS {
+            self.full = Some(t);
+            return false;
+        }
         let alive = (self.sink)(Msg::Batch {
             run: self.id,
             samples: samples.to_vec(),
@@ -70,7 +86,12 @@ impl<F: FnMut(Msg) -> bool> Observer for Stream<F> {
     }
 }
 
-fn outcome(r: Run) -> RunOutcome {
+/// The end of a run; `full`: it stopped at [`MEMORY_ROWS`] at that instant.
+fn outcome(r: Run, full: Option<f64>) -> RunOutcome {
+    if let (Some(t), Stop::Cancelled { .. }) = (full, &r.stop) {
+        let (rows, limit) = (MEMORY_ROWS + 1.0, MEMORY_ROWS);
+        return RunOutcome::Failed(Arc::new(RunFailure::Memory { rows, limit, t }));
+    }
     match r.stop {
         Stop::Finished => RunOutcome::Finished(Box::new(r.output)),
         Stop::Cancelled { t } => RunOutcome::Cancelled { t },
@@ -100,14 +121,21 @@ pub fn spawn(id: u64, scene: Scene, tx: Sender<Msg>) -> RunHandle {
                     id,
                     cancel: Some(flag),
                     sink: |m| sink_tx.send(m).is_ok(),
+                    rows: 0,
+                    full: None,
                 };
                 if test_panic("worker") {
                     panic!("DECKSPIN_TEST_PANIC=worker: a panic in the simulation thread");
                 }
-                crate::simulate::integrate(&scene, &mut obs)
+                if let Some(refused) = refuse(&scene) {
+                    return (None, Some(refused));
+                }
+                let run = crate::simulate::integrate(&scene, &mut obs);
+                (Some((run, obs.full)), None)
             }));
             let outcome = match result {
-                Ok(r) => outcome(r),
+                Ok((Some((r, full)), _)) => outcome(r, full),
+                Ok((None, refused)) => refused.unwrap_or(RunOutcome::Cancelled { t: 0.0 }),
                 Err(p) => RunOutcome::Failed(Arc::new(RunFailure::Panic(panic_text(p.as_ref())))),
             };
             let _ = tx.send(Msg::RunDone { run: id, outcome });
@@ -126,6 +154,13 @@ pub fn spawn(id: u64, scene: Scene, tx: Sender<Msg>) -> RunHandle {
 pub fn run_blocking(id: u64, scene: &Scene) -> Vec<Msg> {
     let mut msgs = Vec::new();
     let r = {
+        if let Some(refused) = refuse(scene) {
+            msgs.push(Msg::RunDone {
+                run: id,
+                outcome: refused,
+            });
+            return msgs;
+        }
         let mut obs = Stream {
             id,
             cancel: None,
@@ -133,12 +168,30 @@ pub fn run_blocking(id: u64, scene: &Scene) -> Vec<Msg> {
                 msgs.push(m);
                 true
             },
+            rows: 0,
+            full: None,
         };
-        crate::simulate::integrate(scene, &mut obs)
+        let run = crate::simulate::integrate(scene, &mut obs);
+        (run, obs.full)
     };
     msgs.push(Msg::RunDone {
         run: id,
-        outcome: outcome(r),
+        outcome: outcome(r.0, r.1),
     });
     msgs
+}
+
+/// A run whose output grid alone (t_end / output_dt rows) is above [`MEMORY_ROWS`], refused
+/// before it starts.
+fn refuse(scene: &Scene) -> Option<RunOutcome> {
+    let est = crate::run::OutputEstimate::of(scene);
+    if est.grid_rows.is_nan() || est.grid_rows > MEMORY_ROWS {
+        let failure = RunFailure::Memory {
+            rows: est.grid_rows,
+            limit: MEMORY_ROWS,
+            t: 0.0,
+        };
+        return Some(RunOutcome::Failed(Arc::new(failure)));
+    }
+    None
 }
