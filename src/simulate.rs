@@ -32,7 +32,8 @@ pub fn integrate_unjudged(scene: &Scene, observer: &mut dyn Observer) -> Run {
 /// A finished run whose energy balance closes worse than `solver.max_closure` (relative to the
 /// energy scale), or whose corners went deeper than `solver.max_penetration` into their faces,
 /// is a failure [`SolverError::Inaccurate`] (its output kept). The penalty methods are not
-/// judged on penetration: the gap elements' compression is their contact law.
+/// judged on penetration: the gap elements' compression is their contact law. A finished run
+/// whose energies or peaks overflowed is [`SolverError::NonFinite`].
 pub fn judge(scene: &Scene, mut run: Run) -> Run {
     if !matches!(run.stop, Stop::Finished) {
         return run;
@@ -53,6 +54,27 @@ pub fn judge(scene: &Scene, mut run: Run) -> Run {
             st.step
         ),
     };
+    // an energy or a peak that overflowed (a scheme blown up under a record of 1e300 g)
+    let e = &s.energy_final;
+    let energies = [
+        e.kinetic,
+        e.elastic,
+        e.loads,
+        e.supports,
+        e.damping,
+        e.hysteretic,
+    ];
+    let peaks = s
+        .peaks
+        .iter()
+        .flat_map(|p| [p.max_abs, p.residual, p.max_abs_velocity]);
+    let finite = energies.into_iter().chain(peaks).all(f64::is_finite)
+        && s.max_penetration.is_finite()
+        && s.energy_closure_abs.is_finite();
+    if !finite {
+        run.stop = Stop::Failed(SolverError::NonFinite { t });
+        return run;
+    }
     let compliant = matches!(st.method, Method::Penalty | Method::PenaltyExplicit);
     let closure = s.energy_closure_rel;
     let error = if closure.is_nan() || closure > st.max_closure {

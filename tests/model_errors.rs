@@ -614,3 +614,19 @@ fn mass_ratio_beyond_double_precision_is_refused() {
     );
     deckspin::model::load_str(&scene(1e11), path, &[]).unwrap();
 }
+
+#[test]
+fn a_record_sample_above_10_g_is_refused_as_a_unit_mistake() {
+    // one corrupt sample of 9e9 g in a real-looking record drove a penalty run 322 km
+    let rec = record("spike", 20.0, &|t| {
+        if (t - 5.0).abs() < 1e-9 { 9e9 } else { sine(t) }
+    });
+    let msg = four_span(&with_record(&rec), &[]).unwrap_err().to_string();
+    assert!(
+        msg.contains("sample 500 is 9e9 g") && msg.contains("above the 10 g"),
+        "{msg}"
+    );
+    // 4 g, the order of the strongest records, is accepted
+    let rec = record("strong", 20.0, &|t| 20.0 * sine(t));
+    four_span(&with_record(&rec), &[]).unwrap();
+}

@@ -25,6 +25,11 @@ pub const MIN_SIGNAL_FRACTION: f64 = 1e-2;
 /// the wrong unit is off by 981 (cm/s² as g) or a noise record by far more.
 pub const MAX_SCALE_FACTOR: f64 = 100.0;
 
+/// Largest ground acceleration a record may hold or be scaled to, g: the strongest recorded is
+/// 4.4 g (Iwate–Miyagi 2008); a larger value is a unit mistake (cm/s² read as g) or a corrupt
+/// file, and would drive the scene kilometres.
+pub const MAX_PGA_G: f64 = 10.0;
+
 /// Baseline correction (Boore & Bommer 2005).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Serialize)]
 #[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
@@ -375,6 +380,18 @@ impl GroundMotion {
                 format!("{path}: sample {i} is not finite"),
             ));
         }
+        let peak = (rec.accel_g.iter().enumerate()).max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()));
+        if let Some((i, x)) = peak
+            && x.abs() > MAX_PGA_G
+        {
+            let path = rec.path.display();
+            return Err(invalid(
+                "accel_g",
+                format!(
+                    "{path}: sample {i} is {x:e} g, above the {MAX_PGA_G} g no ground motion                      reaches (the strongest recorded is 4.4 g): a unit mistake (cm/s² read as                      g?) or a corrupt file"
+                ),
+            ));
+        }
         Self::from_samples(rec.dt, rec.accel_g.iter().map(|x| x * G).collect(), p)
     }
 
@@ -431,6 +448,21 @@ impl GroundMotion {
             0.0
         };
         let factor = amplitude_factor(p, pga_raw, pga_corr)?;
+        let scaled = factor.abs() * pga_corr / G;
+        if scaled > MAX_PGA_G {
+            let field = if p.target_pga.is_some() {
+                "target_pga"
+            } else {
+                "scale"
+            };
+            return Err(invalid(
+                field,
+                format!(
+                    "the scaled record peaks at {scaled:.4e} g (factor {factor:.4e} on {:.4e} g),                      above the {MAX_PGA_G} g no ground motion reaches",
+                    pga_corr / G
+                ),
+            ));
+        }
         if factor != 1.0 {
             a.iter_mut().for_each(|x| *x *= factor);
         }

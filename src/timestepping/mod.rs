@@ -236,6 +236,14 @@ impl<'a> Stepper<'a> {
         let dt = self.scene.settings.output_dt;
         if self.t + 1e-12 >= self.next_out as f64 * dt {
             self.sample(SampleKind::Grid, contact_elastic);
+            // the next grid instant after t, in one jump (an output step far below the fixed
+            // step would otherwise be counted through one by one)
+            let k = ((self.t + 1e-12) / dt).floor();
+            self.next_out = if k.is_finite() && k < usize::MAX as f64 {
+                (k as usize).max(self.next_out)
+            } else {
+                usize::MAX - 1
+            };
             while self.t + 1e-12 >= self.next_out as f64 * dt {
                 self.next_out += 1;
             }
