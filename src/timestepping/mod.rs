@@ -234,16 +234,18 @@ impl<'a> Stepper<'a> {
     /// Record grid samples due by now.
     fn maybe_sample(&mut self, contact_elastic: f64) {
         let dt = self.scene.settings.output_dt;
-        if self.t + 1e-12 >= self.next_out as f64 * dt {
+        // usize::MAX: the output step is too small to count its instants (every step samples)
+        let every = self.next_out == usize::MAX;
+        if every || self.t + 1e-12 >= self.next_out as f64 * dt {
             self.sample(SampleKind::Grid, contact_elastic);
             // the next grid instant after t, in one jump (an output step far below the fixed
             // step would otherwise be counted through one by one)
             let k = ((self.t + 1e-12) / dt).floor();
-            self.next_out = if k.is_finite() && k < usize::MAX as f64 {
-                (k as usize).max(self.next_out)
-            } else {
-                usize::MAX - 1
-            };
+            if k.is_nan() || k >= 2f64.powi(52) {
+                self.next_out = usize::MAX;
+                return;
+            }
+            self.next_out = (k as usize).max(self.next_out);
             while self.t + 1e-12 >= self.next_out as f64 * dt {
                 self.next_out += 1;
             }

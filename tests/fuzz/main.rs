@@ -113,13 +113,13 @@ fn fuzz_case() {
     let run = |model: &str, at2: Option<&str>| exec::run_input(model, &s.path, at2, LIMIT);
     let (model, at2) = mutate::apply(&input, &seeds);
     println!("seed file: {}\nmutations: {:?}", s.name, input.mutations);
-    let out = run(&model, at2.as_deref());
-    println!("outcome: {out:?}");
     let changed: Vec<&str> = model
         .lines()
         .filter(|l| !s.model.lines().any(|m| m == *l))
         .collect();
     println!("model lines not in the seed: {changed:?}");
+    let out = run(&model, at2.as_deref());
+    println!("outcome: {out:?}");
     let Some(&finding) = out.findings().first() else {
         println!("no finding");
         let _ = std::fs::remove_dir_all(exec::scratch());
