@@ -607,12 +607,24 @@ fn mass_ratio_beyond_double_precision_is_refused() {
     let path = std::path::Path::new("two-bodies.toml");
     let e = deckspin::model::load_str(&scene(1e13), path, &[]).unwrap_err();
     let msg = e.to_string();
-    assert!(matches!(e, ModelError::Invalid { line: 11, .. }), "{msg}");
+    assert!(matches!(e, ModelError::Invalid { line: 6, .. }), "{msg}");
     assert!(
-        msg.contains("body.1.mass") && msg.contains("1.000e13 times"),
+        msg.contains("body.0.mass")
+            && msg.contains("body.1.mass")
+            && msg.contains("1.000e13 apart"),
         "{msg}"
     );
     deckspin::model::load_str(&scene(1e11), path, &[]).unwrap();
+    // the mass a corner impulse meets in rotation, I/r²: 1e-9 t·m² at 16.14 m is 3.8e-12 t
+    let e = double_impact_with("inertia = 13090.0", "inertia = 1e-9").unwrap_err();
+    let msg = e.to_string();
+    assert!(
+        matches!(e, ModelError::Invalid { line: 11, .. })
+            && msg.contains("body.0.inertia")
+            && msg.contains("3.662e13 apart"),
+        "{msg}"
+    );
+    double_impact_with("inertia = 13090.0", "inertia = 1e-3").unwrap();
 }
 
 #[test]
