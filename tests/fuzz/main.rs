@@ -4,7 +4,7 @@
 //! in a child process (this test binary, `fuzz_child`) so that a hang or a memory abort is
 //! seen and counted, not fatal: the parent restarts the child after the input that broke it.
 //!
-//! - `fuzz_ci`: fixed seed, `FUZZ_CI_CASES` inputs (default 6000): asserts no panic, hang,
+//! - `fuzz_ci`: fixed seed, `FUZZ_CI_CASES` inputs (default 50 000): asserts no panic, hang,
 //!   crash or non-finite result; prints the other findings (closure, penetration).
 //! - `fuzz_long` (ignored): `FUZZ_CASES` inputs (default 100 000), `FUZZ_SEED`, prints a tally.
 //! - `fuzz_case` (ignored): `FUZZ_CASE=i` (and `FUZZ_SEED`): input i, its outcome, and a
@@ -39,7 +39,7 @@ fn env_u64(name: &str, default: u64) -> u64 {
 
 #[test]
 fn fuzz_ci() {
-    let cases = env_u64("FUZZ_CI_CASES", 6000);
+    let cases = env_u64("FUZZ_CI_CASES", 50_000);
     let tally = parent::fuzz(CI_SEED, cases, jobs(), LIMIT);
     println!("{}", tally.report(CI_SEED));
     assert_eq!(tally.inputs, cases, "every input ran");
