@@ -655,6 +655,8 @@ fn precision_points(
     use deckspin::precision::{Bench, knobs};
     let bench = Bench::open(model, set)?;
     let scene = bench.study.scene(&[])?;
+    // every run of the study keeps its history in memory
+    deckspin::run::check_memory(&scene)?;
     let reference = bench.reference(1e-10)?;
     eprintln!(
         "reference: event-driven, rtol 1e-10: peak |{}| = {:.9e}",

@@ -527,6 +527,15 @@ pub enum LimitError {
         max_bytes: f64,
     },
     #[error(
+        "the output grid alone is {rows:.3e} rows (solver.t_end = {t_end} s / solver.output_dt = {output_dt} s), more than the {max_rows:e} a run kept in memory may hold (raise solver.output_dt or lower solver.t_end; `deckspin run` streams its history to disk)"
+    )]
+    Memory {
+        rows: f64,
+        t_end: f64,
+        output_dt: f64,
+        max_rows: f64,
+    },
+    #[error(
         "solver.t_end = {t_end} s / solver.step = {step} s is {steps:.3e} steps, more than solver.max_steps = {max_steps} (raise solver.step or solver.max_steps, or lower solver.t_end)"
     )]
     Steps {
@@ -535,6 +544,26 @@ pub enum LimitError {
         step: f64,
         max_steps: usize,
     },
+}
+
+/// Rows (output samples) a run that keeps its history in memory may hold: about 1 kB each for
+/// the bridge, so 1 GB (the workbench, the work–precision and stability studies; `deckspin
+/// run` streams to disk instead).
+pub const MEMORY_ROWS: f64 = 1e6;
+
+/// A run that keeps its history in memory, refused when its output grid alone (t_end /
+/// output_dt rows, at most one per step for a fixed-step method) is above [`MEMORY_ROWS`].
+pub fn check_memory(scene: &Scene) -> Result<OutputEstimate, LimitError> {
+    let est = OutputEstimate::of(scene);
+    if est.grid_rows.is_nan() || est.grid_rows > MEMORY_ROWS {
+        return Err(LimitError::Memory {
+            rows: est.grid_rows,
+            t_end: scene.settings.t_end,
+            output_dt: scene.settings.output_dt,
+            max_rows: MEMORY_ROWS,
+        });
+    }
+    Ok(est)
 }
 
 /// The estimate of `scene`'s output, or why the run is refused: a fixed-step method needing

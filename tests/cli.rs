@@ -283,3 +283,21 @@ fn a_sweep_with_failing_runs_writes_every_row() {
     );
     assert!(rows[2].starts_with("1000000,0,") && rows[2].ends_with(","));
 }
+
+#[test]
+fn a_study_whose_runs_would_not_fit_in_memory_is_refused_before_it_starts() {
+    // each work–precision run keeps its history: 16 s at 1e-9 s would be 1.6e10 rows
+    let r = deckspin(&[
+        "precision",
+        &model("models/four-span.toml"),
+        "--quick",
+        "--set",
+        "solver.output_dt=1e-9",
+    ]);
+    assert_ne!(r.status.code(), Some(0));
+    let e = text(&r.stderr);
+    assert!(
+        e.contains("1.600e10 rows") && e.contains("1e6") && e.contains("solver.output_dt"),
+        "{e}"
+    );
+}

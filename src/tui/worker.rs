@@ -40,11 +40,10 @@ impl RunHandle {
     }
 }
 
-/// Rows (output samples) a workbench run keeps in memory at most: about 1 kB each for the
-/// bridge, so 1 GB. A run whose output grid alone is larger is refused before it starts; one
-/// that reaches the limit through its events stops there with [`RunFailure::Memory`], its
-/// samples so far shown.
-pub const MEMORY_ROWS: f64 = 1e6;
+// A workbench run keeps at most `run::MEMORY_ROWS` rows in memory. A run whose output grid
+// alone is larger is refused before it starts; one that reaches the limit through its events
+// stops there with `RunFailure::Memory`, its samples so far shown.
+use crate::run::MEMORY_ROWS;
 
 /// Forwards batches to a sink; stops the run when cancelled, when the sink is gone or at
 /// [`MEMORY_ROWS`].
@@ -184,14 +183,14 @@ pub fn run_blocking(id: u64, scene: &Scene) -> Vec<Msg> {
 /// A run whose output grid alone (t_end / output_dt rows) is above [`MEMORY_ROWS`], refused
 /// before it starts.
 fn refuse(scene: &Scene) -> Option<RunOutcome> {
-    let est = crate::run::OutputEstimate::of(scene);
-    if est.grid_rows.is_nan() || est.grid_rows > MEMORY_ROWS {
-        let failure = RunFailure::Memory {
-            rows: est.grid_rows,
-            limit: MEMORY_ROWS,
-            t: 0.0,
-        };
-        return Some(RunOutcome::Failed(Arc::new(failure)));
-    }
-    None
+    let e = crate::run::check_memory(scene).err()?;
+    let crate::run::LimitError::Memory { rows, max_rows, .. } = e else {
+        return None;
+    };
+    let failure = RunFailure::Memory {
+        rows,
+        limit: max_rows,
+        t: 0.0,
+    };
+    Some(RunOutcome::Failed(Arc::new(failure)))
 }
