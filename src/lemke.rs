@@ -251,10 +251,15 @@ pub fn lemke_regularized(
         for i in 0..reg.nrows() {
             reg[(i, i)] += delta;
         }
-        let Ok(sol) = lemke(&reg, q, opts) else {
+        let Ok(mut sol) = lemke(&reg, q, opts) else {
             continue;
         };
         pivots += sol.pivots;
+        // the regularised answer leaves w_A = −δ z_A on its active set: solve the original
+        // there (minimum norm for dependent rows) when that keeps z ≥ 0 and w ≥ 0
+        if let Some(z) = polish(m, q, &sol.z, opts.tolerance.max(0.0)) {
+            sol.z = z;
+        }
         let w = m * &sol.z + q;
         let w_scale = max_abs(q.iter()) + m_max * max_abs(sol.z.iter());
         let tol = opts.tolerance.max(0.0);
@@ -271,6 +276,39 @@ pub fn lemke_regularized(
         }
     }
     Err(first)
+}
+
+/// z with its active set A = {zᵢ > 0} re-solved on the original data, M_AA z_A = −q_A (SVD,
+/// minimum norm), zero elsewhere — or None when that would make a zᵢ or a wᵢ outside A
+/// negative beyond `tol` of their scales.
+fn polish(m: &DMatrix<f64>, q: &DVector<f64>, z: &DVector<f64>, tol: f64) -> Option<DVector<f64>> {
+    let act: Vec<usize> = (0..z.len()).filter(|&i| z[i] > 0.0).collect();
+    if act.is_empty() {
+        return None;
+    }
+    let k = act.len();
+    let a = DMatrix::from_fn(k, k, |r, c| m[(act[r], act[c])]);
+    let b = DVector::from_fn(k, |r, _| -q[act[r]]);
+    let svd = a.svd(true, true);
+    let sv_max = svd.singular_values.iter().copied().fold(0.0, f64::max);
+    let x = svd.solve(&b, 1e-12 * sv_max).ok()?;
+    let z_scale = x.amax();
+    if x.iter().any(|v| !v.is_finite() || *v < -tol * z_scale) {
+        return None;
+    }
+    let mut out = DVector::zeros(z.len());
+    for (r, &i) in act.iter().enumerate() {
+        out[i] = x[r].max(0.0);
+    }
+    let w = m * &out + q;
+    let w_scale = max_abs(q.iter()) + max_abs(m.iter()) * z_scale;
+    let outside = (0..z.len()).filter(|i| !act.contains(i));
+    for i in outside {
+        if w[i] < -tol * w_scale {
+            return None;
+        }
+    }
+    Some(out)
 }
 
 /// Residual of a candidate `(z, w)` for LCP(q, M): the largest of

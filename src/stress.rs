@@ -96,15 +96,19 @@ pub struct StressRow {
     pub max_penetration: f64,
     pub closure_rel: f64,
     pub rtol: f64,
+    /// Contacts an impact left approaching (`stats.approaching_after_impact`): must be 0.
+    pub approaching: usize,
     pub wall: f64,
 }
 
 impl StressRow {
-    /// Finished, no penetration above 1e-9 m, energy closure within rtol/10.
+    /// Finished, no penetration above 1e-9 m, energy closure within rtol/10, no contact left
+    /// approaching by an impact.
     pub fn passes(&self) -> bool {
         self.status == "finished"
             && self.max_penetration <= 1e-9
             && self.closure_rel <= self.rtol / 10.0
+            && self.approaching == 0
     }
 }
 
@@ -159,6 +163,7 @@ fn stress_run(
         max_penetration: 0.0,
         closure_rel: 0.0,
         rtol: 0.0,
+        approaching: 0,
         wall: 0.0,
     };
     let mut set = vec![
@@ -189,6 +194,7 @@ fn stress_run(
             let r = crate::simulate::integrate(&scene, &mut crate::Silent);
             row.max_penetration = r.output.summary.max_penetration;
             row.closure_rel = r.output.summary.energy_closure_rel;
+            row.approaching = r.output.summary.stats.approaching_after_impact;
             row.status = match r.stop {
                 Stop::Finished => "finished".into(),
                 Stop::Cancelled { t } => format!("cancelled at {t}"),
@@ -250,16 +256,19 @@ pub fn tally(rows: &[StressRow]) -> String {
         )
     };
     let mut out = format!(
-        "{} runs: {finished} finished, {passing} pass (penetration ≤ 1e-9 m, closure ≤ rtol/10)\n",
+        "{} runs: {finished} finished, {passing} pass (penetration ≤ 1e-9 m, closure ≤ rtol/10, no contact left approaching by an impact)\n",
         rows.len()
     );
+    let approaching: usize = rows.iter().map(|r| r.approaching).sum();
+    out += &format!("contacts left approaching by an impact: {approaching}\n");
     for r in rows.iter().filter(|r| !r.passes()) {
         out += &format!(
-            "  {}: {} (penetration {:.3e} m, closure {:.3e})\n",
+            "  {}: {} (penetration {:.3e} m, closure {:.3e}, left approaching {})\n",
             label(r),
             r.status,
             r.max_penetration,
-            r.closure_rel
+            r.closure_rel,
+            r.approaching
         );
     }
     if let Some((p, r)) = worst(&|r| r.max_penetration) {

@@ -629,6 +629,16 @@ fn degenerate_friction_rows_are_solved_by_the_regularised_retry() {
             w[i]
         );
     }
+    // on its active set the answer solves the original problem, not the regularised one:
+    // w_A = 0 to rounding relative to q (an impact left no contact approaching by δ z)
+    let qs = q.amax();
+    for i in (0..6).filter(|&i| sol.z[i] > 0.0) {
+        assert!(
+            w[i].abs() <= 1e-12 * qs,
+            "{i}: w {:e} (q scale {qs:e})",
+            w[i]
+        );
+    }
     // a regular problem is solved by the first attempt, unregularised
     let m2 = DMatrix::from_row_slice(2, 2, &[2.0, 1.0, 1.0, 2.0]);
     let q2 = DVector::from_vec(vec![-1.0, -1.0]);
