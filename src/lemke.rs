@@ -239,7 +239,7 @@ pub fn lemke_regularized(
     opts: &LemkeOptions,
 ) -> Result<(LcpSolution, f64), LcpError> {
     let first = match lemke(m, q, opts) {
-        Ok(sol) => return Ok((sol, 0.0)),
+        Ok(sol) => return Ok((refine(m, q, sol, opts.tolerance.max(0.0)), 0.0)),
         Err(e @ (LcpError::NonFinite | LcpError::DimensionMismatch { .. })) => return Err(e),
         Err(e) => e,
     };
@@ -257,8 +257,12 @@ pub fn lemke_regularized(
         pivots += sol.pivots;
         // the regularised answer leaves w_A = −δ z_A on its active set: solve the original
         // there (minimum norm for dependent rows) when that keeps z ≥ 0 and w ≥ 0
-        if let Some(z) = polish(m, q, &sol.z, opts.tolerance.max(0.0)) {
+        let tol = opts.tolerance.max(0.0);
+        if let Some(z) = polish(m, q, &sol.z, &sol.z.map(|v| v > 0.0), tol) {
             sol.z = z;
+        } else {
+            // degenerate: also the rows where w vanishes or dips below zero
+            sol = refine(m, q, sol, tol);
         }
         let w = m * &sol.z + q;
         let w_scale = max_abs(q.iter()) + m_max * max_abs(sol.z.iter());
@@ -278,11 +282,40 @@ pub fn lemke_regularized(
     Err(first)
 }
 
-/// z with its active set A = {zᵢ > 0} re-solved on the original data, M_AA z_A = −q_A (SVD,
-/// minimum norm), zero elsewhere — or None when that would make a zᵢ or a wᵢ outside A
-/// negative beyond `tol` of their scales.
-fn polish(m: &DMatrix<f64>, q: &DVector<f64>, z: &DVector<f64>, tol: f64) -> Option<DVector<f64>> {
-    let act: Vec<usize> = (0..z.len()).filter(|&i| z[i] > 0.0).collect();
+/// A solution whose w = Mz + q dips below zero beyond rounding (nearly dependent rows, where
+/// pivoting loses digits) re-solved on the set of rows with z > 0 or w ≤ 0 ([`polish`]); else
+/// as it is.
+fn refine(m: &DMatrix<f64>, q: &DVector<f64>, sol: LcpSolution, tol: f64) -> LcpSolution {
+    let w = m * &sol.z + q;
+    let scale = max_abs(q.iter()) + max_abs(m.iter()) * max_abs(sol.z.iter());
+    let floor = 1e-12 * scale;
+    if w.iter().all(|&v| v >= -floor) {
+        return sol;
+    }
+    let act = DVector::from_fn(q.len(), |i, _| sol.z[i] > 0.0 || w[i] <= floor);
+    let Some(z) = polish(m, q, &sol.z, &act, tol) else {
+        return sol;
+    };
+    let w = m * &z + q;
+    let w = w.map(|v| if v.abs() <= tol * scale { 0.0 } else { v });
+    LcpSolution {
+        z,
+        w,
+        pivots: sol.pivots,
+    }
+}
+
+/// z with its active set A (`active`: zᵢ > 0, or also the degenerate rows where wᵢ vanishes
+/// too) re-solved on the original data, M_AA z_A = −q_A (SVD, minimum norm), zero elsewhere —
+/// or None when that would make a zᵢ or a wᵢ outside A negative beyond `tol` of their scales.
+fn polish(
+    m: &DMatrix<f64>,
+    q: &DVector<f64>,
+    z: &DVector<f64>,
+    active: &DVector<bool>,
+    tol: f64,
+) -> Option<DVector<f64>> {
+    let act: Vec<usize> = (0..z.len()).filter(|&i| active[i]).collect();
     if act.is_empty() {
         return None;
     }
