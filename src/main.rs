@@ -308,6 +308,22 @@ fn print_report(s: &deckspin::output::Summary, scene: &deckspin::scene::Scene) {
     for (c, t) in &s.accumulation_times {
         println!("  accumulation of impacts at '{c}': t∞ ≈ {t:.9} s");
     }
+    for seat in &s.seats {
+        println!(
+            "  seat at '{}': width {:.4} m, minimum margin {:.4} m at t = {:.4} s{}; AASHTO LRFD 4.7.4.4 N × {} % = {:.4} m",
+            seat.contact,
+            seat.width,
+            seat.min_margin,
+            seat.at,
+            if seat.min_margin < 0.0 {
+                " (UNSEATED)"
+            } else {
+                ""
+            },
+            seat.percent,
+            seat.required
+        );
+    }
 }
 
 fn print_state_at(run: &deckspin::RunOutput, s: &deckspin::output::Sample, t: f64) {

@@ -192,10 +192,26 @@ pub struct DofPeak {
     pub max_abs_velocity: f64,
 }
 
+/// A deck corner's seat over the run: width − the largest gap (rotation included).
+#[derive(Clone, Debug, Serialize)]
+pub struct SeatSummary {
+    pub contact: String,
+    pub width: f64,
+    /// width − max g_N: below 0 the corner is unseated.
+    pub min_margin: f64,
+    pub at: f64,
+    /// AASHTO LRFD 4.7.4.4's N for this deck, times `percent` / 100, m.
+    pub required: f64,
+    pub percent: f64,
+}
+
 #[derive(Clone, Debug, Serialize)]
 pub struct ContactSummary {
     pub name: String,
     pub min_gap: f64,
+    /// The largest gap over the samples, and when.
+    pub max_gap: f64,
+    pub max_gap_at: f64,
     pub max_normal_force: f64,
     pub max_normal_impulse: f64,
     pub impacts: usize,
@@ -209,6 +225,8 @@ pub struct Summary {
     pub t_end: f64,
     pub peaks: Vec<DofPeak>,
     pub contacts: Vec<ContactSummary>,
+    /// Empty without seats.
+    pub seats: Vec<SeatSummary>,
     pub max_penetration: f64,
     pub energy_final: EnergySample,
     pub energy_closure_abs: f64,
@@ -279,6 +297,8 @@ impl Sample {
 #[derive(Clone, Copy, Debug)]
 pub struct ContactTally {
     pub min_gap: f64,
+    pub max_gap: f64,
+    pub max_gap_at: f64,
     pub max_normal_force: f64,
     pub stick_time: f64,
     pub slide_time: f64,
@@ -317,6 +337,8 @@ impl Tally {
                 s.contacts.len(),
                 ContactTally {
                     min_gap: f64::INFINITY,
+                    max_gap: f64::NEG_INFINITY,
+                    max_gap_at: 0.0,
                     max_normal_force: 0.0,
                     stick_time: 0.0,
                     slide_time: 0.0,
@@ -326,6 +348,9 @@ impl Tally {
         }
         for (c, x) in self.contacts.iter_mut().zip(s.contacts) {
             c.min_gap = c.min_gap.min(x.gap);
+            if x.gap > c.max_gap {
+                (c.max_gap, c.max_gap_at) = (x.gap, s.t);
+            }
             c.max_normal_force = c.max_normal_force.max(x.normal_force);
             if let Some(t0) = self.last_t {
                 let dt = s.t - t0;
@@ -352,6 +377,7 @@ pub struct RunOutput {
     pub dof_names: Vec<String>,
     pub contact_names: Vec<String>,
     pub element_names: Vec<String>,
+    pub seats: Vec<crate::scene::Seat>,
     pub samples: Vec<Sample>,
     pub events: Vec<EventRecord>,
     pub stats: RunStats,
@@ -408,6 +434,7 @@ impl RunOutput {
             dof_names: scene.dof_names.clone(),
             contact_names: scene.contacts.iter().map(|c| c.name.clone()).collect(),
             element_names: scene.hysteretic.iter().map(|c| c.name.clone()).collect(),
+            seats: scene.seats.clone(),
             samples: Vec::new(),
             events: Vec::new(),
             stats: RunStats::default(),
@@ -489,6 +516,8 @@ impl RunOutput {
                 ContactSummary {
                     name: n.clone(),
                     min_gap: c.map_or(f64::INFINITY, |c| c.min_gap),
+                    max_gap: c.map_or(f64::NEG_INFINITY, |c| c.max_gap),
+                    max_gap_at: c.map_or(0.0, |c| c.max_gap_at),
                     max_normal_force: c.map_or(0.0, |c| c.max_normal_force),
                     max_normal_impulse: 0.0,
                     impacts: 0,
@@ -511,12 +540,23 @@ impl RunOutput {
             }
         }
         let max_penetration = contacts.iter().map(|c| -c.min_gap).fold(0.0f64, f64::max);
+        let seats = (self.seats.iter())
+            .map(|s| SeatSummary {
+                contact: contacts[s.contact].name.clone(),
+                width: s.width,
+                min_margin: s.width - contacts[s.contact].max_gap,
+                at: contacts[s.contact].max_gap_at,
+                required: s.required,
+                percent: s.percent,
+            })
+            .collect();
         let closure = tally.closure;
         self.summary = Summary {
             title: self.title.clone(),
             t_end: tally.last_t.unwrap_or(0.0),
             peaks,
             contacts,
+            seats,
             max_penetration,
             energy_final: tally.last_energy,
             energy_closure_abs: closure,

@@ -516,3 +516,54 @@ fn a_study_reads_each_record_once() {
         assert_eq!(*record(&b, i), *record(&fresh, i));
     }
 }
+
+#[test]
+fn seat_margins_are_the_seat_width_less_each_corners_largest_gap() {
+    let scene = load(&["abutment.seat_width=0.1", "solver.t_end=6.0"]);
+    let out = deckspin::simulate(&scene, &mut deckspin::Silent).unwrap();
+    let s = &out.summary;
+    assert_eq!(s.seats.len(), 4);
+    // AASHTO LRFD 4.7.4.4 by hand: L = 32.2 m = 105.643 ft, H = (1.83 + 2.44 + 1.52)/3 m
+    // = 6.3320 ft, S = 0: N = 8 + 2.11286 + 0.50656 = 10.61942 in = 0.269733 m
+    let n = (8.0 + 0.02 * 32.2 / 0.3048 + 0.08 * 1.93 / 0.3048) * 0.0254;
+    for (i, seat) in s.seats.iter().enumerate() {
+        // the corner's largest gap over the history, independently of the running tally
+        let (g, t) = (out.samples.iter()).map(|x| (x.contacts[i].gap, x.t)).fold(
+            (f64::NEG_INFINITY, 0.0),
+            |a, b| if b.0 > a.0 { b } else { a },
+        );
+        assert_eq!(seat.contact, out.contact_names[i]);
+        assert_eq!(seat.min_margin, 0.1 - g, "{}", seat.contact);
+        assert_eq!(seat.at, t);
+        assert!(seat.min_margin > 0.0 && seat.min_margin < 0.1 - 0.0127);
+        assert_rel(seat.required, n, 1e-12, "AASHTO N");
+        assert_eq!(seat.percent, 100.0);
+    }
+    // the skew and the zone percentage enter N: (1 + 0.000125·30²) × 1.5
+    let skewed = load(&[
+        "abutment.seat_width=0.1",
+        "abutment.seat_percent=150",
+        "deck.skew=30",
+    ]);
+    assert_rel(
+        skewed.seats[0].required,
+        n * 1.1125 * 1.5,
+        1e-12,
+        "skewed N",
+    );
+    // no seat without a width; a percentage without a width, or a width ≤ 0, is refused
+    assert!(load(&[]).seats.is_empty());
+    let err = |set: &[&str]| {
+        let set: Vec<String> = set.iter().map(|s| s.to_string()).collect();
+        deckspin::load(&model(FOUR_SPAN), &set)
+            .unwrap_err()
+            .to_string()
+    };
+    let e = err(&["abutment.seat_percent=150"]);
+    assert!(
+        e.contains("abutment.seat_percent") && e.contains("seat_width"),
+        "{e}"
+    );
+    let e = err(&["abutment.seat_width=-0.1"]);
+    assert!(e.contains("abutment.seat_width"), "{e}");
+}

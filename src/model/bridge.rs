@@ -50,6 +50,10 @@ pub struct AbutmentSpec {
     pub actuator_damping: f64,
     /// Lateral offset ± of the two actuators from the abutment centre, m.
     pub actuator_offset: f64,
+    /// Seat width from the backwall face under each deck end, m (absent: no seat output).
+    pub seat_width: Option<f64>,
+    /// The percentage of AASHTO LRFD 4.7.4.4's N to compare with (absent: 100).
+    pub seat_percent: Option<f64>,
 }
 
 #[derive(Clone, Debug, Deserialize)]
@@ -242,8 +246,18 @@ pub fn compile(f: &BridgeFile, ck: &Check, motions: &Motions) -> Result<Scene, M
     let driven = !supports.is_empty();
     let mut springs = actuator_springs(&f.abutment, ex, nb, driven);
     let hysteretic = bent_columns(f, &plan, ck, driven, &mut springs)?;
+    let nb = f.bents.len().max(1) as f64;
+    let seat = super::seat::SeatSpec {
+        width: f.abutment.seat_width,
+        percent: f.abutment.seat_percent,
+        length: f.deck.length,
+        height: f.bents.iter().map(|b| b.height).sum::<f64>() / nb,
+        skew: f.deck.skew,
+    };
+    let seats = super::seat::seats(&seat, ck, contacts.len())?;
     let mut scene = Scene {
         title: f.title.clone().unwrap_or_else(|| "bridge".into()),
+        seats,
         bodies,
         contacts,
         springs,

@@ -11,6 +11,7 @@ pub mod limits;
 pub mod overrides;
 pub mod records;
 pub mod scene_file;
+mod seat;
 pub mod solver;
 pub mod warnings;
 

@@ -180,6 +180,7 @@ pub fn compile(f: &SceneFile, ck: &Check, motions: &Motions) -> Result<Scene, Mo
         ..
     } = dofs;
     Ok(Scene {
+        seats: Vec::new(),
         title: f.title.clone().unwrap_or_else(|| {
             path.file_stem()
                 .map_or("scene".into(), |s| s.to_string_lossy().into_owned())

@@ -48,6 +48,21 @@ pub enum BodyRef {
     Body(usize),
 }
 
+/// The seat under a deck corner: the deck end is unseated when its distance from the backwall
+/// (the corner's gap g_N, rotation included) exceeds `width`; margin(t) = width − g_N(t).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Seat {
+    /// The corner's contact.
+    pub contact: usize,
+    /// Seat width from the backwall face, m.
+    pub width: f64,
+    /// The minimum support length of AASHTO LRFD 4.7.4.4 for this deck, m (its percentage
+    /// applied).
+    pub required: f64,
+    /// The AASHTO percentage applied to N (100 % in seismic zone 2, 150 % in zones 3–4).
+    pub percent: f64,
+}
+
 /// Unilateral frictional contact of a point of one body against a straight face of another
 /// (corner-on-face; the face at any angle, so skew abutments work).
 #[derive(Clone, Debug)]
@@ -156,6 +171,8 @@ pub struct MassDamping {
 #[derive(Clone, Debug)]
 pub struct Scene {
     pub title: String,
+    /// Seats under the deck ends (bridge files with `abutment.seat_width`): one per corner.
+    pub seats: Vec<Seat>,
     pub bodies: Vec<Body>,
     pub contacts: Vec<Contact>,
     pub springs: Vec<Spring>,
