@@ -85,6 +85,15 @@ pub enum SolverError {
     #[error("t = {t:.9} s: cancelled")]
     Cancelled { t: f64 },
     #[error(
+        "t = {t:.9} s: the deck lost its seat at '{contact}': the corner is {gap:.6e} m from the backwall, beyond the seat width {width} m (abutment.seat_width)"
+    )]
+    Unseated {
+        t: f64,
+        contact: String,
+        gap: f64,
+        width: f64,
+    },
+    #[error(
         "t = {t:.9} s: finished, but not to the accuracy asked for: {what} {value:.3e} above solver.{setting} = {limit:e} ({hint})"
     )]
     Inaccurate {
@@ -248,6 +257,7 @@ impl SolverError {
             | SolverError::Unstable { t, .. }
             | SolverError::NoConvergence { t, .. }
             | SolverError::Inaccurate { t, .. }
+            | SolverError::Unseated { t, .. }
             | SolverError::Cancelled { t } => *t,
         }
     }
@@ -269,6 +279,7 @@ impl SolverError {
             SolverError::NoConvergence { .. } => "NoConvergence",
             SolverError::Cancelled { .. } => "Cancelled",
             SolverError::Inaccurate { .. } => "Inaccurate",
+            SolverError::Unseated { .. } => "Unseated",
         }
     }
 }

@@ -567,3 +567,37 @@ fn seat_margins_are_the_seat_width_less_each_corners_largest_gap() {
     let e = err(&["abutment.seat_width=-0.1"]);
     assert!(e.contains("abutment.seat_width"), "{e}");
 }
+
+#[test]
+fn a_deck_end_that_leaves_its_seat_stops_the_run_at_that_instant() {
+    // 20 mm seats: the deck end moves more than that from the backwall under run 4
+    let scene = load(&["abutment.seat_width=0.02", "solver.t_end=8.0"]);
+    let run = deckspin::simulate::integrate(&scene, &mut deckspin::Silent);
+    let deckspin::Stop::Failed(deckspin::SolverError::Unseated {
+        t, contact, gap, ..
+    }) = &run.stop
+    else {
+        panic!("{:?}", run.stop)
+    };
+    let out = &run.output;
+    let i = out.contact_names.iter().position(|n| n == contact).unwrap();
+    // located on the crossing: the corner is at the seat's edge, and no sample before it was
+    // beyond any seat
+    assert!((gap - 0.02).abs() < 1e-11, "gap {gap:e}");
+    let last = out.samples.last().unwrap();
+    assert_eq!(last.t, *t);
+    assert!((last.contacts[i].gap - 0.02).abs() < 1e-11);
+    for s in &out.samples {
+        for c in &s.contacts {
+            assert!(c.gap <= 0.02 + 1e-11, "t = {}: gap {}", s.t, c.gap);
+        }
+    }
+    assert!(*t > 1.0 && *t < 8.0, "{t}");
+    let seat = out
+        .summary
+        .seats
+        .iter()
+        .find(|s| &s.contact == contact)
+        .unwrap();
+    assert!(seat.min_margin.abs() < 1e-11, "{}", seat.min_margin);
+}

@@ -506,6 +506,17 @@ fn process_event(eng: &mut Engine, f: EventFn) -> Result<(), SolverError> {
             eng.state.laws[j].on_branch_end(e_at, dir);
             eng.state.out.stats.branch_events += 1;
         }
+        EventFn::Unseat(k) => {
+            eng.record_sample(SampleKind::PreEvent)?;
+            let seat = &eng.scene.seats[k];
+            let i = seat.contact;
+            return Err(SolverError::Unseated {
+                t: eng.state.t,
+                contact: eng.scene.contacts[i].name.clone(),
+                gap: eng.contact_kinematics_now(i).gap,
+                width: seat.width,
+            });
+        }
         _ => {
             if eng.state.contacts.iter().any(|s| *s != ContactState::Open) {
                 // the state reached from the step's start, back on the closed constraints

@@ -16,6 +16,8 @@ pub(super) enum EventFn {
     Upper(usize),
     /// d ė of a hysteretic element (load reversal).
     Reversal(usize),
+    /// width − g_N of the seat of `scene.seats[k]` (the deck end leaves its seat).
+    Unseat(usize),
 }
 
 impl EventFn {

@@ -34,6 +34,7 @@ impl<'a> Engine<'a> {
                 }
             }
         }
+        f.extend((0..self.scene.seats.len()).map(EventFn::Unseat));
         for (j, law) in self.state.laws.iter().enumerate() {
             let b = law.branch();
             if b.lower.is_finite() {
@@ -128,6 +129,11 @@ impl<'a> Engine<'a> {
                 EventFn::StickSlip(i) => {
                     coulomb::stick_margin(scene.contacts[i].mu, d.lam_n[i], d.lam_t[i])
                 }
+                EventFn::Unseat(k) => {
+                    let seat = &scene.seats[k];
+                    let c = &scene.contacts[seat.contact];
+                    seat.width - scene.contact_rates(&fr, c).0
+                }
                 EventFn::SlideStop(i) => {
                     let s = match self.state.contacts[i] {
                         ContactState::Slide(s) => s,
@@ -165,7 +171,7 @@ impl<'a> Engine<'a> {
     pub(super) fn threshold(&self, f: EventFn) -> f64 {
         let s = &self.scene.settings;
         match f {
-            EventFn::Gap(_) => 1e-3 * s.gap_tol,
+            EventFn::Gap(_) | EventFn::Unseat(_) => 1e-3 * s.gap_tol,
             EventFn::Release(_) | EventFn::StickSlip(_) => 1e-10 * self.state.force_scale,
             EventFn::SlideStop(_) | EventFn::Reversal(_) => 1e-3 * s.velocity_tol,
             EventFn::Lower(_) | EventFn::Upper(_) => 1e-13,
@@ -241,7 +247,8 @@ pub(super) fn arm_into(
             EventFn::SlideStop(_)
             | EventFn::Reversal(_)
             | EventFn::Lower(_)
-            | EventFn::Upper(_) => val > -thr,
+            | EventFn::Upper(_)
+            | EventFn::Unseat(_) => val > -thr,
             EventFn::Release(_) | EventFn::StickSlip(_) => val > thr,
         }
     }));

@@ -50,15 +50,25 @@ impl Engine<'_> {
             return Ok(None);
         }
         y.as_mut_slice().copy_from_slice(rs.y1.as_slice());
-        let EventFn::Gap(mut i) = f else {
-            return Ok(Some((te, f)));
+        let mut i = match f {
+            EventFn::Gap(i) => i,
+            EventFn::Unseat(k) => {
+                // width − g_N: Newton on the gap with the seat's edge as its zero
+                let seat = &self.scene.seats[k];
+                let (i, w) = (seat.contact, seat.width);
+                let dt = self.newton_on_gap(rs, i, w, te, 0.0, tau, y)?;
+                return Ok(dt
+                    .map(|dt| (te + dt, f))
+                    .filter(|(t, _)| *t > t_min && *t <= step.t1()));
+            }
+            _ => return Ok(Some((te, f))),
         };
         // Newton on g_N(te + Δt) along the Taylor polynomial of the flow at (te, y1); a corner
         // that this trajectory has taken through its face first (two crossings closer than the
         // dense output's error) takes the event over
         let mut dt = 0.0;
         for _ in 0..=SWITCHES {
-            dt = match self.newton_on_gap(rs, i, te, dt, tau, y)? {
+            dt = match self.newton_on_gap(rs, i, 0.0, te, dt, tau, y)? {
                 Some(dt) => dt,
                 None => return Ok(None),
             };
@@ -74,13 +84,16 @@ impl Engine<'_> {
         Ok(None)
     }
 
-    /// Newton on the gap of contact `i` from the move `dt` along the flow at the end of `rs`
-    /// (the state in `y`): the move that closes it to the gap threshold, or None (not
+    /// Newton on the gap of contact `i` less `edge` (0: the face; a seat's width: the seat's
+    /// edge, reached from below) from the move `dt` along the flow at the end of `rs` (the
+    /// state in `y`): the move that closes it to the gap threshold, or None (not
     /// approaching, or a move beyond [`MAX_MOVE`]).
+    #[allow(clippy::too_many_arguments)]
     fn newton_on_gap(
         &mut self,
         rs: &dopri::Step,
         i: usize,
+        edge: f64,
         te: f64,
         mut dt: f64,
         tau: f64,
@@ -90,8 +103,13 @@ impl Engine<'_> {
         let one = [EventFn::Gap(i)];
         let thr = self.threshold(one[0]);
         for _ in 0..=NEWTON_MOVES {
+            // the distance to the crossing, and its rate: g − 0 closing from above, or
+            // edge − g closing from below
             let g = self.event_values(te + dt, y, &one)?[0];
-            let rate = self.ws.gap_rates[0];
+            let (g, rate) = match edge {
+                0.0 => (g, self.ws.gap_rates[0]),
+                w => (w - g, -self.ws.gap_rates[0]),
+            };
             if g.abs() <= thr {
                 return Ok(Some(dt));
             }
