@@ -309,19 +309,13 @@ fn print_report(s: &deckspin::output::Summary, scene: &deckspin::scene::Scene) {
         println!("  accumulation of impacts at '{c}': t∞ ≈ {t:.9} s");
     }
     for seat in &s.seats {
+        let aashto = match (seat.required, seat.percent) {
+            (Some(n), Some(p)) => format!("; AASHTO LRFD 4.7.4.4 N × {p} % = {n:.4} m"),
+            _ => String::new(),
+        };
         println!(
-            "  seat at '{}': width {:.4} m, minimum margin {:.4} m at t = {:.4} s{}; AASHTO LRFD 4.7.4.4 N × {} % = {:.4} m",
-            seat.contact,
-            seat.width,
-            seat.min_margin,
-            seat.at,
-            if seat.min_margin < 0.0 {
-                " (UNSEATED)"
-            } else {
-                ""
-            },
-            seat.percent,
-            seat.required
+            "  seat at '{}': width {:.4} m, minimum margin {:.4} m at t = {:.4} s{aashto}",
+            seat.contact, seat.width, seat.min_margin, seat.at
         );
     }
 }

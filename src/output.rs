@@ -200,9 +200,9 @@ pub struct SeatSummary {
     /// width − max g_N: below 0 the corner is unseated.
     pub min_margin: f64,
     pub at: f64,
-    /// AASHTO LRFD 4.7.4.4's N for this deck, times `percent` / 100, m.
-    pub required: f64,
-    pub percent: f64,
+    /// AASHTO LRFD 4.7.4.4's N for this deck, times `percent` / 100, m (bridge files).
+    pub required: Option<f64>,
+    pub percent: Option<f64>,
 }
 
 #[derive(Clone, Debug, Serialize)]
@@ -546,8 +546,8 @@ impl RunOutput {
                 width: s.width,
                 min_margin: s.width - contacts[s.contact].max_gap,
                 at: contacts[s.contact].max_gap_at,
-                required: s.required,
-                percent: s.percent,
+                required: s.required.map(|r| r.0),
+                percent: s.required.map(|r| r.1),
             })
             .collect();
         let closure = tally.closure;

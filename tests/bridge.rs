@@ -536,8 +536,8 @@ fn seat_margins_are_the_seat_width_less_each_corners_largest_gap() {
         assert_eq!(seat.min_margin, 0.1 - g, "{}", seat.contact);
         assert_eq!(seat.at, t);
         assert!(seat.min_margin > 0.0 && seat.min_margin < 0.1 - 0.0127);
-        assert_rel(seat.required, n, 1e-12, "AASHTO N");
-        assert_eq!(seat.percent, 100.0);
+        assert_rel(seat.required.unwrap(), n, 1e-12, "AASHTO N");
+        assert_eq!(seat.percent, Some(100.0));
     }
     // the skew and the zone percentage enter N: (1 + 0.000125·30²) × 1.5
     let skewed = load(&[
@@ -545,12 +545,9 @@ fn seat_margins_are_the_seat_width_less_each_corners_largest_gap() {
         "abutment.seat_percent=150",
         "deck.skew=30",
     ]);
-    assert_rel(
-        skewed.seats[0].required,
-        n * 1.1125 * 1.5,
-        1e-12,
-        "skewed N",
-    );
+    let (required, percent) = skewed.seats[0].required.unwrap();
+    assert_rel(required, n * 1.1125 * 1.5, 1e-12, "skewed N");
+    assert_eq!(percent, 150.0);
     // no seat without a width; a percentage without a width, or a width ≤ 0, is refused
     assert!(load(&[]).seats.is_empty());
     let err = |set: &[&str]| {
@@ -600,4 +597,38 @@ fn a_deck_end_that_leaves_its_seat_stops_the_run_at_that_instant() {
         .find(|s| &s.contact == contact)
         .unwrap();
     assert!(seat.min_margin.abs() < 1e-11, "{}", seat.min_margin);
+}
+
+#[test]
+fn a_block_sliding_off_its_seat_is_stopped_at_the_closed_form_instant() {
+    // a free block leaves a wall at v = 0.3 m/s from a 10 mm gap on a 50 mm seat: the margin
+    // is 0.05 − (0.01 + v t), zero at t* = 0.04/0.3 s
+    let text = "[solver]\nt_end = 1.0\noutput_dt = 0.01\n\n[[body]]\nname = \"block\"\nmass = 2.0\n\
+                dofs = [\"x\"]\ninitial_velocity = [0.3, 0.0, 0.0]\n\n[[contact]]\nname = \"wall\"\n\
+                body = \"block\"\nnormal = [1.0, 0.0]\ngap = 0.01\nseat_width = 0.05\n";
+    let path = std::path::Path::new("seat.toml");
+    let scene = deckspin::model::load_str(text, path, &[]).unwrap();
+    let run = deckspin::simulate::integrate(&scene, &mut deckspin::Silent);
+    let deckspin::Stop::Failed(deckspin::SolverError::Unseated { t, gap, .. }) = run.stop else {
+        panic!("{:?}", run.stop)
+    };
+    assert_rel(t, 0.04 / 0.3, 1e-12, "unseating instant");
+    assert!((gap - 0.05).abs() < 1e-13, "{gap:e}");
+    // the margin history of the samples before it: 0.05 − (0.01 + v t)
+    for s in &run.output.samples {
+        let margin = 0.05 - s.contacts[0].gap;
+        assert!(
+            (margin - (0.04 - 0.3 * s.t)).abs() < 1e-14,
+            "t = {}: {margin}",
+            s.t
+        );
+    }
+    let seat = &run.output.summary.seats[0];
+    assert!(seat.min_margin.abs() < 1e-13 && seat.required.is_none());
+    // a width ≤ 0 is refused with its field
+    let bad = text.replace("seat_width = 0.05", "seat_width = -1.0");
+    let e = deckspin::model::load_str(&bad, path, &[])
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("contact.0.seat_width"), "{e}");
 }

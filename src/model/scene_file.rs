@@ -55,6 +55,9 @@ pub struct ContactSpec {
     pub mu: f64,
     #[serde(default)]
     pub restitution: f64,
+    /// Seat under the contact point, reaching this far from the face, m: the run stops when
+    /// the gap exceeds it (event-driven method); absent: no seat.
+    pub seat_width: Option<f64>,
 }
 
 fn ground() -> String {
@@ -168,6 +171,17 @@ pub fn compile(f: &SceneFile, ck: &Check, motions: &Motions) -> Result<Scene, Mo
         .enumerate()
         .map(|(i, c)| compile_contact(i, c, &refs))
         .collect::<Result<Vec<_>, _>>()?;
+    let mut seats = Vec::new();
+    for (contact, c) in f.contacts.iter().enumerate() {
+        if let Some(w) = c.seat_width {
+            let width = ck.positive(&format!("contact.{contact}.seat_width"), w)?;
+            seats.push(crate::scene::Seat {
+                contact,
+                width,
+                required: None,
+            });
+        }
+    }
     let springs = compile_springs(f, &refs)?;
     let hysteretic = compile_hysteretic(f, &refs)?;
     let Dofs {
@@ -180,7 +194,7 @@ pub fn compile(f: &SceneFile, ck: &Check, motions: &Motions) -> Result<Scene, Mo
         ..
     } = dofs;
     Ok(Scene {
-        seats: Vec::new(),
+        seats,
         title: f.title.clone().unwrap_or_else(|| {
             path.file_stem()
                 .map_or("scene".into(), |s| s.to_string_lossy().into_owned())

@@ -51,8 +51,7 @@ pub(super) fn seats(f: &SeatSpec, ck: &Check, corners: usize) -> Result<Vec<Seat
         .map(|contact| Seat {
             contact,
             width,
-            required: n * percent / 100.0,
-            percent,
+            required: Some((n * percent / 100.0, percent)),
         })
         .collect())
 }

@@ -56,11 +56,9 @@ pub struct Seat {
     pub contact: usize,
     /// Seat width from the backwall face, m.
     pub width: f64,
-    /// The minimum support length of AASHTO LRFD 4.7.4.4 for this deck, m (its percentage
-    /// applied).
-    pub required: f64,
-    /// The AASHTO percentage applied to N (100 % in seismic zone 2, 150 % in zones 3–4).
-    pub percent: f64,
+    /// The minimum support length of AASHTO LRFD 4.7.4.4 for this deck, m, and the percentage
+    /// of N applied (100 % in seismic zone 2, 150 % in zones 3–4); None in scene files.
+    pub required: Option<(f64, f64)>,
 }
 
 /// Unilateral frictional contact of a point of one body against a straight face of another
