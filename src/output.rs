@@ -192,12 +192,12 @@ pub struct DofPeak {
     pub max_abs_velocity: f64,
 }
 
-/// A deck corner's seat over the run: width − the largest gap (rotation included).
+/// A deck corner's seat over the run: its margin width − (g_N − g_N(0)) at the largest gap.
 #[derive(Clone, Debug, Serialize)]
 pub struct SeatSummary {
     pub contact: String,
     pub width: f64,
-    /// width − max g_N: below 0 the corner is unseated.
+    /// width − (max g_N − g_N(0)): below 0 the corner is unseated.
     pub min_margin: f64,
     pub at: f64,
     /// AASHTO LRFD 4.7.4.4's N for this deck, times `percent` / 100, m (bridge files).
@@ -544,7 +544,7 @@ impl RunOutput {
             .map(|s| SeatSummary {
                 contact: contacts[s.contact].name.clone(),
                 width: s.width,
-                min_margin: s.width - contacts[s.contact].max_gap,
+                min_margin: s.edge - contacts[s.contact].max_gap,
                 at: contacts[s.contact].max_gap_at,
                 required: s.required.map(|r| r.0),
                 percent: s.required.map(|r| r.1),

@@ -85,7 +85,7 @@ pub enum SolverError {
     #[error("t = {t:.9} s: cancelled")]
     Cancelled { t: f64 },
     #[error(
-        "t = {t:.9} s: the deck lost its seat at '{contact}': the corner is {gap:.6e} m from the backwall, beyond the seat width {width} m (abutment.seat_width)"
+        "t = {t:.9} s: the deck lost its seat at '{contact}': its gap reached {gap:.6e} m, the seat's edge (support length {width} m beyond the initial gap)"
     )]
     Unseated {
         t: f64,

@@ -533,9 +533,10 @@ fn seat_margins_are_the_seat_width_less_each_corners_largest_gap() {
             |a, b| if b.0 > a.0 { b } else { a },
         );
         assert_eq!(seat.contact, out.contact_names[i]);
-        assert_eq!(seat.min_margin, 0.1 - g, "{}", seat.contact);
+        // support length 0.1 m from the deck end: the edge is 0.1 m beyond the 12.7 mm gap
+        assert_eq!(seat.min_margin, (0.1 + 0.0127) - g, "{}", seat.contact);
         assert_eq!(seat.at, t);
-        assert!(seat.min_margin > 0.0 && seat.min_margin < 0.1 - 0.0127);
+        assert!(seat.min_margin > 0.0 && seat.min_margin < 0.1);
         assert_rel(seat.required.unwrap(), n, 1e-12, "AASHTO N");
         assert_eq!(seat.percent, Some(100.0));
     }
@@ -578,15 +579,16 @@ fn a_deck_end_that_leaves_its_seat_stops_the_run_at_that_instant() {
     };
     let out = &run.output;
     let i = out.contact_names.iter().position(|n| n == contact).unwrap();
-    // located on the crossing: the corner is at the seat's edge, and no sample before it was
-    // beyond any seat
-    assert!((gap - 0.02).abs() < 1e-11, "gap {gap:e}");
+    // located on the crossing: the corner is at the seat's edge (20 mm beyond its 12.7 mm
+    // gap), and no sample before it was beyond any seat
+    let edge = 0.02 + 0.0127;
+    assert!((gap - edge).abs() < 1e-11, "gap {gap:e}");
     let last = out.samples.last().unwrap();
     assert_eq!(last.t, *t);
-    assert!((last.contacts[i].gap - 0.02).abs() < 1e-11);
+    assert!((last.contacts[i].gap - edge).abs() < 1e-11);
     for s in &out.samples {
         for c in &s.contacts {
-            assert!(c.gap <= 0.02 + 1e-11, "t = {}: gap {}", s.t, c.gap);
+            assert!(c.gap <= edge + 1e-11, "t = {}: gap {}", s.t, c.gap);
         }
     }
     assert!(*t > 1.0 && *t < 8.0, "{t}");
@@ -601,8 +603,8 @@ fn a_deck_end_that_leaves_its_seat_stops_the_run_at_that_instant() {
 
 #[test]
 fn a_block_sliding_off_its_seat_is_stopped_at_the_closed_form_instant() {
-    // a free block leaves a wall at v = 0.3 m/s from a 10 mm gap on a 50 mm seat: the margin
-    // is 0.05 − (0.01 + v t), zero at t* = 0.04/0.3 s
+    // a free block leaves a wall at v = 0.3 m/s from a 10 mm gap with 50 mm of support: the
+    // margin is 0.05 − v t, zero at t* = 0.05/0.3 s
     let text = "[solver]\nt_end = 1.0\noutput_dt = 0.01\n\n[[body]]\nname = \"block\"\nmass = 2.0\n\
                 dofs = [\"x\"]\ninitial_velocity = [0.3, 0.0, 0.0]\n\n[[contact]]\nname = \"wall\"\n\
                 body = \"block\"\nnormal = [1.0, 0.0]\ngap = 0.01\nseat_width = 0.05\n";
@@ -612,13 +614,13 @@ fn a_block_sliding_off_its_seat_is_stopped_at_the_closed_form_instant() {
     let deckspin::Stop::Failed(deckspin::SolverError::Unseated { t, gap, .. }) = run.stop else {
         panic!("{:?}", run.stop)
     };
-    assert_rel(t, 0.04 / 0.3, 1e-12, "unseating instant");
-    assert!((gap - 0.05).abs() < 1e-13, "{gap:e}");
-    // the margin history of the samples before it: 0.05 − (0.01 + v t)
+    assert_rel(t, 0.05 / 0.3, 1e-12, "unseating instant");
+    assert!((gap - 0.06).abs() < 1e-13, "{gap:e}");
+    // the margin history of the samples before it: 0.05 − v t
     for s in &run.output.samples {
-        let margin = 0.05 - s.contacts[0].gap;
+        let margin = 0.06 - s.contacts[0].gap;
         assert!(
-            (margin - (0.04 - 0.3 * s.t)).abs() < 1e-14,
+            (margin - (0.05 - 0.3 * s.t)).abs() < 1e-14,
             "t = {}: {margin}",
             s.t
         );

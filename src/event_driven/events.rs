@@ -132,7 +132,7 @@ impl<'a> Engine<'a> {
                 EventFn::Unseat(k) => {
                     let seat = &scene.seats[k];
                     let c = &scene.contacts[seat.contact];
-                    seat.width - scene.contact_rates(&fr, c).0
+                    seat.edge - scene.contact_rates(&fr, c).0
                 }
                 EventFn::SlideStop(i) => {
                     let s = match self.state.contacts[i] {

@@ -55,7 +55,7 @@ impl Engine<'_> {
             EventFn::Unseat(k) => {
                 // width − g_N: Newton on the gap with the seat's edge as its zero
                 let seat = &self.scene.seats[k];
-                let (i, w) = (seat.contact, seat.width);
+                let (i, w) = (seat.contact, seat.edge);
                 let dt = self.newton_on_gap(rs, i, w, te, 0.0, tau, y)?;
                 return Ok(dt
                     .map(|dt| (te + dt, f))

@@ -50,7 +50,8 @@ pub struct AbutmentSpec {
     pub actuator_damping: f64,
     /// Lateral offset ± of the two actuators from the abutment centre, m.
     pub actuator_offset: f64,
-    /// Seat width from the backwall face under each deck end, m (absent: no seat output).
+    /// Support length of each deck corner on its seat at the reference configuration (AASHTO's
+    /// N: from the deck end to the seat's edge), m (absent: no seat output).
     pub seat_width: Option<f64>,
     /// The percentage of AASHTO LRFD 4.7.4.4's N to compare with (absent: 100).
     pub seat_percent: Option<f64>,
@@ -250,11 +251,12 @@ pub fn compile(f: &BridgeFile, ck: &Check, motions: &Motions) -> Result<Scene, M
     let seat = super::seat::SeatSpec {
         width: f.abutment.seat_width,
         percent: f.abutment.seat_percent,
+        gaps: f.contacts.gaps,
         length: f.deck.length,
         height: f.bents.iter().map(|b| b.height).sum::<f64>() / nb,
         skew: f.deck.skew,
     };
-    let seats = super::seat::seats(&seat, ck, contacts.len())?;
+    let seats = super::seat::seats(&seat, ck)?;
     let mut scene = Scene {
         title: f.title.clone().unwrap_or_else(|| "bridge".into()),
         seats,

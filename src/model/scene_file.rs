@@ -55,8 +55,9 @@ pub struct ContactSpec {
     pub mu: f64,
     #[serde(default)]
     pub restitution: f64,
-    /// Seat under the contact point, reaching this far from the face, m: the run stops when
-    /// the gap exceeds it (event-driven method); absent: no seat.
+    /// Support length of the contact point on a seat at the reference configuration, m: the
+    /// point is unseated when its gap exceeds `gap` + this (the event-driven run stops there);
+    /// absent: no seat.
     pub seat_width: Option<f64>,
 }
 
@@ -178,6 +179,7 @@ pub fn compile(f: &SceneFile, ck: &Check, motions: &Motions) -> Result<Scene, Mo
             seats.push(crate::scene::Seat {
                 contact,
                 width,
+                edge: width + c.gap,
                 required: None,
             });
         }

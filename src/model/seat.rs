@@ -23,6 +23,8 @@ pub(super) struct SeatSpec {
     /// `abutment.seat_width`, `abutment.seat_percent`.
     pub width: Option<f64>,
     pub percent: Option<f64>,
+    /// The corners' initial gaps, m.
+    pub gaps: [f64; 4],
     /// Deck length, the bents' average height (m), skew (degrees).
     pub length: f64,
     pub height: f64,
@@ -31,7 +33,7 @@ pub(super) struct SeatSpec {
 
 /// One seat per corner contact when `abutment.seat_width` is given (the deck's length, the
 /// bents' average height and the skew give AASHTO's N, times `abutment.seat_percent`).
-pub(super) fn seats(f: &SeatSpec, ck: &Check, corners: usize) -> Result<Vec<Seat>, ModelError> {
+pub(super) fn seats(f: &SeatSpec, ck: &Check) -> Result<Vec<Seat>, ModelError> {
     let Some(width) = f.width else {
         if f.percent.is_some() {
             return Err(ck.err(
@@ -47,10 +49,11 @@ pub(super) fn seats(f: &SeatSpec, ck: &Check, corners: usize) -> Result<Vec<Seat
         None => 100.0,
     };
     let n = aashto_support_length(f.length, f.height, f.skew);
-    Ok((0..corners)
+    Ok((0..f.gaps.len())
         .map(|contact| Seat {
             contact,
             width,
+            edge: width + f.gaps[contact],
             required: Some((n * percent / 100.0, percent)),
         })
         .collect())

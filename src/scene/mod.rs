@@ -48,14 +48,18 @@ pub enum BodyRef {
     Body(usize),
 }
 
-/// The seat under a deck corner: the deck end is unseated when its distance from the backwall
-/// (the corner's gap g_N, rotation included) exceeds `width`; margin(t) = width − g_N(t).
+/// The seat under a deck corner. `width` is the support length at the reference configuration
+/// (AASHTO's N: from the deck end to the seat's edge); the deck end is unseated when it has moved
+/// that far away from the backwall, i.e. when the corner's gap g_N (rotation included) reaches
+/// `edge` = width + g_N(0); margin(t) = edge − g_N(t).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Seat {
     /// The corner's contact.
     pub contact: usize,
-    /// Seat width from the backwall face, m.
+    /// Support length at the reference configuration, m.
     pub width: f64,
+    /// The gap at which the corner leaves the seat: width + the initial gap, m.
+    pub edge: f64,
     /// The minimum support length of AASHTO LRFD 4.7.4.4 for this deck, m, and the percentage
     /// of N applied (100 % in seismic zone 2, 150 % in zones 3–4); None in scene files.
     pub required: Option<(f64, f64)>,
