@@ -70,6 +70,25 @@ pub struct EnergySample {
 }
 
 impl EnergySample {
+    /// Every term finite (none overflowed).
+    pub fn is_finite(&self) -> bool {
+        [
+            self.kinetic,
+            self.elastic,
+            self.loads,
+            self.supports,
+            self.damping,
+            self.hysteretic,
+            self.friction,
+            self.impact_normal,
+            self.impact_tangential,
+            self.initial,
+            self.closure,
+        ]
+        .iter()
+        .all(|x| x.is_finite())
+    }
+
     pub fn balance(&self) -> f64 {
         (self.kinetic
             + self.elastic

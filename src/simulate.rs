@@ -55,20 +55,9 @@ pub fn judge(scene: &Scene, mut run: Run) -> Run {
         ),
     };
     // an energy or a peak that overflowed (a scheme blown up under a record of 1e300 g)
-    let e = &s.energy_final;
-    let energies = [
-        e.kinetic,
-        e.elastic,
-        e.loads,
-        e.supports,
-        e.damping,
-        e.hysteretic,
-    ];
-    let peaks = s
-        .peaks
-        .iter()
-        .flat_map(|p| [p.max_abs, p.residual, p.max_abs_velocity]);
-    let finite = energies.into_iter().chain(peaks).all(f64::is_finite)
+    let mut peaks = (s.peaks.iter()).flat_map(|p| [p.max_abs, p.residual, p.max_abs_velocity]);
+    let finite = s.energy_final.is_finite()
+        && peaks.all(f64::is_finite)
         && s.max_penetration.is_finite()
         && s.energy_closure_abs.is_finite();
     if !finite {

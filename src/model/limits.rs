@@ -79,11 +79,7 @@ pub const EVENT_LIMIT: (usize, usize) = (200_000, 5_000_000);
 
 /// `solver.max_events` absent: [`EVENTS_PER_SECOND`] × `t_end` within [`EVENT_LIMIT`].
 pub fn event_limit(t_end: f64) -> usize {
-    let n = (EVENTS_PER_SECOND * t_end).ceil();
-    if n.is_nan() {
-        return EVENT_LIMIT.0;
-    }
-    (n.min(EVENT_LIMIT.1 as f64) as usize).max(EVENT_LIMIT.0)
+    per_second(EVENTS_PER_SECOND, EVENT_LIMIT, t_end)
 }
 
 /// Steps a run may take per simulated second when `solver.max_steps` is absent: the bridge
@@ -95,11 +91,16 @@ pub const STEP_LIMIT: (usize, usize) = (1_000_000, 50_000_000);
 
 /// `solver.max_steps` absent: [`STEPS_PER_SECOND`] × `t_end` within [`STEP_LIMIT`].
 pub fn step_limit(t_end: f64) -> usize {
-    let n = (STEPS_PER_SECOND * t_end).ceil();
+    per_second(STEPS_PER_SECOND, STEP_LIMIT, t_end)
+}
+
+/// ⌈rate × t_end⌉ within [lo, hi] (lo for a NaN t_end).
+fn per_second(rate: f64, (lo, hi): (usize, usize), t_end: f64) -> usize {
+    let n = (rate * t_end).ceil();
     if n.is_nan() {
-        return STEP_LIMIT.0;
+        return lo;
     }
-    (n.min(STEP_LIMIT.1 as f64) as usize).max(STEP_LIMIT.0)
+    (n.min(hi as f64) as usize).max(lo)
 }
 
 /// The support whose record ends last, and when.

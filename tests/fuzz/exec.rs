@@ -1,7 +1,7 @@
 //! One fuzz input run and classified: refused at load, refused by the output budget,
 //! finished (with its checks), failed with a typed error, cancelled by the watchdog, panicked.
 
-use deckspin::output::{EnergySample, EventRecord, Sample};
+use deckspin::output::{EventRecord, Sample};
 use deckspin::run::{OutputBudget, Stop, check_output};
 use std::panic::AssertUnwindSafe;
 use std::path::{Path, PathBuf};
@@ -106,24 +106,6 @@ struct Watchdog {
     non_finite: bool,
 }
 
-fn energy_finite(e: &EnergySample) -> bool {
-    [
-        e.kinetic,
-        e.elastic,
-        e.loads,
-        e.supports,
-        e.damping,
-        e.hysteretic,
-        e.friction,
-        e.impact_normal,
-        e.impact_tangential,
-        e.initial,
-        e.closure,
-    ]
-    .iter()
-    .all(|x| x.is_finite())
-}
-
 fn sample_finite(s: &Sample) -> bool {
     s.t.is_finite()
         && s.q.iter().chain(&s.v).all(|x| x.is_finite())
@@ -141,7 +123,7 @@ fn sample_finite(s: &Sample) -> bool {
         && s.elements
             .iter()
             .all(|(d, f)| d.is_finite() && f.is_finite())
-        && energy_finite(&s.energy)
+        && s.energy.is_finite()
 }
 
 impl deckspin::Observer for Watchdog {
@@ -225,7 +207,7 @@ fn load_and_run(model: &str, path: &Path, limit: Duration) -> Outcome {
                 method: format!("{:?}", scene.settings.method),
                 closure: s.energy_closure_rel,
                 penetration: s.max_penetration,
-                non_finite: dog.non_finite || !rest || !peaks || !energy_finite(&s.energy_final),
+                non_finite: dog.non_finite || !rest || !peaks || !s.energy_final.is_finite(),
             }
         }
         Stop::Cancelled { t } => Outcome::Hang(format!(
