@@ -520,7 +520,7 @@ fn missing_tables_are_refused_or_said() {
     assert_eq!(
         msg,
         "b.toml:1: deck: missing: [abutment] (line 1) makes this a bridge file, which needs a \
-         [deck] table (mass, inertia, length, width)"
+         [deck] table (mass, inertia, length, width) or [[frame]] tables"
     );
 }
 

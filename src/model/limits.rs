@@ -177,7 +177,12 @@ fn resolution(scene: &Scene, bridge: bool, ck: &Check) -> Result<(), ModelError>
         let x = p.max(f);
         if x.is_nan() || x > reach {
             let field = match (bridge, p >= f) {
-                (true, _) => "deck.length".to_string(),
+                (true, _) => match c.point_body {
+                    crate::scene::BodyRef::Body(b) if scene.bodies[b].name != "deck" => {
+                        format!("frame.{}.length", b - 1)
+                    }
+                    _ => "deck.length".to_string(),
+                },
                 (false, true) => format!("contact.{i}.point"),
                 (false, false) => format!("contact.{i}.gap"),
             };
@@ -215,7 +220,8 @@ fn resolution(scene: &Scene, bridge: bool, ck: &Check) -> Result<(), ModelError>
     for (i, b) in scene.bodies.iter().enumerate() {
         let field = |k: &str| match bridge {
             true if b.name == "deck" => format!("deck.{k}"),
-            true => format!("abutment.{k}"),
+            true if b.name.ends_with("_abutment") => format!("abutment.{k}"),
+            true => format!("frame.{}.{k}", i - 1),
             false => format!("body.{i}.{k}"),
         };
         if b.mass > 0.0 {

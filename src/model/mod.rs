@@ -11,7 +11,7 @@ pub mod limits;
 pub mod overrides;
 pub mod records;
 pub mod scene_file;
-mod seat;
+
 pub mod solver;
 pub mod warnings;
 
@@ -103,7 +103,8 @@ fn compile_text(
         applied: &applied,
     };
     let mut warnings = Vec::new();
-    let (mut scene, solver) = if table.contains_key("deck") {
+    let bridge = table.contains_key("deck") || table.contains_key("frame");
+    let (mut scene, solver) = if bridge {
         let file = bridge::BridgeFile::deserialize(Deserializer::from(doc)).map_err(located)?;
         let scene = bridge::compile(&file, &ck, motions)?;
         warnings.extend(bridge::warnings(&file, &ck));
@@ -118,7 +119,7 @@ fn compile_text(
         t_end: solver.t_end.is_some(),
         max_events: solver.max_events.is_some(),
         max_steps: solver.max_steps.is_some(),
-        bridge: table.contains_key("deck"),
+        bridge,
         step_limit,
     };
     limits::finish(&mut scene, &given, &ck, &mut warnings)?;

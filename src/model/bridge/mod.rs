@@ -1,0 +1,199 @@
+//! A bridge in bridge words, compiled into the engine's general [`Scene`] (paper §2, §4.1):
+//! frames (rigid decks, x, y, θ each) in series between two abutments (x, θ) on two actuator
+//! spring–dampers each; deck-corner contacts at the abutments and at the expansion joints
+//! between frames (corner on face between two moving bodies); two-column bents with hysteretic
+//! columns; Rayleigh damping; multi-support excitation. The shake-table specimen is the
+//! one-frame case (`[deck]`).
+//!
+//! - [`schema`]: the file's tables; [`layout`]: frames, support lines, skew, headings, corner
+//!   contacts; `structure`: actuators and columns; `supports`: the excitation; `seat`: seats and
+//!   AASHTO's support length; `validate`: the checks.
+//!
+//! Units: t, kN, m, s (1 t·m/s² = 1 kN).
+
+pub mod layout;
+pub mod schema;
+mod seat;
+mod structure;
+mod supports;
+mod validate;
+
+pub use schema::*;
+pub use seat::aashto_support_length;
+
+use super::check::{Check, ModelError};
+use super::records::Motions;
+use super::solver::settings;
+use super::warnings::ModelWarning;
+use crate::modal::apply_rayleigh;
+use crate::scene::{MassDamping, Scene};
+use layout::{Frame, Plan};
+use nalgebra::DVector;
+use seat::SeatSpec;
+
+/// Names of the four abutment corners (paper: point 1 is the left, upper corner).
+pub const CORNERS: [&str; 4] = ["left_top", "left_bottom", "right_top", "right_bottom"];
+
+/// Validate and compile a bridge file into the engine's general scene.
+pub fn compile(f: &BridgeFile, ck: &Check, motions: &Motions) -> Result<Scene, ModelError> {
+    let path = ck.path;
+    let settings = settings(&f.solver, ck)?;
+    let frames = layout::frames(f);
+    validate::validate(f, &frames, ck)?;
+    let plan = Plan::of(f, &frames);
+    let (bodies, mass, dof_names) = layout::bodies(f, &frames, &plan);
+    let contacts = layout::corner_contacts(f, &frames, &plan, &bodies);
+    // supports: per bent x and y, per abutment x
+    let nb = frames.iter().map(|fr| fr.bents.len()).sum();
+    let ex = f.excitation.as_ref();
+    let supports = match ex {
+        Some(e) => supports::excitation_supports(e, &f.runs, nb, ck, path, motions)?,
+        None => Vec::new(),
+    };
+    let driven = !supports.is_empty();
+    let last = bodies.len() - 1;
+    let mut springs = structure::actuator_springs(&f.abutment, ex, nb, driven, last);
+    let hysteretic = structure::bent_columns(&f.column, &frames, &plan, ck, driven, &mut springs)?;
+    let seats = seat::seats(&seat_lines(f, &frames, &plan), ck)?;
+    let n = mass.len();
+    let mut scene = Scene {
+        title: f.title.clone().unwrap_or_else(|| "bridge".into()),
+        seats,
+        bodies,
+        contacts,
+        springs,
+        hysteretic,
+        supports,
+        mass_damping: MassDamping::default(),
+        loads: DVector::zeros(n),
+        mass,
+        dof_names,
+        q0: DVector::zeros(n),
+        v0: DVector::zeros(n),
+        settings,
+    };
+    if f.damping.ratio > 0.0 {
+        apply_rayleigh(&mut scene, f.damping.ratio, f.damping.modes)
+            .map_err(|r| ck.err("damping.modes", r))?;
+    }
+    Ok(scene)
+}
+
+/// Mean column height of some frames' bents, m.
+fn mean_height(frames: &[Frame]) -> f64 {
+    let h: Vec<f64> = frames
+        .iter()
+        .flat_map(|fr| fr.bents.iter().map(|b| b.height))
+        .collect();
+    h.iter().sum::<f64>() / (h.len().max(1) as f64)
+}
+
+/// The seats of the two abutments (their four corners, when `contacts.enabled`) and of each
+/// joint (its two corners), with AASHTO's L, H and S of each.
+fn seat_lines(f: &BridgeFile, frames: &[Frame], plan: &Plan) -> Vec<SeatSpec> {
+    let n = frames.len();
+    let a = &f.abutment;
+    let mut lines = Vec::new();
+    let mut next = 0;
+    if f.contacts.enabled {
+        for (side, k) in [(0usize, 0usize), (1, n - 1)] {
+            lines.push(SeatSpec {
+                table: "abutment".into(),
+                width: a.seat_width,
+                percent: a.seat_percent,
+                corners: (2 * side..2 * side + 2)
+                    .map(|i| (i, f.contacts.gaps[i]))
+                    .collect(),
+                length: frames[k].length,
+                height: mean_height(&frames[k..=k]),
+                skew: plan.lines[if side == 0 { 0 } else { n }].skew,
+            });
+        }
+        next = 4;
+    }
+    for (j, joint) in f.joints.iter().enumerate().take(n - 1) {
+        lines.push(SeatSpec {
+            table: format!("joint.{j}"),
+            width: joint.seat_width,
+            percent: joint.seat_percent,
+            corners: vec![(next, joint.gaps[0]), (next + 1, joint.gaps[1])],
+            length: frames[j].length + frames[j + 1].length,
+            height: mean_height(&frames[j..=j + 1]),
+            skew: plan.lines[j + 1].skew,
+        });
+        next += 2;
+    }
+    lines
+}
+
+/// What a bridge file leaves to defaults or does not use: no `[excitation]`, `[[run]]` tables
+/// that no `excitation.run` picks, excitation fields its kind does not read (kept so that
+/// `--set excitation.kind=…` can switch kinds).
+pub fn warnings(f: &BridgeFile, ck: &Check) -> Vec<ModelWarning> {
+    let path = ck.path.to_path_buf();
+    let Some(e) = &f.excitation else {
+        return vec![ModelWarning::NoExcitation { path }];
+    };
+    let mut out = Vec::new();
+    if e.kind == "record" && e.run.is_none() && !f.runs.is_empty() {
+        let runs = f.runs.len();
+        out.push(ModelWarning::RunsUnused {
+            path: path.clone(),
+            runs,
+        });
+    }
+    let unread: &[(&str, bool)] = match e.kind.as_str() {
+        "harmonic" => &[
+            ("longitudinal", e.longitudinal.is_some()),
+            ("transverse", e.transverse.is_some()),
+            ("run", e.run.is_some()),
+            ("taper", e.taper.is_some()),
+        ],
+        "record" => &[
+            ("amplitude_x", e.amplitude_x.is_some()),
+            ("amplitude_y", e.amplitude_y.is_some()),
+            ("frequency", e.frequency.is_some()),
+        ],
+        _ => &[],
+    };
+    for (k, _) in unread.iter().filter(|(_, given)| *given) {
+        let field = format!("excitation.{k}");
+        out.push(ModelWarning::Unread {
+            path: path.clone(),
+            line: ck.line(&field),
+            field,
+            kind: e.kind.clone(),
+        });
+    }
+    out
+}
+
+/// The tables only a bridge file has.
+const BRIDGE_TABLES: [&str; 8] = [
+    "abutment",
+    "joint",
+    "contacts",
+    "bent",
+    "column",
+    "damping",
+    "excitation",
+    "run",
+];
+
+/// A file without `[deck]` or `[[frame]]` but with a bridge's tables is a bridge missing its
+/// deck (not a general scene with unknown fields).
+pub fn refuse_without_deck(table: &toml::Table, ck: &Check) -> Result<(), ModelError> {
+    let Some(key) = BRIDGE_TABLES.iter().find(|k| table.contains_key(**k)) else {
+        return Ok(());
+    };
+    let line = ck.line(key);
+    Err(ModelError::Invalid {
+        path: ck.path.to_path_buf(),
+        line,
+        field: "deck".into(),
+        reason: format!(
+            "missing: [{key}] (line {line}) makes this a bridge file, which needs a [deck] \
+             table (mass, inertia, length, width) or [[frame]] tables"
+        ),
+    })
+}

@@ -1,0 +1,245 @@
+//! The bridge file's tables (TOML schema, units t, kN, m, s). One frame: `[deck]` and
+//! `[[bent]]`; several frames in series: `[[frame]]` tables (each with its `[[frame.bent]]`)
+//! separated by `[[joint]]` tables, in order from the left abutment to the right one.
+
+use super::super::solver::SolverSpec;
+use crate::hysteresis::Law;
+use serde::Deserialize;
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DeckSpec {
+    /// t (paper: 140.5).
+    pub mass: f64,
+    /// t·m² about the vertical axis (paper: 13090).
+    pub inertia: f64,
+    /// Corner-to-corner length along the centreline, m (32.2).
+    pub length: f64,
+    /// m (2.4).
+    pub width: f64,
+    /// Skew angle of deck ends and abutment faces, degrees (0: straight).
+    #[serde(default)]
+    pub skew: f64,
+}
+
+/// One frame of a multi-frame bridge: a rigid deck (x, y, θ) on its own bents.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FrameSpec {
+    /// Body name (absent: `frame1`, `frame2`, … in file order).
+    pub name: Option<String>,
+    /// t.
+    pub mass: f64,
+    /// t·m² about the vertical axis.
+    pub inertia: f64,
+    /// Corner-to-corner length along the frame's centreline, m.
+    pub length: f64,
+    /// m.
+    pub width: f64,
+    /// Skew of the frame's ends and bents, degrees (a joint or abutment may set its own).
+    #[serde(default)]
+    pub skew: f64,
+    /// Plan angle of the frame's centreline from the x axis, degrees (a curved alignment as a
+    /// chain of straight frames).
+    #[serde(default)]
+    pub heading: f64,
+    #[serde(default, rename = "bent")]
+    pub bents: Vec<BentSpec>,
+}
+
+/// An expansion joint (or in-span hinge) between frame k and frame k + 1: the two end corners
+/// of frame k against the end face of frame k + 1.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct JointSpec {
+    /// Initial gaps of the left frame's corners (+y side, −y side), m: exactly two.
+    #[serde(deserialize_with = "two_gaps")]
+    pub gaps: [f64; 2],
+    /// Absent: `contacts.mu`, `contacts.restitution`.
+    pub mu: Option<f64>,
+    pub restitution: Option<f64>,
+    /// Skew of the joint line, degrees, from the normal to the bisector of the two frames'
+    /// centrelines (absent: the left frame's `skew`).
+    pub skew: Option<f64>,
+    /// Support length of the left frame's end on its seat at the reference configuration, m
+    /// (absent: no seat output).
+    pub seat_width: Option<f64>,
+    /// The percentage of AASHTO LRFD 4.7.4.4's N to compare with (absent: 100).
+    pub seat_percent: Option<f64>,
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AbutmentSpec {
+    /// t (0.65).
+    pub mass: f64,
+    /// t·m² (0.31).
+    pub inertia: f64,
+    /// Each of the two longitudinal actuators, kN/m.
+    pub actuator_stiffness: f64,
+    /// kN·s/m.
+    #[serde(default)]
+    pub actuator_damping: f64,
+    /// Lateral offset ± of the two actuators from the abutment centre, m.
+    pub actuator_offset: f64,
+    /// Support length of each deck corner on its seat at the reference configuration (AASHTO's
+    /// N: from the deck end to the seat's edge), m (absent: no seat output).
+    pub seat_width: Option<f64>,
+    /// The percentage of AASHTO LRFD 4.7.4.4's N to compare with (absent: 100).
+    pub seat_percent: Option<f64>,
+    /// Skew of the left and right abutment faces, degrees (absent: the end frame's `skew`).
+    pub left_skew: Option<f64>,
+    pub right_skew: Option<f64>,
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactsSpec {
+    /// false: no deck–abutment contact (paper §4.2).
+    #[serde(default = "yes")]
+    pub enabled: bool,
+    pub mu: f64,
+    pub restitution: f64,
+    /// Initial gaps of corners 1–4 (left +y, left −y, right +y, right −y), m: exactly four.
+    #[serde(deserialize_with = "four_gaps")]
+    pub gaps: [f64; 4],
+}
+
+/// `gaps` with exactly four entries (a fixed-size array would drop a fifth silently).
+fn four_gaps<'de, D: serde::Deserializer<'de>>(d: D) -> Result<[f64; 4], D::Error> {
+    let v = Vec::<f64>::deserialize(d)?;
+    let n = v.len();
+    v.try_into().map_err(|_| {
+        serde::de::Error::custom(format!(
+            "expected 4 contacts.gaps (left_top, left_bottom, right_top, right_bottom), got {n}"
+        ))
+    })
+}
+
+/// `gaps` with exactly two entries.
+fn two_gaps<'de, D: serde::Deserializer<'de>>(d: D) -> Result<[f64; 2], D::Error> {
+    let v = Vec::<f64>::deserialize(d)?;
+    let n = v.len();
+    v.try_into().map_err(|_| {
+        serde::de::Error::custom(format!(
+            "expected 2 joint gaps (top: +y side, bottom: −y side), got {n}"
+        ))
+    })
+}
+
+fn yes() -> bool {
+    true
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BentSpec {
+    pub name: String,
+    /// Plan position along the deck from its centre, m.
+    pub x: f64,
+    /// Clear column height, m (stiffness ∝ h⁻³, strength ∝ h⁻¹ for fixed–fixed columns).
+    pub height: f64,
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ColumnSpec {
+    /// Law of one column in x and in y at `reference_height` (uncoupled directions).
+    pub law: Law,
+    pub reference_height: f64,
+    /// Lateral offset ± of the two columns of a bent from the centreline, m.
+    pub offset: f64,
+    /// Elastic torsional stiffness of one column at the reference height, kN·m/rad (∝ h⁻¹).
+    pub torsion_stiffness: f64,
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DampingSpec {
+    /// Rayleigh ζ at two modes of the initial system (paper: 2 % at modes 1 and 3).
+    pub ratio: f64,
+    pub modes: [usize; 2],
+}
+
+impl Default for DampingSpec {
+    fn default() -> Self {
+        Self {
+            ratio: 0.02,
+            modes: [1, 3],
+        }
+    }
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RunSpec {
+    pub name: String,
+    /// Target PGA, g, longitudinal and transverse.
+    pub pga_x: f64,
+    pub pga_y: f64,
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ExcitationSpec {
+    /// "record" or "harmonic".
+    pub kind: String,
+    /// Records (AT2 or two-column), relative to the model file.
+    pub longitudinal: Option<String>,
+    pub transverse: Option<String>,
+    /// Which `[[run]]` sets the target PGAs (1-based).
+    #[serde(default)]
+    pub run: Option<usize>,
+    /// Similitude time scale (quarter scale: 0.5).
+    #[serde(default = "one")]
+    pub time_scale: f64,
+    /// Polynomial baseline order.
+    #[serde(default = "three")]
+    pub baseline_order: usize,
+    #[serde(default)]
+    pub taper: Option<f64>,
+    /// Per-bent and per-abutment time lags, s.
+    #[serde(default)]
+    pub lag_bents: Vec<f64>,
+    #[serde(default)]
+    pub lag_abutments: Vec<f64>,
+    /// Harmonic input: displacement amplitude x and y (m), frequency (Hz).
+    pub amplitude_x: Option<f64>,
+    pub amplitude_y: Option<f64>,
+    pub frequency: Option<f64>,
+    /// Abutment actuators follow the longitudinal input (true) or stay fixed.
+    #[serde(default = "yes")]
+    pub drive_abutments: bool,
+}
+
+fn one() -> f64 {
+    1.0
+}
+fn three() -> usize {
+    3
+}
+
+/// A bridge model file.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BridgeFile {
+    pub title: Option<String>,
+    /// One frame (with `[[bent]]`), or none with `[[frame]]`.
+    pub deck: Option<DeckSpec>,
+    #[serde(default, rename = "frame")]
+    pub frames: Vec<FrameSpec>,
+    #[serde(default, rename = "joint")]
+    pub joints: Vec<JointSpec>,
+    pub abutment: AbutmentSpec,
+    pub contacts: ContactsSpec,
+    #[serde(default, rename = "bent")]
+    pub bents: Vec<BentSpec>,
+    pub column: ColumnSpec,
+    #[serde(default)]
+    pub damping: DampingSpec,
+    pub excitation: Option<ExcitationSpec>,
+    #[serde(default, rename = "run")]
+    pub runs: Vec<RunSpec>,
+    #[serde(default)]
+    pub solver: SolverSpec,
+}

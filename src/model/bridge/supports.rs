@@ -1,0 +1,158 @@
+//! Multi-support excitation of a bridge (paper §4.1): per bent x and y, per abutment x, each
+//! support with its own record, PGA and time lag.
+
+use super::{ExcitationSpec, RunSpec};
+use crate::excitation::{Baseline, Processing};
+use crate::model::check::{Check, ModelError};
+use crate::model::records::{Motions, record_error};
+use crate::scene::{Motion, Support};
+use std::path::Path;
+
+/// Time lag of support `i` (0 beyond the list).
+fn lag(lags: &[f64], i: usize) -> f64 {
+    lags.get(i).copied().unwrap_or(0.0)
+}
+
+/// Supports of the `[excitation]`: per bent x and y, then left and right abutment x.
+pub(super) fn excitation_supports(
+    e: &ExcitationSpec,
+    runs: &[RunSpec],
+    nb: usize,
+    ck: &Check,
+    path: &Path,
+    motions: &Motions,
+) -> Result<Vec<Support>, ModelError> {
+    validate_excitation(e, nb, ck)?;
+    match e.kind.as_str() {
+        "harmonic" => harmonic_supports(e, nb, ck),
+        "record" => record_supports(e, runs, nb, ck, path, motions),
+        k => Err(ck.err(
+            "excitation.kind",
+            format!("unknown excitation kind '{k}' (record, harmonic)"),
+        )),
+    }
+}
+
+/// Sinusoidal displacement of every support, delayed by its lag.
+fn harmonic_supports(
+    e: &ExcitationSpec,
+    nb: usize,
+    ck: &Check,
+) -> Result<Vec<Support>, ModelError> {
+    let f = ck.positive(
+        "excitation.frequency",
+        e.frequency
+            .ok_or_else(|| ck.err("excitation.frequency", "required for harmonic input"))?,
+    )?;
+    let ax = ck.finite("excitation.amplitude_x", e.amplitude_x.unwrap_or(0.0))?;
+    let ay = ck.finite("excitation.amplitude_y", e.amplitude_y.unwrap_or(0.0))?;
+    let w = 2.0 * std::f64::consts::PI * f;
+    let h = |amp: f64, lag: f64, name: String| Support {
+        name,
+        motion: Motion::Harmonic {
+            amplitude: amp,
+            omega: w,
+            phase: -w * lag,
+        },
+        factor: 1.0,
+    };
+    let mut out = Vec::new();
+    for b in 0..nb {
+        out.push(h(ax, lag(&e.lag_bents, b), format!("bent{}.x", b + 1)));
+        out.push(h(ay, lag(&e.lag_bents, b), format!("bent{}.y", b + 1)));
+    }
+    out.push(h(ax, lag(&e.lag_abutments, 0), "left_abutment.x".into()));
+    out.push(h(ax, lag(&e.lag_abutments, 1), "right_abutment.x".into()));
+    Ok(out)
+}
+
+/// Recorded motions (longitudinal, transverse), scaled to the PGAs of the chosen run and
+/// delayed by each support's lag.
+fn record_supports(
+    e: &ExcitationSpec,
+    runs: &[RunSpec],
+    nb: usize,
+    ck: &Check,
+    path: &Path,
+    motions: &Motions,
+) -> Result<Vec<Support>, ModelError> {
+    let run =
+        match e.run {
+            Some(r) => Some(runs.get(r.wrapping_sub(1)).ok_or_else(|| {
+                ck.err("excitation.run", format!("no run {r} (1..={})", runs.len()))
+            })?),
+            None => None,
+        };
+    let (pga_x, pga_y) = run.map_or((None, None), |r| (Some(r.pga_x), Some(r.pga_y)));
+    let base = Processing {
+        time_scale: ck.positive("excitation.time_scale", e.time_scale)?,
+        baseline: Baseline::Polynomial {
+            order: e.baseline_order,
+        },
+        taper: e.taper.unwrap_or(Processing::default().taper),
+        ..Processing::default()
+    };
+    // supports with the same record, PGA and lag share one motion
+    let get = |file: &Option<String>, field: &str, pga: Option<f64>, lag: f64| {
+        let file = file
+            .as_ref()
+            .ok_or_else(|| ck.err(field, "required for record input"))?;
+        let p = Processing {
+            target_pga: pga,
+            lag,
+            ..base.clone()
+        };
+        let axis = if field.ends_with("longitudinal") {
+            "x"
+        } else {
+            "y"
+        };
+        let model_field = |f: &str| match f {
+            "target_pga" => e
+                .run
+                .map(|r| format!("run.{}.pga_{axis}", r.wrapping_sub(1))),
+            "time_scale" | "taper" => Some(format!("excitation.{f}")),
+            _ => None,
+        };
+        (motions.get(path, file, p)).map_err(|e| record_error(e, ck, field, file, &model_field))
+    };
+    let record = |name: String, m| Support {
+        name,
+        motion: Motion::Record(m),
+        factor: 1.0,
+    };
+    let mut out = Vec::new();
+    for b in 0..nb {
+        let l = lag(&e.lag_bents, b);
+        let mx = get(&e.longitudinal, "excitation.longitudinal", pga_x, l)?;
+        let my = get(&e.transverse, "excitation.transverse", pga_y, l)?;
+        out.push(record(format!("bent{}.x", b + 1), mx));
+        out.push(record(format!("bent{}.y", b + 1), my));
+    }
+    for (i, side) in ["left", "right"].iter().enumerate() {
+        let l = lag(&e.lag_abutments, i);
+        let m = get(&e.longitudinal, "excitation.longitudinal", pga_x, l)?;
+        out.push(record(format!("{side}_abutment.x"), m));
+    }
+    Ok(out)
+}
+
+/// Per-support lags: none (all 0) or one per support; fields the kind does not read refused.
+fn validate_excitation(e: &ExcitationSpec, nb: usize, ck: &Check) -> Result<(), ModelError> {
+    for (field, lags, n, what) in [
+        ("excitation.lag_bents", &e.lag_bents, nb, "bent"),
+        ("excitation.lag_abutments", &e.lag_abutments, 2, "abutment"),
+    ] {
+        if !lags.is_empty() && lags.len() != n {
+            let k = lags.len();
+            return Err(ck.err(
+                field,
+                format!("{k} lags for {n} {what}s: give one per {what} or none (all 0)"),
+            ));
+        }
+        for (i, l) in lags.iter().enumerate() {
+            ck.nonneg(&format!("{field}.{i}"), *l)?;
+        }
+    }
+    Ok(())
+}
