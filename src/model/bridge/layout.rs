@@ -9,7 +9,7 @@
 //! P = E ± (w/2)(p + tan(ψ − ψ_m) a), p = a rotated by +90°, ψ the frame's heading and ψ_m
 //! that of m (straight bridge, φ = skew: P = (∓L/2 ± (w/2) tan φ, ±w/2)).
 
-use super::{BentSpec, BridgeFile, CORNERS};
+use super::schema::{BentSpec, BridgeFile, CORNERS};
 use crate::scene::{Body, BodyRef, Contact};
 use nalgebra::{DVector, Vector2};
 

@@ -31,9 +31,6 @@ use layout::{Frame, Plan};
 use nalgebra::DVector;
 use seat::SeatSpec;
 
-/// Names of the four abutment corners (paper: point 1 is the left, upper corner).
-pub const CORNERS: [&str; 4] = ["left_top", "left_bottom", "right_top", "right_bottom"];
-
 /// Validate and compile a bridge file into the engine's general scene.
 pub fn compile(f: &BridgeFile, ck: &Check, motions: &Motions) -> Result<Scene, ModelError> {
     let path = ck.path;

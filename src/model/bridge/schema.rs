@@ -6,6 +6,9 @@ use super::super::solver::SolverSpec;
 use crate::hysteresis::Law;
 use serde::Deserialize;
 
+/// Names of the four abutment corners (paper: point 1 is the left, upper corner).
+pub const CORNERS: [&str; 4] = ["left_top", "left_bottom", "right_top", "right_bottom"];
+
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct DeckSpec {

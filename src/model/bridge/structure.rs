@@ -2,7 +2,7 @@
 //! columns (paper §4.1: Takeda in x and y, uncoupled; elastic torsion).
 
 use super::layout::{Frame, Plan, frame_body};
-use super::{AbutmentSpec, ColumnSpec, ExcitationSpec};
+use super::schema::{AbutmentSpec, ColumnSpec, ExcitationSpec};
 use crate::hysteresis::{Hysteretic, Law};
 use crate::model::check::{Check, ModelError};
 use crate::scene::{Attachment, HystereticElement, Spring};

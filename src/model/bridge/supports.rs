@@ -1,7 +1,7 @@
 //! Multi-support excitation of a bridge (paper §4.1): per bent x and y, per abutment x, each
 //! support with its own record, PGA and time lag.
 
-use super::{ExcitationSpec, RunSpec};
+use super::schema::{ExcitationSpec, RunSpec};
 use crate::excitation::{Baseline, Processing};
 use crate::model::check::{Check, ModelError};
 use crate::model::records::{Motions, record_error};

@@ -1,7 +1,7 @@
 //! Checks of a bridge file, in file order; every error names its file, line and field.
 
-use super::BridgeFile;
 use super::layout::Frame;
+use super::schema::BridgeFile;
 use crate::model::check::{Check, ModelError};
 
 /// Largest skew of a support line, degrees.
