@@ -142,11 +142,24 @@ pub struct Row {
     pub error: Option<Failure>,
 }
 
-/// Index of the deck rotation DOF: `deck.theta`, else the first `*.theta`, else DOF 0.
+/// Index of the deck rotation DOF: `deck.theta`, else that of the first body free in x, y and
+/// θ (a bridge's first frame), else the first `*.theta`, else DOF 0.
 pub fn rotation_dof(r: &RunOutput) -> usize {
     r.dof("deck.theta")
+        .or_else(|| free_body_rotation(&r.dof_names))
         .or_else(|| r.dof_names.iter().position(|n| n.ends_with(".theta")))
         .unwrap_or(0)
+}
+
+/// The first `B.theta` whose body B also has `B.x` and `B.y`.
+pub fn free_body_rotation(names: &[String]) -> Option<usize> {
+    names.iter().position(|n| {
+        n.strip_suffix(".theta").is_some_and(|b| {
+            ["x", "y"]
+                .iter()
+                .all(|a| names.iter().any(|m| *m == format!("{b}.{a}")))
+        })
+    })
 }
 
 pub fn row_of(settings: Vec<(String, String)>, r: &RunOutput) -> Row {

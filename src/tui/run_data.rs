@@ -69,11 +69,13 @@ pub struct RunData {
     pub xy: Vec<usize>,
 }
 
-/// The rotation to chart: `deck.theta`, else the first `*.theta`, else the first DOF.
+/// The rotation to chart: `deck.theta`, else that of the first body free in x, y and θ (a
+/// bridge's first frame, not an abutment), else the first `*.theta`, else the first DOF.
 pub fn rotation_dof(names: &[String]) -> Option<usize> {
     names
         .iter()
         .position(|n| n == "deck.theta")
+        .or_else(|| crate::studies::free_body_rotation(names))
         .or_else(|| names.iter().position(|n| n.ends_with(".theta")))
         .or(if names.is_empty() { None } else { Some(0) })
 }

@@ -173,7 +173,15 @@ pub(super) fn draw_plan(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
     let face_color = if th.color { Color::Gray } else { Color::Reset };
     let face_len = 0.06 * hx.max(hy);
     let depth = 0.03 * hx;
-    let title = format!(" plan ×{} t={} s ", fmt_num(s, 8), fmt_num(tc, 7));
+    let title = match seat_margin(scene, run, idx) {
+        Some(m) => format!(
+            " plan ×{} t={} s seat margin {} m ",
+            fmt_num(s, 8),
+            fmt_num(tc, 7),
+            fmt_num(m, 5)
+        ),
+        None => format!(" plan ×{} t={} s ", fmt_num(s, 8), fmt_num(tc, 7)),
+    };
     let canvas = Canvas::default()
         .block(th.block(title))
         .marker(th.marker())
@@ -186,6 +194,20 @@ pub(super) fn draw_plan(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
             paint_contacts(ctx, &pose, &states, th);
         });
     frame.render_widget(canvas, area);
+}
+
+/// The smallest seat margin edge − g_N over the seats at sample `idx`.
+fn seat_margin(scene: &Scene, run: Option<&RunData>, idx: Option<usize>) -> Option<f64> {
+    let (r, i) = (run?, idx?);
+    scene
+        .seats
+        .iter()
+        .filter_map(|seat| {
+            let name = &scene.contacts.get(seat.contact)?.name;
+            let k = r.contact_names.iter().position(|n| n == name)?;
+            Some(seat.edge - r.gap[k].get(i)?)
+        })
+        .min_by(f64::total_cmp)
 }
 
 /// The abutment faces (exaggerated gaps) with a block behind each.
@@ -207,17 +229,27 @@ fn paint_faces(ctx: &mut Context, pose: &Pose, face_len: f64, depth: f64, color:
     }
 }
 
-/// The bodies: a polygon through their contact points, else a cross.
+/// The bodies: a polygon through their contact points and the points of the faces they carry
+/// (a frame between two joints: its own corners and the face its neighbour's corners meet),
+/// else a cross.
 fn paint_bodies(ctx: &mut Context, pose: &Pose, hx: f64, color: Color) {
     let scene = pose.scene;
     for bi in 0..scene.bodies.len() {
-        let mut cps: Vec<Vector2<f64>> = scene
-            .contacts
-            .iter()
-            .filter(|c| c.point_body == BodyRef::Body(bi))
+        let me = BodyRef::Body(bi);
+        let own: Vec<Vector2<f64>> = (scene.contacts.iter())
+            .filter(|c| c.point_body == me)
             .map(|c| c.point)
             .collect();
-        let centre = pose.place(BodyRef::Body(bi), Vector2::zeros());
+        let mut cps = own.clone();
+        cps.extend(
+            (scene.contacts.iter())
+                .filter(|c| c.face_body == me && matches!(c.point_body, BodyRef::Body(_)))
+                .map(|c| c.face_point),
+        );
+        if cps.len() < 3 {
+            cps = own;
+        }
+        let centre = pose.place(me, Vector2::zeros());
         if cps.len() >= 3 {
             cps.sort_by(|p, q| p.y.atan2(p.x).total_cmp(&q.y.atan2(q.x)));
             for k in 0..cps.len() {
