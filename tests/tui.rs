@@ -1641,3 +1641,31 @@ fn a_run_whose_output_grid_exceeds_the_memory_limit_is_refused_before_it_starts(
         msgs.last()
     );
 }
+
+#[test]
+fn a_multi_frame_bridge_lists_its_frames_joints_and_bents_in_bridge_words() {
+    let text = std::fs::read_to_string(root().join("models/three-frame.toml")).unwrap();
+    assert!(form::is_bridge(&text));
+    let f = form::build(&text, &text);
+    let field = |p: &str| f.fields.iter().find(|x| x.path == p);
+    let h = field("frame.1.bent.0.height").expect("frame 2's first bent");
+    assert_eq!(
+        (h.label.as_str(), h.unit.as_str()),
+        ("frame 2 bent 1 height", "m")
+    );
+    let g = field("joint.1.gaps.0").expect("joint 2's top gap");
+    assert_eq!(
+        (g.label.as_str(), g.unit.as_str()),
+        ("joint 2 gap top", "m")
+    );
+    let m = field("frame.2.mass").unwrap();
+    assert_eq!((m.label.as_str(), m.unit.as_str()), ("frame 3 mass", "t"));
+    // the one-frame fields are not offered to a file of frames
+    assert!(f.fields.iter().all(|x| !x.path.starts_with("deck.")));
+    // an edit of a list field is a valid model
+    let edited =
+        form::set_leaf(&text, "frame.1.bent.0.height", toml_edit::Value::from(11.0)).unwrap();
+    let scene =
+        deckspin::model::load_str(&edited, &root().join("models/three-frame.toml"), &[]).unwrap();
+    assert_eq!(scene.bodies.len(), 5);
+}

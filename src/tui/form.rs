@@ -276,11 +276,46 @@ pub fn set_leaf(text: &str, path: &str, value: Value) -> Result<String, String> 
     Ok(doc.to_string())
 }
 
-/// Whether a model text is a bridge file (has a `[deck]` table).
+/// Whether a model text is a bridge file (has a `[deck]` table or `[[frame]]` tables).
 pub fn is_bridge(text: &str) -> bool {
     text.parse::<DocumentMut>()
-        .map(|d| d.contains_key("deck"))
+        .map(|d| d.contains_key("deck") || d.contains_key("frame"))
         .unwrap_or(false)
+}
+
+/// Label and unit of a field of the bridge's lists (frames, their bents, joints, keys), with
+/// the list numbers 1-based as in the bridge's words (`frame 2 bent 1 height`).
+fn list_label(path: &str) -> Option<(String, &'static str)> {
+    let segs: Vec<&str> = path.split('.').collect();
+    let n = |s: &str| s.parse::<usize>().ok().map(|i| i + 1);
+    let unit = |key: &str| match key {
+        "mass" => "t",
+        "inertia" => "t·m²",
+        "length" | "width" | "x" | "height" | "gap" | "seat_width" | "failure_displacement" => "m",
+        "skew" | "heading" => "°",
+        "stiffness" => "kN/m",
+        "capacity" => "kN",
+        "seat_percent" => "%",
+        "mu" | "restitution" => "–",
+        _ => "",
+    };
+    match segs.as_slice() {
+        ["frame", i, "bent", j, key] => {
+            Some((format!("frame {} bent {} {key}", n(i)?, n(j)?), unit(key)))
+        }
+        ["frame" | "joint" | "key" | "bent", i, key] => {
+            Some((format!("{} {} {key}", segs[0], n(i)?), unit(key)))
+        }
+        ["joint", i, "gaps", k] => Some((
+            format!(
+                "joint {} gap {}",
+                n(i)?,
+                ["top", "bottom"].get(k.parse::<usize>().ok()?)?
+            ),
+            "m",
+        )),
+        _ => None,
+    }
 }
 
 /// Builds the form from the draft text and the saved text. A draft that is not TOML gives an
@@ -301,7 +336,7 @@ pub fn build(draft: &str, saved: &str) -> Form {
             .map(|l| l.value.clone())
     };
     let mut fields = Vec::new();
-    let bridge = doc.contains_key("deck");
+    let bridge = doc.contains_key("deck") || doc.contains_key("frame");
     let law = draft_leaves
         .iter()
         .find(|l| l.path == "column.law.law")
@@ -310,6 +345,9 @@ pub fn build(draft: &str, saved: &str) -> Form {
     let law_set = law_keys(&law).unwrap_or(&[]);
     let specs = if bridge { BRIDGE } else { &[] };
     for sp in specs.iter().chain(SOLVER) {
+        if sp.path.starts_with("deck.") && !doc.contains_key("deck") {
+            continue;
+        }
         let leaf = draft_leaves.iter().find(|l| l.path == sp.path);
         if let Some(k) = sp.path.strip_prefix("column.law.")
             && k != "law"
@@ -336,10 +374,11 @@ pub fn build(draft: &str, saved: &str) -> Form {
         if fields.iter().any(|f| f.path == l.path) {
             continue;
         }
+        let (label, unit) = list_label(&l.path).unwrap_or((l.path.clone(), ""));
         fields.push(Field {
             path: l.path.clone(),
-            label: l.path.clone(),
-            unit: String::new(),
+            label,
+            unit: unit.to_string(),
             kind: l.kind,
             value: Some(l.value.clone()),
             saved: saved_of(&l.path),
