@@ -131,6 +131,9 @@ pub struct RunSpec {
     /// Target PGA, g, longitudinal and transverse.
     pub pga_x: f64,
     pub pga_y: f64,
+    /// Gaps of corners 1–4 measured before this run, m: set at its start in a sequence
+    /// (`deckspin sequence`); a single run uses `contacts.gaps`.
+    pub gaps: Option<Vec<f64>>,
 }
 
 #[derive(Clone, Debug, Deserialize)]
@@ -327,6 +330,18 @@ fn validate(f: &BridgeFile, ck: &Check) -> Result<(), ModelError> {
     for (i, r) in f.runs.iter().enumerate() {
         ck.positive(&format!("run.{i}.pga_x"), r.pga_x)?;
         ck.positive(&format!("run.{i}.pga_y"), r.pga_y)?;
+        if let Some(g) = &r.gaps {
+            if g.len() != 4 {
+                let why = format!(
+                    "expected 4 gaps (corners 1–4, as contacts.gaps), got {}",
+                    g.len()
+                );
+                return Err(ck.err(&format!("run.{i}.gaps"), why));
+            }
+            for (j, x) in g.iter().enumerate() {
+                ck.nonneg(&format!("run.{i}.gaps.{j}"), *x)?;
+            }
+        }
     }
     Ok(())
 }
