@@ -29,6 +29,7 @@ pub mod output;
 pub mod precision;
 pub mod run;
 pub mod scene;
+pub mod sequence;
 pub mod simulate;
 pub mod stress;
 pub mod studies;

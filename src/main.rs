@@ -131,6 +131,8 @@ enum Command {
     },
     /// Stress test: the bridge under every record pair of a folder × runs × ε × μ × column law.
     Stress(cli::stress::StressArgs),
+    /// Runs of a bridge file in sequence, each from the final state of the one before.
+    Sequence(cli::sequence::SequenceArgs),
 }
 
 fn main() -> ExitCode {
@@ -196,6 +198,7 @@ fn main() -> ExitCode {
             sweeps,
         }) => cmd_bench(&model, repeat, sweeps),
         Some(Command::Stress(a)) => cli::stress::cmd_stress(&a),
+        Some(Command::Sequence(a)) => cli::sequence::cmd_sequence(&a),
         None => match cli.model {
             #[cfg(feature = "workbench")]
             Some(m) => deckspin::tui::run(&m),
@@ -473,8 +476,12 @@ fn cmd_study(
     std::fs::create_dir_all(out)?;
     let t0 = std::time::Instant::now();
     let (mut text, csv) = match kind {
-        "pga" => study_pga(&study)?,
-        _ => study_mu(&study)?,
+        "pga" => cli::tables::pga_table(&deckspin::studies::rotation_vs_pga(&study), "")?,
+        _ => {
+            let mus: Vec<f64> = (0..=7).map(|i| i as f64 / 10.0).collect();
+            let m = deckspin::studies::increase_vs_mu(&study, &mus);
+            cli::tables::mu_table(&m, &(1..=m.rows.len()).collect::<Vec<_>>(), "")?
+        }
     };
     writeln!(
         text,
@@ -492,84 +499,6 @@ fn cmd_study(
     std::fs::write(out.join(format!("{stem}.txt")), text)?;
     println!("wrote {}/{stem}.{{csv,txt}}", out.display());
     Ok(())
-}
-
-/// Fig. 7 table: (text, CSV).
-fn study_pga(study: &deckspin::studies::Study) -> Result<(String, String), std::fmt::Error> {
-    use std::fmt::Write as _;
-    let (mut text, mut csv) = (String::new(), String::new());
-    writeln!(text, "Peak deck rotation vs target PGA (Fig. 7 analog)")?;
-    writeln!(
-        text,
-        "{:>4} {:>7} {:>7} {:>14} {:>14} {:>7} {:>8}",
-        "run", "PGA x", "PGA y", "θ no contact", "θ contact", "ratio", "impacts"
-    )?;
-    csv += "run,pga_x,pga_y,peak_rotation_no_contact,peak_rotation_contact,residual_rotation_contact,impacts\n";
-    for (i, px, py, a, b) in deckspin::studies::rotation_vs_pga(study) {
-        writeln!(
-            text,
-            "{i:>4} {px:>7.3} {py:>7.3} {:>14.4e} {:>14.4e} {:>7.2} {:>8}",
-            a.peak_rotation,
-            b.peak_rotation,
-            b.peak_rotation / a.peak_rotation,
-            b.impacts
-        )?;
-        writeln!(
-            csv,
-            "{i},{px},{py},{:.6e},{:.6e},{:.6e},{}",
-            a.peak_rotation, b.peak_rotation, b.residual_rotation, b.impacts
-        )?;
-        for r in [&a, &b] {
-            if let Some(e) = &r.error {
-                writeln!(text, "     error: {e}")?;
-            }
-        }
-    }
-    Ok((text, csv))
-}
-
-/// Fig. 8 table: (text, CSV).
-fn study_mu(study: &deckspin::studies::Study) -> Result<(String, String), std::fmt::Error> {
-    use std::fmt::Write as _;
-    let (mut text, mut csv) = (String::new(), String::new());
-    let mus: Vec<f64> = (0..=7).map(|i| i as f64 / 10.0).collect();
-    let m = deckspin::studies::increase_vs_mu(study, &mus);
-    writeln!(
-        text,
-        "Percent increase of peak rotation over no contact vs μ (Fig. 8 analog)"
-    )?;
-    write!(text, "{:>16}", "run (PGA x)")?;
-    csv += "run,pga_x";
-    for mu in &mus {
-        write!(text, " {:>7}", format!("μ={mu}"))?;
-        write!(csv, ",mu_{mu}")?;
-    }
-    writeln!(text)?;
-    csv += "\n";
-    for r in 0..m.rows.len() {
-        write!(text, "{:>16}", format!("{} ({:.2} g)", r + 1, m.pgas[r].0))?;
-        write!(csv, "{},{}", r + 1, m.pgas[r].0)?;
-        for k in 0..mus.len() {
-            write!(text, " {:>7.1}", m.increase(r, k))?;
-            write!(csv, ",{:.3}", m.increase(r, k))?;
-        }
-        writeln!(text)?;
-        csv += "\n";
-    }
-    write!(text, "{:>16}", "mean")?;
-    csv += "mean,";
-    for k in 0..mus.len() {
-        write!(text, " {:>7.1}", m.mean_increase(k))?;
-        write!(csv, ",{:.3}", m.mean_increase(k))?;
-    }
-    writeln!(text)?;
-    csv += "\n";
-    for row in m.rows.iter().flatten().chain(m.baseline.iter()) {
-        if let Some(e) = &row.error {
-            writeln!(text, "error: {e}")?;
-        }
-    }
-    Ok((text, csv))
 }
 
 /// User + system CPU time of this process so far, s: time waiting for a core does not count

@@ -142,7 +142,7 @@ pub fn apply_rayleigh(
 /// Quasi-static influence of each support, r_s = K₀⁻¹ Σ k J (unit support displacement), as
 /// (DOF, support, r) entries above 1e-14. One pass over the elements (grouped by support, in
 /// file order: springs, then hysteretic elements), so the cost is linear in their number.
-fn support_influence(scene: &Scene) -> Vec<(usize, usize, f64)> {
+pub fn support_influence(scene: &Scene) -> Vec<(usize, usize, f64)> {
     let k0 = initial_stiffness(scene);
     let n = scene.ndof();
     let lu = k0.lu();

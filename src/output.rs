@@ -389,6 +389,15 @@ impl Tally {
     }
 }
 
+/// The state a run ended in, however it ended: t, q and q̇ as the method held them (not a
+/// sample's copy: a streamed run keeps no samples).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct FinalState {
+    pub t: f64,
+    pub q: Vec<f64>,
+    pub v: Vec<f64>,
+}
+
 /// Everything a run produces.
 #[derive(Clone, Debug)]
 pub struct RunOutput {
@@ -401,7 +410,11 @@ pub struct RunOutput {
     pub events: Vec<EventRecord>,
     pub stats: RunStats,
     pub accumulation_times: Vec<(usize, f64)>,
+    /// The hysteretic laws (branch and memory) the run ended with.
     pub final_laws: Vec<Hysteretic>,
+    /// The state the run ended in (with `final_laws`: what a run that continues it starts
+    /// from, `sequence`).
+    pub final_state: FinalState,
     /// (max |q|, time) per DOF over every step, dense output included (empty for fixed-step
     /// methods, whose samples are their steps).
     pub step_peaks: Vec<(f64, f64)>,
@@ -459,6 +472,7 @@ impl RunOutput {
             stats: RunStats::default(),
             accumulation_times: Vec::new(),
             final_laws: Vec::new(),
+            final_state: FinalState::default(),
             step_peaks: Vec::new(),
             keep_history: true,
             tally: Tally::default(),

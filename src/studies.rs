@@ -23,6 +23,10 @@ pub enum RunFailure {
     /// Any other solver error.
     #[error("failed: {0}")]
     Solver(SolverError),
+    /// A run of a sequence that did not run to its end for another reason (the sequence's
+    /// error: an earlier run stopped, a cancel, a state that could not be handed over).
+    #[error("sequence: {0}")]
+    Sequence(String),
 }
 
 impl From<SolverError> for RunFailure {

@@ -1,3 +1,5 @@
 //! Commands of the `deckspin` binary kept apart from `main.rs`.
 
+pub mod sequence;
 pub mod stress;
+pub mod tables;

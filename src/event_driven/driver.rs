@@ -7,7 +7,7 @@ use super::events::{arm, arm_into, due_now};
 use super::locate::locate_event;
 use super::record::track_peaks;
 use crate::dopri::{self, Controller};
-use crate::output::{ContactState, RunOutput, SampleKind};
+use crate::output::{ContactState, FinalState, RunOutput, SampleKind};
 use crate::run::{Batcher, Observer, Run, SolverError};
 use crate::scene::{LEDGER_TERMS, Scene};
 use nalgebra::DVector;
@@ -385,6 +385,12 @@ impl<'a> Integration<'a> {
         self.batcher.flush(&eng.state.out, eng.state.t, observer);
         eng.state.out.stats.rhs_evals = self.clock.rhs_evals;
         eng.state.out.final_laws = eng.state.laws.clone();
+        let n = eng.n;
+        eng.state.out.final_state = FinalState {
+            t: eng.state.t,
+            q: eng.state.y.as_slice()[..n].to_vec(),
+            v: eng.state.y.as_slice()[n..2 * n].to_vec(),
+        };
         eng.state.out.stats.wall_time = self.clock.wall + wall.elapsed().as_secs_f64();
         eng.state.out.finish(eng.state.energy_scale);
         std::mem::replace(&mut eng.state.out, RunOutput::new(eng.scene))

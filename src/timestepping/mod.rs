@@ -17,8 +17,8 @@ pub use penalty::{integrate_penalty, run_penalty};
 
 use crate::hysteresis::Hysteretic;
 use crate::output::{
-    ContactSample, ContactState, EnergySample, EventKind, EventRecord, RunOutput, SampleKind,
-    SampleView,
+    ContactSample, ContactState, EnergySample, EventKind, EventRecord, FinalState, RunOutput,
+    SampleKind, SampleView,
 };
 use crate::run::SolverError;
 use crate::scene::{ForceModel, Frame, PowerTerms, Scene, spread};
@@ -292,6 +292,11 @@ impl<'a> Stepper<'a> {
         }
         self.out.stats.wall_time = wall.elapsed().as_secs_f64();
         self.out.final_laws = self.laws.clone();
+        self.out.final_state = FinalState {
+            t: self.t,
+            q: self.q.as_slice().to_vec(),
+            v: self.v.as_slice().to_vec(),
+        };
         let scale = self.energy_scale;
         self.out.finish(scale);
         self.out

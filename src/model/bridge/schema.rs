@@ -180,6 +180,9 @@ pub struct RunSpec {
     /// Target PGA, g, longitudinal and transverse.
     pub pga_x: f64,
     pub pga_y: f64,
+    /// Gaps of corners 1–4 measured before this run, m: set at its start in a sequence
+    /// (`deckspin sequence`); a single run uses `contacts.gaps`.
+    pub gaps: Option<Vec<f64>>,
 }
 
 #[derive(Clone, Debug, Deserialize)]

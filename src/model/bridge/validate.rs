@@ -55,6 +55,18 @@ pub(super) fn validate(f: &BridgeFile, frames: &[Frame], ck: &Check) -> Result<(
     for (i, r) in f.runs.iter().enumerate() {
         ck.positive(&format!("run.{i}.pga_x"), r.pga_x)?;
         ck.positive(&format!("run.{i}.pga_y"), r.pga_y)?;
+        if let Some(g) = &r.gaps {
+            if g.len() != 4 {
+                let why = format!(
+                    "expected 4 gaps (corners 1–4, as contacts.gaps), got {}",
+                    g.len()
+                );
+                return Err(ck.err(&format!("run.{i}.gaps"), why));
+            }
+            for (j, x) in g.iter().enumerate() {
+                ck.nonneg(&format!("run.{i}.gaps.{j}"), *x)?;
+            }
+        }
     }
     Ok(())
 }

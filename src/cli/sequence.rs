@@ -1,0 +1,104 @@
+//! `deckspin sequence`: the `[[run]]` tables of a bridge file in one sequence, each run from
+//! the final state of the one before (`sequence` module).
+
+use super::tables::{mu_table, pga_table};
+use clap::Args;
+use deckspin::run::{OutputBudget, RunFiles, check_output};
+use deckspin::sequence::{BridgeSequence, Sequence, csv, table};
+use std::path::{Path, PathBuf};
+
+type CliResult = Result<(), Box<dyn std::error::Error>>;
+
+/// Runs of a bridge file in sequence, each from the final state of the one before.
+#[derive(Args)]
+pub struct SequenceArgs {
+    pub model: PathBuf,
+    /// Runs of the model's [[run]] tables, in order: `a..b` (inclusive) or `a,b,c` (default:
+    /// all).
+    #[arg(long)]
+    pub runs: Option<String>,
+    /// Output directory: DIR/runK/{history.csv,events.csv,summary.json} per run and
+    /// DIR/sequence.csv.
+    #[arg(long, default_value = "out")]
+    pub out: PathBuf,
+    /// Override a scalar by its dotted TOML path (key.path=value); repeatable.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
+    /// Instead: the Fig. 7 (`pga`) or Fig. 8 (`mu`) analog with the runs in sequence
+    /// (DIR/sequence_rotation_vs_pga.{csv,txt} or DIR/sequence_increase_vs_mu.{csv,txt}).
+    #[arg(long, value_parser = ["pga", "mu"])]
+    pub study: Option<String>,
+}
+
+pub fn cmd_sequence(a: &SequenceArgs) -> CliResult {
+    let model = BridgeSequence::open(&a.model, &a.set)?;
+    let runs = model.parse_runs(a.runs.as_deref())?;
+    std::fs::create_dir_all(&a.out)?;
+    if let Some(kind) = &a.study {
+        return study(&model, &runs, kind, &a.out);
+    }
+    let mut seq = Sequence::new();
+    let mut error = None;
+    for &k in &runs {
+        if let Err(e) = one_run(&model, &mut seq, k, &a.out.join(format!("run{k}"))) {
+            error = Some(e);
+            break;
+        }
+    }
+    let rows = model.rows(&seq, &runs);
+    print!("{}", table(&rows));
+    let path = a.out.join("sequence.csv");
+    std::fs::write(&path, csv(&rows))?;
+    println!(
+        "wrote {}/run{{{}}}/{{history.csv,events.csv,summary.json}} and {}",
+        a.out.display(),
+        (seq.runs.iter().zip(&runs))
+            .map(|(_, k)| k.to_string())
+            .collect::<Vec<_>>()
+            .join(","),
+        path.display()
+    );
+    error.map_or(Ok(()), Err)
+}
+
+/// Run `k` of the sequence, streamed to `dir`; its files are written however it ends.
+fn one_run(model: &BridgeSequence, seq: &mut Sequence, k: usize, dir: &Path) -> CliResult {
+    let stage = model.stage(k, &[])?;
+    let name = stage.name.clone();
+    let scene = seq.prepare(stage)?;
+    check_output(&scene, &OutputBudget::default())?;
+    let cannot = |e: std::io::Error| format!("{}: cannot write results: {e}", dir.display());
+    let mut files = RunFiles::create(dir, &scene, None).map_err(cannot)?;
+    let result = seq.run(&name, &scene, &mut files);
+    if let Some(last) = seq.runs.last() {
+        files.finish(&last.run).map_err(cannot)?;
+    }
+    Ok(result?)
+}
+
+/// `--study pga|mu`: the Fig. 7 or Fig. 8 analog of the sequence.
+fn study(model: &BridgeSequence, runs: &[usize], kind: &str, out: &Path) -> CliResult {
+    let t0 = std::time::Instant::now();
+    let note = " — runs in one sequence";
+    let (mut text, csv) = match kind {
+        "pga" => pga_table(&model.rotation_vs_pga(runs), note)?,
+        _ => {
+            let mus: Vec<f64> = (0..=7).map(|i| i as f64 / 10.0).collect();
+            mu_table(&model.increase_vs_mu(&mus, runs), runs, note)?
+        }
+    };
+    text += &format!(
+        "({:.2} s wall on {} threads)\n",
+        t0.elapsed().as_secs_f64(),
+        rayon::current_num_threads()
+    );
+    print!("{text}");
+    let stem = match kind {
+        "pga" => "sequence_rotation_vs_pga",
+        _ => "sequence_increase_vs_mu",
+    };
+    std::fs::write(out.join(format!("{stem}.csv")), csv)?;
+    std::fs::write(out.join(format!("{stem}.txt")), text)?;
+    println!("wrote {}/{stem}.{{csv,txt}}", out.display());
+    Ok(())
+}
