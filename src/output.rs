@@ -1,7 +1,7 @@
 //! Run results: time history (output grid plus every event instant), event log, energy ledger
 //! and summary; writers for `history.csv`, `events.csv` and `summary.json`.
 
-use crate::hysteresis::Hysteretic;
+use crate::hysteresis::{Hysteretic, Law};
 use crate::scene::Scene;
 use serde::Serialize;
 use std::path::Path;
@@ -135,6 +135,9 @@ pub enum EventKind {
     Slip,
     Release,
     Accumulation,
+    /// A shear key's deformation beyond its gap reached its failure displacement (hysteresis
+    /// rule G5): `EventRecord::contact` is the hysteretic element's index.
+    KeyFailure,
 }
 
 impl EventKind {
@@ -145,13 +148,20 @@ impl EventKind {
             EventKind::Slip => "slip",
             EventKind::Release => "release",
             EventKind::Accumulation => "accumulation",
+            EventKind::KeyFailure => "key failure",
         }
+    }
+
+    /// An event of a contact (all but a key failure, which is a hysteretic element's).
+    pub fn of_contact(&self) -> bool {
+        *self != EventKind::KeyFailure
     }
 }
 
 #[derive(Clone, Debug, Serialize)]
 pub struct EventRecord {
     pub t: f64,
+    /// The contact's index (a key failure: the hysteretic element's).
     pub contact: usize,
     pub kind: EventKind,
     /// Λ_N, Λ_T for impacts (N·s).
@@ -164,6 +174,32 @@ pub struct EventRecord {
     pub sticks: Option<bool>,
     /// Accumulation events: estimated accumulation time t∞.
     pub info: f64,
+}
+
+impl EventRecord {
+    /// The failure of key `element` at `t`: no impulse, no contact rates.
+    pub fn key_failure(t: f64, element: usize) -> Self {
+        Self {
+            t,
+            contact: element,
+            kind: EventKind::KeyFailure,
+            normal: 0.0,
+            tangential: 0.0,
+            gap_rate_before: f64::NAN,
+            gap_rate_after: f64::NAN,
+            slip_rate_after: f64::NAN,
+            sticks: None,
+            info: f64::NAN,
+        }
+    }
+}
+
+/// A shear key that failed: its hysteretic element, when, and the largest force it carried.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct KeyFailure {
+    pub element: String,
+    pub t: f64,
+    pub peak_force: f64,
 }
 
 #[derive(Clone, Debug, Default, Serialize)]
@@ -190,7 +226,14 @@ pub struct RunStats {
     pub slips: usize,
     pub releases: usize,
     pub accumulations: usize,
+    /// Failed shear keys (left out of summary.json while 0).
+    #[serde(skip_serializing_if = "is_zero")]
+    pub key_failures: usize,
     pub wall_time: f64,
+}
+
+fn is_zero(n: &usize) -> bool {
+    *n == 0
 }
 
 impl RunStats {
@@ -201,6 +244,7 @@ impl RunStats {
             EventKind::Slip => self.slips += 1,
             EventKind::Release => self.releases += 1,
             EventKind::Accumulation => self.accumulations += 1,
+            EventKind::KeyFailure => self.key_failures += 1,
         }
     }
 }
@@ -258,10 +302,18 @@ pub struct Summary {
     /// Event method: the state components (`x`, `d/dt x`) whose local error estimate set the
     /// accepted DP5 steps, with their step counts, most first (zero counts left out).
     pub step_control: Vec<(String, usize)>,
+    /// The shear keys that failed, in order; absent from summary.json without `key` elements.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub key_failures: Option<Vec<KeyFailure>>,
 }
 
-/// The event log as CSV (events.csv): one row per event, impulses for impacts.
-pub fn events_csv(events: &[EventRecord], contact_names: &[String]) -> String {
+/// The event log as CSV (events.csv): one row per event, impulses for impacts; the `contact`
+/// column of a key failure names its hysteretic element.
+pub fn events_csv(
+    events: &[EventRecord],
+    contact_names: &[String],
+    element_names: &[String],
+) -> String {
     use std::fmt::Write as _;
     let mut out = String::from(
         "t,contact,kind,normal_impulse,tangential_impulse,gap_rate_before,gap_rate_after,slip_rate_after,sticks,accumulation_time\n",
@@ -271,7 +323,13 @@ pub fn events_csv(events: &[EventRecord], contact_names: &[String]) -> String {
             out,
             "{:.15e},{},{},{:.12e},{:.12e},{:.12e},{:.12e},{:.12e},{},{}",
             e.t,
-            contact_names.get(e.contact).map_or("?", String::as_str),
+            (if e.kind.of_contact() {
+                contact_names
+            } else {
+                element_names
+            })
+            .get(e.contact)
+            .map_or("?", String::as_str),
             e.kind.label(),
             e.normal,
             e.tangential,
@@ -404,6 +462,8 @@ pub struct RunOutput {
     pub events: Vec<EventRecord>,
     pub stats: RunStats,
     pub accumulation_times: Vec<(usize, f64)>,
+    /// The failed keys so far (`None` without `key` elements).
+    pub key_failures: Option<Vec<KeyFailure>>,
     pub final_laws: Vec<Hysteretic>,
     /// (max |q|, time) per DOF over every step, dense output included (empty for fixed-step
     /// methods, whose samples are their steps).
@@ -461,6 +521,9 @@ impl RunOutput {
             events: Vec::new(),
             stats: RunStats::default(),
             accumulation_times: Vec::new(),
+            key_failures: (scene.hysteretic.iter())
+                .any(|h| matches!(h.law.law(), Law::Key { .. }))
+                .then(Vec::new),
             final_laws: Vec::new(),
             step_peaks: Vec::new(),
             keep_history: true,
@@ -502,6 +565,19 @@ impl RunOutput {
             if self.samples.capacity() > 4 * STREAMED_CAPACITY {
                 self.samples.shrink_to(STREAMED_CAPACITY);
             }
+        }
+    }
+
+    /// Notes the failure of key `element` at `t` having carried `peak_force` (the event is
+    /// logged by the integrator).
+    pub fn note_key_failure(&mut self, t: f64, element: usize, peak_force: f64) {
+        let name = self.element_names.get(element).cloned().unwrap_or_default();
+        if let Some(list) = self.key_failures.as_mut() {
+            list.push(KeyFailure {
+                element: name,
+                t,
+                peak_force,
+            });
         }
     }
 
@@ -594,6 +670,7 @@ impl RunOutput {
                 .collect(),
             stats: self.stats.clone(),
             step_control: self.step_control(),
+            key_failures: self.key_failures.clone(),
         };
     }
 
@@ -616,7 +693,8 @@ impl RunOutput {
     }
 
     pub fn write_events(&self, path: &Path) -> std::io::Result<()> {
-        std::fs::write(path, events_csv(&self.events, &self.contact_names))
+        let csv = events_csv(&self.events, &self.contact_names, &self.element_names);
+        std::fs::write(path, csv)
     }
 
     pub fn write_summary(&self, path: &Path) -> std::io::Result<()> {
