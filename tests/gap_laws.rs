@@ -246,3 +246,31 @@ fn block_pushes_the_backfill_back_and_rebounds_at_the_closed_form_speed() {
     let json = serde_json::to_string(&r.summary).unwrap();
     assert!(!json.contains("key_failures"), "{json}");
 }
+
+#[test]
+fn a_key_failure_is_not_postponed_by_the_branch_window() {
+    // a backfill on the same block closes 1.5e-5 s after the key fails, inside a 1e-4 s
+    // branch window: the failure is still applied at its own instant
+    let (fc, df) = (20.0, 0.04);
+    let (_, tau1, v1) = elastic_then_plastic(fc);
+    let a = fc / M;
+    let v_exit = (v1 * v1 - 2.0 * a * (df - fc / K)).sqrt();
+    let t_fail = GAP / V0 + tau1 + (v1 - v_exit) / a;
+    let stop_gap = GAP + df + 1.5e-5 * v_exit;
+    let text = scene(&key_law(fc, df), "event")
+        .replace("output_dt = 0.01", "output_dt = 0.01\nbranch_window = 1e-4")
+        + &format!(
+            r#"
+[[hysteretic]]
+name = "stop"
+body = "block"
+direction = [1.0, 0.0]
+law = {{ law = "backfill", gap = {stop_gap}, stiffness = 10.0, capacity = 1.0 }}
+"#
+        );
+    let scene = deckspin::model::load_str(&text, Path::new("window.toml"), &[]).unwrap();
+    assert_eq!(scene.settings.branch_window, 1e-4);
+    let r = deckspin::simulate(&scene, &mut deckspin::Silent).unwrap();
+    let failure = r.summary.key_failures.as_ref().unwrap()[0].clone();
+    assert_rel(failure.t, t_fail, 1e-9, "failure instant");
+}
