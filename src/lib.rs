@@ -9,7 +9,8 @@
 //! - [`dopri`], [`event_driven`]: the event-driven integrator.
 //! - [`timestepping`]: Moreau–Jean and penalty methods; [`methods`]: the registry of methods;
 //!   [`simulate`]: a scene to the method its settings name.
-//! - [`hysteresis`]: linear, bilinear and Takeda laws for columns.
+//! - [`hysteresis`]: linear, bilinear and Takeda laws for columns; compression-only backfill and
+//!   shear-key laws.
 //! - [`excitation`]: records, processing, multi-support motions.
 //! - [`model`]: model files (general scenes and bridges).
 //! - [`modal`]: K₀, modes and Rayleigh damping of any model.

@@ -311,6 +311,10 @@ fn print_report(s: &deckspin::output::Summary, scene: &deckspin::scene::Scene) {
     for (c, t) in &s.accumulation_times {
         println!("  accumulation of impacts at '{c}': t∞ ≈ {t:.9} s");
     }
+    for k in s.key_failures.iter().flatten() {
+        let (e, t, f) = (&k.element, k.t, k.peak_force);
+        println!("  shear key '{e}' failed at t = {t:.9} s (peak force {f:.6e})");
+    }
     for seat in &s.seats {
         let aashto = match (seat.required, seat.percent) {
             (Some(n), Some(p)) => format!("; AASHTO LRFD 4.7.4.4 N × {p} % = {n:.4} m"),

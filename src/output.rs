@@ -1,12 +1,15 @@
 //! Run results: time history (output grid plus every event instant), event log, energy ledger
 //! and summary; writers for `history.csv`, `events.csv` and `summary.json`.
 
-use crate::hysteresis::Hysteretic;
+use crate::hysteresis::{Hysteretic, Law};
 use crate::scene::Scene;
 use serde::Serialize;
-use std::io::Write;
 use std::path::Path;
 use std::sync::atomic::{AtomicUsize, Ordering};
+
+mod history;
+
+pub use history::HistoryWriter;
 
 /// State of one contact.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -132,6 +135,9 @@ pub enum EventKind {
     Slip,
     Release,
     Accumulation,
+    /// A shear key's deformation beyond its gap reached its failure displacement (hysteresis
+    /// rule G5): `EventRecord::contact` is the hysteretic element's index.
+    KeyFailure,
 }
 
 impl EventKind {
@@ -142,13 +148,20 @@ impl EventKind {
             EventKind::Slip => "slip",
             EventKind::Release => "release",
             EventKind::Accumulation => "accumulation",
+            EventKind::KeyFailure => "key failure",
         }
+    }
+
+    /// An event of a contact (all but a key failure, which is a hysteretic element's).
+    pub fn of_contact(&self) -> bool {
+        *self != EventKind::KeyFailure
     }
 }
 
 #[derive(Clone, Debug, Serialize)]
 pub struct EventRecord {
     pub t: f64,
+    /// The contact's index (a key failure: the hysteretic element's).
     pub contact: usize,
     pub kind: EventKind,
     /// Λ_N, Λ_T for impacts (N·s).
@@ -161,6 +174,32 @@ pub struct EventRecord {
     pub sticks: Option<bool>,
     /// Accumulation events: estimated accumulation time t∞.
     pub info: f64,
+}
+
+impl EventRecord {
+    /// The failure of key `element` at `t`: no impulse, no contact rates.
+    pub fn key_failure(t: f64, element: usize) -> Self {
+        Self {
+            t,
+            contact: element,
+            kind: EventKind::KeyFailure,
+            normal: 0.0,
+            tangential: 0.0,
+            gap_rate_before: f64::NAN,
+            gap_rate_after: f64::NAN,
+            slip_rate_after: f64::NAN,
+            sticks: None,
+            info: f64::NAN,
+        }
+    }
+}
+
+/// A shear key that failed: its hysteretic element, when, and the largest force it carried.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct KeyFailure {
+    pub element: String,
+    pub t: f64,
+    pub peak_force: f64,
 }
 
 #[derive(Clone, Debug, Default, Serialize)]
@@ -187,7 +226,14 @@ pub struct RunStats {
     pub slips: usize,
     pub releases: usize,
     pub accumulations: usize,
+    /// Failed shear keys (left out of summary.json while 0).
+    #[serde(skip_serializing_if = "is_zero")]
+    pub key_failures: usize,
     pub wall_time: f64,
+}
+
+fn is_zero(n: &usize) -> bool {
+    *n == 0
 }
 
 impl RunStats {
@@ -198,6 +244,7 @@ impl RunStats {
             EventKind::Slip => self.slips += 1,
             EventKind::Release => self.releases += 1,
             EventKind::Accumulation => self.accumulations += 1,
+            EventKind::KeyFailure => self.key_failures += 1,
         }
     }
 }
@@ -255,10 +302,18 @@ pub struct Summary {
     /// Event method: the state components (`x`, `d/dt x`) whose local error estimate set the
     /// accepted DP5 steps, with their step counts, most first (zero counts left out).
     pub step_control: Vec<(String, usize)>,
+    /// The shear keys that failed, in order; absent from summary.json without `key` elements.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub key_failures: Option<Vec<KeyFailure>>,
 }
 
-/// The event log as CSV (events.csv): one row per event, impulses for impacts.
-pub fn events_csv(events: &[EventRecord], contact_names: &[String]) -> String {
+/// The event log as CSV (events.csv): one row per event, impulses for impacts; the `contact`
+/// column of a key failure names its hysteretic element.
+pub fn events_csv(
+    events: &[EventRecord],
+    contact_names: &[String],
+    element_names: &[String],
+) -> String {
     use std::fmt::Write as _;
     let mut out = String::from(
         "t,contact,kind,normal_impulse,tangential_impulse,gap_rate_before,gap_rate_after,slip_rate_after,sticks,accumulation_time\n",
@@ -268,7 +323,13 @@ pub fn events_csv(events: &[EventRecord], contact_names: &[String]) -> String {
             out,
             "{:.15e},{},{},{:.12e},{:.12e},{:.12e},{:.12e},{:.12e},{},{}",
             e.t,
-            contact_names.get(e.contact).map_or("?", String::as_str),
+            (if e.kind.of_contact() {
+                contact_names
+            } else {
+                element_names
+            })
+            .get(e.contact)
+            .map_or("?", String::as_str),
             e.kind.label(),
             e.normal,
             e.tangential,
@@ -410,6 +471,8 @@ pub struct RunOutput {
     pub events: Vec<EventRecord>,
     pub stats: RunStats,
     pub accumulation_times: Vec<(usize, f64)>,
+    /// The failed keys so far (`None` without `key` elements).
+    pub key_failures: Option<Vec<KeyFailure>>,
     /// The hysteretic laws (branch and memory) the run ended with.
     pub final_laws: Vec<Hysteretic>,
     /// The state the run ended in (with `final_laws`: what a run that continues it starts
@@ -471,6 +534,9 @@ impl RunOutput {
             events: Vec::new(),
             stats: RunStats::default(),
             accumulation_times: Vec::new(),
+            key_failures: (scene.hysteretic.iter())
+                .any(|h| matches!(h.law.law(), Law::Key { .. }))
+                .then(Vec::new),
             final_laws: Vec::new(),
             final_state: FinalState::default(),
             step_peaks: Vec::new(),
@@ -513,6 +579,19 @@ impl RunOutput {
             if self.samples.capacity() > 4 * STREAMED_CAPACITY {
                 self.samples.shrink_to(STREAMED_CAPACITY);
             }
+        }
+    }
+
+    /// Notes the failure of key `element` at `t` having carried `peak_force` (the event is
+    /// logged by the integrator).
+    pub fn note_key_failure(&mut self, t: f64, element: usize, peak_force: f64) {
+        let name = self.element_names.get(element).cloned().unwrap_or_default();
+        if let Some(list) = self.key_failures.as_mut() {
+            list.push(KeyFailure {
+                element: name,
+                t,
+                peak_force,
+            });
         }
     }
 
@@ -605,6 +684,7 @@ impl RunOutput {
                 .collect(),
             stats: self.stats.clone(),
             step_control: self.step_control(),
+            key_failures: self.key_failures.clone(),
         };
     }
 
@@ -626,15 +706,9 @@ impl RunOutput {
         out
     }
 
-    pub fn write_history(&self, path: &Path) -> std::io::Result<()> {
-        let file = std::io::BufWriter::new(std::fs::File::create(path)?);
-        let mut w = HistoryWriter::new(file, self)?;
-        w.write(&self.samples)?;
-        w.finish().map(|_| ())
-    }
-
     pub fn write_events(&self, path: &Path) -> std::io::Result<()> {
-        std::fs::write(path, events_csv(&self.events, &self.contact_names))
+        let csv = events_csv(&self.events, &self.contact_names, &self.element_names);
+        std::fs::write(path, csv)
     }
 
     pub fn write_summary(&self, path: &Path) -> std::io::Result<()> {
@@ -649,121 +723,4 @@ impl RunOutput {
         self.write_events(&dir.join("events.csv"))?;
         self.write_summary(&dir.join("summary.json"))
     }
-}
-
-/// Writes history.csv: the header, then rows as they come (a run streamed to disk writes each
-/// batch of samples as the observer is handed it; [`RunOutput::write_history`] all at once).
-pub struct HistoryWriter<W: Write> {
-    w: W,
-    rows: usize,
-}
-
-impl<W: Write> HistoryWriter<W> {
-    /// The writer, its header written: the columns of `out`'s DOFs, contacts and elements.
-    pub fn new(mut w: W, out: &RunOutput) -> std::io::Result<Self> {
-        writeln!(w, "{}", history_header(out).join(","))?;
-        Ok(Self { w, rows: 0 })
-    }
-
-    /// Rows written so far.
-    pub fn rows(&self) -> usize {
-        self.rows
-    }
-
-    /// One row per sample, written field by field: no string per value.
-    pub fn write(&mut self, samples: &[Sample]) -> std::io::Result<()> {
-        let w = &mut self.w;
-        let num = |w: &mut W, x: f64| write!(w, ",{x:.12e}");
-        for s in samples {
-            let kind = match s.kind {
-                SampleKind::Grid => "grid",
-                SampleKind::PreEvent => "pre-event",
-                SampleKind::PostEvent => "post-event",
-            };
-            write!(w, "{:.12e},{kind}", s.t)?;
-            for &x in s.q.iter().chain(s.v.iter()) {
-                num(w, x)?;
-            }
-            for c in &s.contacts {
-                for x in [
-                    c.gap,
-                    c.gap_rate,
-                    c.slip_rate,
-                    c.normal_force,
-                    c.tangential_force,
-                ] {
-                    num(w, x)?;
-                }
-                write!(w, ",{}", c.state.label())?;
-            }
-            for &(e, f) in &s.elements {
-                num(w, e)?;
-                num(w, f)?;
-            }
-            let en = &s.energy;
-            for x in [
-                en.kinetic,
-                en.elastic,
-                en.hysteretic,
-                en.damping,
-                en.friction,
-                en.impact_normal,
-                en.impact_tangential,
-                en.loads,
-                en.supports,
-                en.closure,
-            ] {
-                num(w, x)?;
-            }
-            writeln!(w)?;
-        }
-        self.rows += samples.len();
-        Ok(())
-    }
-
-    /// Flushes and returns the inner writer.
-    pub fn finish(mut self) -> std::io::Result<W> {
-        self.w.flush()?;
-        Ok(self.w)
-    }
-}
-
-/// The energy columns of history.csv, in order.
-const ENERGY_COLUMNS: [&str; 10] = [
-    "kinetic",
-    "elastic",
-    "hysteretic",
-    "damping",
-    "friction",
-    "impact_normal",
-    "impact_tangential",
-    "loads",
-    "supports",
-    "closure",
-];
-
-/// The columns of a contact in history.csv, in order.
-const CONTACT_COLUMNS: [&str; 6] = [
-    "gap",
-    "gap_rate",
-    "slip_rate",
-    "normal_force",
-    "tangential_force",
-    "state",
-];
-
-/// The header of history.csv.
-fn history_header(out: &RunOutput) -> Vec<String> {
-    let mut head = vec!["t".to_string(), "row".to_string()];
-    head.extend(out.dof_names.iter().cloned());
-    head.extend(out.dof_names.iter().map(|n| format!("d/dt {n}")));
-    for c in &out.contact_names {
-        head.extend(CONTACT_COLUMNS.iter().map(|f| format!("{c}.{f}")));
-    }
-    for e in &out.element_names {
-        head.push(format!("{e}.deformation"));
-        head.push(format!("{e}.force"));
-    }
-    head.extend(ENERGY_COLUMNS.iter().map(|f| format!("energy.{f}")));
-    head
 }

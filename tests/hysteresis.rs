@@ -518,7 +518,7 @@ proptest! {
                  yield_displacement.unwrap_or(yield_force / stiffness)),
             Law::Bilinear { yield_force, post_yield_ratio, stiffness } =>
                 (yield_force, post_yield_ratio * stiffness, yield_force / stiffness),
-            Law::Linear { .. } => unreachable!(),
+            _ => unreachable!(),
         };
         let p: Vec<f64> = p.iter().map(|x| x * limit).collect();
         let pts = drive(law.clone(), &p);
@@ -615,7 +615,7 @@ proptest! {
             Law::Takeda { stiffness, crack_force: Some(fc), .. } => (stiffness, fc / stiffness),
             Law::Takeda { stiffness, yield_force, .. }
             | Law::Bilinear { stiffness, yield_force, .. } => (stiffness, yield_force / stiffness),
-            Law::Linear { .. } => unreachable!(),
+            _ => unreachable!(),
         };
         let mut closed: Vec<f64> = p.iter().map(|x| x * ue * 0.999).collect();
         closed.insert(0, 0.0);
@@ -629,5 +629,277 @@ proptest! {
         prop_assert!(work(&pts).abs() < 1e-12);
         prop_assert_eq!(h.branch().stiffness, virgin.stiffness);
         prop_assert_eq!((h.branch().lower, h.branch().upper), (virgin.lower, virgin.upper));
+    }
+}
+
+// ---------------------------------------------------------------- gap laws (backfill, key)
+
+const GAP: f64 = 0.01;
+const K: f64 = 1000.0;
+const FC: f64 = 10.0;
+
+fn backfill() -> Law {
+    Law::Backfill {
+        gap: GAP,
+        stiffness: K,
+        capacity: FC,
+    }
+}
+
+/// Fails at e = gap + 0.03 = 0.04.
+fn key() -> Law {
+    Law::Key {
+        gap: GAP,
+        stiffness: K,
+        capacity: FC,
+        failure_displacement: 0.03,
+    }
+}
+
+/// The gap laws by their definition, from the largest deformation reached, `e_max`, and
+/// whether the motion has left it (`past`): closing point c = max(gap, e_max − f_c/k),
+/// f = max(0, k (e − c)); a key whose `e_max − gap` exceeded its failure displacement (or
+/// reached it and moved on) carries nothing.
+fn gap_formula(law: &Law, e: f64, e_max: f64, past: bool) -> f64 {
+    let (gap, k, fc, fail) = match *law {
+        Law::Backfill {
+            gap,
+            stiffness,
+            capacity,
+        } => (gap, stiffness, capacity, f64::INFINITY),
+        Law::Key {
+            gap,
+            stiffness,
+            capacity,
+            failure_displacement,
+        } => (gap, stiffness, capacity, failure_displacement),
+        _ => unreachable!(),
+    };
+    if e_max - gap > fail || (e_max - gap == fail && past) {
+        return 0.0;
+    }
+    let c = gap.max(e_max - fc / k);
+    (k * (e - c)).max(0.0)
+}
+
+/// Drives `law` target by target along `path` and checks every point it reports (targets and
+/// branch ends) against [`gap_formula`] to 1e-12, and that the force is never negative.
+/// Returns the largest error.
+fn check_against_formula(law: &Law, path: &[f64]) -> f64 {
+    let mut h = Hysteretic::new(law.clone()).unwrap();
+    let mut e_max = 0.0f64;
+    let mut worst = 0.0f64;
+    for &target in path {
+        for (e, f) in h.drive(&[target]) {
+            // each move is straight: the largest e so far is at one of the points
+            let past = e < e_max;
+            e_max = e_max.max(e);
+            let want = gap_formula(law, e, e_max, past);
+            assert!(f >= 0.0, "tension {f} at e = {e} ({law:?})");
+            assert!(
+                (f - want).abs() <= 1e-12,
+                "at e = {e} (largest {e_max}): force {f}, formula {want} ({law:?})"
+            );
+            worst = worst.max((f - want).abs());
+        }
+    }
+    worst
+}
+
+#[test]
+fn backfill_scripted_path() {
+    // gap 0.01, k = 1000, f_c = 10: f_c/k = 0.01.
+    let got = drive(
+        backfill(),
+        &[0.0, 0.015, 0.0, 0.03, 0.02, 0.035, -0.01, 0.05],
+    );
+    assert_points(
+        &got,
+        &[
+            (0.0, 0.0),
+            (0.01, 0.0),   // the gap closes
+            (0.015, 5.0),  // 1000·0.005
+            (0.01, 0.0),   // elastic back to the closing point: no set yet
+            (0.0, 0.0),    // open, no tension
+            (0.01, 0.0),   // closes again at the gap
+            (0.02, 10.0),  // capacity
+            (0.03, 10.0),  // plastic: soil pushed back
+            (0.02, 0.0),   // reversal at 0.03: c = 0.03 − 0.01 = 0.02 (e_p = 0.01)
+            (0.03, 10.0),  // reloading along k up to the reversal point
+            (0.035, 10.0), // plastic again
+            (0.025, 0.0),  // c = 0.035 − 0.01 (e_p = 0.015)
+            (-0.01, 0.0),  // open
+            (0.025, 0.0),  // closes at the new closing point
+            (0.035, 10.0),
+            (0.05, 10.0),
+        ],
+    );
+    let mut h = Hysteretic::new(backfill()).unwrap();
+    h.drive(&[0.0, 0.03, 0.0, 0.035, 0.0]);
+    let s = h.gap_state().unwrap();
+    assert!((s.closing - 0.025).abs() < 1e-15 && (s.permanent_set - 0.015).abs() < 1e-15);
+    assert_eq!((s.peak_force, s.failed), (10.0, false));
+    assert!(Hysteretic::new(bilinear()).unwrap().gap_state().is_none());
+}
+
+#[test]
+fn key_scripted_path() {
+    // Fails at e = 0.01 + 0.03 = 0.04.
+    let got = drive(key(), &[0.0, 0.03, 0.0, 0.045, 0.0, 0.05]);
+    assert_points(
+        &got,
+        &[
+            (0.0, 0.0),
+            (0.01, 0.0),
+            (0.02, 10.0),
+            (0.03, 10.0),
+            (0.02, 0.0), // c = 0.02
+            (0.0, 0.0),
+            (0.02, 0.0),
+            (0.03, 10.0),
+            (0.04, 10.0), // the failure point: the force drops to 0 here
+            (0.045, 0.0),
+            (0.0, 0.0),
+            (0.05, 0.0),
+        ],
+    );
+}
+
+#[test]
+fn key_under_monotonic_push_fails_exactly_at_gap_plus_failure_displacement() {
+    let law = Law::Key {
+        gap: 0.0127,
+        stiffness: 3.7e5,
+        capacity: 1234.5,
+        failure_displacement: 0.0417,
+    };
+    let u_f = 0.0127 + 0.0417;
+    let mut h = Hysteretic::new(law).unwrap();
+    let pts = h.drive(&[0.0, 1.0]);
+    // open to the gap, elastic to f_c, plastic to the failure point, then nothing
+    let yield_at = 0.0127 + 1234.5 / 3.7e5;
+    assert_eq!(pts.len(), 5, "{pts:?}");
+    assert_eq!(pts[1], (0.0127, 0.0));
+    assert!((pts[2].0 - yield_at).abs() < 1e-15 && (pts[2].1 - 1234.5).abs() < 1e-9);
+    assert_eq!(pts[3], (u_f, 1234.5));
+    assert_eq!(pts[4], (1.0, 0.0));
+    let s = h.gap_state().unwrap();
+    assert!(s.failed && h.failed());
+    assert_eq!(s.peak_force, 1234.5);
+    // force 0 for ever after, whatever the motion
+    for (u, f) in h.drive(&[0.0, 0.02, -1.0, 2.0]) {
+        assert_eq!(f, 0.0, "at {u}");
+    }
+    // the failure is announced by `fails_at` on the plastic branch only at its end
+    let mut h = Hysteretic::new(key()).unwrap();
+    h.drive(&[0.0, 0.035]);
+    assert!(h.branch().ends_on_reversal && h.branch().upper == 0.04);
+    assert!(h.fails_at(0.04, 1.0) && !h.fails_at(0.035, -1.0) && !h.failed());
+    // stopping exactly at the failure point and coming back: it failed there
+    h.drive(&[0.04]);
+    assert!(!h.failed());
+    h.drive(&[0.03]);
+    assert!(h.failed());
+    assert_eq!(h.force(0.03), 0.0);
+}
+
+/// Cycles of growing amplitude around 0 (tension side included): through the gap, into the
+/// plastic range, unloading, reopening, reloading; a key fails on the way.
+fn growing_cycles(amplitude: f64) -> Vec<f64> {
+    (0..=480)
+        .map(|i| {
+            let s = i as f64 / 40.0;
+            amplitude * (s / 12.0) * (2.0 * std::f64::consts::PI * s).sin()
+        })
+        .collect()
+}
+
+#[test]
+fn gap_laws_follow_their_formula_along_growing_cycles() {
+    let path = growing_cycles(0.06);
+    for law in [backfill(), key()] {
+        let worst = check_against_formula(&law, &path);
+        assert!(worst <= 1e-12, "{worst}");
+        let mut h = Hysteretic::new(law.clone()).unwrap();
+        h.drive(&path);
+        let s = h.gap_state().unwrap();
+        // the backfill's closing point: the path's largest e (a reversal) less f_c/k
+        let e_max = path.iter().fold(0.0f64, |m, &e| m.max(e));
+        assert!(e_max > 0.05);
+        match law {
+            Law::Key { .. } => assert!(s.failed),
+            _ => assert!(!s.failed && (s.closing - (e_max - FC / K)).abs() < 1e-15),
+        }
+    }
+    // the same checks through the step-by-step integrator (set_direction, on_branch_end), whose
+    // branch changes are continuous in force for backfill
+    let mut h = Hysteretic::new(backfill()).unwrap();
+    assert_eq!(
+        integrate(&mut h, &path),
+        Hysteretic::new(backfill()).unwrap().drive(&path)
+    );
+}
+
+#[test]
+fn gap_law_backbones() {
+    assert_eq!(backfill().backbone(0.005), 0.0);
+    assert!((backfill().backbone(0.015) - 5.0).abs() < 1e-12);
+    assert_eq!(backfill().backbone(0.5), 10.0);
+    assert_eq!(backfill().backbone(-0.5), 0.0);
+    assert_eq!(key().backbone(0.039), 10.0);
+    assert_eq!(key().backbone(0.04), 0.0);
+    // open at rest: left out of K₀ like a contact
+    assert_eq!(key().initial_stiffness(), 0.0);
+    assert!(key().is_gap_law() && !bilinear().is_gap_law());
+}
+
+#[test]
+fn gap_law_parameters_are_checked() {
+    let bf = |gap: f64, k: f64, fc: f64| Law::Backfill {
+        gap,
+        stiffness: k,
+        capacity: fc,
+    };
+    assert_eq!(field_of(bf(-0.01, K, FC)), "gap");
+    assert_eq!(field_of(bf(f64::INFINITY, K, FC)), "gap");
+    assert_eq!(field_of(bf(GAP, 0.0, FC)), "stiffness");
+    assert_eq!(field_of(bf(GAP, K, -1.0)), "capacity");
+    assert_eq!(field_of(bf(GAP, K, f64::NAN)), "capacity");
+    assert!(bf(0.0, K, FC).validate().is_ok());
+    let ky = |fd: f64| Law::Key {
+        gap: GAP,
+        stiffness: K,
+        capacity: FC,
+        failure_displacement: fd,
+    };
+    // must exceed f_c/k = 0.01
+    assert_eq!(field_of(ky(0.01)), "failure_displacement");
+    assert_eq!(field_of(ky(f64::INFINITY)), "failure_displacement");
+    assert_eq!(field_of(ky(f64::NAN)), "failure_displacement");
+    assert!(ky(0.0101).validate().is_ok());
+    let msg = ky(0.005).validate().unwrap_err().to_string();
+    assert!(msg.starts_with("failure_displacement: "), "{msg}");
+    let law: Law = serde_json::from_str(
+        r#"{"law": "key", "gap": 0.01, "stiffness": 1000.0, "capacity": 10.0, "failure_displacement": 0.03}"#,
+    )
+    .unwrap();
+    assert_eq!(law, key());
+    assert!(
+        serde_json::from_str::<Law>(r#"{"law": "backfill", "gap": 0.0, "stiffness": 1.0}"#)
+            .is_err()
+    );
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig {
+        cases: 256,
+        failure_persistence: None,
+        ..ProptestConfig::default()
+    })]
+
+    #[test]
+    fn gap_laws_follow_their_formula_on_any_path(which in 0usize..2, p in path(0.06)) {
+        let law = [backfill(), key()][which].clone();
+        prop_assert!(check_against_formula(&law, &p) <= 1e-12);
     }
 }

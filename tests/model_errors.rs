@@ -642,3 +642,25 @@ fn a_record_sample_above_10_g_is_refused_as_a_unit_mistake() {
     let rec = record("strong", 20.0, &|t| 20.0 * sine(t));
     four_span(&with_record(&rec), &[]).unwrap();
 }
+
+#[test]
+fn a_bad_shear_key_names_its_line_and_field() {
+    let text = r#"[[body]]
+name = "block"
+mass = 2.0
+dofs = ["x"]
+[[hysteretic]]
+name = "key"
+body = "block"
+direction = [1.0, 0.0]
+law = { law = "key", gap = 0.05, stiffness = 800.0, capacity = 20.0, failure_displacement = 0.02 }
+"#;
+    let e = deckspin::model::load_str(text, std::path::Path::new("key.toml"), &[])
+        .expect_err("failure_displacement 0.02 < capacity/stiffness 0.025");
+    let msg = e.to_string();
+    assert!(matches!(e, ModelError::Invalid { line: 9, .. }), "{msg}");
+    assert!(
+        msg.contains("key.toml:9: hysteretic.0.law: failure_displacement: must be finite and exceed capacity/stiffness = 0.025, got 0.02"),
+        "{msg}"
+    );
+}

@@ -1669,3 +1669,79 @@ fn a_multi_frame_bridge_lists_its_frames_joints_and_bents_in_bridge_words() {
         deckspin::model::load_str(&edited, &root().join("models/three-frame.toml"), &[]).unwrap();
     assert_eq!(scene.bodies.len(), 5);
 }
+
+/// A block sliding at 1 m/s into a shear key that fails at t ≈ 0.0957 s, with a wall it never
+/// reaches (a contact row).
+const KEY_SCENE: &str = r#"
+title = "block through a shear key"
+[solver]
+t_end = 0.5
+[[body]]
+name = "block"
+mass = 2.0
+dofs = ["x"]
+initial_velocity = [1.0, 0.0, 0.0]
+[[contact]]
+name = "wall"
+body = "block"
+normal = [-1.0, 0.0]
+gap = 1.0
+[[hysteretic]]
+name = "key"
+body = "block"
+direction = [1.0, 0.0]
+law = { law = "key", gap = 0.05, stiffness = 800.0, capacity = 20.0, failure_displacement = 0.04 }
+"#;
+
+#[test]
+fn key_failures_have_their_own_row_and_mark_in_the_event_strip() {
+    let path = root().join("key-scene.toml");
+    let run = run_of(KEY_SCENE, &path, 1);
+    let failures: Vec<f64> = (run.events.iter())
+        .filter(|e| e.kind == deckspin::output::EventKind::KeyFailure)
+        .map(|e| e.t)
+        .collect();
+    assert_eq!(failures.len(), 1);
+    assert!((failures[0] - 0.0957).abs() < 1e-4, "{failures:?}");
+    // the key row: one mark, in the column of the failure (0.0957 of 0.5 s over 50 cells)
+    let (w, per_cell) = (50, 1);
+    for (ascii, mark) in [(false, '╳'), (true, 'X')] {
+        assert_eq!(tui::ui::key_failure_mark(ascii), mark);
+        let keys = tui::ui::key_strip(&run, 0.0, 0.5, w, per_cell, ascii);
+        let at: Vec<usize> = (0..w).filter(|&c| keys[c] == mark).collect();
+        assert_eq!(
+            at,
+            vec![chart::column_of(failures[0], 0.0, 0.5, w, per_cell).unwrap()]
+        );
+        assert!(keys.iter().all(|&c| c == mark || c == ' '));
+        // element 0's failure is not an event of contact 0
+        let wall = tui::ui::event_strip(&run, 0, 0.0, 0.5, w, per_cell, ascii);
+        assert!(wall.iter().all(|&c| c == ' '), "{wall:?}");
+    }
+    let mut app = App::new_from_text(KEY_SCENE, &path);
+    app.current = Some(run.clone());
+    let s = screen(&render(&mut app, 120, 40));
+    let row = s
+        .lines()
+        .find(|l| l.trim_start().starts_with("keys"))
+        .expect(&s);
+    assert_eq!(row.matches('╳').count(), 1, "{row}");
+    let legend = s.lines().find(|l| l.starts_with("events ")).expect(&s);
+    assert!(legend.contains("╳key"), "{legend}");
+    let s = screen(&render(&mut app, 200, 40));
+    let legend = s.lines().find(|l| l.starts_with("events ")).expect(&s);
+    assert!(
+        legend.contains("^ release  █ stuck  ▒ sliding  ╳ key failure"),
+        "{legend}"
+    );
+    update(&mut app, key('m'));
+    let s = screen(&render(&mut app, 120, 40));
+    let row = s
+        .lines()
+        .find(|l| l.trim_start().starts_with("keys"))
+        .expect(&s);
+    assert_eq!(row.matches('X').count(), 1, "{row}");
+    // a run without key failures has no such row
+    let s = screen(&render(&mut bridge_app(), 120, 40));
+    assert!(!s.contains("key failure") && !s.lines().any(|l| l.trim_start().starts_with("keys")));
+}

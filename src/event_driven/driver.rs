@@ -7,7 +7,7 @@ use super::events::{arm, arm_into, due_now};
 use super::locate::locate_event;
 use super::record::track_peaks;
 use crate::dopri::{self, Controller};
-use crate::output::{ContactState, FinalState, RunOutput, SampleKind};
+use crate::output::{ContactState, EventRecord, FinalState, RunOutput, SampleKind};
 use crate::run::{Batcher, Observer, Run, SolverError};
 use crate::scene::{LEDGER_TERMS, Scene};
 use nalgebra::DVector;
@@ -509,6 +509,9 @@ fn process_event(eng: &mut Engine, f: EventFn) -> Result<(), SolverError> {
                 EventFn::Upper(_) => (b.upper, 1.0),
                 _ => (e, -b.direction),
             };
+            if eng.state.laws[j].fails_at(e_at, dir) {
+                return key_failure(eng, j, e_at, dir);
+            }
             eng.state.laws[j].on_branch_end(e_at, dir);
             eng.state.out.stats.branch_events += 1;
         }
@@ -535,6 +538,21 @@ fn process_event(eng: &mut Engine, f: EventFn) -> Result<(), SolverError> {
         }
     }
     Ok(())
+}
+
+/// The plastic branch of key `j` ended at its failure point `e_at` (hysteresis rule G5): the
+/// force drops to 0 there, with a pre- and a post-event sample and a `key failure` event.
+fn key_failure(eng: &mut Engine, j: usize, e_at: f64, dir: f64) -> Result<(), SolverError> {
+    eng.record_sample(SampleKind::PreEvent)?;
+    let law = &mut eng.state.laws[j];
+    law.on_branch_end(e_at, dir);
+    let peak = law.gap_state().map_or(f64::NAN, |g| g.peak_force);
+    let t = eng.state.t;
+    eng.state.out.stats.branch_events += 1;
+    eng.log(EventRecord::key_failure(t, j))?;
+    eng.state.out.note_key_failure(t, j, peak);
+    eng.ws.dynamics.at = None;
+    eng.record_sample(SampleKind::PostEvent)
 }
 
 /// Length of y: q, q̇ and the ledger terms.

@@ -5,6 +5,7 @@ use super::engine::Engine;
 use super::event_fn::EventFn;
 use super::workspace::LocateScratch;
 use crate::dopri;
+use crate::hysteresis::Hysteretic;
 use crate::run::SolverError;
 use nalgebra::DVector;
 
@@ -140,7 +141,11 @@ pub(super) fn locate_event_in(
         }
         if !roots.is_empty() {
             roots.sort_by(|a, b| a.0.total_cmp(&b.0));
-            let window = eng.scene.settings.branch_window;
+            // a shear key failing drops its force: applied at its own instant, never later
+            let window = match roots[0].1 {
+                EventFn::Upper(j) if key_fails(&eng.state.laws[j]) => 0.0,
+                _ => eng.scene.settings.branch_window,
+            };
             return Ok(Some(coalesce(roots, window, &mut eng.state.cluster)));
         }
         for (m, &val) in vals.iter().enumerate() {
@@ -227,6 +232,11 @@ pub(super) fn hermite_min(g0: f64, d0: f64, g1: f64, d1: f64) -> Option<(f64, f6
         .filter(|s| s.is_finite() && *s > 0.0 && *s < 1.0)
         .map(|s| (s, p(s)))
         .min_by(|x, y| x.1.total_cmp(&y.1))
+}
+
+/// The upper end of this law's branch is a shear key's failure point (rule G5).
+fn key_fails(law: &Hysteretic) -> bool {
+    law.fails_at(law.branch().upper, 1.0)
 }
 
 /// The events applied at once from the roots found in one sub-interval (sorted by time):

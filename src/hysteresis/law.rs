@@ -13,7 +13,8 @@ fn default_unloading_exponent() -> f64 {
     0.4
 }
 
-/// A hysteretic law (TOML/JSON: `law = "linear" | "bilinear" | "takeda"` plus its fields).
+/// A hysteretic law (TOML/JSON: `law = "linear" | "bilinear" | "takeda" | "backfill" | "key"`
+/// plus its fields).
 #[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
 #[serde(tag = "law", rename_all = "lowercase", deny_unknown_fields)]
 pub enum Law {
@@ -43,6 +44,22 @@ pub enum Law {
         #[serde(default = "default_unloading_exponent")]
         unloading_exponent: f64,
     },
+    /// Passive backfill behind an abutment backwall (Caltrans SDC v1.7, §7.8.1), compression
+    /// only (rules G1–G4): `f = 0` for `e < gap + e_p`, `f = stiffness·(e − gap − e_p)` up to
+    /// `capacity`, then `f = capacity` while `e_p` grows; unloading along `stiffness`.
+    Backfill {
+        gap: f64,
+        stiffness: f64,
+        capacity: f64,
+    },
+    /// Sacrificial shear key (Megally, Silva & Seible 2001): the backfill law (G1–G4), and once
+    /// `e − gap` reaches `failure_displacement` the key is gone, `f = 0` for ever (G5).
+    Key {
+        gap: f64,
+        stiffness: f64,
+        capacity: f64,
+        failure_displacement: f64,
+    },
 }
 
 fn invalid(field: &'static str, reason: impl Into<String>) -> HysteresisError {
@@ -61,6 +78,24 @@ fn positive(field: &'static str, x: f64) -> Result<(), HysteresisError> {
             format!("must be positive and finite, got {x}"),
         ))
     }
+}
+
+fn nonneg(field: &'static str, x: f64) -> Result<(), HysteresisError> {
+    if x.is_finite() && x >= 0.0 {
+        Ok(())
+    } else {
+        Err(invalid(
+            field,
+            format!("must be non-negative and finite, got {x}"),
+        ))
+    }
+}
+
+/// Gap, stiffness and capacity of a compression-only law.
+fn gap_law(gap: f64, stiffness: f64, capacity: f64) -> Result<(), HysteresisError> {
+    nonneg("gap", gap)?;
+    positive("stiffness", stiffness)?;
+    positive("capacity", capacity)
 }
 
 fn hardening_ratio(r: f64) -> Result<(), HysteresisError> {
@@ -151,22 +186,71 @@ impl Law {
                 }
                 Ok(())
             }
+            Law::Backfill {
+                gap,
+                stiffness,
+                capacity,
+            } => gap_law(gap, stiffness, capacity),
+            Law::Key {
+                gap,
+                stiffness,
+                capacity,
+                failure_displacement,
+            } => {
+                gap_law(gap, stiffness, capacity)?;
+                let yield_displacement = capacity / stiffness;
+                if failure_displacement.is_finite() && failure_displacement > yield_displacement {
+                    Ok(())
+                } else {
+                    Err(invalid(
+                        "failure_displacement",
+                        format!(
+                            "must be finite and exceed capacity/stiffness = {yield_displacement}, got {failure_displacement}"
+                        ),
+                    ))
+                }
+            }
         }
     }
 
-    /// Initial (tangent) stiffness.
+    /// Initial (tangent) stiffness at `u = 0`; 0 for the gap laws (open at rest, like a
+    /// contact: K₀ and stiffness-proportional damping leave them out).
     pub fn initial_stiffness(&self) -> f64 {
         match *self {
             Law::Linear { stiffness }
             | Law::Bilinear { stiffness, .. }
             | Law::Takeda { stiffness, .. } => stiffness,
+            Law::Backfill { .. } | Law::Key { .. } => 0.0,
         }
     }
 
-    /// Monotonic backbone (skeleton) force at `u`, odd in `u`.
+    /// Compression-only with a gap (backfill, key).
+    pub fn is_gap_law(&self) -> bool {
+        matches!(self, Law::Backfill { .. } | Law::Key { .. })
+    }
+
+    /// Monotonic backbone (skeleton) force at `u`: odd in `u`; for the gap laws the monotonic
+    /// push `clamp(k (u − gap), 0, capacity)` (a key: 0 from `gap + failure_displacement` on).
     pub fn backbone(&self, u: f64) -> f64 {
         match *self {
             Law::Linear { stiffness } => stiffness * u,
+            Law::Backfill {
+                gap,
+                stiffness,
+                capacity,
+            } => (stiffness * (u - gap)).clamp(0.0, capacity),
+            Law::Key {
+                gap,
+                stiffness,
+                capacity,
+                failure_displacement,
+            } => {
+                if u - gap >= failure_displacement {
+                    0.0
+                } else {
+                    (stiffness * (u - gap)).clamp(0.0, capacity)
+                }
+            }
             _ => u.signum() * Backbone::of(self).force(u.abs()),
         }
     }
@@ -185,9 +269,13 @@ pub(super) struct Backbone {
 }
 
 impl Backbone {
+    /// The backbone of `law` (the gap laws, whose backbone is not odd, get the linear one:
+    /// [`Law::backbone`] does not use it for them).
     pub(super) fn of(law: &Law) -> Self {
         match *law {
-            Law::Linear { stiffness } => Self {
+            Law::Linear { stiffness }
+            | Law::Backfill { stiffness, .. }
+            | Law::Key { stiffness, .. } => Self {
                 k: stiffness,
                 ue: f64::INFINITY,
                 fe: f64::INFINITY,

@@ -4,7 +4,8 @@
 //! On a branch the force is linear in the displacement `u`. A branch ends when `u` reaches
 //! [`Branch::lower`] or [`Branch::upper`], or, if [`Branch::ends_on_reversal`], when the
 //! velocity changes sign; the integrator then calls [`Hysteretic::on_branch_end`] and the law
-//! chooses the next branch, which always starts at the force the old branch had there.
+//! chooses the next branch, which starts at the force the old branch had there (except a
+//! failing shear key, rule G5).
 //!
 //! Laws ([`Law`]):
 //! - `linear`: one branch `f = k·u`, unbounded, never ends.
@@ -34,18 +35,36 @@
 //!   - T6 a reversal on an unloading line (before zero force) retraces it; back at `P` the
 //!     reloading (or backbone) branch resumes — the same rule as T5 reaching its local peak `P`.
 //!   - T7 a reversal on a reloading line at zero force reloads toward the opposite target.
+//! - `backfill`: passive backfill behind an abutment backwall, Caltrans SDC v1.7 §7.8.1
+//!   (elastic–perfectly-plastic, compression only, with a gap); `key`: a sacrificial shear key,
+//!   Megally, Silva & Seible (2001) "Seismic response of sacrificial shear keys in bridge
+//!   abutments" (the same law, and a failure displacement). The force is never negative: it
+//!   resists positive `e` (the element's direction chooses which way is compression). Rules
+//!   G1–G5, with the closing point `c = gap + e_p` (`e_p` the permanent set, 0 at first):
+//!   - G1 open: `f = 0` for `e ≤ c`; at `c` moving in +, G2.
+//!   - G2 elastic: `f = k (e − c)` for `c ≤ e ≤ c + f_c/k`; at `c` moving in −, G1; at
+//!     `c + f_c/k` moving in +, G3.
+//!   - G3 plastic: `f = f_c` while `e` grows (ends on reversal).
+//!   - G4 a reversal at `u` on G3 sets `c = u − f_c/k` (the soil or key is pushed back:
+//!     `e_p = u − gap − f_c/k`) and unloads along G2 (back up to `u`, then G3 again).
+//!   - G5 (`key` only) when `e − gap` reaches `failure_displacement` on G3 the key is gone:
+//!     `f = 0` for ever. The force drops there (the one branch change that is not continuous
+//!     in force); the work `∫f de` is continuous.
 
 mod bilinear;
 mod branch;
+mod gap;
 mod law;
 mod takeda;
 
 pub use branch::Branch;
+pub use gap::GapState;
 pub use law::{HysteresisError, Law};
 pub use takeda::MEMORY;
 
 use bilinear::{bilinear_elastic, bilinear_next};
 use branch::sgn;
+use gap::Gap;
 use takeda::Takeda;
 
 #[derive(Clone, Debug)]
@@ -58,6 +77,7 @@ enum Model {
         c: f64,
     },
     Takeda(Box<Takeda>),
+    Gap(Gap),
 }
 
 /// A hysteretic element: a [`Law`] and its state (current branch and memory).
@@ -104,6 +124,10 @@ impl Hysteretic {
                 let (t, b) = Takeda::new(&law);
                 (Model::Takeda(Box::new(t)), b)
             }
+            Law::Backfill { .. } | Law::Key { .. } => {
+                let (g, b) = Gap::new(&law);
+                (Model::Gap(g), b)
+            }
         };
         Ok(Self {
             law,
@@ -126,6 +150,31 @@ impl Hysteretic {
     /// Force at `u` on the current branch.
     pub fn force(&self, u: f64) -> f64 {
         self.branch.force(u)
+    }
+
+    /// Closing point, permanent set, peak force and failure of a gap law (`backfill`, `key`);
+    /// `None` for the others.
+    pub fn gap_state(&self) -> Option<GapState> {
+        match &self.model {
+            Model::Gap(g) => Some(g.state()),
+            _ => None,
+        }
+    }
+
+    /// A shear key that has failed (rule G5): its force is 0 for ever.
+    pub fn failed(&self) -> bool {
+        self.gap_state().is_some_and(|g| g.failed)
+    }
+
+    /// Would ending the current branch at `u`, moving in `direction`, fail this shear key
+    /// (rule G5)?
+    pub fn fails_at(&self, u: f64, direction: f64) -> bool {
+        if !matches!(self.model, Model::Gap(_)) || self.failed() {
+            return false;
+        }
+        let mut after = self.clone();
+        after.on_branch_end(u, direction);
+        after.failed()
     }
 
     /// Tangent stiffness of the current branch.
@@ -191,6 +240,7 @@ impl Hysteretic {
             Model::Linear => Branch { direction: d, ..b },
             Model::Bilinear { k, kp, c } => bilinear_next(*k, *kp, *c, &b, u, d),
             Model::Takeda(t) => t.next(&b, u, d),
+            Model::Gap(g) => g.next(&b, u, d),
         };
     }
 

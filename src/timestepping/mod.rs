@@ -49,6 +49,12 @@ struct Stepper<'a> {
     slip_spring: Vec<f64>,
     /// Jacobian row of one element (tangents).
     jac: DVector<f64>,
+    /// ė of each hysteretic element at the committed state.
+    rates: Vec<f64>,
+    /// A shear key failing inside a step acted on the committed branch until the step's end
+    /// (Moreau–Jean linearises h about the committed branches; the penalty methods use the
+    /// failed law at the step's end, as the ledger's trapezoid does).
+    key_acts_to_step_end: bool,
     /// h(t, q, q̇) of eq. 1, as the event-driven engine evaluates it.
     forces: ForceModel,
     scratch: RefCell<Scratch>,
@@ -77,6 +83,7 @@ impl<'a> Stepper<'a> {
             law.set_direction(e, if ed < 0.0 { -1.0 } else { 1.0 });
         }
         let nc = scene.contacts.len();
+        let rates = scratch.elements.iter().map(|&(_, ed)| ed).collect();
         Self {
             scene,
             laws,
@@ -98,6 +105,8 @@ impl<'a> Stepper<'a> {
             lam_t: vec![0.0; nc],
             slip_spring: vec![0.0; nc],
             jac: DVector::zeros(n),
+            rates,
+            key_acts_to_step_end: false,
             forces,
             scratch: RefCell::new(scratch),
         }
@@ -122,18 +131,33 @@ impl<'a> Stepper<'a> {
         self.forces.eval(self.scene, laws, fr, v, h, elements)
     }
 
-    /// Move the laws along to the committed state q.
-    fn commit_laws(&mut self) {
+    /// Move the laws along to the committed state q, `h` after the previous one.
+    fn commit_laws(&mut self, h: f64) {
         let mut scratch = self.scratch.borrow_mut();
         let Scratch { fr, elements, .. } = &mut *scratch;
         self.scene.frame_into(fr, self.t, &self.q, &self.v);
         self.forces.deformations(fr, elements);
-        for (law, &(e, _)) in self.laws.iter_mut().zip(elements.iter()) {
-            let before = law.branch().stiffness;
+        for (j, (law, &(e, ed))) in self.laws.iter_mut().zip(elements.iter()).enumerate() {
+            let (before, intact) = (law.branch().stiffness, !law.failed());
+            let (e0, b0) = (law.displacement(), *law.branch());
             law.drive(&[e]);
-            if law.branch().stiffness != before {
+            if law.branch().stiffness != before || intact && law.failed() {
                 self.out.stats.branch_events += 1;
             }
+            if intact && law.failed() {
+                // rule G5 within this step, logged at its end
+                if self.key_acts_to_step_end {
+                    // the ledger's ½ h (f₀ ė₀ + 0) → the committed branch's work over the step
+                    let (f0, f1) = (b0.force(e0), b0.force(e));
+                    self.ledger[3] += 0.5 * (f0 + f1) * (e - e0) - 0.5 * h * f0 * self.rates[j];
+                }
+                let peak = law.gap_state().map_or(f64::NAN, |g| g.peak_force);
+                let rec = EventRecord::key_failure(self.t, j);
+                self.out.stats.count(rec.kind);
+                self.out.events.push(rec);
+                self.out.note_key_failure(self.t, j, peak);
+            }
+            self.rates[j] = ed;
         }
     }
 

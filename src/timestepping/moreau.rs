@@ -22,6 +22,7 @@ pub fn run_moreau(scene: &Scene, observer: &mut dyn Observer) -> Result<RunOutpu
 pub fn integrate_moreau(scene: &Scene, observer: &mut dyn Observer) -> Run {
     let wall = Instant::now();
     let mut s = Stepper::new(scene);
+    s.key_acts_to_step_end = true;
     let result = moreau_steps(&mut s, observer);
     let complete = result.is_ok();
     Run::new(s.finish(wall, 0.0, complete), result)
@@ -59,7 +60,7 @@ fn moreau_steps(s: &mut Stepper, observer: &mut dyn Observer) -> Result<(), Solv
         s.v = p.v_new;
         s.t = t1;
         s.ledger[4] += p.loss;
-        s.commit_laws();
+        s.commit_laws(h);
         let (qq, vv) = (s.q.clone(), s.v.clone());
         let power = s.forces_trial(t1, &qq, &vv, &mut f_k);
         s.add_power(power, h);

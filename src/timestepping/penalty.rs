@@ -75,7 +75,7 @@ fn penalty_steps(
         s.v = v1;
         a_k = a1;
         s.t = t1;
-        s.commit_laws();
+        s.commit_laws(h);
         let mut f = DVector::zeros(scene.ndof());
         let (qq, vv) = (s.q.clone(), s.v.clone());
         let p = s.forces_trial(t1, &qq, &vv, &mut f);

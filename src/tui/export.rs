@@ -40,7 +40,7 @@ pub fn export_csv(run: &RunData, window: (f64, f64), element: usize) -> (String,
         }
         chart.push('\n');
     }
-    let ev = crate::output::events_csv(&run.events, &run.contact_names);
+    let ev = crate::output::events_csv(&run.events, &run.contact_names, &run.element_names);
     (chart, ev)
 }
 

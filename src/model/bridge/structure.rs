@@ -38,6 +38,8 @@ fn scale_law(law: &Law, kf: f64, ff: f64) -> Law {
             yield_displacement: yield_displacement.map(|d| d * ff / kf),
             unloading_exponent,
         },
+        // the compression-only gap laws are refused as column laws (validate.rs)
+        law @ (Law::Backfill { .. } | Law::Key { .. }) => law,
     }
 }
 

@@ -42,6 +42,13 @@ pub(super) fn validate(f: &BridgeFile, frames: &[Frame], ck: &Check) -> Result<(
     col.law
         .validate()
         .map_err(|e| ck.err("column.law", e.to_string()))?;
+    if col.law.is_gap_law() {
+        return Err(ck.err(
+            "column.law",
+            "a column law is linear, bilinear or takeda (backfill and key are compression-only \
+             gap laws of abutments and keys)",
+        ));
+    }
     ck.positive("damping.ratio", f.damping.ratio).or_else(|e| {
         if f.damping.ratio == 0.0 {
             Ok(0.0)

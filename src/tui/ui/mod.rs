@@ -15,7 +15,7 @@ mod time;
 mod timeline;
 
 pub use cache::Cache;
-pub use timeline::event_strip;
+pub use timeline::{event_strip, key_failure_mark, key_strip};
 
 use crate::tui::app::{App, MIN_HEIGHT, MIN_WIDTH, Mode, View};
 use ratatui::Frame;

@@ -4,6 +4,7 @@
 use super::cache::Cache;
 use super::common::{LABEL_W, Theme, overlay_run, shown_run};
 use super::timeline::draw_timeline;
+use crate::output::EventKind;
 use crate::tui::app::App;
 use crate::tui::chart::{self, bounds, fmt_num};
 use crate::tui::run_data::RunData;
@@ -53,7 +54,8 @@ pub(super) fn draw_time_panel(
     let nc = run.contact_names.len();
     let max_rows = (area.height as usize / 3).max(1);
     let strip_rows = nc.min(max_rows).min(8) as u16;
-    let tl_h = 2 + strip_rows.max(if nc == 0 { 0 } else { 1 });
+    let keys = u16::from(run.count(EventKind::KeyFailure) > 0);
+    let tl_h = 2 + strip_rows.max(if nc == 0 { 0 } else { 1 }) + keys;
     let charts_h = area.height.saturating_sub(tl_h);
     let fit: usize = if charts_h >= 12 {
         3

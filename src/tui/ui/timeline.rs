@@ -1,18 +1,20 @@
 //! The event strip: one row per contact on the charts' time axis (events over the contact
-//! state), the cursor column, the time axis.
+//! state), a row of shear-key failures when there are any, the cursor column, the time axis.
 
 use super::cache::{Cache, Key, time_key};
 use super::common::{LABEL_W, Theme};
-use crate::output::{ContactState, EventKind};
+use crate::output::{ContactState, EventKind, EventRecord};
 use crate::tui::chart::{self, column_of, fmt_num};
 use crate::tui::run_data::RunData;
 use ratatui::Frame;
 use ratatui::layout::{Alignment, Rect};
+use ratatui::style::Style;
 use ratatui::text::{Line, Span};
 use ratatui::widgets::Paragraph;
 
 /// Per-contact event strip: events (impact `*`, stick `S`, slip `~`, release `^`,
-/// accumulation `!`) over the contact state (stuck `█`/`#`, sliding `▒`/`=`, open ` `).
+/// accumulation `!`) over the contact state (stuck `█`/`#`, sliding `▒`/`=`, open ` `); key
+/// failures have their own row ([`key_strip`]).
 pub fn event_strip(
     run: &RunData,
     contact: usize,
@@ -69,7 +71,8 @@ pub fn event_strip(
         })
         .collect();
     let mut prio = vec![0u8; width];
-    for e in run.events.iter().filter(|e| e.contact == contact) {
+    let of_contact = |e: &&EventRecord| e.contact == contact && e.kind.of_contact();
+    for e in run.events.iter().filter(of_contact) {
         if let Some(c) = column_of(e.t, t0, t1, width, per_cell) {
             let (p, ch) = match e.kind {
                 EventKind::Impact => (5, '*'),
@@ -77,6 +80,7 @@ pub fn event_strip(
                 EventKind::Stick => (3, 'S'),
                 EventKind::Slip => (2, '~'),
                 EventKind::Release => (1, '^'),
+                EventKind::KeyFailure => continue,
             };
             if p > prio[c] {
                 prio[c] = p;
@@ -86,6 +90,36 @@ pub fn event_strip(
     }
     out
 }
+
+/// The mark of a key failure: `╳`, ASCII `X`.
+pub fn key_failure_mark(ascii: bool) -> char {
+    if ascii { 'X' } else { '╳' }
+}
+
+/// The shear-key row: a mark ([`key_failure_mark`]) at each key failure, blank elsewhere.
+pub fn key_strip(
+    run: &RunData,
+    t0: f64,
+    t1: f64,
+    width: usize,
+    per_cell: usize,
+    ascii: bool,
+) -> Vec<char> {
+    let mut out = vec![' '; width];
+    let failures = run
+        .events
+        .iter()
+        .filter(|e| e.kind == EventKind::KeyFailure);
+    for e in failures {
+        if let Some(c) = column_of(e.t, t0, t1, width, per_cell) {
+            out[c] = key_failure_mark(ascii);
+        }
+    }
+    out
+}
+
+/// Label of the shear-key row.
+const KEYS_LABEL: &str = "keys";
 
 /// Draws the event strip of `run` over the window `t0..t1` with the cursor at `tc`.
 pub(super) fn draw_timeline(
@@ -102,34 +136,50 @@ pub(super) fn draw_timeline(
     let w = area.width.saturating_sub(LABEL_W + 1) as usize;
     let per_cell = th.per_cell();
     let nc = run.contact_names.len();
-    let rows = (area.height as usize).saturating_sub(2).min(nc);
-    let mut lines = vec![legend(frame, area, tc, th)];
+    let keys = run.count(EventKind::KeyFailure) > 0;
+    let room = (area.height as usize).saturating_sub(2);
+    let rows = room.saturating_sub(usize::from(keys)).min(nc);
+    let mut lines = vec![legend(frame, area, tc, keys, th)];
     let key = Key {
         extra: u64::from(th.ascii),
         ..time_key(run, t0, t1, w as u16)
     };
     let strips = cache.strips(run.id, key, || {
-        (0..nc)
+        let mut v: Vec<Vec<char>> = (0..nc)
             .map(|i| event_strip(run, i, t0, t1, w, per_cell, th.ascii))
-            .collect()
+            .collect();
+        if keys {
+            v.push(key_strip(run, t0, t1, w, per_cell, th.ascii));
+        }
+        v
     });
     let cur_col = column_of(tc, t0, t1, w, per_cell);
     for (i, strip) in strips.iter().enumerate().take(rows) {
-        lines.push(strip_line(run, i, strip, cur_col, th));
+        let name = run.contact_names[i].as_str();
+        lines.push(strip_line(name, th.series(i), strip, cur_col, th));
+    }
+    if let Some(strip) = strips.get(nc).filter(|_| keys && room > 0) {
+        lines.push(strip_line(KEYS_LABEL, th.cursor(), strip, cur_col, th));
     }
     lines.push(time_axis(t0, t1, w, per_cell, th));
     frame.render_widget(Paragraph::new(lines), area);
 }
 
-/// The legend line; draws the cursor time at its right.
-fn legend(frame: &mut Frame, area: Rect, tc: f64, th: &Theme) -> Line<'static> {
+/// The legend line (with the key-failure mark if `keys`); draws the cursor time at its right.
+fn legend(frame: &mut Frame, area: Rect, tc: f64, keys: bool, th: &Theme) -> Line<'static> {
     let stuck = if th.ascii { "#" } else { "█" };
     let slide = if th.ascii { "=" } else { "▒" };
     let tnow = format!(" t = {} s", fmt_num(tc, 9));
-    let legend = if area.width as usize >= 60 + tnow.len() {
-        format!("* impact  S stick  ~ slip  ^ release  {stuck} stuck  {slide} sliding")
+    let mark = key_failure_mark(th.ascii);
+    let (long_keys, short_keys) = if keys {
+        (format!("  {mark} key failure"), format!(" {mark}key"))
     } else {
-        format!("*impact S stick ~slip ^release {stuck}stuck {slide}slide")
+        (String::new(), String::new())
+    };
+    let legend = if area.width as usize >= 60 + long_keys.chars().count() + tnow.len() {
+        format!("* impact  S stick  ~ slip  ^ release  {stuck} stuck  {slide} sliding{long_keys}")
+    } else {
+        format!("*impact S stick ~slip ^release {stuck}stuck {slide}slide{short_keys}")
     };
     let head = Line::from(vec![
         Span::styled("events ", th.bold()),
@@ -148,21 +198,18 @@ fn legend(frame: &mut Frame, area: Rect, tc: f64, th: &Theme) -> Line<'static> {
     head
 }
 
-/// One contact's row: its name, the strip, the cursor column in reverse video.
+/// One row: its name (in `style`), the strip, the cursor column in reverse video.
 fn strip_line(
-    run: &RunData,
-    i: usize,
+    name: &str,
+    style: Style,
     strip: &[char],
     cur_col: Option<usize>,
     th: &Theme,
 ) -> Line<'static> {
-    let name: String = run.contact_names[i]
-        .chars()
-        .take(LABEL_W as usize - 1)
-        .collect();
+    let name: String = name.chars().take(LABEL_W as usize - 1).collect();
     let mut spans = vec![Span::styled(
         format!("{name:>lw$} ", lw = LABEL_W as usize - 1),
-        th.series(i),
+        style,
     )];
     spans.push(Span::styled("│", th.dim()));
     let s: String = strip.iter().collect();

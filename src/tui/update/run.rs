@@ -109,6 +109,10 @@ pub(super) fn on_done(app: &mut App, run: u64, outcome: RunOutcome) -> Vec<Effec
                 cur.count(EventKind::Slip),
                 cur.count(EventKind::Release),
             );
+            let keys = match cur.count(EventKind::KeyFailure) {
+                0 => String::new(),
+                k => format!(", {k} key failures"),
+            };
             let t = cur.t_sim;
             // a run started by a reload keeps saying so
             let prefix = if app.status.starts_with("reloaded") {
@@ -118,7 +122,7 @@ pub(super) fn on_done(app: &mut App, run: u64, outcome: RunOutcome) -> Vec<Effec
             };
             app.set_status(
                 StatusKind::Ok,
-                format!("{prefix}{label} finished at t = {t:.3} s: {imp} impacts, {st} sticks, {sl} slips, {re} releases"),
+                format!("{prefix}{label} finished at t = {t:.3} s: {imp} impacts, {st} sticks, {sl} slips, {re} releases{keys}"),
             );
         }
         RunOutcome::Cancelled { t } => {

@@ -1,0 +1,131 @@
+//! history.csv: its columns and its writer.
+
+use super::{RunOutput, Sample, SampleKind};
+use std::io::Write;
+use std::path::Path;
+
+impl RunOutput {
+    pub fn write_history(&self, path: &Path) -> std::io::Result<()> {
+        let file = std::io::BufWriter::new(std::fs::File::create(path)?);
+        let mut w = HistoryWriter::new(file, self)?;
+        w.write(&self.samples)?;
+        w.finish().map(|_| ())
+    }
+}
+
+/// Writes history.csv: the header, then rows as they come (a run streamed to disk writes each
+/// batch of samples as the observer is handed it; [`RunOutput::write_history`] all at once).
+pub struct HistoryWriter<W: Write> {
+    w: W,
+    rows: usize,
+}
+
+impl<W: Write> HistoryWriter<W> {
+    /// The writer, its header written: the columns of `out`'s DOFs, contacts and elements.
+    pub fn new(mut w: W, out: &RunOutput) -> std::io::Result<Self> {
+        writeln!(w, "{}", history_header(out).join(","))?;
+        Ok(Self { w, rows: 0 })
+    }
+
+    /// Rows written so far.
+    pub fn rows(&self) -> usize {
+        self.rows
+    }
+
+    /// One row per sample, written field by field: no string per value.
+    pub fn write(&mut self, samples: &[Sample]) -> std::io::Result<()> {
+        let w = &mut self.w;
+        let num = |w: &mut W, x: f64| write!(w, ",{x:.12e}");
+        for s in samples {
+            let kind = match s.kind {
+                SampleKind::Grid => "grid",
+                SampleKind::PreEvent => "pre-event",
+                SampleKind::PostEvent => "post-event",
+            };
+            write!(w, "{:.12e},{kind}", s.t)?;
+            for &x in s.q.iter().chain(s.v.iter()) {
+                num(w, x)?;
+            }
+            for c in &s.contacts {
+                for x in [
+                    c.gap,
+                    c.gap_rate,
+                    c.slip_rate,
+                    c.normal_force,
+                    c.tangential_force,
+                ] {
+                    num(w, x)?;
+                }
+                write!(w, ",{}", c.state.label())?;
+            }
+            for &(e, f) in &s.elements {
+                num(w, e)?;
+                num(w, f)?;
+            }
+            let en = &s.energy;
+            for x in [
+                en.kinetic,
+                en.elastic,
+                en.hysteretic,
+                en.damping,
+                en.friction,
+                en.impact_normal,
+                en.impact_tangential,
+                en.loads,
+                en.supports,
+                en.closure,
+            ] {
+                num(w, x)?;
+            }
+            writeln!(w)?;
+        }
+        self.rows += samples.len();
+        Ok(())
+    }
+
+    /// Flushes and returns the inner writer.
+    pub fn finish(mut self) -> std::io::Result<W> {
+        self.w.flush()?;
+        Ok(self.w)
+    }
+}
+
+/// The energy columns of history.csv, in order.
+const ENERGY_COLUMNS: [&str; 10] = [
+    "kinetic",
+    "elastic",
+    "hysteretic",
+    "damping",
+    "friction",
+    "impact_normal",
+    "impact_tangential",
+    "loads",
+    "supports",
+    "closure",
+];
+
+/// The columns of a contact in history.csv, in order.
+const CONTACT_COLUMNS: [&str; 6] = [
+    "gap",
+    "gap_rate",
+    "slip_rate",
+    "normal_force",
+    "tangential_force",
+    "state",
+];
+
+/// The header of history.csv.
+fn history_header(out: &RunOutput) -> Vec<String> {
+    let mut head = vec!["t".to_string(), "row".to_string()];
+    head.extend(out.dof_names.iter().cloned());
+    head.extend(out.dof_names.iter().map(|n| format!("d/dt {n}")));
+    for c in &out.contact_names {
+        head.extend(CONTACT_COLUMNS.iter().map(|f| format!("{c}.{f}")));
+    }
+    for e in &out.element_names {
+        head.push(format!("{e}.deformation"));
+        head.push(format!("{e}.force"));
+    }
+    head.extend(ENERGY_COLUMNS.iter().map(|f| format!("energy.{f}")));
+    head
+}
