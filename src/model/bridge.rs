@@ -424,6 +424,7 @@ fn deck_and_abutments(f: &BridgeFile, plan: &Plan) -> (Vec<Body>, DVector<f64>, 
             inertia: a.inertia,
             reference: Vector2::new(-ls - gap0, 0.0),
             dofs: [Some(0), None, Some(1)],
+            drive: [None; 2],
         },
         Body {
             name: "deck".into(),
@@ -431,6 +432,7 @@ fn deck_and_abutments(f: &BridgeFile, plan: &Plan) -> (Vec<Body>, DVector<f64>, 
             inertia: d.inertia,
             reference: Vector2::zeros(),
             dofs: [Some(2), Some(3), Some(4)],
+            drive: [None; 2],
         },
         Body {
             name: "right_abutment".into(),
@@ -438,6 +440,7 @@ fn deck_and_abutments(f: &BridgeFile, plan: &Plan) -> (Vec<Body>, DVector<f64>, 
             inertia: a.inertia,
             reference: Vector2::new(ls + gap0, 0.0),
             dofs: [Some(5), None, Some(6)],
+            drive: [None; 2],
         },
     ];
     let mass = DVector::from_vec(vec![

@@ -62,12 +62,22 @@ struct Pose<'a> {
     run: Option<&'a RunData>,
     idx: Option<usize>,
     s: f64,
+    /// Time of the sample (the ground's motion moves driven bodies).
+    t: f64,
 }
 
 impl Pose<'_> {
-    /// Displacement (x, y) and rotation of body `b`.
+    /// Displacement (x, y) and rotation of body `b` (a driven body's: its supports' u_g(t)).
     fn disp(&self, b: usize) -> (Vector2<f64>, f64) {
         let body = &self.scene.bodies[b];
+        if body.is_driven() {
+            let supports = &self.scene.supports;
+            let u = body.drive.map(|s| {
+                s.and_then(|s| supports.get(s))
+                    .map_or(0.0, |s| s.at(self.t).0)
+            });
+            return (Vector2::new(u[0], u[1]), 0.0);
+        }
         let get = |a: usize| -> f64 {
             match (body.dofs[a], self.run, self.idx) {
                 (Some(k), Some(r), Some(i)) => {
@@ -167,7 +177,16 @@ pub(super) fn draw_plan(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
     let s = plan_scale(app, hx);
     let run = shown_run(app);
     let idx = run.and_then(|r| chart::at_or_before(&r.t, tc));
-    let pose = Pose { scene, run, idx, s };
+    let t = (run.zip(idx))
+        .and_then(|(r, i)| r.t.get(i).copied())
+        .unwrap_or(tc);
+    let pose = Pose {
+        scene,
+        run,
+        idx,
+        s,
+        t,
+    };
     let states = pose.states();
     let body_color = th.series(0).fg.unwrap_or(Color::Reset);
     let face_color = if th.color { Color::Gray } else { Color::Reset };
