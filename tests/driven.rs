@@ -325,3 +325,79 @@ gap = 0.0
     assert!((last.v[0] - a * w).abs() < 1e-9, "leaves at {}", last.v[0]);
     assert_eq!(last.kind, SampleKind::Grid);
 }
+
+#[test]
+fn bad_drives_and_two_body_elements_name_file_line_and_field() {
+    let base = block_and_wall(-1.0, 0.3, 0.5);
+    let cases = [
+        // a driven body with DOFs
+        (
+            base.replace(
+                "drive_x = \"ground\"",
+                "drive_x = \"ground\"\ndofs = [\"x\"]",
+            ),
+            ":15: body.0.dofs",
+            "has no DOFs",
+        ),
+        (
+            base.replace("drive_x = \"ground\"", "drive_y = \"quake\""),
+            ":14: body.0.drive_y",
+            "no support named 'quake'",
+        ),
+        (
+            base.replace("mass = 0.0\ndrive_x = \"ground\"", "mass = 1.0"),
+            ": body.0.dofs",
+            "drive_x / drive_y",
+        ),
+        // a contact between a driven body and the ground
+        (
+            base.replace(
+                "body = \"block\"\nface_body = \"wall\"",
+                "body = \"wall\"\nface_body = \"ground\"",
+            ),
+            ":24: contact.0.face_body",
+            "neither body has DOFs",
+        ),
+        // a two-body spring with a support, or on itself, or acting on nothing
+        (
+            format!(
+                "{base}[[spring]]\nname = \"k\"\nbody = \"block\"\nother = \"wall\"\n\
+                 direction = [1.0, 0.0]\nstiffness = 1.0\nsupport = \"ground\"\n"
+            ),
+            ":34: spring.0.support",
+            "has no support",
+        ),
+        (
+            format!(
+                "{base}[[spring]]\nname = \"k\"\nbody = \"block\"\nother = \"block\"\n\
+                 direction = [1.0, 0.0]\nstiffness = 1.0\n"
+            ),
+            ":31: spring.0.other",
+            "to itself",
+        ),
+        (
+            format!(
+                "{base}[[spring]]\nname = \"k\"\nbody = \"wall\"\ndirection = [1.0, 0.0]\n\
+                 stiffness = 1.0\nsupport = \"ground\"\n"
+            ),
+            ":30: spring.0.body",
+            "act on nothing",
+        ),
+        (
+            format!(
+                "{base}[[spring]]\nname = \"k\"\nbody = \"block\"\nother_point = [1.0, 0.0]\n\
+                 direction = [1.0, 0.0]\nstiffness = 1.0\n"
+            ),
+            ":31: spring.0.other_point",
+            "without `other`",
+        ),
+    ];
+    for (text, at, why) in cases {
+        let e = deckspin::model::load_str(&text, Path::new("bad.toml"), &[]).expect_err(at);
+        let msg = e.to_string();
+        assert!(
+            msg.starts_with("bad.toml") && msg.contains(at) && msg.contains(why),
+            "{msg}"
+        );
+    }
+}
