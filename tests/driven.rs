@@ -76,6 +76,11 @@ fn block_hits_moving_wall_with_newton_restitution_in_the_walls_frame() {
         assert!(big_v > 0.4, "the wall moves toward the block ({big_v})");
         let v_after = big_v - eps * (v - big_v);
         let post = post_event(&r, e.t);
+        eprintln!(
+            "ε = {eps}: impact time off by {:.1e} s, v⁺ by {:.1e} m/s",
+            (e.t - t_star).abs(),
+            (post.v[0] - v_after).abs()
+        );
         assert!(
             (post.v[0] - v_after).abs() < 1e-12,
             "ε = {eps}: v⁺ = {}, expected {v_after}",
@@ -210,6 +215,7 @@ fn energy_balance_closes_with_the_work_of_a_moving_face() {
     let deepest = (r.samples.iter())
         .map(|s| s.contacts[0].gap)
         .fold(f64::INFINITY, f64::min);
+    eprintln!("incline: closure {worst:.1e}, wall work {wall:.3}, deepest gap {deepest:.1e} m");
     assert!(deepest >= -1e-9, "penetration {deepest:e} m");
     assert!(r.summary.max_penetration <= 1e-9);
 }
@@ -239,6 +245,11 @@ fn fixed_step_methods_close_the_balance_to_their_order() {
             worst
         };
         let e: Vec<f64> = (0..4).map(|k| err(h / f64::powi(2.0, k))).collect();
+        let shown: Vec<String> = e.iter().map(|x| format!("{x:.2e}")).collect();
+        eprintln!(
+            "{method}: closure {} at h = {h:e} / 1, 2, 4, 8",
+            shown.join(" ")
+        );
         let ratio = 0.5f64.powi(order);
         for k in 1..4 {
             let r = e[k] / e[k - 1];
@@ -294,7 +305,7 @@ gap = 0.0
     );
     let r = run_text(&text, "push.toml").unwrap();
     let t_r = PI / (2.0 * w);
-    let mut checked = 0;
+    let (mut checked, mut worst) = (0, 0.0f64);
     // (after the contact closed at t = 0: the pre-event sample has no force yet)
     let pushed = |s: &&deckspin::output::Sample| s.kind != SampleKind::PreEvent && s.t < t_r - 1e-9;
     for s in r.samples.iter().filter(pushed) {
@@ -309,6 +320,7 @@ gap = 0.0
             (s.q[0] + a * (w * s.t).cos()).abs() < 1e-11,
             "moves with the wall"
         );
+        worst = worst.max((s.contacts[0].normal_force - lam).abs() / (m * a * w * w));
         checked += 1;
     }
     assert!(checked >= 10);
@@ -316,6 +328,10 @@ gap = 0.0
         .filter(|e| e.kind == EventKind::Release)
         .collect();
     assert_eq!(release.len(), 1);
+    eprintln!(
+        "pushed block: λ_N off by {worst:.1e} of m A ω², release by {:.1e} s",
+        (release[0].t - t_r).abs()
+    );
     assert!(
         (release[0].t - t_r).abs() < 1e-9,
         "release at {}",
