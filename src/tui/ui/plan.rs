@@ -286,3 +286,51 @@ fn paint_contacts(ctx: &mut Context, pose: &Pose, states: &[ContactState], th: &
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::Pose;
+    use crate::scene::BodyRef;
+    use nalgebra::Vector2;
+
+    #[test]
+    fn a_driven_wall_is_placed_at_its_supports_motion() {
+        let text = r#"
+[[support]]
+name = "ground"
+kind = "harmonic"
+amplitude = 0.2
+frequency = 0.5
+[[body]]
+name = "wall"
+mass = 0.0
+position = [-1.0, 0.5]
+drive_x = "ground"
+[[body]]
+name = "block"
+mass = 1.0
+dofs = ["x"]
+[[contact]]
+name = "face"
+body = "block"
+face_body = "wall"
+normal = [1.0, 0.0]
+gap = 0.1
+"#;
+        let scene = crate::model::load_str(text, std::path::Path::new("wall.toml"), &[]).unwrap();
+        // a quarter period: u_g = A; magnified 10 times
+        let pose = Pose {
+            scene: &scene,
+            run: None,
+            idx: None,
+            s: 10.0,
+            t: 0.5,
+        };
+        let (u, th) = pose.disp(0);
+        assert!((u - Vector2::new(0.2, 0.0)).norm() < 1e-15 && th == 0.0);
+        let p = pose.place(BodyRef::Body(0), Vector2::new(0.3, 0.0));
+        assert!((p - Vector2::new(-1.0 + 10.0 * 0.2 + 0.3, 0.5)).norm() < 1e-14);
+        // the block without run data stays at its reference
+        assert_eq!(pose.disp(1).0, Vector2::zeros());
+    }
+}
