@@ -139,9 +139,11 @@ pub fn apply_rayleigh(
     Ok((a0, a1))
 }
 
-/// Quasi-static influence of each support, r_s = K₀⁻¹ Σ k J (unit support displacement), as
-/// (DOF, support, r) entries above 1e-14. One pass over the elements (grouped by support, in
-/// file order: springs, then hysteretic elements), so the cost is linear in their number.
+/// Quasi-static influence of each support, r_s = K₀⁻¹ Σ −k c J for the elements whose
+/// deformation e = J q + c u_s a unit support displacement changes (c = −1 for an element to
+/// the support; ±d_x, ±d_y for a two-body element on a body the support drives), as (DOF,
+/// support, r) entries above 1e-14. One pass over the elements (grouped by support, in file
+/// order: springs, then hysteretic elements), so the cost is linear in their number.
 pub fn support_influence(scene: &Scene) -> Vec<(usize, usize, f64)> {
     let k0 = initial_stiffness(scene);
     let n = scene.ndof();
@@ -160,6 +162,22 @@ pub fn support_influence(scene: &Scene) -> Vec<(usize, usize, f64)> {
     for (s, att, k) in springs.chain(hyst) {
         if let Some(list) = s.and_then(|s| driven.get_mut(s)) {
             list.push((att, k));
+        }
+        if let Attachment::Relative {
+            body,
+            other,
+            direction,
+            ..
+        } = *att
+        {
+            // e ∋ d·u_a − d·u_b of the bodies moved by the ground
+            for (b, sign) in [(body, -1.0), (other, 1.0)] {
+                for (a, s) in scene.bodies[b].drive.into_iter().enumerate() {
+                    if let Some(list) = s.and_then(|s| driven.get_mut(s)) {
+                        list.push((att, sign * direction[a] * k));
+                    }
+                }
+            }
         }
     }
     let mut reference = Vec::new();

@@ -81,13 +81,21 @@ impl Engine<'_> {
         let o = out.as_mut_slice();
         o[..n].copy_from_slice(&y.as_slice()[n..2 * n]);
         o[n..2 * n].copy_from_slice(&d.qdd.as_slice()[..n]);
-        let mut contact_loss = 0.0;
+        // −λ·ġ (relative rates) is dissipated; −λ·∂g/∂t is the work of faces moved by the ground
+        let (mut contact_loss, mut driven) = (0.0, 0.0);
         for i in 0..d.kin.len() {
-            contact_loss -= d.lam_n[i] * d.kin[i].gap_rate + d.lam_t[i] * d.kin[i].slip_rate;
+            let k = &d.kin[i];
+            contact_loss -= d.lam_n[i] * k.gap_rate + d.lam_t[i] * k.slip_rate;
+        }
+        if self.forces.driven_bodies() {
+            for i in 0..d.kin.len() {
+                let k = &d.kin[i];
+                driven -= d.lam_n[i] * k.driven_n + d.lam_t[i] * k.driven_t;
+            }
         }
         o[2 * n..2 * n + 5].copy_from_slice(&[
             d.power.loads,
-            d.power.supports,
+            d.power.supports + driven,
             d.power.damping,
             d.power.hysteretic,
             contact_loss,

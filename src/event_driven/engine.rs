@@ -6,9 +6,7 @@ use super::workspace::Workspace;
 use crate::hysteresis::Hysteretic;
 use crate::output::{ContactState, RunOutput};
 use crate::run::SolverError;
-use crate::scene::{
-    Attachment, ContactKinematics, ForceModel, Frame, LEDGER_TERMS, Scene, smooth_forces,
-};
+use crate::scene::{ContactKinematics, ForceModel, Frame, LEDGER_TERMS, Scene, smooth_forces};
 use nalgebra::DVector;
 
 /// The engine of one run: its scene, the physical [`State`] and reused storage.
@@ -149,30 +147,29 @@ impl<'a> Engine<'a> {
         self.element_deformation_in(j, self.state.t, &self.state.y)
     }
 
-    /// The body a hysteretic element is attached to.
-    pub(super) fn element_body(&self, j: usize) -> usize {
-        match self.scene.hysteretic[j].attachment {
-            Attachment::Point { body, .. } | Attachment::Rotation { body } => body,
-        }
+    /// The bodies a hysteretic element is attached to (the other one of a two-body element).
+    pub(super) fn element_bodies(&self, j: usize) -> (usize, Option<usize>) {
+        self.scene.hysteretic[j].attachment.bodies()
     }
 
-    /// (e, ė) of hysteretic element j at (t, y): only its body's entries of y are read.
+    /// (e, ė) of hysteretic element j at (t, y): only its bodies' entries of y are read.
     pub(super) fn element_deformation_in(&self, j: usize, t: f64, y: &DVector<f64>) -> (f64, f64) {
         let scene = self.scene;
         let el = &scene.hysteretic[j];
-        let pose = scene.body_state_from(self.element_body(j), y, self.n);
+        let (a, b) = self.element_bodies(j);
+        let pose = scene.body_state_at(a, t, y, self.n);
+        let other = b.map_or(pose, |b| scene.body_state_at(b, t, y, self.n));
         let sup = el
             .support
             .map_or((0.0, 0.0, 0.0), |s| scene.supports[s].at(t));
-        let (e, ed, ..) = scene.deformation_at(&el.attachment, &pose, sup);
-        (e, ed)
+        scene.deformation_value(&el.attachment, &pose, &other, sup)
     }
 
     /// Kinematics of contact i at the current state.
     pub(super) fn contact_kinematics_now(&self, i: usize) -> ContactKinematics {
         let (q, v) = (self.q(), self.v());
         let mut fr = Frame::default();
-        self.scene.poses_into(&mut fr, &q, &v);
+        self.scene.poses_into(&mut fr, self.state.t, &q, &v);
         self.scene.contact_kinematics(&fr, &self.scene.contacts[i])
     }
 

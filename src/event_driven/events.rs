@@ -108,7 +108,7 @@ impl<'a> Engine<'a> {
                 scene.frame_into(&mut fr, t, &self.ws.event_qv.0, &self.ws.event_qv.1);
             } else {
                 // contact functions need the poses only
-                scene.poses_into(&mut fr, &self.ws.event_qv.0, &self.ws.event_qv.1);
+                scene.poses_into(&mut fr, t, &self.ws.event_qv.0, &self.ws.event_qv.1);
             }
             defo.clear();
             defo.resize(scene.hysteretic.len(), (f64::NAN, f64::NAN));
@@ -144,8 +144,7 @@ impl<'a> Engine<'a> {
                 EventFn::Lower(j) | EventFn::Upper(j) | EventFn::Reversal(j) => {
                     if defo[j].0.is_nan() {
                         let el = &scene.hysteretic[j];
-                        let (e, ed, ..) = scene.deformation(&fr, &el.attachment, el.support);
-                        defo[j] = (e, ed);
+                        defo[j] = scene.deformation_rates(&fr, &el.attachment, el.support);
                     }
                     let (e, ed) = defo[j];
                     let b = self.state.laws[j].branch();

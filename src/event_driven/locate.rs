@@ -297,15 +297,14 @@ pub(super) fn illinois(
     let (_, tb) = bracket_root(ta, tb, fa, fb, tol, |tm| {
         let theta = (tm - step.t0) / step.h;
         let mut fm = match fns[k] {
-            // a branch function needs only its element: one body pose, one support
+            // a branch function needs only its element: its bodies' poses, one support
             EventFn::Lower(j) | EventFn::Upper(j) | EventFn::Reversal(j) => {
-                for d in eng.scene.bodies[eng.element_body(j)]
-                    .dofs
-                    .into_iter()
-                    .flatten()
-                {
-                    y[d] = step.dense_component(theta, d);
-                    y[n + d] = step.dense_component(theta, n + d);
+                let (a, b) = eng.element_bodies(j);
+                for body in std::iter::once(a).chain(b) {
+                    for d in eng.scene.bodies[body].dofs.into_iter().flatten() {
+                        y[d] = step.dense_component(theta, d);
+                        y[n + d] = step.dense_component(theta, n + d);
+                    }
                 }
                 let (e, ed) = eng.element_deformation_in(j, tm, &y);
                 let b = eng.state.laws[j].branch();

@@ -38,7 +38,7 @@ impl<'a> Engine<'a> {
             sc.elements.resize(scene.hysteretic.len(), (0.0, 0.0));
             if self.state.out.keep_history {
                 // (the running summary does not use them)
-                self.forces.deformations(&sc.fr, &mut sc.elements);
+                self.forces.deformations(scene, &sc.fr, &mut sc.elements);
             }
         } else {
             let y = std::mem::take(&mut self.state.y);
@@ -73,7 +73,7 @@ impl<'a> Engine<'a> {
                 .zip(scene.mass.as_slice())
                 .map(|(a, m)| m * a * a)
                 .sum::<f64>();
-        let mut energy = self.energy_terms(kinetic, self.forces.spring_energy(&d.fr));
+        let mut energy = self.energy_terms(kinetic, self.forces.spring_energy(scene, &d.fr));
         self.state.energy_scale = self.state.energy_scale.max(energy.scale());
         energy.closure = energy.balance();
         let (contacts, elements) = &self.ws.sample_rows;

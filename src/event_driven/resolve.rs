@@ -53,7 +53,8 @@ impl Engine<'_> {
 
     /// One impact pass (eq. 5–7) over the contacts with g_N ≤ gap_tol, if any of them
     /// approaches (ġ_N < −velocity_tol; else false): the velocity jump, the impact energies
-    /// ΔT = Λᵀ(ġ⁺ + ġ⁻)/2, the impact (and accumulation) events. `impacted` marks the contacts hit.
+    /// ΔT = Λᵀ(ġ⁺ + ġ⁻)/2 in relative rates (the loss in the frame of the faces) and the work
+    /// −Λ·∂g/∂t of faces moved by the ground, the impact (and accumulation) events. `impacted` marks the contacts hit.
     fn impact_phase(&mut self, impacted: &mut [bool]) -> Result<bool, SolverError> {
         let scene = self.scene;
         let st = &scene.settings;
@@ -118,11 +119,14 @@ impl Engine<'_> {
             self.state.y[self.n + k] += imp.velocity_jump[k];
         }
         for (a, &i) in set.iter().enumerate() {
-            let de_n = imp.normal_impulse[a] * (kin[i].gap_rate + imp.gap_rate_after[a]) / 2.0;
-            let de_t =
-                imp.tangential_impulse[a] * (kin[i].slip_rate + imp.slip_rate_after[a]) / 2.0;
+            let (p_n, p_t) = (imp.normal_impulse[a], imp.tangential_impulse[a]);
+            let de_n = p_n * (kin[i].gap_rate + imp.gap_rate_after[a]) / 2.0;
+            let de_t = p_t * (kin[i].slip_rate + imp.slip_rate_after[a]) / 2.0;
             self.state.impact_normal += de_n;
             self.state.impact_tangential += de_t;
+            // ΔT = Λ·Wᵀ(q̇⁺ + q̇⁻)/2 = ΔT_rel − Λ·∂g/∂t: a face moved by the ground works on
+            // the bodies
+            self.state.y[2 * self.n + 1] -= p_n * kin[i].driven_n + p_t * kin[i].driven_t;
             if approaching.contains(&i) || imp.normal_impulse[a] > 0.0 {
                 impacted[i] = true;
                 self.log_impact(i, &kin[i], &imp, a, accumulated[a])?;

@@ -214,8 +214,8 @@ fn resolution(scene: &Scene, bridge: bool, ck: &Check) -> Result<(), ModelError>
  ));
         }
     }
-    // the masses a contact impulse meets: m of each body, and I/r² at its farthest contact
-    // point (a deck of 1e-9 t·m² with corners 16 m out sank 2.3 cm at 1e-2 t)
+    // the masses a contact impulse meets: m of each body with DOFs, and I/r² at its farthest
+    // contact point (a deck of 1e-9 t·m² with corners 16 m out sank 2.3 cm at 1e-2 t)
     let mut masses: Vec<(f64, String, String)> = Vec::new();
     for (i, b) in scene.bodies.iter().enumerate() {
         let field = |k: &str| match bridge {
@@ -224,7 +224,7 @@ fn resolution(scene: &Scene, bridge: bool, ck: &Check) -> Result<(), ModelError>
             true => format!("frame.{}.{k}", i - 1),
             false => format!("body.{i}.{k}"),
         };
-        if b.mass > 0.0 {
+        if b.mass > 0.0 && !b.has_no_dofs() {
             masses.push((b.mass, field("mass"), format!("'{}' mass", b.name)));
         }
         if b.dofs[2].is_some() && b.inertia > 0.0 && arm[i] > 0.0 {

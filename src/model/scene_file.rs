@@ -22,8 +22,14 @@ pub struct BodySpec {
     pub mass: f64,
     #[serde(default)]
     pub inertia: f64,
-    /// Subset of "x", "y", "theta".
+    /// Subset of "x", "y", "theta" (empty for a body driven by the ground).
+    #[serde(default)]
     pub dofs: Vec<String>,
+    /// Support whose motion moves the body's x (a body without DOFs: a rigid abutment moving
+    /// with the ground).
+    pub drive_x: Option<String>,
+    /// Support whose motion moves the body's y.
+    pub drive_y: Option<String>,
     #[serde(default)]
     pub position: [f64; 2],
     #[serde(default)]
@@ -74,6 +80,10 @@ pub struct SpringSpec {
     pub point: [f64; 2],
     /// World direction of a translational spring.
     pub direction: Option<[f64; 2]>,
+    /// A second body: the spring measures d·[(P − P₀) − (P_other − P_other,₀)].
+    pub other: Option<String>,
+    /// The point of `other`, in its frame.
+    pub other_point: Option<[f64; 2]>,
     /// Torsional spring on θ instead.
     #[serde(default)]
     pub rotational: bool,
@@ -91,6 +101,9 @@ pub struct HystereticSpec {
     #[serde(default)]
     pub point: [f64; 2],
     pub direction: Option<[f64; 2]>,
+    /// A second body, as for springs.
+    pub other: Option<String>,
+    pub other_point: Option<[f64; 2]>,
     #[serde(default)]
     pub rotational: bool,
     pub law: Law,
@@ -158,8 +171,9 @@ pub fn compile(f: &SceneFile, ck: &Check, motions: &Motions) -> Result<Scene, Mo
         Some(g) => ck.vec2("gravity", g)?,
         None => Vector2::zeros(),
     };
-    let dofs = compile_bodies(f, ck, gravity)?;
+    let mut dofs = compile_bodies(f, ck, gravity)?;
     let (supports, support_names) = compile_supports(f, ck, path, motions)?;
+    drives(f, ck, &support_names, &mut dofs.bodies)?;
     let refs = Refs {
         ck,
         bodies: &dofs.bodies,
@@ -254,8 +268,13 @@ fn compile_body(
             format!("'{}' is empty, reserved or repeated", b.name),
         ));
     }
-    ck.positive(&fld("mass"), b.mass)?;
-    let mut dofs = body_dofs(b, ck, &fld)?;
+    let driven = b.drive_x.is_some() || b.drive_y.is_some();
+    if driven {
+        ck.nonneg(&fld("mass"), b.mass)?;
+    } else {
+        ck.positive(&fld("mass"), b.mass)?;
+    }
+    let mut dofs = body_dofs(b, driven, ck, &fld)?;
     if dofs[2].is_some() {
         ck.positive(&fld("inertia"), b.inertia)?;
     } else {
@@ -294,21 +313,51 @@ fn compile_body(
         inertia: b.inertia,
         reference,
         dofs,
+        drive: [None; 2],
     });
+    Ok(())
+}
+
+/// `drive_x`, `drive_y` of the bodies driven by the ground, resolved to supports.
+fn drives(
+    f: &SceneFile,
+    ck: &Check,
+    supports: &HashMap<String, usize>,
+    bodies: &mut [Body],
+) -> Result<(), ModelError> {
+    for (i, (b, body)) in f.bodies.iter().zip(bodies.iter_mut()).enumerate() {
+        for (a, name) in [&b.drive_x, &b.drive_y].into_iter().enumerate() {
+            if let Some(name) = name {
+                let field = format!("body.{i}.drive_{}", ["x", "y"][a]);
+                let s = supports
+                    .get(name)
+                    .ok_or_else(|| ck.err(&field, format!("no support named '{name}'")))?;
+                body.drive[a] = Some(*s);
+            }
+        }
+    }
     Ok(())
 }
 
 /// Which of x, y, θ the body moves in (`Some` placeholders; indices are set by the caller).
 fn body_dofs(
     b: &BodySpec,
+    driven: bool,
     ck: &Check,
     fld: &dyn Fn(&str) -> String,
 ) -> Result<[Option<usize>; 3], ModelError> {
     let mut dofs = [None; 3];
-    if b.dofs.is_empty() {
+    if driven && !b.dofs.is_empty() {
         return Err(ck.err(
             &fld("dofs"),
-            "a body needs at least one of \"x\", \"y\", \"theta\"",
+            "a body driven by the ground (drive_x, drive_y) has no DOFs: its motion is the \
+             support's",
+        ));
+    }
+    if b.dofs.is_empty() && !driven {
+        return Err(ck.err(
+            &fld("dofs"),
+            "a body needs at least one of \"x\", \"y\", \"theta\" (or drive_x / drive_y)",
         ));
     }
     for d in &b.dofs {
@@ -392,6 +441,17 @@ fn support_motion(
     })
 }
 
+/// Where an element acts, as the file gives it.
+struct Placement<'a> {
+    body: &'a str,
+    point: [f64; 2],
+    direction: Option<[f64; 2]>,
+    rotational: bool,
+    other: Option<&'a str>,
+    other_point: Option<[f64; 2]>,
+    support: &'a Option<String>,
+}
+
 /// Names in the file resolved to bodies and supports.
 struct Refs<'a> {
     ck: &'a Check<'a>,
@@ -424,34 +484,82 @@ impl Refs<'_> {
         }
     }
 
-    /// Where a spring or hysteretic element acts: a point and direction, or a body's θ.
+    /// A body of the scene (not the ground) for field `field`.
+    fn scene_body(&self, field: &str, name: &str) -> Result<usize, ModelError> {
+        match self.body(field, name)? {
+            BodyRef::Body(b) => Ok(b),
+            BodyRef::Ground => Err(self.ck.err(field, "must be a body")),
+        }
+    }
+
+    /// Where a spring or hysteretic element acts: a point and direction (against a support, or
+    /// relative to a point of `other`), or a body's θ; and its support.
     fn attachment(
         &self,
         fld: &dyn Fn(&str) -> String,
-        body: &str,
-        point: [f64; 2],
-        direction: Option<[f64; 2]>,
-        rotational: bool,
-    ) -> Result<Attachment, ModelError> {
+        p: &Placement,
+    ) -> Result<(Attachment, Option<usize>), ModelError> {
         let ck = self.ck;
-        let b = match self.body(&fld("body"), body)? {
-            BodyRef::Body(b) => b,
-            BodyRef::Ground => return Err(ck.err(&fld("body"), "must be a body")),
-        };
-        if rotational {
+        let b = self.scene_body(&fld("body"), p.body)?;
+        let support = self.support(&fld("support"), p.support)?;
+        if p.rotational {
             if self.bodies[b].dofs[2].is_none() {
                 return Err(ck.err(&fld("rotational"), "the body has no theta DOF"));
             }
-            Ok(Attachment::Rotation { body: b })
-        } else {
-            let d = direction
-                .ok_or_else(|| ck.err(&fld("direction"), "required unless rotational = true"))?;
-            Ok(Attachment::Point {
-                body: b,
-                point: ck.vec2(&fld("point"), point)?,
-                direction: ck.unit(&fld("direction"), d)?,
-            })
+            if p.other.is_some() {
+                return Err(ck.err(&fld("other"), "a rotational element has no other body"));
+            }
+            return Ok((Attachment::Rotation { body: b }, support));
         }
+        let d = (p.direction)
+            .ok_or_else(|| ck.err(&fld("direction"), "required unless rotational = true"))?;
+        let (point, direction) = (
+            ck.vec2(&fld("point"), p.point)?,
+            ck.unit(&fld("direction"), d)?,
+        );
+        let Some(other) = p.other else {
+            if p.other_point.is_some() {
+                return Err(ck.err(&fld("other_point"), "given without `other`"));
+            }
+            if self.bodies[b].has_no_dofs() {
+                return Err(ck.err(
+                    &fld("body"),
+                    "the body has no DOFs (it moves with the ground): the element would act on \
+                     nothing",
+                ));
+            }
+            let att = Attachment::Point {
+                body: b,
+                point,
+                direction,
+            };
+            return Ok((att, support));
+        };
+        let o = self.scene_body(&fld("other"), other)?;
+        if o == b {
+            return Err(ck.err(&fld("other"), "an element cannot join a body to itself"));
+        }
+        if support.is_some() {
+            return Err(ck.err(
+                &fld("support"),
+                "an element between two bodies has no support",
+            ));
+        }
+        if self.bodies[b].has_no_dofs() && self.bodies[o].has_no_dofs() {
+            return Err(ck.err(
+                &fld("other"),
+                "neither body has DOFs: the element would act on nothing",
+            ));
+        }
+        let other_point = ck.vec2(&fld("other_point"), p.other_point.unwrap_or([0.0; 2]))?;
+        let att = Attachment::Relative {
+            body: b,
+            point,
+            other: o,
+            other_point,
+            direction,
+        };
+        Ok((att, None))
     }
 
     /// Reference position of a body (ground: the origin).
@@ -476,6 +584,16 @@ fn compile_contact(i: usize, c: &ContactSpec, refs: &Refs) -> Result<Contact, Mo
         return Err(ck.err(
             &fld("body"),
             "the contact point must be on a body (put the face on ground)",
+        ));
+    }
+    let no_dofs = |r: BodyRef| match r {
+        BodyRef::Body(k) => refs.bodies[k].has_no_dofs(),
+        BodyRef::Ground => true,
+    };
+    if no_dofs(pb) && no_dofs(fb) {
+        return Err(ck.err(
+            &fld("face_body"),
+            "neither body has DOFs (fixed or moved by the ground): the contact could not act",
         ));
     }
     let point = ck.vec2(&fld("point"), c.point)?;
@@ -506,12 +624,24 @@ fn compile_springs(f: &SceneFile, refs: &Refs) -> Result<Vec<Spring>, ModelError
     let mut springs = Vec::new();
     for (i, s) in f.springs.iter().enumerate() {
         let fld = |k: &str| format!("spring.{i}.{k}");
+        let (attachment, support) = refs.attachment(
+            &fld,
+            &Placement {
+                body: &s.body,
+                point: s.point,
+                direction: s.direction,
+                rotational: s.rotational,
+                other: s.other.as_deref(),
+                other_point: s.other_point,
+                support: &s.support,
+            },
+        )?;
         springs.push(Spring {
             name: s.name.clone(),
-            attachment: refs.attachment(&fld, &s.body, s.point, s.direction, s.rotational)?,
+            attachment,
             stiffness: ck.nonneg(&fld("stiffness"), s.stiffness)?,
             damping: ck.nonneg(&fld("damping"), s.damping)?,
-            support: refs.support(&fld("support"), &s.support)?,
+            support,
         });
     }
     Ok(springs)
@@ -524,12 +654,24 @@ fn compile_hysteretic(f: &SceneFile, refs: &Refs) -> Result<Vec<HystereticElemen
     for (i, s) in f.hysteretic.iter().enumerate() {
         let fld = |k: &str| format!("hysteretic.{i}.{k}");
         let law = Hysteretic::new(s.law.clone()).map_err(|e| ck.err(&fld("law"), e.to_string()))?;
+        let (attachment, support) = refs.attachment(
+            &fld,
+            &Placement {
+                body: &s.body,
+                point: s.point,
+                direction: s.direction,
+                rotational: s.rotational,
+                other: s.other.as_deref(),
+                other_point: s.other_point,
+                support: &s.support,
+            },
+        )?;
         out.push(HystereticElement {
             name: s.name.clone(),
-            attachment: refs.attachment(&fld, &s.body, s.point, s.direction, s.rotational)?,
+            attachment,
             law,
             damping: ck.nonneg(&fld("damping"), s.damping)?,
-            support: refs.support(&fld("support"), &s.support)?,
+            support,
         });
     }
     Ok(out)

@@ -152,6 +152,8 @@ struct FlatElement {
     damping: f64,
     /// Direction along x (1) or y (2) exactly, else 0: half the kinematics suffices.
     axis: u8,
+    /// Between two bodies, or on a body without DOFs: evaluated apart ([`GeneralElement`]).
+    general: bool,
 }
 
 impl FlatElement {
@@ -161,9 +163,17 @@ impl FlatElement {
                 body,
                 point,
                 direction,
+            }
+            | Attachment::Relative {
+                body,
+                point,
+                direction,
+                ..
             } => (body, false, point, direction),
             Attachment::Rotation { body } => (body, true, Vector2::zeros(), Vector2::zeros()),
         };
+        let general =
+            matches!(att, Attachment::Relative { .. }) || scene.bodies[body].has_no_dofs();
         Self {
             body,
             rotation,
@@ -180,6 +190,7 @@ impl FlatElement {
             } else {
                 0
             },
+            general,
         }
     }
 
@@ -255,6 +266,18 @@ impl FlatElement {
     }
 }
 
+/// An element the per-body runs leave out: between two bodies, or on a body driven by the
+/// ground (ė = J q̇ − u̇ with u̇ ≠ u̇_g); evaluated by [`Scene::deformation`] after the runs.
+#[derive(Clone, Debug)]
+struct GeneralElement {
+    attachment: Attachment,
+    support: Option<usize>,
+    stiffness: f64,
+    damping: f64,
+    /// Index of a hysteretic element (its law), None for a linear spring.
+    hysteretic: Option<usize>,
+}
+
 /// Elements `start..end` of springs ++ hysteretic elements, all on `body`.
 #[derive(Clone, Debug)]
 struct ForceRun {
@@ -277,13 +300,28 @@ pub struct ForceModel {
     runs: Vec<ForceRun>,
     /// (dof, support, factor) of q̇_ref with supports that move alike merged.
     mass_reference: Vec<(usize, usize, f64)>,
+    /// Elements between two bodies or on driven bodies (not in the runs).
+    general: Vec<GeneralElement>,
+    /// Some body of the scene is driven by the ground.
+    driven_bodies: bool,
 }
 
 impl ForceModel {
     pub fn new(scene: &Scene) -> Self {
         let mut springs: Vec<FlatElement> = Vec::new();
+        let mut general = Vec::new();
         for s in &scene.springs {
             let f = FlatElement::new(scene, &s.attachment, s.support, s.stiffness, s.damping);
+            if f.general {
+                general.push(GeneralElement {
+                    attachment: s.attachment.clone(),
+                    support: s.support,
+                    stiffness: s.stiffness,
+                    damping: s.damping,
+                    hysteretic: None,
+                });
+                continue;
+            }
             match springs.iter_mut().find(|o| o.same_as(&f)) {
                 Some(o) => {
                     o.stiffness += f.stiffness;
@@ -292,11 +330,22 @@ impl ForceModel {
                 None => springs.push(f),
             }
         }
-        let elements = scene
+        let elements: Vec<FlatElement> = scene
             .hysteretic
             .iter()
             .map(|h| FlatElement::new(scene, &h.attachment, h.support, 0.0, h.damping))
             .collect();
+        for (j, (h, el)) in scene.hysteretic.iter().zip(&elements).enumerate() {
+            if el.general {
+                general.push(GeneralElement {
+                    attachment: h.attachment.clone(),
+                    support: h.support,
+                    stiffness: 0.0,
+                    damping: h.damping,
+                    hysteretic: Some(j),
+                });
+            }
+        }
         // supports driven by the same record with the same factor move alike
         let alias: Vec<usize> = scene
             .supports
@@ -326,8 +375,11 @@ impl ForceModel {
         }
         let mut runs: Vec<ForceRun> = Vec::new();
         for (i, el) in springs.iter().chain(&elements).enumerate() {
+            if el.general {
+                continue;
+            }
             match runs.last_mut() {
-                Some(r) if r.body == el.body => r.end = i + 1,
+                Some(r) if r.body == el.body && r.end == i => r.end = i + 1,
                 _ => runs.push(ForceRun {
                     body: el.body,
                     dofs: el.dofs,
@@ -342,7 +394,14 @@ impl ForceModel {
             references: scene.bodies.iter().map(|b| b.reference).collect(),
             runs,
             mass_reference,
+            general,
+            driven_bodies: scene.bodies.iter().any(|b| b.is_driven()),
         }
+    }
+
+    /// Some body of the scene is driven by the ground ([`super::Body::drive`]).
+    pub fn driven_bodies(&self) -> bool {
+        self.driven_bodies
     }
 
     /// h(t, q, q̇) into `h` (eq. 1: F_D + F_S + loads) and the ledger's power terms; (e, ė) of
@@ -403,6 +462,25 @@ impl ForceModel {
                 }
             }
         }
+        for g in &self.general {
+            let (e, ed, vg, jj, nj) = scene.deformation(fr, &g.attachment, g.support);
+            let fh = match g.hysteretic {
+                Some(j) => {
+                    elements[j] = (e, ed);
+                    laws[j].force(e)
+                }
+                None => g.stiffness * e,
+            };
+            let f = fh + g.damping * ed;
+            for &(k, c) in &jj[..nj] {
+                hs[k] -= f * c;
+            }
+            supports -= f * vg;
+            damping += g.damping * ed * ed;
+            if g.hysteretic.is_some() {
+                hysteretic += fh * ed;
+            }
+        }
         p.supports += supports;
         p.damping += damping;
         p.hysteretic += hysteretic;
@@ -413,21 +491,33 @@ impl ForceModel {
     }
 
     /// (e, ė) of each hysteretic element, as [`ForceModel::eval`] writes them.
-    pub fn deformations(&self, fr: &Frame, elements: &mut [(f64, f64)]) {
+    pub fn deformations(&self, scene: &Scene, fr: &Frame, elements: &mut [(f64, f64)]) {
         for (el, out) in self.elements.iter().zip(elements.iter_mut()) {
-            let (e, ed, ..) = el.deformation(fr, self.references[el.body]);
-            *out = (e, ed);
+            if !el.general {
+                let (e, ed, ..) = el.deformation(fr, self.references[el.body]);
+                *out = (e, ed);
+            }
+        }
+        for g in &self.general {
+            if let Some(j) = g.hysteretic {
+                let (e, ed, ..) = scene.deformation(fr, &g.attachment, g.support);
+                elements[j] = (e, ed);
+            }
         }
     }
 
     /// Elastic energy of the linear springs, Σ ½ k e².
-    pub fn spring_energy(&self, fr: &Frame) -> f64 {
-        self.springs
-            .iter()
-            .map(|s| {
-                let e = s.deformation(fr, self.references[s.body]).0;
-                0.5 * s.stiffness * e * e
-            })
-            .sum()
+    pub fn spring_energy(&self, scene: &Scene, fr: &Frame) -> f64 {
+        let fast = self.springs.iter().map(|s| {
+            let e = s.deformation(fr, self.references[s.body]).0;
+            0.5 * s.stiffness * e * e
+        });
+        let general = (self.general.iter())
+            .filter(|g| g.hysteretic.is_none())
+            .map(|g| {
+                let e = scene.deformation(fr, &g.attachment, g.support).0;
+                0.5 * g.stiffness * e * e
+            });
+        fast.chain(general).sum()
     }
 }

@@ -1,6 +1,7 @@
 //! Kinematics of the scene: body poses and support motions ([`Frame`]), exact corner-on-face
 //! contact kinematics (g_N, ġ_N, ġ_T, W_N, W_T and the velocity-product terms of eq. 8), and
-//! the deformation of force elements.
+//! the deformation of force elements. Bodies driven by the ground ([`Body::drive`]) take their
+//! pose from the support motions: ġ = Wᵀq̇ + ∂g/∂t, and their accelerations enter ŵ.
 
 use super::{Attachment, Body, BodyRef, Contact, Motion, Scene};
 use nalgebra::{DVector, Vector2};
@@ -20,6 +21,10 @@ pub struct ContactKinematics {
     /// ŵ_N, ŵ_T: g̈ = Wᵀ q̈ + ŵ.
     pub bias_n: f64,
     pub bias_t: f64,
+    /// ∂g_N/∂t, ∂g_T/∂t: the parts of ġ_N, ġ_T that bodies driven by the ground make,
+    /// n·(v_A − v_B) and t·(v_A − v_B) of the driven ones (ġ = Wᵀq̇ + these).
+    pub driven_n: f64,
+    pub driven_t: f64,
     /// World position of the contact point (for drawing).
     pub point: Vector2<f64>,
     pub normal: Vector2<f64>,
@@ -36,6 +41,8 @@ impl ContactKinematics {
             slip_rate: 0.0,
             bias_n: 0.0,
             bias_t: 0.0,
+            driven_n: 0.0,
+            driven_t: 0.0,
             point: Vector2::zeros(),
             normal: Vector2::zeros(),
         }
@@ -90,6 +97,12 @@ pub struct Frame {
     pub supports: Vec<(f64, f64, f64)>,
     /// Per support, an earlier support driven by the same record and factor (evaluated once).
     alias: Vec<Option<usize>>,
+    /// The bodies driven by the ground (listed on first use, `driven_known`).
+    driven: Vec<usize>,
+    driven_known: bool,
+    /// Per body, (velocity, acceleration) of a driven body's centre, zero for the others;
+    /// empty when no body is driven.
+    drive: Vec<(Vector2<f64>, Vector2<f64>)>,
 }
 
 impl Frame {
@@ -100,19 +113,73 @@ impl Frame {
             BodyRef::Body(i) => &self.poses[i],
         }
     }
+
+    /// (velocity, acceleration) of body `b` prescribed by the ground: a driven body's, else 0.
+    #[inline]
+    pub fn drive(&self, b: BodyRef) -> (Vector2<f64>, Vector2<f64>) {
+        match b {
+            BodyRef::Body(i) => self.drive.get(i).copied(),
+            BodyRef::Ground => None,
+        }
+        .unwrap_or((Vector2::zeros(), Vector2::zeros()))
+    }
 }
 
 impl Scene {
-    fn body_state(&self, b: BodyRef, q: &DVector<f64>, v: &DVector<f64>) -> BodyState {
+    /// Poses of the driven bodies from their supports' (u_g, u̇_g, ü_g), read by `motion`.
+    #[inline(always)]
+    fn drive_poses(&self, fr: &mut Frame, motion: impl Fn(&Frame, usize) -> (f64, f64, f64)) {
+        if !(fr.driven_known && fr.driven.is_empty()) {
+            self.drive_poses_listed(fr, motion);
+        }
+    }
+
+    /// [`Scene::drive_poses`] once the scene is known to have driven bodies (or not yet known).
+    #[inline(never)]
+    fn drive_poses_listed(
+        &self,
+        fr: &mut Frame,
+        motion: impl Fn(&Frame, usize) -> (f64, f64, f64),
+    ) {
+        if !fr.driven_known {
+            fr.driven = (self.bodies.iter().enumerate())
+                .filter(|(_, b)| b.is_driven())
+                .map(|(i, _)| i)
+                .collect();
+            fr.driven_known = true;
+        }
+        if fr.driven.is_empty() {
+            return;
+        }
+        let zero = (Vector2::zeros(), Vector2::zeros());
+        fr.drive.clear();
+        fr.drive.resize(self.bodies.len(), zero);
+        for k in 0..fr.driven.len() {
+            let i = fr.driven[k];
+            let b = &self.bodies[i];
+            let [x, y] = b
+                .drive
+                .map(|s| s.map_or((0.0, 0.0, 0.0), |s| motion(fr, s)));
+            let velocity = Vector2::new(x.1, y.1);
+            fr.poses[i] = BodyState {
+                position: b.reference + Vector2::new(x.0, y.0),
+                velocity,
+                ..BodyState::default()
+            };
+            fr.drive[i] = (velocity, Vector2::new(x.2, y.2));
+        }
+    }
+
+    /// Velocity of body `b` prescribed by the ground at t: a driven body's centre velocity,
+    /// else 0.
+    pub fn driven_velocity(&self, b: BodyRef, t: f64) -> Vector2<f64> {
         match b {
-            BodyRef::Ground => BodyState {
-                position: Vector2::zeros(),
-                angle: 0.0,
-                velocity: Vector2::zeros(),
-                omega: 0.0,
-                cs: (1.0, 0.0),
-            },
-            BodyRef::Body(i) => self.pose_of(i, |k| q[k], |k| v[k]),
+            BodyRef::Body(i) if self.bodies[i].is_driven() => {
+                let rate = |s: Option<usize>| s.map_or(0.0, |s| self.supports[s].at(t).1);
+                let [x, y] = self.bodies[i].drive.map(rate);
+                Vector2::new(x, y)
+            }
+            _ => Vector2::zeros(),
         }
     }
 
@@ -143,19 +210,14 @@ impl Scene {
 
     /// Poses of all bodies and support motions at (t, q, q̇).
     pub fn frame(&self, t: f64, q: &DVector<f64>, v: &DVector<f64>) -> Frame {
-        Frame {
-            poses: (0..self.bodies.len())
-                .map(|i| self.body_state(BodyRef::Body(i), q, v))
-                .collect(),
-            ground: self.body_state(BodyRef::Ground, q, v),
-            supports: self.supports.iter().map(|s| s.at(t)).collect(),
-            alias: Vec::new(),
-        }
+        let mut fr = Frame::default();
+        self.frame_into(&mut fr, t, q, v);
+        fr
     }
 
-    /// [`Scene::frame`] written into `fr`, reusing its storage.
+    /// [`Scene::frame`] written into `fr`, reusing its storage: the support motions first, then
+    /// the poses (driven bodies from the supports).
     pub fn frame_into(&self, fr: &mut Frame, t: f64, q: &DVector<f64>, v: &DVector<f64>) {
-        self.poses_into(fr, q, v);
         if fr.alias.len() != self.supports.len() {
             fr.alias = self
                 .supports
@@ -178,11 +240,19 @@ impl Scene {
             };
             fr.supports.push(val);
         }
+        self.dof_poses(fr, q, v);
+        self.drive_poses(fr, |fr, s| fr.supports[s]);
     }
 
-    /// The poses of [`Scene::frame_into`] alone (the support motions are left as they were):
-    /// enough for contact kinematics.
-    pub fn poses_into(&self, fr: &mut Frame, q: &DVector<f64>, v: &DVector<f64>) {
+    /// The poses of [`Scene::frame_into`] at t alone (the support motions are left as they
+    /// were; a driven body's supports are evaluated for it): enough for contact kinematics.
+    pub fn poses_into(&self, fr: &mut Frame, t: f64, q: &DVector<f64>, v: &DVector<f64>) {
+        self.dof_poses(fr, q, v);
+        self.drive_poses(fr, |_, s| self.supports[s].at(t));
+    }
+
+    /// The poses from the DOFs (a body without DOFs at its reference).
+    fn dof_poses(&self, fr: &mut Frame, q: &DVector<f64>, v: &DVector<f64>) {
         let (qs, vs) = (q.as_slice(), v.as_slice());
         fr.poses.clear();
         fr.poses
@@ -211,9 +281,20 @@ impl Scene {
         (n.dot(&(p - o)), n.dot(&v_rel), t.dot(&v_rel))
     }
 
-    /// [`Scene::contact_kinematics`] written into `out`, reusing its Jacobian storage.
+    /// [`Scene::contact_kinematics`] written into `out`, reusing its Jacobian storage. A body
+    /// driven by the ground adds its velocity to ∂g/∂t and its acceleration a to ŵ:
+    /// ŵ_N ∋ n·(a_A − a_B), ŵ_T ∋ t·(a_A − a_B).
     pub fn contact_kinematics_into(&self, fr: &Frame, c: &Contact, out: &mut ContactKinematics) {
         self.contact_kinematics_fill(c, fr.pose(c.point_body), fr.pose(c.face_body), out);
+        if !fr.drive.is_empty() {
+            let ((va, aa), (vb, ab)) = (fr.drive(c.point_body), fr.drive(c.face_body));
+            let n = out.normal;
+            let t = Vector2::new(n.y, -n.x);
+            out.driven_n = n.dot(&(va - vb));
+            out.driven_t = t.dot(&(va - vb));
+            out.bias_n += n.dot(&(aa - ab));
+            out.bias_t += t.dot(&(aa - ab));
+        }
     }
 
     fn contact_kinematics_fill(
@@ -260,82 +341,166 @@ impl Scene {
             w_t,
             bias_n,
             bias_t,
+            driven_n: 0.0,
+            driven_t: 0.0,
             point: p,
             normal: n,
         };
     }
 
-    /// Deformation e, rate ė, support velocity u̇_g and the Jacobian J = ∂e/∂q as (dof,
-    /// coefficient) pairs (the first `nj` of at most 3) of an attachment, at the poses and
-    /// support motions of `fr` ([`spread`] makes J a dense row).
-    pub fn deformation(
+    /// Deformation e, rate ė, the rate u̇ with ė = J q̇ − u̇ (the support velocity u̇_g, less
+    /// what bodies driven by the ground add) and the Jacobian J = ∂e/∂q as (dof, coefficient)
+    /// pairs (the first `nj` of at most 6) of an attachment, at the poses and support motions
+    /// of `fr` ([`spread`] makes J a dense row).
+    pub fn deformation(&self, fr: &Frame, att: &Attachment, support: Option<usize>) -> Deformation {
+        let (a, b) = att.bodies();
+        let sup = support.map_or((0.0, 0.0, 0.0), |s| fr.supports[s]);
+        self.deformation_at(att, &fr.poses[a], &fr.poses[b.unwrap_or(a)], sup)
+    }
+
+    /// (e, ė) of [`Scene::deformation`] alone (event functions: no Jacobian).
+    pub fn deformation_rates(
         &self,
         fr: &Frame,
         att: &Attachment,
         support: Option<usize>,
-    ) -> (f64, f64, f64, [(usize, f64); 3], usize) {
-        let body = match att {
-            Attachment::Point { body, .. } | Attachment::Rotation { body } => *body,
-        };
+    ) -> (f64, f64) {
+        let (a, b) = att.bodies();
         let sup = support.map_or((0.0, 0.0, 0.0), |s| fr.supports[s]);
-        self.deformation_at(att, &fr.poses[body], sup)
+        self.deformation_value(att, &fr.poses[a], &fr.poses[b.unwrap_or(a)], sup)
     }
 
-    /// Deformation, rate, support velocity and sparse Jacobian of an attachment from the pose of
-    /// its body and the motion (u_g, u̇_g, ü_g) of its support.
+    /// [`Scene::deformation`] from the pose `s` of the element's body, the pose `o` of the
+    /// other body of a two-body element (ignored otherwise) and the motion (u_g, u̇_g, ü_g) of
+    /// its support.
     pub fn deformation_at(
         &self,
         att: &Attachment,
         s: &BodyState,
+        o: &BodyState,
         (ug, vg, _): (f64, f64, f64),
-    ) -> (f64, f64, f64, [(usize, f64); 3], usize) {
-        let mut jac = [(0usize, 0.0f64); 3];
+    ) -> Deformation {
+        let mut jac = [(0usize, 0.0f64); 6];
         let mut nj = 0;
-        match att {
+        match *att {
             Attachment::Point {
                 body,
                 point,
-                direction,
+                direction: d,
             } => {
-                let rho = s.rot(*point);
-                let disp = s.position - self.bodies[*body].reference + rho - point;
-                let vel = s.velocity + s.omega * perp(rho);
-                let dofs = &self.bodies[*body].dofs;
-                for (a, c) in [direction.x, direction.y, direction.dot(&perp(rho))]
-                    .into_iter()
-                    .enumerate()
-                {
-                    if let Some(k) = dofs[a] {
-                        jac[nj] = (k, c);
-                        nj += 1;
-                    }
-                }
-                (
-                    direction.dot(&disp) - ug,
-                    direction.dot(&vel) - vg,
-                    vg,
-                    jac,
-                    nj,
-                )
+                let (disp, vel) = self.point_motion(body, point, s);
+                let row = [d.x, d.y, d.dot(&perp(s.rot(point)))];
+                push_jacobian(&self.bodies[body], row, &mut jac, &mut nj);
+                let driven = self.driven_rate(body, d, vel);
+                (d.dot(&disp) - ug, d.dot(&vel) - vg, vg - driven, jac, nj)
             }
             Attachment::Rotation { body } => {
-                if let Some(k) = self.bodies[*body].dofs[2] {
+                if let Some(k) = self.bodies[body].dofs[2] {
                     jac[0] = (k, 1.0);
                     nj = 1;
                 }
                 (s.angle - ug, s.omega - vg, vg, jac, nj)
             }
+            Attachment::Relative {
+                body,
+                point,
+                other,
+                other_point,
+                direction: d,
+            } => {
+                let (disp_a, vel_a) = self.point_motion(body, point, s);
+                let (disp_b, vel_b) = self.point_motion(other, other_point, o);
+                let row_a = [d.x, d.y, d.dot(&perp(s.rot(point)))];
+                let row_b = [-d.x, -d.y, -d.dot(&perp(o.rot(other_point)))];
+                push_jacobian(&self.bodies[body], row_a, &mut jac, &mut nj);
+                push_jacobian(&self.bodies[other], row_b, &mut jac, &mut nj);
+                let driven = self.driven_rate(body, d, vel_a) - self.driven_rate(other, d, vel_b);
+                let ed = d.dot(&(vel_a - vel_b)) - vg;
+                (d.dot(&(disp_a - disp_b)) - ug, ed, vg - driven, jac, nj)
+            }
         }
     }
 
-    /// Pose of body `i` from a state vector y = [q; q̇] with n DOFs.
-    pub fn body_state_from(&self, i: usize, y: &DVector<f64>, n: usize) -> BodyState {
-        self.pose_of(i, |k| y[k], |k| y[n + k])
+    /// (e, ė) of [`Scene::deformation_at`] alone (event functions: no Jacobian).
+    pub fn deformation_value(
+        &self,
+        att: &Attachment,
+        s: &BodyState,
+        o: &BodyState,
+        (ug, vg, _): (f64, f64, f64),
+    ) -> (f64, f64) {
+        match *att {
+            Attachment::Point {
+                body,
+                point,
+                direction: d,
+            } => {
+                let (disp, vel) = self.point_motion(body, point, s);
+                (d.dot(&disp) - ug, d.dot(&vel) - vg)
+            }
+            Attachment::Rotation { .. } => (s.angle - ug, s.omega - vg),
+            Attachment::Relative {
+                body,
+                point,
+                other,
+                other_point,
+                direction: d,
+            } => {
+                let (disp_a, vel_a) = self.point_motion(body, point, s);
+                let (disp_b, vel_b) = self.point_motion(other, other_point, o);
+                (d.dot(&(disp_a - disp_b)) - ug, d.dot(&(vel_a - vel_b)) - vg)
+            }
+        }
     }
 
-    /// Pose of body `i` with DOF values read by `q(k)` and rates by `v(k)`.
-    fn pose_of(&self, i: usize, q: impl Fn(usize) -> f64, v: impl Fn(usize) -> f64) -> BodyState {
-        pose(&self.bodies[i], q, v)
+    /// Displacement P(q) − P(0) and velocity of the point `point` of body `body` at pose `s`.
+    fn point_motion(
+        &self,
+        body: usize,
+        point: Vector2<f64>,
+        s: &BodyState,
+    ) -> (Vector2<f64>, Vector2<f64>) {
+        let rho = s.rot(point);
+        let disp = s.position - self.bodies[body].reference + rho - point;
+        (disp, s.velocity + s.omega * perp(rho))
+    }
+
+    /// d·v of a point of a body without DOFs (its velocity is the ground's), else 0.
+    fn driven_rate(&self, body: usize, d: Vector2<f64>, vel: Vector2<f64>) -> f64 {
+        if self.bodies[body].has_no_dofs() {
+            d.dot(&vel)
+        } else {
+            0.0
+        }
+    }
+
+    /// Pose of body `i` at t from a state vector y = [q; q̇] with n DOFs (a driven body's from
+    /// its supports).
+    pub fn body_state_at(&self, i: usize, t: f64, y: &DVector<f64>, n: usize) -> BodyState {
+        let b = &self.bodies[i];
+        if !b.is_driven() {
+            return pose(b, |k| y[k], |k| y[n + k]);
+        }
+        let motion = |s: Option<usize>| s.map_or((0.0, 0.0, 0.0), |s| self.supports[s].at(t));
+        let [x, y] = b.drive.map(motion);
+        BodyState {
+            position: b.reference + Vector2::new(x.0, y.0),
+            velocity: Vector2::new(x.1, y.1),
+            ..BodyState::default()
+        }
+    }
+}
+
+/// (e, ė, u̇, sparse J, its length) of [`Scene::deformation`].
+pub type Deformation = (f64, f64, f64, [(usize, f64); 6], usize);
+
+/// Appends the entries of `row` (∂e/∂x, ∂e/∂y, ∂e/∂θ of a body point) on the body's DOFs.
+fn push_jacobian(body: &Body, row: [f64; 3], jac: &mut [(usize, f64); 6], nj: &mut usize) {
+    for (a, c) in row.into_iter().enumerate() {
+        if let Some(k) = body.dofs[a] {
+            jac[*nj] = (k, c);
+            *nj += 1;
+        }
     }
 }
 

@@ -14,7 +14,7 @@ mod settings;
 
 pub use crate::methods::Method;
 pub use forces::{ForceModel, LEDGER_TERMS, PowerTerms, smooth_forces, smooth_forces_in};
-pub use kinematics::{BodyState, ContactKinematics, Frame, cos_sin, perp, spread};
+pub use kinematics::{BodyState, ContactKinematics, Deformation, Frame, cos_sin, perp, spread};
 pub use settings::Settings;
 
 use crate::excitation::GroundMotion;
@@ -39,6 +39,21 @@ pub struct Body {
     /// Centre position at the reference configuration (q = 0).
     pub reference: Vector2<f64>,
     pub dofs: [Option<usize>; 3],
+    /// Supports whose motion drives the centre's x and y (a body without DOFs only):
+    /// X(t) = X₀ + (u_g,x(t), u_g,y(t)), θ = 0 — a rigid abutment moving with the ground.
+    pub drive: [Option<usize>; 2],
+}
+
+impl Body {
+    /// A body moved by the ground ([`Body::drive`]).
+    pub fn is_driven(&self) -> bool {
+        self.drive.iter().any(Option::is_some)
+    }
+
+    /// No DOF: fixed, or driven by the ground.
+    pub fn has_no_dofs(&self) -> bool {
+        self.dofs.iter().all(Option::is_none)
+    }
 }
 
 /// Which body: a scene body or the fixed ground.
@@ -95,6 +110,25 @@ pub enum Attachment {
     },
     /// e = θ − u_g(t).
     Rotation { body: usize },
+    /// e = d·[(P_a(q) − P_a(0)) − (P_b(q) − P_b(0))] − u_g(t): two body points (a of `body`, b
+    /// of `other`) along a fixed world direction d (a shear key between two frames).
+    Relative {
+        body: usize,
+        point: Vector2<f64>,
+        other: usize,
+        other_point: Vector2<f64>,
+        direction: Vector2<f64>,
+    },
+}
+
+impl Attachment {
+    /// The body the element is attached to, and the other one of a two-body element.
+    pub fn bodies(&self) -> (usize, Option<usize>) {
+        match *self {
+            Attachment::Point { body, .. } | Attachment::Rotation { body } => (body, None),
+            Attachment::Relative { body, other, .. } => (body, Some(other)),
+        }
+    }
 }
 
 /// Linear spring–dashpot to a fixed or moving support.

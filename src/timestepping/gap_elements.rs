@@ -13,8 +13,10 @@ pub(super) struct PenaltyForces {
     pub lam_t: Vec<f64>,
     pub slip: Vec<f64>,
     pub elastic: f64,
-    /// Power absorbed by the contact elements, −Σ(λ_N ġ_N + λ_T ġ_T).
+    /// Power absorbed by the contact elements, −Σ(λ_N ġ_N + λ_T ġ_T) (relative rates).
     pub absorbed: f64,
+    /// Power of faces moved by the ground, −Σ(λ_N ∂g_N/∂t + λ_T ∂g_T/∂t).
+    pub driven: f64,
 }
 
 /// The gap elements of a run: stiffness k and (normal, tangential) dashpots per contact.
@@ -73,6 +75,7 @@ fn penalty_forces(
         slip: vec![0.0; nc],
         elastic: 0.0,
         absorbed: 0.0,
+        driven: 0.0,
     };
     for (i, c) in scene.contacts.iter().enumerate() {
         if mask.is_some_and(|m| !m[i]) {
@@ -106,6 +109,7 @@ fn penalty_forces(
             s = 0.0;
         }
         out.absorbed -= ln * kin.gap_rate + lt * kin.slip_rate;
+        out.driven -= ln * kin.driven_n + lt * kin.driven_t;
         out.lam_n[i] = ln;
         out.lam_t[i] = lt;
         out.slip[i] = s;

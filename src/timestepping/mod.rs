@@ -78,7 +78,7 @@ impl<'a> Stepper<'a> {
             ..Scratch::default()
         };
         scene.frame_into(&mut scratch.fr, 0.0, &scene.q0, &scene.v0);
-        forces.deformations(&scratch.fr, &mut scratch.elements);
+        forces.deformations(scene, &scratch.fr, &mut scratch.elements);
         for (law, &(e, ed)) in laws.iter_mut().zip(&scratch.elements) {
             law.set_direction(e, if ed < 0.0 { -1.0 } else { 1.0 });
         }
@@ -123,7 +123,7 @@ impl<'a> Stepper<'a> {
         let mut scratch = self.scratch.borrow_mut();
         let Scratch { fr, laws, elements } = &mut *scratch;
         self.scene.frame_into(fr, t, q, v);
-        self.forces.deformations(fr, elements);
+        self.forces.deformations(self.scene, fr, elements);
         laws.clone_from(&self.laws);
         for (law, &(e, _)) in laws.iter_mut().zip(elements.iter()) {
             law.drive(&[e]);
@@ -136,7 +136,7 @@ impl<'a> Stepper<'a> {
         let mut scratch = self.scratch.borrow_mut();
         let Scratch { fr, elements, .. } = &mut *scratch;
         self.scene.frame_into(fr, self.t, &self.q, &self.v);
-        self.forces.deformations(fr, elements);
+        self.forces.deformations(self.scene, fr, elements);
         for (j, (law, &(e, ed))) in self.laws.iter_mut().zip(elements.iter()).enumerate() {
             let (before, intact) = (law.branch().stiffness, !law.failed());
             let (e0, b0) = (law.displacement(), *law.branch());
@@ -238,7 +238,7 @@ impl<'a> Stepper<'a> {
             })
             .collect();
         let mut elements = vec![(0.0, 0.0); self.laws.len()];
-        self.forces.deformations(&fr, &mut elements);
+        self.forces.deformations(scene, &fr, &mut elements);
         for ((e, f), law) in elements.iter_mut().zip(&self.laws) {
             *f = law.force(*e);
         }

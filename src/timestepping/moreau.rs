@@ -12,8 +12,9 @@ use std::time::Instant;
 
 /// Moreau–Jean θ-method: Ŵ = M + hθC + h²θ²K,
 /// v_free = v_k + Ŵ⁻¹ h[θ f(t_{k+1}, q_k, v_k) + (1−θ) f_k − hθ K v_k],
-/// LCP over contacts with g_N(q_k) + h/2 ġ_N ≤ 0 (Siconos' γ = ½),
-/// v_{k+1} = v_free + Ŵ⁻¹(W_N P_N + W_T P_T), q_{k+1} = q_k + h(θ v_{k+1} + (1−θ) v_k).
+/// LCP over contacts with g_N(q_k) + h/2 ġ_N ≤ 0 (Siconos' γ = ½) on ġ_N⁺ = W_Nᵀv_{k+1} +
+/// ∂g_N/∂t(t_{k+1}) (faces moved by the ground), v_{k+1} = v_free + Ŵ⁻¹(W_N P_N + W_T P_T),
+/// q_{k+1} = q_k + h(θ v_{k+1} + (1−θ) v_k).
 pub fn run_moreau(scene: &Scene, observer: &mut dyn Observer) -> Result<RunOutput, SolverError> {
     integrate_moreau(scene, observer).into_result()
 }
@@ -54,11 +55,13 @@ fn moreau_steps(s: &mut Stepper, observer: &mut dyn Observer) -> Result<(), Solv
             .filter(|&i| kin[i].gap + 0.5 * h * kin[i].gap_rate <= 0.0)
             .collect();
         let before = s.state.clone();
-        let p = percussions(s, &kin, &active, v_free, &winv)?;
-        set_contact_states(s, &kin, &active, &p, h);
+        let driven = driven_rates(scene, &kin, t1);
+        let p = percussions(s, &kin, &driven, &active, v_free, &winv)?;
+        set_contact_states(s, &kin, &driven, &active, &p, h);
         s.q = &q + (&p.v_new * th + &v * (1.0 - th)) * h;
         s.v = p.v_new;
         s.t = t1;
+        s.ledger[1] += p.driven_work;
         s.ledger[4] += p.loss;
         s.commit_laws(h);
         let (qq, vv) = (s.q.clone(), s.v.clone());
@@ -95,13 +98,28 @@ fn free_velocity(
     Ok((&v + &winv * r, winv))
 }
 
-/// Percussions of one step: P_N, P_T per contact (zero off the active set), v_{k+1}, and the
-/// work they absorb, −Σ (P_N ½(ġ_N⁺ + ġ_N^free) + P_T ½(ġ_T⁺ + ġ_T^free)).
+/// Percussions of one step: P_N, P_T per contact (zero off the active set), v_{k+1}, the
+/// work they absorb, −Σ (P_N ½(ġ_N⁺ + ġ_N^free) + P_T ½(ġ_T⁺ + ġ_T^free)) in relative rates,
+/// and the work of faces moved by the ground, −Σ (P_N ∂g_N/∂t + P_T ∂g_T/∂t).
 struct Percussions {
     p_n: Vec<f64>,
     p_t: Vec<f64>,
     v_new: DVector<f64>,
     loss: f64,
+    driven_work: f64,
+}
+
+/// (∂g_N/∂t, ∂g_T/∂t) of each contact at t₁ (the velocities of bodies driven by the ground
+/// at the step's end, along n and t of `kin`).
+fn driven_rates(scene: &Scene, kin: &[ContactKinematics], t1: f64) -> Vec<(f64, f64)> {
+    (scene.contacts.iter().zip(kin))
+        .map(|(c, k)| {
+            let dv =
+                scene.driven_velocity(c.point_body, t1) - scene.driven_velocity(c.face_body, t1);
+            let n = k.normal;
+            (n.dot(&dv), n.y * dv.x - n.x * dv.y)
+        })
+        .collect()
 }
 
 /// The velocity LCP over the active set: ġ_N⁺ + ε ġ_N⁻ ⊥ P_N ≥ 0 with Coulomb's cone on P_T,
@@ -109,6 +127,7 @@ struct Percussions {
 fn percussions(
     s: &mut Stepper,
     kin: &[ContactKinematics],
+    driven: &[(f64, f64)],
     active: &[usize],
     v_free: DVector<f64>,
     winv: &DMatrix<f64>,
@@ -120,6 +139,7 @@ fn percussions(
         p_t: vec![0.0; nc],
         v_new: v_free.clone(),
         loss: 0.0,
+        driven_work: 0.0,
     };
     if active.is_empty() {
         return Ok(p);
@@ -128,10 +148,13 @@ fn percussions(
     let w_t: Vec<&DVector<f64>> = active.iter().map(|&i| &kin[i].w_t).collect();
     let q_n: Vec<f64> = (active.iter())
         .map(|&i| {
-            kin[i].w_n.dot(&v_free) + scene.contacts[i].restitution * kin[i].gap_rate.min(0.0)
+            let e = scene.contacts[i].restitution;
+            kin[i].w_n.dot(&v_free) + driven[i].0 + e * kin[i].gap_rate.min(0.0)
         })
         .collect();
-    let q_t: Vec<f64> = active.iter().map(|&i| kin[i].w_t.dot(&v_free)).collect();
+    let q_t: Vec<f64> = (active.iter())
+        .map(|&i| kin[i].w_t.dot(&v_free) + driven[i].1)
+        .collect();
     let mu: Vec<f64> = active.iter().map(|&i| scene.contacts[i].mu).collect();
     let g = |a: &DVector<f64>, b: &DVector<f64>| a.dot(&(winv * b));
     let lemke = &scene.settings.lemke;
@@ -153,9 +176,11 @@ fn percussions(
     }
     p.v_new = &v_free + winv * imp;
     for (a, &i) in active.iter().enumerate() {
-        let gn = 0.5 * (kin[i].w_n.dot(&p.v_new) + kin[i].w_n.dot(&v_free));
-        let gt = 0.5 * (kin[i].w_t.dot(&p.v_new) + kin[i].w_t.dot(&v_free));
+        let (dn, dt) = driven[i];
+        let gn = 0.5 * (kin[i].w_n.dot(&p.v_new) + kin[i].w_n.dot(&v_free)) + dn;
+        let gt = 0.5 * (kin[i].w_t.dot(&p.v_new) + kin[i].w_t.dot(&v_free)) + dt;
         p.loss -= pn[a] * gn + pt[a] * gt;
+        p.driven_work -= pn[a] * dn + pt[a] * dt;
     }
     Ok(p)
 }
@@ -165,13 +190,14 @@ fn percussions(
 fn set_contact_states(
     s: &mut Stepper,
     kin: &[ContactKinematics],
+    driven: &[(f64, f64)],
     active: &[usize],
     p: &Percussions,
     h: f64,
 ) {
     for (i, c) in s.scene.contacts.iter().enumerate() {
         s.state[i] = if active.contains(&i) && p.p_n[i] > 0.0 {
-            let gt = kin[i].w_t.dot(&p.v_new);
+            let gt = kin[i].w_t.dot(&p.v_new) + driven[i].1;
             if c.mu > 0.0 && gt.abs() <= 1e-9 {
                 ContactState::Stick
             } else {

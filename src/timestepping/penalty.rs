@@ -57,7 +57,7 @@ fn penalty_steps(
     // explicit: velocity at the half step
     let mut v_half = &s.v - &a_k * (0.5 * h);
     let mut guard = EnergyGuard::new(s, explicit, h);
-    let mut prev_absorbed = pf0.absorbed;
+    let (mut prev_absorbed, mut prev_driven) = (pf0.absorbed, pf0.driven);
     for k in 0..steps {
         let t1 = (k + 1) as f64 * h;
         let before = s.state.clone();
@@ -80,8 +80,9 @@ fn penalty_steps(
         let (qq, vv) = (s.q.clone(), s.v.clone());
         let p = s.forces_trial(t1, &qq, &vv, &mut f);
         s.add_power(p, h);
+        s.ledger[1] += 0.5 * h * (prev_driven + pf.driven);
         s.ledger[4] += 0.5 * h * (prev_absorbed + pf.absorbed);
-        prev_absorbed = pf.absorbed;
+        (prev_absorbed, prev_driven) = (pf.absorbed, pf.driven);
         *contact_elastic = pf.elastic;
         set_contact_states(s, &pf);
         s.out.stats.steps_accepted += 1;

@@ -187,6 +187,7 @@ pub(super) fn bodies(
         inertia: a.inertia,
         reference: first_end - plan.gap0 * plan.axes[0].0,
         dofs: [Some(0), None, Some(1)],
+        drive: [None; 2],
     }];
     let mut mass = vec![a.mass, a.inertia];
     let mut names = vec!["left_abutment.x".to_string(), "left_abutment.theta".into()];
@@ -198,6 +199,7 @@ pub(super) fn bodies(
             inertia: fr.inertia,
             reference: plan.centres[k],
             dofs: [Some(d), Some(d + 1), Some(d + 2)],
+            drive: [None; 2],
         });
         mass.extend([fr.mass, fr.mass, fr.inertia]);
         names.extend(["x", "y", "theta"].map(|c| format!("{}.{c}", fr.name)));
@@ -209,6 +211,7 @@ pub(super) fn bodies(
         inertia: a.inertia,
         reference: last_end + plan.gap0 * plan.axes[n - 1].0,
         dofs: [Some(d), None, Some(d + 1)],
+        drive: [None; 2],
     });
     mass.extend([a.mass, a.inertia]);
     names.extend([

@@ -62,12 +62,22 @@ struct Pose<'a> {
     run: Option<&'a RunData>,
     idx: Option<usize>,
     s: f64,
+    /// Time of the sample (the ground's motion moves driven bodies).
+    t: f64,
 }
 
 impl Pose<'_> {
-    /// Displacement (x, y) and rotation of body `b`.
+    /// Displacement (x, y) and rotation of body `b` (a driven body's: its supports' u_g(t)).
     fn disp(&self, b: usize) -> (Vector2<f64>, f64) {
         let body = &self.scene.bodies[b];
+        if body.is_driven() {
+            let supports = &self.scene.supports;
+            let u = body.drive.map(|s| {
+                s.and_then(|s| supports.get(s))
+                    .map_or(0.0, |s| s.at(self.t).0)
+            });
+            return (Vector2::new(u[0], u[1]), 0.0);
+        }
         let get = |a: usize| -> f64 {
             match (body.dofs[a], self.run, self.idx) {
                 (Some(k), Some(r), Some(i)) => {
@@ -167,7 +177,16 @@ pub(super) fn draw_plan(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
     let s = plan_scale(app, hx);
     let run = shown_run(app);
     let idx = run.and_then(|r| chart::at_or_before(&r.t, tc));
-    let pose = Pose { scene, run, idx, s };
+    let t = (run.zip(idx))
+        .and_then(|(r, i)| r.t.get(i).copied())
+        .unwrap_or(tc);
+    let pose = Pose {
+        scene,
+        run,
+        idx,
+        s,
+        t,
+    };
     let states = pose.states();
     let body_color = th.series(0).fg.unwrap_or(Color::Reset);
     let face_color = if th.color { Color::Gray } else { Color::Reset };
@@ -297,5 +316,53 @@ fn paint_contacts(ctx: &mut Context, pose: &Pose, states: &[ContactState], th: &
             ContactState::Slide(_) => ctx.print(p.x, p.y, Span::styled(touch_sym, contact_style)),
             ContactState::Open => {}
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Pose;
+    use crate::scene::BodyRef;
+    use nalgebra::Vector2;
+
+    #[test]
+    fn a_driven_wall_is_placed_at_its_supports_motion() {
+        let text = r#"
+[[support]]
+name = "ground"
+kind = "harmonic"
+amplitude = 0.2
+frequency = 0.5
+[[body]]
+name = "wall"
+mass = 0.0
+position = [-1.0, 0.5]
+drive_x = "ground"
+[[body]]
+name = "block"
+mass = 1.0
+dofs = ["x"]
+[[contact]]
+name = "face"
+body = "block"
+face_body = "wall"
+normal = [1.0, 0.0]
+gap = 0.1
+"#;
+        let scene = crate::model::load_str(text, std::path::Path::new("wall.toml"), &[]).unwrap();
+        // a quarter period: u_g = A; magnified 10 times
+        let pose = Pose {
+            scene: &scene,
+            run: None,
+            idx: None,
+            s: 10.0,
+            t: 0.5,
+        };
+        let (u, th) = pose.disp(0);
+        assert!((u - Vector2::new(0.2, 0.0)).norm() < 1e-15 && th == 0.0);
+        let p = pose.place(BodyRef::Body(0), Vector2::new(0.3, 0.0));
+        assert!((p - Vector2::new(-1.0 + 10.0 * 0.2 + 0.3, 0.5)).norm() < 1e-14);
+        // the block without run data stays at its reference
+        assert_eq!(pose.disp(1).0, Vector2::zeros());
     }
 }
