@@ -91,6 +91,17 @@ pub enum ModelWarning {
         omega: f64,
         what: String,
     },
+    /// A field the chosen kind of abutment does not read.
+    #[error(
+        "{}:{line}: {field}: not read by abutment kind = \"{kind}\" (ignored)",
+        path.display()
+    )]
+    AbutmentUnread {
+        path: PathBuf,
+        line: usize,
+        field: String,
+        kind: String,
+    },
     /// A field the chosen kind of excitation does not read.
     #[error(
         "{}:{line}: {field}: not read by excitation kind = \"{kind}\" (ignored)",

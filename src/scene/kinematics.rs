@@ -157,16 +157,22 @@ impl Scene {
         for k in 0..fr.driven.len() {
             let i = fr.driven[k];
             let b = &self.bodies[i];
-            let [x, y] = b
-                .drive
-                .map(|s| s.map_or((0.0, 0.0, 0.0), |s| motion(fr, s)));
-            let velocity = Vector2::new(x.1, y.1);
-            fr.poses[i] = BodyState {
-                position: b.reference + Vector2::new(x.0, y.0),
-                velocity,
-                ..BodyState::default()
-            };
-            fr.drive[i] = (velocity, Vector2::new(x.2, y.2));
+            let [x, y] = b.drive.map(|s| s.map(|s| motion(fr, s)));
+            // a driven axis has no DOF: its position and velocity are the ground's; the
+            // others (a body with DOFs driven in y only) keep the DOFs' pose
+            let p = &mut fr.poses[i];
+            let (mut v, mut a) = (Vector2::zeros(), Vector2::zeros());
+            if let Some((u, ud, udd)) = x {
+                p.position.x = b.reference.x + u;
+                p.velocity.x = ud;
+                (v.x, a.x) = (ud, udd);
+            }
+            if let Some((u, ud, udd)) = y {
+                p.position.y = b.reference.y + u;
+                p.velocity.y = ud;
+                (v.y, a.y) = (ud, udd);
+            }
+            fr.drive[i] = (v, a);
         }
     }
 

@@ -39,8 +39,9 @@ pub struct Body {
     /// Centre position at the reference configuration (q = 0).
     pub reference: Vector2<f64>,
     pub dofs: [Option<usize>; 3],
-    /// Supports whose motion drives the centre's x and y (a body without DOFs only):
-    /// X(t) = X₀ + (u_g,x(t), u_g,y(t)), θ = 0 — a rigid abutment moving with the ground.
+    /// Supports whose motion drives the centre's x and y, on axes without a DOF:
+    /// X(t) = X₀ + (u_g,x(t), u_g,y(t)) — a rigid abutment moving with the ground (no DOFs), or
+    /// a backwall free in x and θ carried in y by the ground (bridge files).
     pub drive: [Option<usize>; 2],
 }
 

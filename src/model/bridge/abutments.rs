@@ -72,7 +72,10 @@ pub(super) fn abutment_springs(a: &AbutmentSpec, kind: Kind, ends: &Ends) -> Vec
         return Vec::new();
     }
     let mut out = Vec::new();
-    for (i, (ab, side)) in [(0usize, "left"), (ends.last, "right")].into_iter().enumerate() {
+    for (i, (ab, side)) in [(0usize, "left"), (ends.last, "right")]
+        .into_iter()
+        .enumerate()
+    {
         let support = ends.sx.filter(|_| ends.drive_actuators).map(|s| s[i]);
         out.extend(springs_of(a, ab, side, support));
     }
@@ -189,7 +192,10 @@ fn backfill_of(a: &AbutmentSpec, width: f64, skew: f64) -> (f64, f64) {
     let h = a.backwall_height.unwrap_or(0.0);
     let w = width / skew.to_radians().cos();
     let (k, p) = caltrans_backfill(h, w, skew);
-    (a.backfill_stiffness.unwrap_or(k), a.backfill_capacity.unwrap_or(p))
+    (
+        a.backfill_stiffness.unwrap_or(k),
+        a.backfill_capacity.unwrap_or(p),
+    )
 }
 
 /// Interior keys across each joint with a `key`: one beside each side of the left frame's end,
@@ -216,7 +222,14 @@ pub(super) fn joint_keys(
                 direction: sgn * t,
             };
             let name = format!("joint{}_key_{tag}", j + 1);
-            out.push(element(name, att, key_law(key), None, &format!("joint.{j}.key"), ck)?);
+            out.push(element(
+                name,
+                att,
+                key_law(key),
+                None,
+                &format!("joint.{j}.key"),
+                ck,
+            )?);
         }
     }
     Ok(out)
@@ -229,7 +242,10 @@ pub(super) fn validate(f: &BridgeFile, ck: &Check) -> Result<Kind, ModelError> {
     let required = |field: &str, v: Option<f64>| -> Result<f64, ModelError> {
         let full = format!("abutment.{field}");
         let v = v.ok_or_else(|| {
-            ck.err(&full, format!("required for abutment kind = \"{}\"", kind.name()))
+            ck.err(
+                &full,
+                format!("required for abutment kind = \"{}\"", kind.name()),
+            )
         })?;
         ck.positive(&full, v)
     };
@@ -255,7 +271,10 @@ pub(super) fn validate(f: &BridgeFile, ck: &Check) -> Result<Kind, ModelError> {
         b.validate()
             .map_err(|e| ck.err("abutment.bearing", e.to_string()))?;
         if b.is_gap_law() {
-            return Err(ck.err("abutment.bearing", "a bearing law is linear, bilinear or takeda"));
+            return Err(ck.err(
+                "abutment.bearing",
+                "a bearing law is linear, bilinear or takeda",
+            ));
         }
     }
     let keys = std::iter::once(("abutment.key".to_string(), &a.key)).chain(

@@ -9,7 +9,7 @@
 //! P = E ± (w/2)(p + tan(ψ − ψ_m) a), p = a rotated by +90°, ψ the frame's heading and ψ_m
 //! that of m (straight bridge, φ = skew: P = (∓L/2 ± (w/2) tan φ, ±w/2)).
 
-use super::schema::{BentSpec, BridgeFile, CORNERS};
+use super::schema::{BentSpec, BridgeFile, CORNERS, Kind};
 use crate::scene::{Body, BodyRef, Contact};
 use nalgebra::{DVector, Vector2};
 
@@ -171,28 +171,66 @@ pub(super) fn frame_body(k: usize) -> usize {
     k + 1
 }
 
-/// Left abutment (x, θ), the frames (x, y, θ each), right abutment (x, θ).
+/// An abutment body: `actuators` (x, θ), `rigid` (no DOFs, driven in x and y by `drive`),
+/// `backfill` (x, θ, driven in y); its DOFs from `first`.
+fn abutment(
+    f: &BridgeFile,
+    kind: Kind,
+    side: &str,
+    reference: Vector2<f64>,
+    (first, drive): (usize, [Option<usize>; 2]),
+    mass: &mut Vec<f64>,
+    names: &mut Vec<String>,
+) -> Body {
+    let a = &f.abutment;
+    let (m, i) = (a.mass.unwrap_or(0.0), a.inertia.unwrap_or(0.0));
+    let (dofs, drive) = match kind {
+        Kind::Rigid => ([None; 3], drive),
+        Kind::Actuators => ([Some(first), None, Some(first + 1)], [None; 2]),
+        Kind::Backfill => ([Some(first), None, Some(first + 1)], [None, drive[1]]),
+    };
+    if kind != Kind::Rigid {
+        mass.extend([m, i]);
+        names.extend([
+            format!("{side}_abutment.x"),
+            format!("{side}_abutment.theta"),
+        ]);
+    }
+    Body {
+        name: format!("{side}_abutment"),
+        mass: m,
+        inertia: i,
+        reference,
+        dofs,
+        drive,
+    }
+}
+
+/// Left abutment, the frames (x, y, θ each), right abutment; `drive`: the supports of the two
+/// abutments' ground motion in x and y.
 pub(super) fn bodies(
     f: &BridgeFile,
+    kind: Kind,
     frames: &[Frame],
     plan: &Plan,
+    drive: [[Option<usize>; 2]; 2],
 ) -> (Vec<Body>, DVector<f64>, Vec<String>) {
-    let a = &f.abutment;
     let n = frames.len();
     let first_end = plan.centres[0] - 0.5 * frames[0].length * plan.axes[0].0;
     let last_end = plan.centres[n - 1] + 0.5 * frames[n - 1].length * plan.axes[n - 1].0;
-    let mut bodies = vec![Body {
-        name: "left_abutment".into(),
-        mass: a.mass,
-        inertia: a.inertia,
-        reference: first_end - plan.gap0 * plan.axes[0].0,
-        dofs: [Some(0), None, Some(1)],
-        drive: [None; 2],
-    }];
-    let mut mass = vec![a.mass, a.inertia];
-    let mut names = vec!["left_abutment.x".to_string(), "left_abutment.theta".into()];
+    let (mut mass, mut names) = (Vec::new(), Vec::new());
+    let left = first_end - plan.gap0 * plan.axes[0].0;
+    let mut bodies = vec![abutment(
+        f,
+        kind,
+        "left",
+        left,
+        (0, drive[0]),
+        &mut mass,
+        &mut names,
+    )];
     for (k, fr) in frames.iter().enumerate() {
-        let d = 2 + 3 * k;
+        let d = mass.len();
         bodies.push(Body {
             name: fr.name.clone(),
             mass: fr.mass,
@@ -204,20 +242,18 @@ pub(super) fn bodies(
         mass.extend([fr.mass, fr.mass, fr.inertia]);
         names.extend(["x", "y", "theta"].map(|c| format!("{}.{c}", fr.name)));
     }
-    let d = 2 + 3 * n;
-    bodies.push(Body {
-        name: "right_abutment".into(),
-        mass: a.mass,
-        inertia: a.inertia,
-        reference: last_end + plan.gap0 * plan.axes[n - 1].0,
-        dofs: [Some(d), None, Some(d + 1)],
-        drive: [None; 2],
-    });
-    mass.extend([a.mass, a.inertia]);
-    names.extend([
-        "right_abutment.x".to_string(),
-        "right_abutment.theta".into(),
-    ]);
+    let right = last_end + plan.gap0 * plan.axes[n - 1].0;
+    let d = mass.len();
+    let body = abutment(
+        f,
+        kind,
+        "right",
+        right,
+        (d, drive[1]),
+        &mut mass,
+        &mut names,
+    );
+    bodies.push(body);
     (bodies, DVector::from_vec(mass), names)
 }
 

@@ -11,6 +11,7 @@
 //!
 //! Units: t, kN, m, s (1 t·m/s² = 1 kN).
 
+mod abutments;
 pub mod layout;
 pub mod schema;
 mod seat;
@@ -18,6 +19,7 @@ mod structure;
 mod supports;
 mod validate;
 
+pub use abutments::{caltrans_backfill, skew_reduction};
 pub use schema::*;
 pub use seat::aashto_support_length;
 
@@ -37,20 +39,42 @@ pub fn compile(f: &BridgeFile, ck: &Check, motions: &Motions) -> Result<Scene, M
     let settings = settings(&f.solver, ck)?;
     let frames = layout::frames(f);
     validate::validate(f, &frames, ck)?;
+    let kind = abutments::validate(f, ck)?;
     let plan = Plan::of(f, &frames);
-    let (bodies, mass, dof_names) = layout::bodies(f, &frames, &plan);
-    let contacts = layout::corner_contacts(f, &frames, &plan, &bodies);
-    // supports: per bent x and y, per abutment x
+    // supports: per bent x and y, per abutment x, and y where keys, bearings or the ground
+    // move something beside the deck ends
     let nb = frames.iter().map(|fr| fr.bents.len()).sum();
+    let a = &f.abutment;
+    let transverse = kind != Kind::Actuators || a.key.is_some() || a.bearing.is_some();
     let ex = f.excitation.as_ref();
     let supports = match ex {
-        Some(e) => supports::excitation_supports(e, &f.runs, nb, ck, path, motions)?,
+        Some(e) => supports::excitation_supports(e, &f.runs, nb, transverse, ck, path, motions)?,
         None => Vec::new(),
     };
     let driven = !supports.is_empty();
-    let last = bodies.len() - 1;
-    let mut springs = structure::actuator_springs(&f.abutment, ex, nb, driven, last);
-    let hysteretic = structure::bent_columns(&f.column, &frames, &plan, ck, driven, &mut springs)?;
+    let sx = driven.then_some([2 * nb, 2 * nb + 1]);
+    let sy = (driven && transverse).then_some([2 * nb + 2, 2 * nb + 3]);
+    let follow = ex.is_some_and(|e| e.drive_abutments);
+    let drive = |i: usize| match kind {
+        Kind::Rigid if follow => [sx.map(|s| s[i]), sy.map(|s| s[i])],
+        Kind::Backfill => [None, sy.map(|s| s[i])],
+        _ => [None; 2],
+    };
+    let (bodies, mass, dof_names) = layout::bodies(f, kind, &frames, &plan, [drive(0), drive(1)]);
+    let contacts = layout::corner_contacts(f, &frames, &plan, &bodies);
+    let ends = abutments::Ends {
+        last: bodies.len() - 1,
+        sx,
+        sy,
+        drive_actuators: driven && follow,
+    };
+    let mut springs = abutments::abutment_springs(a, kind, &ends);
+    let mut hysteretic =
+        structure::bent_columns(&f.column, &frames, &plan, ck, driven, &mut springs)?;
+    hysteretic.extend(abutments::abutment_elements(
+        f, kind, &frames, &plan, &ends, ck,
+    )?);
+    hysteretic.extend(abutments::joint_keys(f, &frames, &plan, ck)?);
     let seats = seat::seats(&seat_lines(f, &frames, &plan), ck)?;
     let n = mass.len();
     let mut scene = Scene {
@@ -127,6 +151,26 @@ fn seat_lines(f: &BridgeFile, frames: &[Frame], plan: &Plan) -> Vec<SeatSpec> {
 /// that no `excitation.run` picks, excitation fields its kind does not read (kept so that
 /// `--set excitation.kind=…` can switch kinds).
 pub fn warnings(f: &BridgeFile, ck: &Check) -> Vec<ModelWarning> {
+    let path = ck.path.to_path_buf();
+    let mut unread_abutment = Vec::new();
+    if let Ok(kind) = Kind::of(&f.abutment, ck) {
+        for k in abutments::unread(&f.abutment, kind) {
+            let field = format!("abutment.{k}");
+            unread_abutment.push(ModelWarning::AbutmentUnread {
+                path: path.clone(),
+                line: ck.line(&field),
+                field,
+                kind: kind.name().into(),
+            });
+        }
+    }
+    let mut out = unread_abutment;
+    out.extend(excitation_warnings(f, ck));
+    out
+}
+
+/// What the `[excitation]` leaves to defaults or does not use.
+fn excitation_warnings(f: &BridgeFile, ck: &Check) -> Vec<ModelWarning> {
     let path = ck.path.to_path_buf();
     let Some(e) = &f.excitation else {
         return vec![ModelWarning::NoExcitation { path }];

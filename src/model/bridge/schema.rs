@@ -4,6 +4,7 @@
 
 use super::super::solver::SolverSpec;
 use crate::hysteresis::Law;
+use crate::model::check::{Check, ModelError};
 use serde::Deserialize;
 
 /// Names of the four abutment corners (paper: point 1 is the left, upper corner).
@@ -69,22 +70,42 @@ pub struct JointSpec {
     pub seat_width: Option<f64>,
     /// The percentage of AASHTO LRFD 4.7.4.4's N to compare with (absent: 100).
     pub seat_percent: Option<f64>,
+    /// Shear keys across the joint, one beside each side of the left frame's end, between the
+    /// two frames.
+    pub key: Option<KeySpec>,
 }
 
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct AbutmentSpec {
-    /// t (0.65).
-    pub mass: f64,
+    /// `actuators` (default: a block on two longitudinal spring–dampers, the specimen),
+    /// `rigid` (no DOFs, moves with the ground in x and y), `backfill` (a backwall block on its
+    /// two springs and the passive backfill behind it, moving with the ground in y).
+    pub kind: Option<String>,
+    /// t (0.65); `actuators` and `backfill` only.
+    pub mass: Option<f64>,
     /// t·m² (0.31).
-    pub inertia: f64,
-    /// Each of the two longitudinal actuators, kN/m.
-    pub actuator_stiffness: f64,
+    pub inertia: Option<f64>,
+    /// Each of the two longitudinal springs (the actuators; for `backfill` the stem and
+    /// piles), kN/m.
+    pub actuator_stiffness: Option<f64>,
     /// kN·s/m.
     #[serde(default)]
     pub actuator_damping: f64,
-    /// Lateral offset ± of the two actuators from the abutment centre, m.
-    pub actuator_offset: f64,
+    /// Lateral offset ± of the two springs from the abutment centre, m.
+    pub actuator_offset: Option<f64>,
+    /// `backfill`: height of the backwall (the soil it mobilises), m.
+    pub backwall_height: Option<f64>,
+    /// `backfill`: Caltrans' passive stiffness and capacity of the whole backwall (absent: from
+    /// its height, the deck's width along the skewed backwall and the skew reduction).
+    pub backfill_stiffness: Option<f64>,
+    pub backfill_capacity: Option<f64>,
+    /// Bearings under each deck end at an abutment: one at each end corner, in x and in y
+    /// (world axes), to the ground (e.g. `{ law = "bilinear", … post_yield_ratio = 0 }` for
+    /// sliding bearings, `{ law = "linear", stiffness = … }` for elastomeric pads).
+    pub bearing: Option<Law>,
+    /// Exterior shear keys at each deck end (both abutments).
+    pub key: Option<KeySpec>,
     /// Support length of each deck corner on its seat at the reference configuration (AASHTO's
     /// N: from the deck end to the seat's edge), m (absent: no seat output).
     pub seat_width: Option<f64>,
@@ -93,6 +114,21 @@ pub struct AbutmentSpec {
     /// Skew of the left and right abutment faces, degrees (absent: the end frame's `skew`).
     pub left_skew: Option<f64>,
     pub right_skew: Option<f64>,
+}
+
+/// A pair of exterior shear keys (one beside each side of a deck end): compression-only,
+/// elastic–plastic, gone at a failure displacement (the `key` law).
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct KeySpec {
+    /// Clear gap between the deck's side and the key, m.
+    pub gap: f64,
+    /// kN/m.
+    pub stiffness: f64,
+    /// kN.
+    pub capacity: f64,
+    /// Deformation beyond the gap at which the key is gone, m.
+    pub failure_displacement: f64,
 }
 
 #[derive(Clone, Debug, Deserialize)]
@@ -248,4 +284,34 @@ pub struct BridgeFile {
     pub runs: Vec<RunSpec>,
     #[serde(default)]
     pub solver: SolverSpec,
+}
+
+/// The kind of an abutment.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Kind {
+    Actuators,
+    Rigid,
+    Backfill,
+}
+
+impl Kind {
+    pub fn of(a: &AbutmentSpec, ck: &Check) -> Result<Self, ModelError> {
+        match a.kind.as_deref() {
+            None | Some("actuators") => Ok(Kind::Actuators),
+            Some("rigid") => Ok(Kind::Rigid),
+            Some("backfill") => Ok(Kind::Backfill),
+            Some(k) => Err(ck.err(
+                "abutment.kind",
+                format!("unknown abutment kind '{k}' (actuators, rigid, backfill)"),
+            )),
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Kind::Actuators => "actuators",
+            Kind::Rigid => "rigid",
+            Kind::Backfill => "backfill",
+        }
+    }
 }

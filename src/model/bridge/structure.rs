@@ -1,8 +1,8 @@
-//! The structure under and beside the frames: the abutments' actuators and the bents'
+//! The structure under the frames: the bents'
 //! columns (paper §4.1: Takeda in x and y, uncoupled; elastic torsion).
 
 use super::layout::{Frame, Plan, frame_body};
-use super::schema::{AbutmentSpec, ColumnSpec, ExcitationSpec};
+use super::schema::ColumnSpec;
 use crate::hysteresis::{Hysteretic, Law};
 use crate::model::check::{Check, ModelError};
 use crate::scene::{Attachment, HystereticElement, Spring};
@@ -41,35 +41,6 @@ fn scale_law(law: &Law, kf: f64, ff: f64) -> Law {
         // the compression-only gap laws are refused as column laws (validate.rs)
         law @ (Law::Backfill { .. } | Law::Key { .. }) => law,
     }
-}
-
-/// Two longitudinal actuators per abutment (bodies 0 and `last`), driven by the abutment
-/// supports if asked.
-pub(super) fn actuator_springs(
-    a: &AbutmentSpec,
-    ex: Option<&ExcitationSpec>,
-    nb: usize,
-    driven: bool,
-    last: usize,
-) -> Vec<Spring> {
-    let mut springs = Vec::new();
-    for (i, (ab, side)) in [(0usize, "left"), (last, "right")].into_iter().enumerate() {
-        for (sgn, tag) in [(1.0, "top"), (-1.0, "bottom")] {
-            let support = 2 * nb + i;
-            springs.push(Spring {
-                name: format!("{side}_actuator_{tag}"),
-                attachment: Attachment::Point {
-                    body: ab,
-                    point: Vector2::new(0.0, sgn * a.actuator_offset),
-                    direction: Vector2::new(1.0, 0.0),
-                },
-                stiffness: a.actuator_stiffness,
-                damping: a.actuator_damping,
-                support: (driven && ex.is_some_and(|e| e.drive_abutments)).then_some(support),
-            });
-        }
-    }
-    springs
 }
 
 /// Two columns per bent, hysteretic in x and y (law scaled to the bent height; circular

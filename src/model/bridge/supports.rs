@@ -13,19 +13,21 @@ fn lag(lags: &[f64], i: usize) -> f64 {
     lags.get(i).copied().unwrap_or(0.0)
 }
 
-/// Supports of the `[excitation]`: per bent x and y, then left and right abutment x.
+/// Supports of the `[excitation]`: per bent x and y, then left and right abutment x, then (if
+/// `transverse`: keys, bearings or abutments moving with the ground) left and right abutment y.
 pub(super) fn excitation_supports(
     e: &ExcitationSpec,
     runs: &[RunSpec],
     nb: usize,
+    transverse: bool,
     ck: &Check,
     path: &Path,
     motions: &Motions,
 ) -> Result<Vec<Support>, ModelError> {
     validate_excitation(e, nb, ck)?;
     match e.kind.as_str() {
-        "harmonic" => harmonic_supports(e, nb, ck),
-        "record" => record_supports(e, runs, nb, ck, path, motions),
+        "harmonic" => harmonic_supports(e, nb, transverse, ck),
+        "record" => record_supports(e, runs, (nb, transverse), ck, path, motions),
         k => Err(ck.err(
             "excitation.kind",
             format!("unknown excitation kind '{k}' (record, harmonic)"),
@@ -37,6 +39,7 @@ pub(super) fn excitation_supports(
 fn harmonic_supports(
     e: &ExcitationSpec,
     nb: usize,
+    transverse: bool,
     ck: &Check,
 ) -> Result<Vec<Support>, ModelError> {
     let f = ck.positive(
@@ -63,6 +66,10 @@ fn harmonic_supports(
     }
     out.push(h(ax, lag(&e.lag_abutments, 0), "left_abutment.x".into()));
     out.push(h(ax, lag(&e.lag_abutments, 1), "right_abutment.x".into()));
+    if transverse {
+        out.push(h(ay, lag(&e.lag_abutments, 0), "left_abutment.y".into()));
+        out.push(h(ay, lag(&e.lag_abutments, 1), "right_abutment.y".into()));
+    }
     Ok(out)
 }
 
@@ -71,7 +78,7 @@ fn harmonic_supports(
 fn record_supports(
     e: &ExcitationSpec,
     runs: &[RunSpec],
-    nb: usize,
+    (nb, transverse): (usize, bool),
     ck: &Check,
     path: &Path,
     motions: &Motions,
@@ -133,6 +140,13 @@ fn record_supports(
         let l = lag(&e.lag_abutments, i);
         let m = get(&e.longitudinal, "excitation.longitudinal", pga_x, l)?;
         out.push(record(format!("{side}_abutment.x"), m));
+    }
+    if transverse {
+        for (i, side) in ["left", "right"].iter().enumerate() {
+            let l = lag(&e.lag_abutments, i);
+            let m = get(&e.transverse, "excitation.transverse", pga_y, l)?;
+            out.push(record(format!("{side}_abutment.y"), m));
+        }
     }
     Ok(out)
 }

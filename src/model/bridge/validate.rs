@@ -17,11 +17,6 @@ pub(super) fn validate(f: &BridgeFile, frames: &[Frame], ck: &Check) -> Result<(
     }
     validate_joints(f, frames, ck)?;
     let a = &f.abutment;
-    ck.positive("abutment.mass", a.mass)?;
-    ck.positive("abutment.inertia", a.inertia)?;
-    ck.positive("abutment.actuator_stiffness", a.actuator_stiffness)?;
-    ck.nonneg("abutment.actuator_damping", a.actuator_damping)?;
-    ck.positive("abutment.actuator_offset", a.actuator_offset)?;
     for (field, skew) in [
         ("abutment.left_skew", a.left_skew),
         ("abutment.right_skew", a.right_skew),
