@@ -211,6 +211,7 @@ pub(super) fn draw_plan(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
             ctx.layer();
             paint_bodies(ctx, &pose, hx, body_color);
             paint_contacts(ctx, &pose, &states, th);
+            paint_keys(ctx, &pose, tc, th);
         });
     frame.render_widget(canvas, area);
 }
@@ -300,6 +301,36 @@ fn paint_bodies(ctx: &mut Context, pose: &Pose, hx: f64, color: Color) {
                 let q = pose.place(BodyRef::Body(bi), *p);
                 ctx.draw(&CLine::new(centre.x, centre.y, q.x, q.y, color));
             }
+        }
+    }
+}
+
+/// Marks the shear keys at their deck points: `k` intact, `X` (`╳`) once failed at the cursor.
+fn paint_keys(ctx: &mut Context, pose: &Pose, tc: f64, th: &Theme) {
+    use crate::hysteresis::Law;
+    use crate::output::EventKind;
+    use crate::scene::Attachment;
+    let failed_style: Style = th.status(StatusKind::Error);
+    let failed_sym = if th.ascii { "X" } else { "╳" };
+    for (j, el) in pose.scene.hysteretic.iter().enumerate() {
+        if !matches!(el.law.law(), Law::Key { .. }) {
+            continue;
+        }
+        let (body, point) = match el.attachment {
+            Attachment::Point { body, point, .. } | Attachment::Relative { body, point, .. } => {
+                (body, point)
+            }
+            Attachment::Rotation { .. } => continue,
+        };
+        let p = pose.place(BodyRef::Body(body), point);
+        let failed = pose.run.is_some_and(|r| {
+            (r.events.iter())
+                .any(|e| e.kind == EventKind::KeyFailure && e.contact == j && e.t <= tc)
+        });
+        if failed {
+            ctx.print(p.x, p.y, Span::styled(failed_sym, failed_style));
+        } else {
+            ctx.print(p.x, p.y, Span::raw("k"));
         }
     }
 }
