@@ -446,3 +446,46 @@ fn every_bad_value_of_the_frame_and_joint_tables_is_refused_with_its_line() {
         "{e}"
     );
 }
+
+#[test]
+fn history_has_each_seats_margin_over_time() {
+    let scene = load_text(&three_frame(), &["solver.t_end=6"]);
+    let r = simulate(&scene);
+    let dir = std::env::temp_dir().join(format!("deckspin-seat-margin-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("history.csv");
+    r.write_history(&path).unwrap();
+    let text = std::fs::read_to_string(&path).unwrap();
+    let _ = std::fs::remove_dir_all(&dir);
+    let mut lines = text.lines();
+    let head: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |n: &str| head.iter().position(|h| *h == n).unwrap();
+    let (gap, margin) = (col("joint1_top.gap"), col("joint1_top.seat_margin"));
+    let (agap, amargin) = (col("left_bottom.gap"), col("left_bottom.seat_margin"));
+    let mut rows = 0;
+    let mut smallest = f64::INFINITY;
+    for l in lines {
+        let v: Vec<&str> = l.split(',').collect();
+        let x = |i: usize| v[i].parse::<f64>().unwrap();
+        // margin = seat width − (g_N − g_N(0)), rotation included in g_N
+        assert!((x(margin) - (0.60 - (x(gap) - 0.025))).abs() < 1e-12);
+        assert!((x(amargin) - (0.75 - (x(agap) - 0.05))).abs() < 1e-12);
+        smallest = smallest.min(x(margin));
+        rows += 1;
+    }
+    assert!(
+        rows > 600 && smallest < 0.6 - 1e-3,
+        "{rows} rows, smallest {smallest}"
+    );
+    let listed = r
+        .summary
+        .seats
+        .iter()
+        .find(|s| s.contact == "joint1_top")
+        .unwrap();
+    assert!(
+        (listed.min_margin - smallest).abs() < 1e-12,
+        "{} vs {smallest}",
+        listed.min_margin
+    );
+}

@@ -18,13 +18,16 @@ impl RunOutput {
 pub struct HistoryWriter<W: Write> {
     w: W,
     rows: usize,
+    /// (contact, edge) of each seat: its margin edge − g_N is a column.
+    seats: Vec<(usize, f64)>,
 }
 
 impl<W: Write> HistoryWriter<W> {
     /// The writer, its header written: the columns of `out`'s DOFs, contacts and elements.
     pub fn new(mut w: W, out: &RunOutput) -> std::io::Result<Self> {
         writeln!(w, "{}", history_header(out).join(","))?;
-        Ok(Self { w, rows: 0 })
+        let seats = out.seats.iter().map(|s| (s.contact, s.edge)).collect();
+        Ok(Self { w, rows: 0, seats })
     }
 
     /// Rows written so far.
@@ -77,6 +80,9 @@ impl<W: Write> HistoryWriter<W> {
             ] {
                 num(w, x)?;
             }
+            for &(c, edge) in &self.seats {
+                num(w, s.contacts.get(c).map_or(f64::NAN, |c| edge - c.gap))?;
+            }
             writeln!(w)?;
         }
         self.rows += samples.len();
@@ -127,5 +133,10 @@ fn history_header(out: &RunOutput) -> Vec<String> {
         head.push(format!("{e}.force"));
     }
     head.extend(ENERGY_COLUMNS.iter().map(|f| format!("energy.{f}")));
+    // the seat margins last: a model without seats keeps its columns
+    for s in &out.seats {
+        let name = out.contact_names.get(s.contact).map_or("?", String::as_str);
+        head.push(format!("{name}.seat_margin"));
+    }
     head
 }
