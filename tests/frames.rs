@@ -140,6 +140,7 @@ fn joint_impact(
 
 #[test]
 fn frames_of_different_periods_pound_and_exchange_momentum_as_the_impact_law_says() {
+    let (mut worst_impulse, mut worst_dv, mut worst_momentum) = (0.0f64, 0.0f64, 0.0f64);
     for (mu, eps) in [(0.5, 0.0), (0.2, 0.6), (0.0, 1.0)] {
         let joint = format!("gaps = [0.004, 0.006]\nmu = {mu}\nrestitution = {eps}\nskew = 12.0");
         let text = two_frames([1.5, 2.8], &joint, "");
@@ -189,9 +190,10 @@ fn frames_of_different_periods_pound_and_exchange_momentum_as_the_impact_law_say
             1.0 / b.inertia,
         ];
         let (pn, pt) = joint_impact(&w_n, &w_t, &minv, g, mu, eps);
-        assert_rel(first.normal, pn, 1e-9, "normal impulse");
+        assert_rel(first.normal, pn, 1e-12, "normal impulse");
+        worst_impulse = worst_impulse.max(rel(first.normal, pn));
         assert!(
-            (first.tangential - pt).abs() <= 1e-9 * pn,
+            (first.tangential - pt).abs() <= 1e-12 * pn,
             "{} vs {pt}",
             first.tangential
         );
@@ -199,19 +201,23 @@ fn frames_of_different_periods_pound_and_exchange_momentum_as_the_impact_law_say
             let dv = minv[i] * (w_n[i] * pn + w_t[i] * pt);
             let got = post.v[2 + i] - pre.v[2 + i];
             assert!(
-                (got - dv).abs() <= 1e-9 * dv.abs().max(1e-6),
+                (got - dv).abs() <= 1e-12 * dv.abs().max(1e-6),
                 "dof {i}: {got} vs {dv}"
             );
+            worst_dv = worst_dv.max((got - dv).abs() / dv.abs().max(1e-6));
         }
         // the two frames' linear momentum is unchanged by their impact
         for k in 0..2 {
             let p = |s: &[f64]| a.mass * s[2 + k] + b.mass * s[5 + k];
-            assert!(
-                (p(&post.v) - p(&pre.v)).abs() < 1e-10 * a.mass,
-                "momentum {k}"
-            );
+            let drift = (p(&post.v) - p(&pre.v)).abs() / (a.mass * pre.v[2 + k].abs().max(1e-3));
+            assert!(drift < 1e-10, "momentum {k}: {drift:e}");
+            worst_momentum = worst_momentum.max(drift);
         }
     }
+    eprintln!(
+        "joint impacts: normal impulse {worst_impulse:.1e}, Δv {worst_dv:.1e}, momentum \
+         {worst_momentum:.1e} (relative, worst of three)"
+    );
 }
 
 /// Three frames, skewed supports, a curved alignment: at q = 0 every corner's gap is the one
@@ -269,6 +275,7 @@ fn rotates(l_over_b: f64, phi: f64, mu: f64, eps: f64) -> (bool, f64) {
 #[test]
 fn a_skewed_deck_hitting_a_parallel_face_flush_rotates_as_the_closed_form_says() {
     let (mut tried, mut rotating) = (0, 0);
+    let (mut still_max, mut spin_min) = (0.0f64, f64::INFINITY);
     for l_over_b in [1.5, 3.0, 13.4] {
         for phi_deg in [10.0f64, 25.0, 40.0, 55.0] {
             for mu in [0.0, 0.2, 0.5, 1.0] {
@@ -311,8 +318,10 @@ fn a_skewed_deck_hitting_a_parallel_face_flush_rotates_as_the_closed_form_says()
                     if expect {
                         assert!(spin > 1e-4, "should rotate: {what}");
                         rotating += 1;
+                        spin_min = spin_min.min(spin);
                     } else {
-                        assert!(spin < 1e-10, "should not rotate: {what}");
+                        assert!(spin < 1e-12, "should not rotate: {what}");
+                        still_max = still_max.max(spin);
                     }
                     tried += 1;
                 }
@@ -322,6 +331,10 @@ fn a_skewed_deck_hitting_a_parallel_face_flush_rotates_as_the_closed_form_says()
     assert!(
         tried > 100 && rotating > 20 && tried - rotating > 20,
         "{tried} cases, {rotating} rotate"
+    );
+    eprintln!(
+        "flush skew impacts: {tried} cases, {rotating} rotate (smallest θ̇L {spin_min:.2e} m/s), \
+         the others at most {still_max:.2e} m/s"
     );
 }
 
@@ -407,14 +420,9 @@ fn every_bad_value_of_the_frame_and_joint_tables_is_refused_with_its_line() {
         assert!(e.starts_with(&format!("--set {set}: {field}: ")), "{e}");
     }
     // tables: one joint too few, three gaps, frames beside a [deck], bents outside frames
-    let last_joint = t.rfind("[[joint]]").unwrap();
-    let fewer = format!(
-        "{}{}",
-        &t[..last_joint],
-        &t[last_joint
-            + "[[joint]]\ngaps = [0.025, 0.025]\nseat_width = 0.60\nseat_percent = 150.0\n"
-                .len()..]
-    );
+    let mut doc: toml_edit::DocumentMut = t.parse().unwrap();
+    doc["joint"].as_array_of_tables_mut().unwrap().remove(1);
+    let fewer = doc.to_string();
     let e = refusal(&fewer, &[]);
     assert!(
         e.contains(": joint: 1 [[joint]] tables for 3 frames"),
