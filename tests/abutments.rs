@@ -291,3 +291,25 @@ fn bad_abutment_kinds_keys_and_bearings_are_refused_with_their_fields() {
         "{said:?}"
     );
 }
+
+/// Every gap element of the three-frame example (backfill, exterior and joint keys) stays on
+/// its law at every sample: 0 ≤ f ≤ capacity (a crossing of a branch bound is never missed).
+#[test]
+fn the_three_frame_examples_keys_and_backfill_never_leave_their_laws() {
+    let scene = load("models/three-frame.toml", &[]);
+    let r = deckspin::run(&scene, &mut deckspin::Silent).unwrap();
+    let mut checked = 0;
+    for (j, el) in scene.hysteretic.iter().enumerate() {
+        let cap = match *el.law.law() {
+            Law::Key { capacity, .. } | Law::Backfill { capacity, .. } => capacity,
+            _ => continue,
+        };
+        let peak = r.samples.iter().map(|s| s.elements[j].1).fold(0.0, f64::max);
+        let low = r.samples.iter().map(|s| s.elements[j].1).fold(0.0, f64::min);
+        // a closing located to the event tolerance leaves at most k·1e-12 m of tension
+        let ok = low >= -1e-8 * cap && peak <= cap * (1.0 + 1e-12);
+        assert!(ok, "{}: {low} … {peak} (capacity {cap})", el.name);
+        checked += 1;
+    }
+    assert_eq!(checked, 4 + 4 + 4, "backfill halves, exterior keys, joint keys");
+}
