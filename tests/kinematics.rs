@@ -101,3 +101,57 @@ fn gap_at_reference_is_the_declared_gap_and_exact_in_rotation() {
     let linear = 0.05 + k.w_n.dot(&q);
     assert!((linear - exact).abs() > 1e-5 * 0.5);
 }
+
+/// A backwall free in x and θ and carried in y by the ground (a bridge file's `backfill`
+/// abutment), with a backfill element at a point off its centre.
+const BACKWALL: &str = r#"
+[[support]]
+name = "ground"
+kind = "harmonic"
+amplitude = 0.03
+frequency = 1.7
+[[body]]
+name = "wall"
+mass = 0.65
+inertia = 0.2
+dofs = ["x", "theta"]
+position = [-20.0, 0.0]
+[[hysteretic]]
+name = "fill"
+body = "wall"
+point = [0.0, 0.4]
+direction = [1.0, 0.0]
+support = "ground"
+law = { law = "backfill", gap = 0.0, stiffness = 1.0e4, capacity = 50.0 }
+"#;
+
+#[test]
+fn a_body_driven_in_y_keeps_its_dofs_in_x_and_theta() {
+    // the one-body reading (event location) against the frame (the forces): x, θ from q, y from
+    // the ground; e = x − 0.4 sin θ − u_g by hand
+    let mut s = deckspin::model::load_str(BACKWALL, Path::new("wall.toml"), &[]).unwrap();
+    s.bodies[0].drive = [None, Some(0)];
+    let (x, th, vx, om) = (0.012, 0.003, -0.2, 0.05);
+    let q = DVector::from_vec(vec![x, th]);
+    let v = DVector::from_vec(vec![vx, om]);
+    let y = DVector::from_vec(vec![x, th, vx, om]);
+    let t = 0.37;
+    let (ug, vg, _) = s.supports[0].at(t);
+    let fr = s.frame(t, &q, &v);
+    let one = s.body_state_at(0, t, &y, 2);
+    let framed = &fr.poses[0];
+    assert_eq!(one.position, framed.position);
+    assert_eq!(one.velocity, framed.velocity);
+    assert_eq!((one.angle, one.omega), (framed.angle, framed.omega));
+    assert_eq!(one.position.y, ug);
+    assert_eq!(one.velocity.y, vg);
+    let el = &s.hysteretic[0];
+    let (e, ed) = s.deformation_value(&el.attachment, &one, &one, fr.supports[0]);
+    let (e_hand, ed_hand) = (x - 0.4 * th.sin() - ug, vx - 0.4 * om * th.cos() - vg);
+    assert!((e - e_hand).abs() < 1e-15, "e {e} by hand {e_hand}");
+    assert!((ed - ed_hand).abs() < 1e-15, "ė {ed} by hand {ed_hand}");
+    assert_eq!(
+        (e, ed),
+        s.deformation_rates(&fr, &el.attachment, el.support)
+    );
+}

@@ -484,16 +484,16 @@ impl Scene {
     /// its supports).
     pub fn body_state_at(&self, i: usize, t: f64, y: &DVector<f64>, n: usize) -> BodyState {
         let b = &self.bodies[i];
-        if !b.is_driven() {
-            return pose(b, |k| y[k], |k| y[n + k]);
+        let mut s = pose(b, |k| y[k], |k| y[n + k]);
+        // a driven axis has no DOF: the ground's position and velocity (as `drive_poses`)
+        for (axis, sup) in b.drive.iter().enumerate() {
+            if let Some(sup) = *sup {
+                let (u, ud, _) = self.supports[sup].at(t);
+                s.position[axis] = b.reference[axis] + u;
+                s.velocity[axis] = ud;
+            }
         }
-        let motion = |s: Option<usize>| s.map_or((0.0, 0.0, 0.0), |s| self.supports[s].at(t));
-        let [x, y] = b.drive.map(motion);
-        BodyState {
-            position: b.reference + Vector2::new(x.0, y.0),
-            velocity: Vector2::new(x.1, y.1),
-            ..BodyState::default()
-        }
+        s
     }
 }
 
