@@ -46,7 +46,7 @@ pub(super) struct State {
     /// Largest generalized force seen (scale of the force thresholds).
     pub(super) force_scale: f64,
     /// Event function values at the end of the last step (reused at the next step's start).
-    /// (with the gap rates ġ_N of the gap functions, NaN for the others).
+    /// (with their rates: ġ_N of the gap functions, ±ė of the branch bounds, NaN for the others).
     pub(super) last_event_values: Option<(f64, Vec<f64>, Vec<f64>)>,
     /// Event function values computed by the last `arm` (for `due_now` at the same instant).
     pub(super) arm_values: Vec<f64>,

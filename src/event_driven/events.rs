@@ -149,8 +149,14 @@ impl<'a> Engine<'a> {
                     let (e, ed) = defo[j];
                     let b = self.state.laws[j].branch();
                     match *f {
-                        EventFn::Lower(_) => e - b.lower,
-                        EventFn::Upper(_) => b.upper - e,
+                        EventFn::Lower(_) => {
+                            rate = ed;
+                            e - b.lower
+                        }
+                        EventFn::Upper(_) => {
+                            rate = -ed;
+                            b.upper - e
+                        }
                         _ => b.direction * ed,
                     }
                 }
@@ -211,8 +217,14 @@ pub(super) fn due_now(
 }
 
 /// Armed flags: a function is armed when it is known to be positive just after the start of a
-/// phase — clearly positive, or zero and moving up (a separating gap, a slide or branch just
-/// begun). Unarmed ones trigger only below −threshold (an inconsistent state the LCP repairs).
+/// phase — clearly positive, or zero and moving up (a separating gap, a slide just begun).
+/// Unarmed ones trigger only below −threshold (an inconsistent state the LCP repairs).
+///
+/// A branch bound's e − lower or upper − e is armed only above its threshold ε: an element at
+/// the bound (|v| ≤ ε: a branch just begun there, a wall at rest at the kink of its backfill)
+/// is watched for v ≤ −ε, from either side. Moving into the branch it is armed once v > ε;
+/// moving back it passes −ε and the branch beyond is taken again, with one event; a rounding
+/// sign at the bound is no crossing. Below −ε it is due at once ([`due_now`]).
 pub(super) fn arm(eng: &mut Engine, fns: &[EventFn]) -> Result<Vec<bool>, SolverError> {
     let mut armed = Vec::new();
     arm_into(eng, fns, &mut armed)?;
@@ -243,12 +255,10 @@ pub(super) fn arm_into(
                     || (val > -st.gap_tol
                         && eng.contact_kinematics_now(i).gap_rate > st.velocity_tol)
             }
-            EventFn::SlideStop(_)
-            | EventFn::Reversal(_)
-            | EventFn::Lower(_)
-            | EventFn::Upper(_)
-            | EventFn::Unseat(_) => val > -thr,
-            EventFn::Release(_) | EventFn::StickSlip(_) => val > thr,
+            EventFn::SlideStop(_) | EventFn::Reversal(_) | EventFn::Unseat(_) => val > -thr,
+            EventFn::Release(_) | EventFn::StickSlip(_) | EventFn::Lower(_) | EventFn::Upper(_) => {
+                val > thr
+            }
         }
     }));
     // they are also the start values of the next step's event search

@@ -130,11 +130,13 @@ pub(super) fn locate_event_in(
             if a > 0.0 && b <= 0.0 {
                 let root = illinois(eng, step, fns, k, t_prev[k], t, a, b, armed[k], thr[k])?;
                 roots.push((root, fns[k]));
-            } else if a > 0.0 && armed[k] && matches!(fns[k], EventFn::Gap(_)) {
-                // both ends open: a corner may still have dipped through the face between
+            } else if a > 0.0 && watched_between(fns[k], armed[k]) {
+                // both ends open: a corner may still have dipped through the face between (an
+                // element through a branch bound and back)
                 let ends = ((t_prev[k], a, r_prev[k]), (t, b, r_vals[m]));
-                if let Some((tc, gc)) = dip(eng, step, fns[k], ends, 8)? {
-                    let root = illinois(eng, step, fns, k, t_prev[k], tc, a, gc, true, thr[k])?;
+                let shift = if armed[k] { 0.0 } else { thr[k] };
+                if let Some((tc, gc)) = dip(eng, step, fns[k], shift, ends, 8)? {
+                    let root = illinois(eng, step, fns, k, t_prev[k], tc, a, gc, armed[k], thr[k])?;
                     roots.push((root, fns[k]));
                 }
             }
@@ -165,15 +167,17 @@ pub(super) fn locate_event_in(
 
 /// A gap g that is positive at both ends of [ta, tb] may have dipped below zero in between
 /// (approaching at ta and opening at tb, or just released with a small opening rate and
-/// pulled back by the contact next to it). The cubic Hermite interpolant of
+/// pulled back by the contact next to it); so may a branch bound's e − lower or upper − e (an
+/// element through the kink of its law and back). The cubic Hermite interpolant of
 /// (g, ġ) at the ends predicts the minimum; where it predicts g ≤ 0 the gap is evaluated there
 /// on the dense output, and the two halves are searched again (to `depth` levels) while it is
-/// still positive. Returns (t, g(t)) with g(t) ≤ 0: the far end of a bracket [ta, t] of the
-/// crossing.
+/// still positive. g is the function plus `shift` (its threshold while unarmed). Returns
+/// (t, g(t)) with g(t) ≤ 0: the far end of a bracket [ta, t] of the crossing.
 fn dip(
     eng: &mut Engine,
     step: &dopri::Step,
     f: EventFn,
+    shift: f64,
     ((ta, ga, ra), (tb, gb, rb)): ((f64, f64, f64), (f64, f64, f64)),
     depth: u32,
 ) -> Result<Option<(f64, f64)>, SolverError> {
@@ -189,7 +193,7 @@ fn dip(
     let tm = ta + s * (tb - ta);
     let mut y = step.y0.clone();
     step.dense_into((tm - step.t0) / step.h, &mut y);
-    let gm = eng.event_values(tm, &y, &[f])?[0];
+    let gm = eng.event_values(tm, &y, &[f])?[0] + shift;
     let rm = eng.ws.gap_rates[0];
     if gm <= 0.0 {
         return Ok(Some((tm, gm)));
@@ -197,10 +201,10 @@ fn dip(
     if depth == 0 {
         return Ok(None);
     }
-    if let Some(hit) = dip(eng, step, f, ((ta, ga, ra), (tm, gm, rm)), depth - 1)? {
+    if let Some(hit) = dip(eng, step, f, shift, ((ta, ga, ra), (tm, gm, rm)), depth - 1)? {
         return Ok(Some(hit));
     }
-    dip(eng, step, f, ((tm, gm, rm), (tb, gb, rb)), depth - 1)
+    dip(eng, step, f, shift, ((tm, gm, rm), (tb, gb, rb)), depth - 1)
 }
 
 /// Minimum over s ∈ (0, 1) of the cubic Hermite interpolant with values `g0`, `g1` and
@@ -232,6 +236,16 @@ pub(super) fn hermite_min(g0: f64, d0: f64, g1: f64, d1: f64) -> Option<(f64, f6
         .filter(|s| s.is_finite() && *s > 0.0 && *s < 1.0)
         .map(|s| (s, p(s)))
         .min_by(|x, y| x.1.total_cmp(&y.1))
+}
+
+/// Functions that [`dip`] looks at between two positive values: an armed gap (ġ_N), a branch
+/// bound armed or at its bound (±ė; watched for v ≤ −ε, [`super::events::arm`]).
+fn watched_between(f: EventFn, armed: bool) -> bool {
+    match f {
+        EventFn::Gap(_) => armed,
+        EventFn::Lower(_) | EventFn::Upper(_) => true,
+        _ => false,
+    }
 }
 
 /// The upper end of this law's branch is a shear key's failure point (rule G5).

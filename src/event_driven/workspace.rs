@@ -23,8 +23,8 @@ pub(super) struct Workspace {
     pub(super) sample_rows: (Vec<ContactSample>, Vec<(f64, f64)>),
     /// A Jacobian row of n DOFs.
     pub(super) jac: DVector<f64>,
-    /// ġ_N at the instant of the last `event_values` for each of its gap functions (NaN for
-    /// the other functions).
+    /// The rates at the instant of the last `event_values`: ġ_N of its gap functions, ė and
+    /// −ė of its branch bounds (e − lower, upper − e), NaN for the other functions.
     pub(super) gap_rates: Vec<f64>,
 }
 
