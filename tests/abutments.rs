@@ -304,12 +304,24 @@ fn the_three_frame_examples_keys_and_backfill_never_leave_their_laws() {
             Law::Key { capacity, .. } | Law::Backfill { capacity, .. } => capacity,
             _ => continue,
         };
-        let peak = r.samples.iter().map(|s| s.elements[j].1).fold(0.0, f64::max);
-        let low = r.samples.iter().map(|s| s.elements[j].1).fold(0.0, f64::min);
+        let peak = r
+            .samples
+            .iter()
+            .map(|s| s.elements[j].1)
+            .fold(0.0, f64::max);
+        let low = r
+            .samples
+            .iter()
+            .map(|s| s.elements[j].1)
+            .fold(0.0, f64::min);
         // a closing located to the event tolerance leaves at most k·1e-12 m of tension
         let ok = low >= -1e-8 * cap && peak <= cap * (1.0 + 1e-12);
         assert!(ok, "{}: {low} … {peak} (capacity {cap})", el.name);
         checked += 1;
     }
-    assert_eq!(checked, 4 + 4 + 4, "backfill halves, exterior keys, joint keys");
+    assert_eq!(
+        checked,
+        4 + 4 + 4,
+        "backfill halves, exterior keys, joint keys"
+    );
 }

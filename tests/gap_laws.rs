@@ -519,3 +519,46 @@ fn the_specimen_with_backfill_abutments_finishes_its_sixteen_seconds() {
         .count();
     assert!(pushed > 0);
 }
+
+#[test]
+fn a_key_closing_before_an_impact_in_the_same_step_acts_from_its_own_instant() {
+    // the key closes at t_k = g_k/v₀ and the block meets a wall δ further on, inside one long
+    // free-flight step (the wall's crossing found at an output instant, before the step's
+    // middle): from t_k the key's force k (x − g_k) acts, so x − g_k = (v₀/ω) sin ω(t − t_k)
+    // and the impact comes at sin ω τ = ω δ/v₀ with ġ = −v₀ cos ω τ
+    let (g_k, delta) = (0.03, 0.015);
+    let w = (K / M).sqrt();
+    let tau = (w * delta / V0).asin() / w;
+    let (t_impact, v_impact) = (g_k / V0 + tau, V0 * (w * tau).cos());
+    let law = format!(
+        r#"law = "key", gap = {g_k}, stiffness = {K}, capacity = 100.0, failure_displacement = 0.5"#
+    );
+    let text = scene(&law, "event")
+        + &format!(
+            r#"
+[[contact]]
+name = "wall"
+body = "block"
+normal = [-1.0, 0.0]
+gap = {}
+restitution = 1.0
+"#,
+            g_k + delta
+        );
+    let scene = deckspin::model::load_str(&text, Path::new("key-and-wall.toml"), &[]).unwrap();
+    let r = deckspin::simulate(&scene, &mut deckspin::Silent).unwrap();
+    let impact = &r.events[0];
+    assert_eq!(impact.kind, EventKind::Impact);
+    assert_rel(impact.t, t_impact, 1e-9, "impact instant");
+    assert_rel(-impact.gap_rate_before, v_impact, 1e-9, "impact speed");
+    // the key's force just before the impact: k δ, on its elastic branch
+    let pre = (r.samples.iter())
+        .find(|s| s.kind == SampleKind::PreEvent && s.t == impact.t)
+        .unwrap();
+    assert_rel(
+        pre.elements[0].1,
+        K * delta,
+        1e-9,
+        "key force at the impact",
+    );
+}

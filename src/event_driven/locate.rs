@@ -141,6 +141,9 @@ pub(super) fn locate_event_in(
                 }
             }
         }
+        if !full && !roots.is_empty() {
+            roots_of_the_others(eng, step, fns, armed, (thr, v_prev, t_prev), (t, y), roots)?;
+        }
         if !roots.is_empty() {
             roots.sort_by(|a, b| a.0.total_cmp(&b.0));
             // a shear key failing drops its force: applied at its own instant, never later
@@ -163,6 +166,34 @@ pub(super) fn locate_event_in(
     let last = (step.t1(), std::mem::take(v_prev), std::mem::take(r_prev));
     eng.state.last_event_values = Some(last);
     Ok(None)
+}
+
+/// A gap's crossing found at an instant `t` where only the gaps are sampled (θ = ¼, ¾, an
+/// output instant) ends the search there: the other functions are evaluated at (t, `y`) too and
+/// their crossings in [t_prev, t] join `roots`, so that a branch end before the gap's root is
+/// applied at its own instant, not after the impact.
+fn roots_of_the_others(
+    eng: &mut Engine,
+    step: &dopri::Step,
+    fns: &[EventFn],
+    armed: &[bool],
+    (thr, v_prev, t_prev): (&[f64], &[f64], &[f64]),
+    (t, y): (f64, &DVector<f64>),
+    roots: &mut Vec<(f64, EventFn)>,
+) -> Result<(), SolverError> {
+    let vals = eng.event_values(t, y, fns)?;
+    for (k, &val) in vals.iter().enumerate() {
+        if matches!(fns[k], EventFn::Gap(_)) {
+            continue;
+        }
+        let shifted = |v: f64| if armed[k] { v } else { v + thr[k] };
+        let (a, b) = (shifted(v_prev[k]), shifted(val));
+        if a > 0.0 && b <= 0.0 {
+            let root = illinois(eng, step, fns, k, t_prev[k], t, a, b, armed[k], thr[k])?;
+            roots.push((root, fns[k]));
+        }
+    }
+    Ok(())
 }
 
 /// A gap g that is positive at both ends of [ta, tb] may have dipped below zero in between
