@@ -76,10 +76,15 @@ pub struct Step {
 }
 
 impl Step {
-    /// y(t0 + θh), 0 ≤ θ ≤ 1, written into `out`.
+    /// y(t0 + θh), 0 ≤ θ ≤ 1, written into `out`; y1 itself at θ = 1 (y0 + (y1 − y0) may
+    /// differ from y1 in the last bit).
     pub fn dense_into(&self, theta: f64, out: &mut DVector<f64>) {
-        let th1 = 1.0 - theta;
         let n = out.len();
+        if theta == 1.0 {
+            out.as_mut_slice().copy_from_slice(&self.y1.as_slice()[..n]);
+            return;
+        }
+        let th1 = 1.0 - theta;
         let [r3, r4, r5] = self.cont.each_ref().map(|r| &r.as_slice()[..n]);
         let (y0, y1) = (&self.y0.as_slice()[..n], &self.y1.as_slice()[..n]);
         for (i, o) in out.as_mut_slice().iter_mut().enumerate() {
