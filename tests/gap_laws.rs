@@ -562,3 +562,56 @@ restitution = 1.0
         "key force at the impact",
     );
 }
+
+#[test]
+fn a_key_grazed_between_two_samples_of_a_long_step_still_closes() {
+    // a block on a spring (ω = 1 rad/s, amplitude v₀/ω = 1 m) against a stiff key at
+    // g = 1 − 1e-6 m: on the step's dense output (no key) it is beyond the closing point for
+    // 2√(2·1e-6)/ω ≈ 2.8 ms, between two samples of the step (without the key it would pass
+    // unseen: no branch event, x(3 s) = sin 3 = 0.14112 instead of 0.14021). Closed form: the key
+    // closes at sin ω t₁ = ω g/v₀ with v₁ = v₀ cos ω t₁; the block then oscillates about
+    // x_eq = K g/(k_s + K) at Ω = √((k_s + K)/m) and is back at g after τ = 2φ/Ω,
+    // φ = atan2(v₁/Ω, g − x_eq), at −v₁; then x = g cos ω s − (v₁/ω) sin ω s, s = t − t₁ − τ
+    let (k_s, k_key, g, t_end) = (M, 2e6, 1.0 - 1e-6, 3.0);
+    let w = (k_s / M).sqrt();
+    let t1 = (w * g / V0).asin() / w;
+    let v1 = V0 * (w * t1).cos();
+    let (x_eq, big_w) = (k_key * g / (k_s + k_key), ((k_s + k_key) / M).sqrt());
+    let tau = 2.0 * (v1 / big_w).atan2(g - x_eq) / big_w;
+    let s = t_end - t1 - tau;
+    let x = g * (w * s).cos() - v1 / w * (w * s).sin();
+    let v = -g * w * (w * s).sin() - v1 * (w * s).cos();
+    let text = format!(
+        r#"
+title = "block on a spring grazing a key"
+[solver]
+method = "event"
+t_end = {t_end}
+rtol = 1e-10
+atol = 1e-12
+output_dt = 0.5
+[[body]]
+name = "block"
+mass = {M}
+dofs = ["x"]
+initial_velocity = [{V0}, 0.0, 0.0]
+[[spring]]
+name = "k"
+body = "block"
+direction = [1.0, 0.0]
+stiffness = {k_s}
+[[hysteretic]]
+name = "key"
+body = "block"
+direction = [1.0, 0.0]
+law = {{ law = "key", gap = {g}, stiffness = {k_key}, capacity = 1e3, failure_displacement = 0.5 }}
+"#
+    );
+    let scene = deckspin::model::load_str(&text, Path::new("graze.toml"), &[]).unwrap();
+    let r = deckspin::simulate(&scene, &mut deckspin::Silent).unwrap();
+    // closed (open → elastic) and open again (elastic → open)
+    assert_eq!(r.summary.stats.branch_events, 2);
+    let end = last(&r);
+    assert_rel(end.q[0], x, 1e-6, "final position");
+    assert_rel(end.v[0], v, 1e-7, "final velocity");
+}

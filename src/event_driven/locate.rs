@@ -80,25 +80,14 @@ pub(super) fn locate_event_in(
         gap_fns.extend(gaps.iter().map(|&k| fns[k]));
     }
     let shifted = |v: f64, k: usize, armed: &[bool]| if armed[k] { v } else { v + thr[k] };
-    // the end values first: the last stage evaluated the dynamics there (FSAL), which any
-    // other evaluation would overwrite
-    eng.event_values_into(step.t1(), &step.y1, fns, v_end)?;
-    r_end.clone_from(&eng.ws.gap_rates);
-    match eng.state.last_event_values.take() {
-        Some((t, v, r)) if t == step.t0 && v.len() == fns.len() => (*v_prev, *r_prev) = (v, r),
-        _ => {
-            eng.event_values_into(step.t0, &step.y0, fns, v_prev)?;
-            r_prev.clone_from(&eng.ws.gap_rates);
-        }
-    };
-    t_prev.clear();
-    t_prev.resize(fns.len(), step.t0);
-    for (k, v) in v_prev.iter_mut().enumerate() {
-        if armed[k] && *v <= 0.0 {
-            // positive just after t0 by construction
-            *v = f64::MIN_POSITIVE;
-        }
-    }
+    end_values(
+        eng,
+        step,
+        fns,
+        armed,
+        (v_prev, r_prev, t_prev),
+        (v_end, r_end),
+    )?;
     // gaps (cheap, and a corner may graze through in part of a step) at θ = ¼, ½, ¾, 1;
     // everything else at ½ and 1
     if y.len() != step.y0.len() {
@@ -166,6 +155,37 @@ pub(super) fn locate_event_in(
     let last = (step.t1(), std::mem::take(v_prev), std::mem::take(r_prev));
     eng.state.last_event_values = Some(last);
     Ok(None)
+}
+
+/// The values (and rates) of the functions at both ends of the step: the end first (the last
+/// stage evaluated the dynamics there, FSAL, which any other evaluation would overwrite), the
+/// start from the previous step's end when it is this step's start.
+fn end_values(
+    eng: &mut Engine,
+    step: &dopri::Step,
+    fns: &[EventFn],
+    armed: &[bool],
+    (v_prev, r_prev, t_prev): (&mut Vec<f64>, &mut Vec<f64>, &mut Vec<f64>),
+    (v_end, r_end): (&mut Vec<f64>, &mut Vec<f64>),
+) -> Result<(), SolverError> {
+    eng.event_values_into(step.t1(), &step.y1, fns, v_end)?;
+    r_end.clone_from(&eng.ws.gap_rates);
+    match eng.state.last_event_values.take() {
+        Some((t, v, r)) if t == step.t0 && v.len() == fns.len() => (*v_prev, *r_prev) = (v, r),
+        _ => {
+            eng.event_values_into(step.t0, &step.y0, fns, v_prev)?;
+            r_prev.clone_from(&eng.ws.gap_rates);
+        }
+    };
+    t_prev.clear();
+    t_prev.resize(fns.len(), step.t0);
+    for (k, v) in v_prev.iter_mut().enumerate() {
+        if armed[k] && *v <= 0.0 {
+            // positive just after t0 by construction
+            *v = f64::MIN_POSITIVE;
+        }
+    }
+    Ok(())
 }
 
 /// A gap's crossing found at an instant `t` where only the gaps are sampled (θ = ¼, ¾, an
