@@ -1745,3 +1745,73 @@ fn key_failures_have_their_own_row_and_mark_in_the_event_strip() {
     let s = screen(&render(&mut bridge_app(), 120, 40));
     assert!(!s.contains("key failure") && !s.lines().any(|l| l.trim_start().starts_with("keys")));
 }
+
+#[test]
+fn frames_bents_and_keys_are_added_and_removed_as_lists() {
+    use deckspin::tui::list_edit::{duplicate, remove};
+    let path = root().join("models/three-frame.toml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let load = |t: &str| deckspin::model::load_str(t, &path, &[]).unwrap_or_else(|e| panic!("{e}"));
+    let base = load(&text);
+    // a frame copied brings a joint: four frames, three joints, every other line kept
+    let (four, what) = duplicate(&text, "frame.1.mass").unwrap();
+    assert_eq!(what, "frame 2 copied, with joint 2");
+    let s = load(&four);
+    assert_eq!(s.bodies.len(), base.bodies.len() + 1);
+    assert_eq!(s.bodies[3].name, "frame2_copy");
+    assert!(
+        s.hysteretic
+            .iter()
+            .any(|h| h.name.starts_with("bent2_copy_top"))
+    );
+    assert_eq!(
+        s.contacts
+            .iter()
+            .filter(|c| c.name.starts_with("joint"))
+            .count(),
+        6
+    );
+    for l in text.lines() {
+        assert!(four.contains(l), "line lost: {l}");
+    }
+    // and removed again: the model of three frames (frame and joint gone)
+    let (three, what) = remove(&four, "frame.2.length").unwrap();
+    assert_eq!(what, "frame 3 removed, with joint 2");
+    let back = load(&three);
+    assert_eq!(back.dof_names, base.dof_names);
+    // a bent of a frame, a key
+    let (more, _) = duplicate(&text, "frame.1.bent.0.height").unwrap();
+    assert_eq!(load(&more).hysteretic.len(), base.hysteretic.len() + 4);
+    let (keyless, what) = remove(&text, "joint.0.key.gap").unwrap();
+    assert_eq!(what, "joint key removed");
+    assert_eq!(load(&keyless).hysteretic.len(), base.hysteretic.len() - 2);
+    // what cannot be done is said
+    assert!(
+        duplicate(&text, "joint.0.gaps.0")
+            .unwrap_err()
+            .contains("duplicate the frame")
+    );
+    let one = std::fs::read_to_string(root().join("models/four-span.toml")).unwrap();
+    assert!(remove(&one, "deck.mass").is_err());
+    // the keys of the form view: `+` on a frame's field, `-` on the copy's
+    let mut app = App::new_from_text(&text, &path);
+    app.view = View::Form;
+    select_field(&mut app, "frame.1.mass");
+    update(&mut app, key('+'));
+    assert!(
+        app.dirty() && app.draft.contains("frame2_copy"),
+        "{}",
+        app.status
+    );
+    select_field(&mut app, "frame.2.mass");
+    update(&mut app, key('-'));
+    assert!(!app.draft.contains("frame2_copy"), "{}", app.status);
+    // the bridge's only frame stays, said in the status line
+    let mut one_app = App::new_from_text(&one, &root().join("models/four-span.toml"));
+    one_app.view = View::Form;
+    select_field(&mut one_app, "bent.0.height");
+    update(&mut one_app, key('-'));
+    update(&mut one_app, key('-'));
+    update(&mut one_app, key('-'));
+    assert!(one_app.status.contains("invalid"), "{}", one_app.status);
+}

@@ -11,6 +11,7 @@ pub mod effects;
 pub mod export;
 pub mod form;
 pub mod keymap;
+pub mod list_edit;
 pub mod merge;
 pub mod msg;
 pub mod run_data;

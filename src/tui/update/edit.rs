@@ -14,6 +14,7 @@ pub(super) fn form_action(app: &mut App, a: Action) {
         A::FieldPageDown => select(app, 10),
         A::FieldEdit => start_edit(app),
         A::FieldRevert => revert(app),
+        A::ItemDuplicate | A::ItemRemove => list_edit(app, a == A::ItemDuplicate),
         A::EditCommit => commit(app),
         A::EditCancel => {
             app.mode = Mode::Normal;
@@ -111,6 +112,33 @@ fn accept_draft(app: &mut App, text: String) {
 }
 
 /// `u`: revert the field to its saved value.
+/// `+` / `-`: a copy of the selected field's list element added after it, or the element
+/// removed (`tui::list_edit`); the draft is checked by the engine first, as an edit is.
+fn list_edit(app: &mut App, add: bool) {
+    let Some(f) = app.form.selected().cloned() else {
+        return;
+    };
+    let edit = if add {
+        crate::tui::list_edit::duplicate(&app.draft, &f.path)
+    } else {
+        crate::tui::list_edit::remove(&app.draft, &f.path)
+    };
+    let checked = edit.and_then(|(t, what)| match form::validate(&t, &app.path) {
+        Ok(_) => Ok((t, what)),
+        Err(e) => Err(format!("the model would be invalid: {e}")),
+    });
+    match checked {
+        Ok((t, what)) => {
+            accept_draft(app, t);
+            app.set_status(
+                StatusKind::Ok,
+                format!("{what} (unsaved: s saves, u reverts a field)"),
+            );
+        }
+        Err(e) => app.set_status(StatusKind::Error, e),
+    }
+}
+
 fn revert(app: &mut App) {
     let Some(f) = app.form.selected().cloned() else {
         return;

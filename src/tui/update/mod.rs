@@ -127,6 +127,8 @@ fn on_action(app: &mut App, a: Action) -> Vec<Effect> {
         | A::FieldPageDown
         | A::FieldEdit
         | A::FieldRevert
+        | A::ItemDuplicate
+        | A::ItemRemove
         | A::EditCommit
         | A::EditCancel
         | A::EditBackspace
