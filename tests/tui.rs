@@ -1785,12 +1785,13 @@ fn frames_bents_and_keys_are_added_and_removed_as_lists() {
     let (keyless, what) = remove(&text, "joint.0.key.gap").unwrap();
     assert_eq!(what, "joint key removed");
     assert_eq!(load(&keyless).hysteretic.len(), base.hysteretic.len() - 2);
+    // a key added to a joint without one: a copy of the file's first key line
+    let (keyed, what) = duplicate(&keyless, "joint.0.gaps.0").unwrap();
+    assert_eq!(what, "joint 1 keyed (a copy of the file's first key)");
+    assert_eq!(load(&keyed).hysteretic.len(), base.hysteretic.len());
     // what cannot be done is said
-    assert!(
-        duplicate(&text, "joint.0.gaps.0")
-            .unwrap_err()
-            .contains("duplicate the frame")
-    );
+    let e = duplicate(&text, "joint.0.gaps.0").unwrap_err();
+    assert!(e.contains("has its key"), "{e}");
     let one = std::fs::read_to_string(root().join("models/four-span.toml")).unwrap();
     assert!(remove(&one, "deck.mass").is_err());
     // the keys of the form view: `+` on a frame's field, `-` on the copy's

@@ -166,7 +166,7 @@ pub const KEYMAP: &[Binding] = &[
     b(Ctx::Form, &[K::Code(KC::PageDown)], "PgDn", A::FieldPageDown, "page down", None),
     b(Ctx::Form, &[K::Code(KC::Enter)], "Enter", A::FieldEdit, "edit the value", Some(("Enter", "edit"))),
     b(Ctx::Form, &[K::Ch('u')], "u", A::FieldRevert, "revert to the saved value", Some(("u", "revert"))),
-    b(Ctx::Form, &[K::Ch('+')], "+", A::ItemDuplicate, "copy the frame, bent or run", None),
+    b(Ctx::Form, &[K::Ch('+')], "+", A::ItemDuplicate, "copy frame, bent, run; add key", None),
     b(Ctx::Form, &[K::Ch('-')], "-", A::ItemRemove, "remove frame, bent, run, key", None),
     // everywhere
     b(Ctx::Global, &[K::Ch('q'), K::Ctrl('c')], "q", A::Quit, "quit (asks if edits unsaved)", Some(("q", "quit"))),

@@ -1,6 +1,7 @@
 //! Adding and removing the elements of a bridge's lists from the form (`+`, `-` on a field of
 //! the element): a frame with its bents (and a joint with it, so that there is one joint fewer
-//! than frames), a bent, a run; `-` also removes a key. Edits of the draft's text, line by line:
+//! than frames), a bent, a run; a joint's key (`+` on a joint without one copies the file's
+//! first key line, `-` removes it). Edits of the draft's text, line by line:
 //! comments and the layout of the rest are kept.
 
 /// A table header line: its line index, its dotted name and whether it is `[[…]]`.
@@ -170,11 +171,32 @@ pub fn duplicate(text: &str, path: &str) -> Result<(String, String), String> {
             let what = list.rsplit('.').next().unwrap_or(list);
             Ok((join(out, text), format!("{what} {} copied", n + 1)))
         }
-        "joint" | "joint.key" => {
-            Err("a joint comes with a frame: duplicate the frame (`+` on one of its fields)".into())
-        }
+        "joint" => add_key(&lines, n, text),
+        "joint.key" => Err(format!("joint {} has its key", n + 1)),
         _ => Err(format!("{path}: nothing to copy")),
     }
+}
+
+/// A joint without a key gets a copy of the first key line of the file (a joint's or the
+/// abutment's): keys are added as a list of the joints.
+fn add_key(lines: &[&str], n: usize, text: &str) -> Result<(String, String), String> {
+    let is_key = |l: &&str| {
+        let t = l.trim_start();
+        t.starts_with("key") && t[3..].trim_start().starts_with('=')
+    };
+    let (a, b) =
+        block(lines, "joint", n, (0, lines.len())).ok_or_else(|| format!("no joint {}", n + 1))?;
+    if lines[a..b].iter().any(is_key) {
+        return Err(format!("joint {} has its key", n + 1));
+    }
+    let key = (lines.iter().find(|l| is_key(l)))
+        .ok_or("no key in the file to copy: write one (joint.N.key = { gap, stiffness, capacity, failure_displacement })")?;
+    let mut out: Vec<String> = lines.iter().map(|l| l.to_string()).collect();
+    out.insert(b, key.trim_start().to_string());
+    Ok((
+        join(out, text),
+        format!("joint {} keyed (a copy of the file's first key)", n + 1),
+    ))
 }
 
 /// The draft without the list element of `path` (a frame: with the joint before it, or after
