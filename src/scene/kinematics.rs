@@ -157,22 +157,8 @@ impl Scene {
         for k in 0..fr.driven.len() {
             let i = fr.driven[k];
             let b = &self.bodies[i];
-            let [x, y] = b.drive.map(|s| s.map(|s| motion(fr, s)));
-            // a driven axis has no DOF: its position and velocity are the ground's; the
-            // others (a body with DOFs driven in y only) keep the DOFs' pose
-            let p = &mut fr.poses[i];
-            let (mut v, mut a) = (Vector2::zeros(), Vector2::zeros());
-            if let Some((u, ud, udd)) = x {
-                p.position.x = b.reference.x + u;
-                p.velocity.x = ud;
-                (v.x, a.x) = (ud, udd);
-            }
-            if let Some((u, ud, udd)) = y {
-                p.position.y = b.reference.y + u;
-                p.velocity.y = ud;
-                (v.y, a.y) = (ud, udd);
-            }
-            fr.drive[i] = (v, a);
+            let m = b.drive.map(|s| s.map(|s| motion(fr, s)));
+            fr.drive[i] = drive_axes(b, &mut fr.poses[i], m);
         }
     }
 
@@ -485,16 +471,32 @@ impl Scene {
     pub fn body_state_at(&self, i: usize, t: f64, y: &DVector<f64>, n: usize) -> BodyState {
         let b = &self.bodies[i];
         let mut s = pose(b, |k| y[k], |k| y[n + k]);
-        // a driven axis has no DOF: the ground's position and velocity (as `drive_poses`)
-        for (axis, sup) in b.drive.iter().enumerate() {
-            if let Some(sup) = *sup {
-                let (u, ud, _) = self.supports[sup].at(t);
-                s.position[axis] = b.reference[axis] + u;
-                s.velocity[axis] = ud;
-            }
-        }
+        drive_axes(
+            b,
+            &mut s,
+            b.drive.map(|d| d.map(|d| self.supports[d].at(t))),
+        );
         s
     }
+}
+
+/// The driven axes of body `b` in its pose `p`: a driven axis has no DOF, so its position and
+/// velocity are the ground's (u, u̇, ü per axis in `m`); the others (a body with DOFs driven
+/// in y only) keep the DOFs' pose. Returns the driven part of the velocity and acceleration.
+fn drive_axes(
+    b: &Body,
+    p: &mut BodyState,
+    m: [Option<(f64, f64, f64)>; 2],
+) -> (Vector2<f64>, Vector2<f64>) {
+    let (mut v, mut a) = (Vector2::zeros(), Vector2::zeros());
+    for (axis, motion) in m.into_iter().enumerate() {
+        if let Some((u, ud, udd)) = motion {
+            p.position[axis] = b.reference[axis] + u;
+            p.velocity[axis] = ud;
+            (v[axis], a[axis]) = (ud, udd);
+        }
+    }
+    (v, a)
 }
 
 /// (e, ė, u̇, sparse J, its length) of [`Scene::deformation`].

@@ -177,19 +177,22 @@ pub fn duplicate(text: &str, path: &str) -> Result<(String, String), String> {
     }
 }
 
+/// A `key = { … }` line.
+fn is_key_line(line: &str) -> bool {
+    let t = line.trim_start();
+    t.strip_prefix("key")
+        .is_some_and(|r| r.trim_start().starts_with('='))
+}
+
 /// A joint without a key gets a copy of the first key line of the file (a joint's or the
 /// abutment's): keys are added as a list of the joints.
 fn add_key(lines: &[&str], n: usize, text: &str) -> Result<(String, String), String> {
-    let is_key = |l: &&str| {
-        let t = l.trim_start();
-        t.starts_with("key") && t[3..].trim_start().starts_with('=')
-    };
     let (a, b) =
         block(lines, "joint", n, (0, lines.len())).ok_or_else(|| format!("no joint {}", n + 1))?;
-    if lines[a..b].iter().any(is_key) {
+    if lines[a..b].iter().any(|l| is_key_line(l)) {
         return Err(format!("joint {} has its key", n + 1));
     }
-    let key = (lines.iter().find(|l| is_key(l)))
+    let key = (lines.iter().find(|l| is_key_line(l)))
         .ok_or("no key in the file to copy: write one (joint.N.key = { gap, stiffness, capacity, failure_displacement })")?;
     let mut out: Vec<String> = lines.iter().map(|l| l.to_string()).collect();
     out.insert(b, key.trim_start().to_string());
@@ -258,10 +261,7 @@ pub fn remove(text: &str, path: &str) -> Result<(String, String), String> {
                 }
             };
             let key = (at.0..at.1)
-                .find(|&i| {
-                    let t = lines[i].trim_start();
-                    t.starts_with("key") && t[3..].trim_start().starts_with('=')
-                })
+                .find(|&i| is_key_line(lines[i]))
                 .ok_or_else(|| format!("{table} has no key line"))?;
             cut((key, key + 1), &mut out);
             Ok((join(out, text), format!("{table} key removed")))

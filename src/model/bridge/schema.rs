@@ -144,26 +144,27 @@ pub struct ContactsSpec {
     pub gaps: [f64; 4],
 }
 
-/// `gaps` with exactly four entries (a fixed-size array would drop a fifth silently).
-fn four_gaps<'de, D: serde::Deserializer<'de>>(d: D) -> Result<[f64; 4], D::Error> {
+/// `gaps` with exactly N entries (a fixed-size array would drop an extra one silently); `what`
+/// names them in the error.
+fn exact_gaps<'de, D: serde::Deserializer<'de>, const N: usize>(
+    d: D,
+    what: &str,
+) -> Result<[f64; N], D::Error> {
     let v = Vec::<f64>::deserialize(d)?;
     let n = v.len();
-    v.try_into().map_err(|_| {
-        serde::de::Error::custom(format!(
-            "expected 4 contacts.gaps (left_top, left_bottom, right_top, right_bottom), got {n}"
-        ))
-    })
+    v.try_into()
+        .map_err(|_| serde::de::Error::custom(format!("expected {N} {what}, got {n}")))
 }
 
-/// `gaps` with exactly two entries.
+fn four_gaps<'de, D: serde::Deserializer<'de>>(d: D) -> Result<[f64; 4], D::Error> {
+    exact_gaps(
+        d,
+        "contacts.gaps (left_top, left_bottom, right_top, right_bottom)",
+    )
+}
+
 fn two_gaps<'de, D: serde::Deserializer<'de>>(d: D) -> Result<[f64; 2], D::Error> {
-    let v = Vec::<f64>::deserialize(d)?;
-    let n = v.len();
-    v.try_into().map_err(|_| {
-        serde::de::Error::custom(format!(
-            "expected 2 joint gaps (top: +y side, bottom: −y side), got {n}"
-        ))
-    })
+    exact_gaps(d, "joint gaps (top: +y side, bottom: −y side)")
 }
 
 fn yes() -> bool {
