@@ -252,26 +252,58 @@ pub fn min_norm_correction(
     minv: &DVector<f64>,
     singular: &mut bool,
 ) -> DVector<f64> {
-    let k = rows.len();
-    let mut a = DMatrix::zeros(k, k);
-    for r in 0..k {
-        for c in 0..k {
-            a[(r, c)] = rows[r]
-                .as_slice()
-                .iter()
-                .zip(minv.as_slice())
-                .zip(rows[c].as_slice())
-                .map(|((x, m), y)| x * m * y)
-                .sum();
-        }
-    }
-    let mut lam = DVector::zeros(k);
-    solve_small_into(&a, &DVector::from_column_slice(res), &mut lam, singular);
+    let mut ws = Correction::default();
     let mut d = DVector::zeros(minv.len());
-    for r in 0..k {
-        d.axpy(lam[r], rows[r], 1.0);
+    ws.solve(rows.len(), |r| rows[r], res, minv, singular, &mut d);
+    d
+}
+
+/// Reused storage of [`min_norm_correction`]: the Gram matrix, right-hand side and multipliers.
+#[derive(Clone, Debug, Default)]
+pub struct Correction {
+    a: DMatrix<f64>,
+    b: DVector<f64>,
+    lam: DVector<f64>,
+}
+
+impl Correction {
+    /// [`min_norm_correction`] of the `k` rows `row(0..k)` into `d`, without allocation once
+    /// the buffers have their sizes.
+    pub fn solve<'r>(
+        &mut self,
+        k: usize,
+        row: impl Fn(usize) -> &'r DVector<f64>,
+        res: &[f64],
+        minv: &DVector<f64>,
+        singular: &mut bool,
+        d: &mut DVector<f64>,
+    ) {
+        if self.a.nrows() != k {
+            self.a = DMatrix::zeros(k, k);
+            self.b = DVector::zeros(k);
+        }
+        for r in 0..k {
+            for c in 0..k {
+                self.a[(r, c)] = row(r)
+                    .as_slice()
+                    .iter()
+                    .zip(minv.as_slice())
+                    .zip(row(c).as_slice())
+                    .map(|((x, m), y)| x * m * y)
+                    .sum();
+            }
+        }
+        self.b.as_mut_slice().copy_from_slice(res);
+        solve_small_into(&self.a, &self.b, &mut self.lam, singular);
+        if d.len() != minv.len() {
+            *d = DVector::zeros(minv.len());
+        }
+        d.fill(0.0);
+        for r in 0..k {
+            d.axpy(self.lam[r], row(r), 1.0);
+        }
+        d.component_mul_assign(minv);
     }
-    d.component_mul(minv)
 }
 
 #[cfg(test)]

@@ -119,7 +119,10 @@ pub(super) fn locate_event_in(
             if a > 0.0 && b <= 0.0 {
                 let root = illinois(eng, step, fns, k, t_prev[k], t, a, b, armed[k], thr[k])?;
                 roots.push((root, fns[k]));
-            } else if a > 0.0 && watched_between(fns[k], armed[k]) {
+            } else if a > 0.0
+                && watched_between(fns[k], armed[k])
+                && !stays_above(t - t_prev[k], (a, r_prev[k]), (b, r_vals[m]))
+            {
                 // both ends open: a corner may still have dipped through the face between (an
                 // element through a branch bound and back)
                 let ends = ((t_prev[k], a, r_prev[k]), (t, b, r_vals[m]));
@@ -235,16 +238,18 @@ fn dip(
     if !(ra.is_finite() && rb.is_finite() && tb > ta) {
         return Ok(None);
     }
-    let Some((s, p)) = hermite_min(ga, ra * (tb - ta), gb, rb * (tb - ta)) else {
+    let (da, db) = (ra * (tb - ta), rb * (tb - ta));
+    if hermite_stays_above(ga, da, gb, db) {
+        return Ok(None);
+    }
+    let Some((s, p)) = hermite_min(ga, da, gb, db) else {
         return Ok(None);
     };
     if p > 0.0 {
         return Ok(None);
     }
     let tm = ta + s * (tb - ta);
-    let mut y = step.y0.clone();
-    step.dense_into((tm - step.t0) / step.h, &mut y);
-    let gm = eng.event_values(tm, &y, &[f])?[0] + shift;
+    let gm = one_value(eng, step, f, tm)? + shift;
     let rm = eng.ws.gap_rates[0];
     if gm <= 0.0 {
         return Ok(Some((tm, gm)));
@@ -256,6 +261,21 @@ fn dip(
         return Ok(Some(hit));
     }
     dip(eng, step, f, shift, ((tm, gm, rm), (tb, gb, rb)), depth - 1)
+}
+
+/// [`hermite_stays_above`] for values and rates (`ga`, `ra`), (`gb`, `rb`) a time `dt`
+/// apart: false when a rate is not finite (then [`dip`] decides).
+#[inline]
+fn stays_above(dt: f64, (ga, ra): (f64, f64), (gb, rb): (f64, f64)) -> bool {
+    hermite_stays_above(ga, ra * dt, gb, rb * dt)
+}
+
+/// The cubic Hermite interpolant of [`hermite_min`] is positive on [0, 1] by a bound alone:
+/// p = h₀₀g₀ + h₀₁g₁ + h₁₀d₀ + h₁₁d₁ with h₀₀ + h₀₁ = 1, h₀₀, h₀₁ ≥ 0 and |h₁₀|, |h₁₁| ≤ 4/27,
+/// so p ≥ min(g₀, g₁) − 4/27 (|d₀| + |d₁|). The bound has a margin of 1 % against rounding.
+#[inline]
+pub(super) fn hermite_stays_above(g0: f64, d0: f64, g1: f64, d1: f64) -> bool {
+    g0.min(g1) > 0.15 * (d0.abs() + d1.abs())
 }
 
 /// Minimum over s ∈ (0, 1) of the cubic Hermite interpolant with values `g0`, `g1` and
@@ -356,10 +376,12 @@ pub(super) fn illinois(
         }
         _ => st.event_time_tol,
     };
-    let one = [fns[k]];
-    let mut y = step.y0.clone();
+    let mut y = std::mem::take(&mut eng.ws.branch_y);
+    if y.len() != step.y0.len() {
+        y = step.y0.clone();
+    }
     let n = eng.n;
-    let (_, tb) = bracket_root(ta, tb, fa, fb, tol, |tm| {
+    let r = bracket_root(ta, tb, fa, fb, tol, |tm| {
         let theta = (tm - step.t0) / step.h;
         let mut fm = match fns[k] {
             // a branch function needs only its element: its bodies' poses, one support
@@ -379,17 +401,37 @@ pub(super) fn illinois(
                     _ => b.direction * ed,
                 }
             }
-            _ => {
-                step.dense_into(theta, &mut y);
-                eng.event_values(tm, &y, &one)?[0]
-            }
+            _ => one_value(eng, step, fns[k], tm)?,
         };
         if !armed {
             fm += thr;
         }
         Ok(fm)
-    })?;
-    Ok(tb)
+    });
+    eng.ws.branch_y = y;
+    Ok(r?.1)
+}
+
+/// The value of one event function on the dense output at `t` (its rate in
+/// `eng.ws.gap_rates[0]`), without allocation.
+fn one_value(
+    eng: &mut Engine,
+    step: &dopri::Step,
+    f: EventFn,
+    t: f64,
+) -> Result<f64, SolverError> {
+    let mut y = std::mem::take(&mut eng.ws.dense_y);
+    if y.len() != step.y0.len() {
+        y = step.y0.clone();
+    }
+    step.dense_at_into(t, &mut y);
+    let mut v = std::mem::take(&mut eng.ws.one_value);
+    let r = eng.event_values_into(t, &y, &[f], &mut v);
+    eng.ws.dense_y = y;
+    let val = v.first().copied();
+    eng.ws.one_value = v;
+    r?;
+    Ok(val.unwrap_or(f64::NAN))
 }
 
 /// Illinois (modified regula falsi) on [a, b] with f(a) = fa > 0 ≥ fb = f(b), until the
@@ -451,5 +493,31 @@ mod tests {
         // a cubic is reproduced: g(s) = s³ − s² + 0.1 (minimum at s = 2/3)
         let (s, p) = hermite_min(0.1, 0.0, 0.1, 1.0).unwrap();
         assert!((s - 2.0 / 3.0).abs() < 1e-15 && (p - (0.1 - 4.0 / 27.0)).abs() < 1e-15);
+    }
+
+    #[test]
+    fn the_bound_never_hides_a_minimum_below_zero() {
+        use super::hermite_stays_above;
+        // the bound is reached: s³ − 2s² + s has its maximum 4/27 at s = 1/3
+        let (g, d) = (4.0 / 27.0, -1.0);
+        assert!(hermite_min(g, d, g, 0.0).unwrap().1.abs() < 1e-15);
+        assert!(!hermite_stays_above(g, d, g, 0.0));
+        // a grid of ends: wherever the bound says "positive", the minimum is positive
+        let vals = [-1.0, -0.3, -0.05, 0.0, 0.02, 0.1, 0.4, 1.0, 3.0];
+        let mut skipped = 0;
+        for &g0 in &vals[3..] {
+            for &g1 in &vals[3..] {
+                for &d0 in &vals {
+                    for &d1 in &vals {
+                        if hermite_stays_above(g0, d0, g1, d1) {
+                            skipped += 1;
+                            let m = hermite_min(g0, d0, g1, d1).map_or(g0.min(g1), |x| x.1);
+                            assert!(m > 0.0, "{g0} {d0} {g1} {d1}: {m}");
+                        }
+                    }
+                }
+            }
+        }
+        assert!(skipped > 100, "{skipped}");
     }
 }

@@ -2,7 +2,6 @@
 
 use super::engine::Engine;
 use super::workspace::ProjectScratch;
-use crate::linalg::min_norm_correction;
 use crate::output::ContactState;
 use crate::scene::ContactKinematics;
 use nalgebra::DVector;
@@ -27,7 +26,8 @@ impl Engine<'_> {
         let load = |ps: &mut ProjectScratch, y: &DVector<f64>, t: f64| {
             ps.q.as_mut_slice().copy_from_slice(&y.as_slice()[..n]);
             ps.v.as_mut_slice().copy_from_slice(&y.as_slice()[n..2 * n]);
-            scene.frame_into(&mut ps.fr, t, &ps.q, &ps.v);
+            // contact kinematics need the poses only
+            scene.poses_into(&mut ps.fr, t, &ps.q, &ps.v);
         };
         // closed contacts, and open ones that penetrate (after an event located past g_N = 0)
         load(&mut ps, &self.state.y, self.state.t);
@@ -42,13 +42,17 @@ impl Engine<'_> {
         let mut moved = 0.0f64;
         if !ps.held.is_empty() {
             for pass in 0..PASSES {
-                load(&mut ps, &self.state.y, self.state.t);
+                if pass > 0 {
+                    load(&mut ps, &self.state.y, self.state.t);
+                }
                 let ProjectScratch {
                     fr,
                     kin,
                     held,
                     res,
                     pos_singular,
+                    correction,
+                    dq,
                     ..
                 } = &mut ps;
                 if pass > 0 {
@@ -68,8 +72,8 @@ impl Engine<'_> {
                 if res.iter().all(|r| r.abs() < 1e-15) {
                     break;
                 }
-                let rows: Vec<&DVector<f64>> = held.iter().map(|&i| &kin[i].w_n).collect();
-                let dq = min_norm_correction(&rows, res, &self.minv, pos_singular);
+                let rows = |r: usize| &kin[held[r]].w_n;
+                correction.solve(held.len(), rows, res, &self.minv, pos_singular, dq);
                 moved = moved.max(dq.amax());
                 for i in 0..n {
                     self.state.y[i] -= dq[i];
@@ -84,6 +88,9 @@ impl Engine<'_> {
                 kin,
                 res,
                 vel_singular,
+                correction,
+                dq,
+                slots,
                 ..
             } = &mut ps;
             res.clear();
@@ -92,18 +99,24 @@ impl Engine<'_> {
                     scene.contact_kinematics_into(fr, &scene.contacts[i], &mut kin[i]);
                 }
             }
-            let mut rows: Vec<&DVector<f64>> = Vec::with_capacity(8);
+            slots.clear();
             for (i, st) in self.state.contacts.iter().enumerate() {
                 if *st != ContactState::Open {
-                    rows.push(&kin[i].w_n);
+                    slots.push((i, false));
                     res.push(kin[i].gap_rate);
                     if *st == ContactState::Stick {
-                        rows.push(&kin[i].w_t);
+                        slots.push((i, true));
                         res.push(kin[i].slip_rate);
                     }
                 }
             }
-            let dv = min_norm_correction(&rows, res, &self.minv, vel_singular);
+            let kin = &*kin;
+            let rows = |r: usize| match slots[r] {
+                (i, false) => &kin[i].w_n,
+                (i, true) => &kin[i].w_t,
+            };
+            correction.solve(slots.len(), rows, res, &self.minv, vel_singular, dq);
+            let dv = &*dq;
             moved = moved.max(dv.amax());
             for i in 0..n {
                 self.state.y[n + i] -= dv[i];

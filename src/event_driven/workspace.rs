@@ -26,6 +26,11 @@ pub(super) struct Workspace {
     /// The rates at the instant of the last `event_values`: ġ_N of its gap functions, ė and
     /// −ė of its branch bounds (e − lower, upper − e), NaN for the other functions.
     pub(super) gap_rates: Vec<f64>,
+    /// A state on the dense output (one event function's value) and that value.
+    pub(super) dense_y: DVector<f64>,
+    pub(super) one_value: Vec<f64>,
+    /// The state whose element entries a branch function's root search reads.
+    pub(super) branch_y: DVector<f64>,
 }
 
 impl Workspace {
@@ -40,6 +45,9 @@ impl Workspace {
             sample_rows: Default::default(),
             jac: DVector::zeros(n),
             gap_rates: Vec::new(),
+            dense_y: DVector::zeros(0),
+            one_value: Vec::new(),
+            branch_y: DVector::zeros(0),
         }
     }
 
@@ -63,6 +71,11 @@ pub(super) struct ProjectScratch {
     /// (cleared on mode changes, like `Scratch::mode_singular`).
     pub(super) pos_singular: bool,
     pub(super) vel_singular: bool,
+    pub(super) correction: crate::linalg::Correction,
+    /// The correction δq or δq̇.
+    pub(super) dq: DVector<f64>,
+    /// The velocity constraints' rows: (contact, tangential).
+    pub(super) slots: Vec<(usize, bool)>,
 }
 
 #[derive(Default)]
