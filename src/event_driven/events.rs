@@ -75,44 +75,36 @@ impl<'a> Engine<'a> {
             .any(|f| matches!(f, EventFn::Release(_) | EventFn::StickSlip(_)));
         let n = self.n;
         let scene = self.scene;
-        let mut fr = std::mem::take(&mut self.ws.event_frame);
         let held = needs_forces || self.ws.dynamics.holds(t, y, false);
         let mut defo = std::mem::take(&mut self.ws.defo);
         if held {
             // the dynamics leave the frame and the element deformations of (t, y) in the scratch
             self.dynamics_into(t, y, false)?;
-            std::mem::swap(&mut fr, &mut self.ws.dynamics.fr);
             defo.clear();
             defo.extend_from_slice(&self.ws.dynamics.elements);
         } else {
             if self.ws.event_qv.0.len() != n {
                 self.ws.event_qv = (DVector::zeros(n), DVector::zeros(n));
             }
-            self.ws
-                .event_qv
-                .0
-                .as_mut_slice()
-                .copy_from_slice(&y.as_slice()[..n]);
-            self.ws
-                .event_qv
-                .1
-                .as_mut_slice()
-                .copy_from_slice(&y.as_slice()[n..2 * n]);
-            let branch = fns.iter().any(|f| {
-                matches!(
-                    f,
-                    EventFn::Lower(_) | EventFn::Upper(_) | EventFn::Reversal(_)
-                )
-            });
+            let (q, v) = &mut self.ws.event_qv;
+            q.as_mut_slice().copy_from_slice(&y.as_slice()[..n]);
+            v.as_mut_slice().copy_from_slice(&y.as_slice()[n..2 * n]);
+            let branch = fns.iter().any(|f| f.is_branch());
+            let fr = &mut self.ws.event_frame;
             if branch {
-                scene.frame_into(&mut fr, t, &self.ws.event_qv.0, &self.ws.event_qv.1);
+                scene.frame_into(fr, t, q, v);
             } else {
                 // contact functions need the poses only
-                scene.poses_into(&mut fr, t, &self.ws.event_qv.0, &self.ws.event_qv.1);
+                scene.poses_into(fr, t, q, v);
             }
             defo.clear();
             defo.resize(scene.hysteretic.len(), (f64::NAN, f64::NAN));
         }
+        let fr = if held {
+            &self.ws.dynamics.fr
+        } else {
+            &self.ws.event_frame
+        };
         vals.clear();
         let mut rates = std::mem::take(&mut self.ws.gap_rates);
         rates.clear();
@@ -121,7 +113,7 @@ impl<'a> Engine<'a> {
             let mut rate = f64::NAN;
             let val = match *f {
                 EventFn::Gap(i) => {
-                    let (gap, gap_rate, _) = scene.contact_rates(&fr, &scene.contacts[i]);
+                    let (gap, gap_rate, _) = scene.contact_rates(fr, &scene.contacts[i]);
                     rate = gap_rate;
                     gap
                 }
@@ -132,19 +124,19 @@ impl<'a> Engine<'a> {
                 EventFn::Unseat(k) => {
                     let seat = &scene.seats[k];
                     let c = &scene.contacts[seat.contact];
-                    seat.edge - scene.contact_rates(&fr, c).0
+                    seat.edge - scene.contact_rates(fr, c).0
                 }
                 EventFn::SlideStop(i) => {
                     let s = match self.state.contacts[i] {
                         ContactState::Slide(s) => s,
                         _ => 1.0,
                     };
-                    s * scene.contact_rates(&fr, &scene.contacts[i]).2
+                    s * scene.contact_rates(fr, &scene.contacts[i]).2
                 }
                 EventFn::Lower(j) | EventFn::Upper(j) | EventFn::Reversal(j) => {
                     if defo[j].0.is_nan() {
                         let el = &scene.hysteretic[j];
-                        defo[j] = scene.deformation_rates(&fr, &el.attachment, el.support);
+                        defo[j] = scene.deformation_rates(fr, &el.attachment, el.support);
                     }
                     let (e, ed) = defo[j];
                     let b = self.state.laws[j].branch();
@@ -165,10 +157,6 @@ impl<'a> Engine<'a> {
             rates.push(rate);
         }
         self.ws.gap_rates = rates;
-        if held {
-            std::mem::swap(&mut fr, &mut self.ws.dynamics.fr);
-        }
-        self.ws.event_frame = fr;
         self.ws.defo = defo;
         Ok(())
     }

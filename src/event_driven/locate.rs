@@ -414,12 +414,7 @@ pub(super) fn illinois(
 
 /// The value of one event function on the dense output at `t` (its rate in
 /// `eng.ws.gap_rates[0]`), without allocation.
-fn one_value(
-    eng: &mut Engine,
-    step: &dopri::Step,
-    f: EventFn,
-    t: f64,
-) -> Result<f64, SolverError> {
+fn one_value(eng: &mut Engine, step: &dopri::Step, f: EventFn, t: f64) -> Result<f64, SolverError> {
     let mut y = std::mem::take(&mut eng.ws.dense_y);
     if y.len() != step.y0.len() {
         y = step.y0.clone();
