@@ -527,7 +527,9 @@ fn median(mut v: Vec<f64>) -> f64 {
 
 fn cmd_bench(model: &std::path::Path, repeat: usize, sweeps: usize) -> CliResult {
     use deckspin::studies::{Axis, Study, run_count};
-    let scene = deckspin::load(model, &[])?;
+    // one read of the model and its records for the single run and the sweep
+    let study = Study::open(model, &[])?;
+    let scene = deckspin::model::load_str_checked(&study.text, model, &[], &study.motions)?.scene;
     let mut times = Vec::new();
     let mut steps = 0;
     for _ in 0..repeat.max(1) {
@@ -545,7 +547,6 @@ fn cmd_bench(model: &std::path::Path, repeat: usize, sweeps: usize) -> CliResult
         min * 1e3,
         steps
     );
-    let study = Study::open(model, &[])?;
     let n = run_count(&study.text);
     // `--sweeps 0`: the single run only
     if n > 0 && sweeps > 0 {
