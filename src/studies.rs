@@ -2,12 +2,12 @@
 //! peak deck rotation against PGA with and without contact (Fig. 7), and the increase of peak
 //! rotation with μ (Fig. 8).
 
+use crate::FrictionFork;
+use crate::excitation::GroundMotion;
 use crate::model::{self, ModelError};
 use crate::output::RunOutput;
 use crate::run::SolverError;
-use crate::excitation::GroundMotion;
 use crate::scene::{Motion, Scene};
-use crate::FrictionFork;
 use rayon::prelude::*;
 use serde::{Serialize, Serializer};
 use std::collections::HashMap;
@@ -235,12 +235,14 @@ impl Study {
     }
 
     /// [`Study::simulate`] without the accuracy bounds (`simulate::judge`): for studies that
-    /// measure the error themselves.
+    /// measure the error themselves. The time is the CPU time of the thread that ran the
+    /// integration ([`crate::clock::thread_cpu`]), not its wall time.
     pub fn measure(&self, set: &[String]) -> Result<(RunOutput, f64), RunFailure> {
         let scene = self.scene(set)?;
-        let t0 = std::time::Instant::now();
-        let r = crate::simulate::integrate_unjudged(&scene, &mut crate::Silent).into_result()?;
-        Ok((r, t0.elapsed().as_secs_f64()))
+        let (r, cpu) = crate::clock::thread_cpu(|| {
+            crate::simulate::integrate_unjudged(&scene, &mut crate::Silent)
+        });
+        Ok((r.into_result()?, cpu))
     }
 
     /// Run with extra overrides: the row of its summary.
@@ -306,7 +308,10 @@ impl Study {
                     None => groups.push(vec![i]),
                 }
             }
-            groups.par_iter().flat_map(|g| job.friction_group(g)).collect()
+            groups
+                .par_iter()
+                .flat_map(|g| job.friction_group(g))
+                .collect()
         } else {
             unique.par_iter().map(|&i| (i, job.row(i, None))).collect()
         };
@@ -315,7 +320,9 @@ impl Study {
         }
         let rows = (0..combos.len())
             .map(|i| {
-                let mut r = rows[same[i]].clone().expect("every first of its scene has run");
+                let mut r = rows[same[i]]
+                    .clone()
+                    .expect("every first of its scene has run");
                 r.settings = combos[i].clone();
                 r
             })
@@ -364,7 +371,9 @@ struct Job<'a> {
 impl Job<'_> {
     /// Row `i` (its scene compiled), through `fork` when it allows it.
     fn row(&self, i: usize, fork: Option<&FrictionFork>) -> Row {
-        let scene = self.scenes[i].as_ref().expect("a row that runs has compiled");
+        let scene = self.scenes[i]
+            .as_ref()
+            .expect("a row that runs has compiled");
         let settings = self.combos[i].clone();
         let forked = fork.and_then(|f| f.run(scene));
         self.runs.fetch_add(1, Ordering::Relaxed);

@@ -34,7 +34,9 @@ fn numbers(r: &Row) -> [f64; 8] {
 }
 
 fn label(r: &Row) -> Vec<(&str, &str)> {
-    (r.settings.iter()).map(|(k, v)| (k.as_str(), v.as_str())).collect()
+    (r.settings.iter())
+        .map(|(k, v)| (k.as_str(), v.as_str()))
+        .collect()
 }
 
 #[test]
