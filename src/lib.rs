@@ -16,6 +16,7 @@
 //! - [`modal`]: K₀, modes and Rayleigh damping of any model.
 //! - [`output`]: history, events, energy ledger, summary.
 
+pub mod clock;
 pub mod contact;
 pub mod dopri;
 pub mod event_driven;

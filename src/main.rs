@@ -118,17 +118,8 @@ enum Command {
         #[arg(long)]
         quick: bool,
     },
-    /// Benchmark: one run of the model and the μ × runs sweep (medians).
-    Bench {
-        #[arg(default_value = "models/four-span.toml")]
-        model: PathBuf,
-        /// Repetitions of the single run.
-        #[arg(long, default_value_t = 11)]
-        repeat: usize,
-        /// Repetitions of the sweep (0: the single run only).
-        #[arg(long, default_value_t = 3)]
-        sweeps: usize,
-    },
+    /// Benchmark: one run of the model and the μ × runs sweep (CPU medians).
+    Bench(cli::bench::BenchArgs),
     /// Stress test: the bridge under every record pair of a folder × runs × ε × μ × column law.
     Stress(cli::stress::StressArgs),
     /// Runs of a bridge file in sequence, each from the final state of the one before.
@@ -192,11 +183,7 @@ fn main() -> ExitCode {
             tolerance,
             quick,
         }) => cmd_stability(&model, &set, tolerance, quick),
-        Some(Command::Bench {
-            model,
-            repeat,
-            sweeps,
-        }) => cmd_bench(&model, repeat, sweeps),
+        Some(Command::Bench(a)) => cli::bench::cmd_bench(&a),
         Some(Command::Stress(a)) => cli::stress::cmd_stress(&a),
         Some(Command::Sequence(a)) => cli::sequence::cmd_sequence(&a),
         None => match cli.model {
@@ -502,84 +489,6 @@ fn cmd_study(
     std::fs::write(out.join(format!("{stem}.csv")), csv)?;
     std::fs::write(out.join(format!("{stem}.txt")), text)?;
     println!("wrote {}/{stem}.{{csv,txt}}", out.display());
-    Ok(())
-}
-
-/// User + system CPU time of this process so far, s: time waiting for a core does not count
-/// (a core the host slows still does).
-fn cpu_seconds() -> f64 {
-    let mut u = std::mem::MaybeUninit::<libc::rusage>::zeroed();
-    // SAFETY: getrusage fills the struct it is given; RUSAGE_SELF is always valid
-    let r = unsafe { libc::getrusage(libc::RUSAGE_SELF, u.as_mut_ptr()) };
-    if r != 0 {
-        return f64::NAN;
-    }
-    // SAFETY: initialized by the successful call above (and zeroed before)
-    let u = unsafe { u.assume_init() };
-    let s = |t: libc::timeval| t.tv_sec as f64 + t.tv_usec as f64 * 1e-6;
-    s(u.ru_utime) + s(u.ru_stime)
-}
-
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
-}
-
-fn cmd_bench(model: &std::path::Path, repeat: usize, sweeps: usize) -> CliResult {
-    use deckspin::studies::{Axis, Study, run_count};
-    let scene = deckspin::load(model, &[])?;
-    let mut times = Vec::new();
-    let mut steps = 0;
-    for _ in 0..repeat.max(1) {
-        let t0 = std::time::Instant::now();
-        let r = deckspin::run(&scene, &mut deckspin::Silent)?;
-        times.push(t0.elapsed().as_secs_f64());
-        steps = r.summary.stats.steps_accepted;
-    }
-    let min = times.iter().copied().fold(f64::INFINITY, f64::min);
-    println!(
-        "single run ({}): median {:.1} ms over {} runs (fastest {:.1} ms; {} steps)",
-        scene.title,
-        median(times.clone()) * 1e3,
-        times.len(),
-        min * 1e3,
-        steps
-    );
-    let study = Study::open(model, &[])?;
-    let n = run_count(&study.text);
-    // `--sweeps 0`: the single run only
-    if n > 0 && sweeps > 0 {
-        let axes = [
-            Axis {
-                key: "contacts.mu".into(),
-                values: (0..=7).map(|i| format!("{}", i as f64 / 10.0)).collect(),
-            },
-            Axis {
-                key: "excitation.run".into(),
-                values: (1..=n).map(|i| i.to_string()).collect(),
-            },
-        ];
-        let mut st = Vec::new();
-        let mut cpu = Vec::new();
-        for _ in 0..sweeps {
-            let (t0, c0) = (std::time::Instant::now(), cpu_seconds());
-            let rows = study.sweep(&axes);
-            st.push(t0.elapsed().as_secs_f64());
-            cpu.push(cpu_seconds() - c0);
-            if let Some(e) = rows.iter().find_map(|r| r.error.clone()) {
-                return Err(e.into());
-            }
-        }
-        println!(
-            "μ × runs sweep ({} runs, {} threads): median {:.3} s over {} sweeps (fastest {:.3} s; CPU {:.3} s)",
-            8 * n,
-            rayon::current_num_threads(),
-            median(st.clone()),
-            st.len(),
-            st.iter().copied().fold(f64::INFINITY, f64::min),
-            median(cpu)
-        );
-    }
     Ok(())
 }
 

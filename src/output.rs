@@ -8,6 +8,7 @@ use std::path::Path;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 mod history;
+pub mod number;
 
 pub use history::HistoryWriter;
 

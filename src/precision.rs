@@ -18,6 +18,7 @@ pub struct Point {
     pub method: Method,
     /// "rtol=1e-6", "h=1e-3", "h=1e-3 k=1e6" …
     pub knob: String,
+    /// CPU seconds of the thread that ran the integration (`clock::thread_cpu`).
     pub cpu_s: f64,
     /// |peak − peak_ref| / |peak_ref| of the watched DOF.
     pub peak_error: f64,

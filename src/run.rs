@@ -3,6 +3,7 @@
 
 use crate::lemke::LcpError;
 use crate::methods::Method;
+use crate::output::number::MAX_NUMBER_BYTES;
 use crate::output::{EventRecord, HistoryWriter, RunOutput, Sample, Summary};
 use crate::scene::Scene;
 use serde::Serialize;
@@ -477,9 +478,14 @@ impl OutputEstimate {
                 (Some(steps), 0.0)
             }
         };
-        // ",-1.234567890123e-100": 21 bytes; t, ",post-event", ",slide+" per contact, newline
-        let numbers = 2 * scene.ndof() + 5 * scene.contacts.len() + 2 * scene.hysteretic.len();
-        let row_bytes = 20.0 + 11.0 + 21.0 * (numbers + 10) as f64;
+        // a comma and the widest shortest round-trip number per value (t without the comma);
+        // ",post-event", ",slide+" per contact, newline
+        let numbers = 2 * scene.ndof()
+            + 5 * scene.contacts.len()
+            + 2 * scene.hysteretic.len()
+            + scene.seats.len();
+        let widest = (MAX_NUMBER_BYTES + 1) as f64;
+        let row_bytes = widest * (numbers + 11) as f64 - 1.0 + 11.0;
         Self {
             grid_rows: nan_to_inf(grid_rows),
             event_rows,

@@ -2,14 +2,18 @@
 //! peak deck rotation against PGA with and without contact (Fig. 7), and the increase of peak
 //! rotation with μ (Fig. 8).
 
+use crate::FrictionFork;
+use crate::excitation::GroundMotion;
 use crate::model::{self, ModelError};
 use crate::output::RunOutput;
 use crate::run::SolverError;
-use crate::{FrictionFork, scene::Scene};
+use crate::scene::{Motion, Scene};
 use rayon::prelude::*;
 use serde::{Serialize, Serializer};
+use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// Why a run of a study gave no output.
 #[derive(Debug, thiserror::Error)]
@@ -231,12 +235,14 @@ impl Study {
     }
 
     /// [`Study::simulate`] without the accuracy bounds (`simulate::judge`): for studies that
-    /// measure the error themselves.
+    /// measure the error themselves. The time is the CPU time of the thread that ran the
+    /// integration ([`crate::clock::thread_cpu`]), not its wall time.
     pub fn measure(&self, set: &[String]) -> Result<(RunOutput, f64), RunFailure> {
         let scene = self.scene(set)?;
-        let t0 = std::time::Instant::now();
-        let r = crate::simulate::integrate_unjudged(&scene, &mut crate::Silent).into_result()?;
-        Ok((r, t0.elapsed().as_secs_f64()))
+        let (r, cpu) = crate::clock::thread_cpu(|| {
+            crate::simulate::integrate_unjudged(&scene, &mut crate::Silent)
+        });
+        Ok((r.into_result()?, cpu))
     }
 
     /// Run with extra overrides: the row of its summary.
@@ -258,79 +264,217 @@ impl Study {
     }
 
     /// All combinations of the axes, run in parallel on all cores; rows in input order (axes
-    /// from the user go through [`Study::try_sweep`]).
+    /// from the user go through [`Study::try_sweep`]). Rows whose scenes are the same
+    /// ([`same_scenes`]) are run once and share the result, each row with its own settings.
     pub fn sweep(&self, axes: &[Axis]) -> Vec<Row> {
-        let mut combos: Vec<Vec<(String, String)>> = vec![vec![]];
-        for ax in axes {
-            combos = combos
-                .into_iter()
-                .flat_map(|c| {
-                    ax.values.iter().map(move |v| {
-                        let mut c = c.clone();
-                        c.push((ax.key.clone(), v.clone()));
-                        c
-                    })
-                })
-                .collect();
-        }
-        // μ variants of one run share their motion until the first contact event
-        let mu = FRICTION_KEY;
-        if !axes.iter().any(|a| a.key == mu && a.values.len() > 1) {
-            return combos.par_iter().map(|c| self.run(c)).collect();
-        }
-        let mut groups: Vec<Vec<usize>> = Vec::new();
-        let others = |c: &[(String, String)]| -> Vec<(String, String)> {
-            c.iter().filter(|(k, _)| k != mu).cloned().collect()
-        };
-        for (i, c) in combos.iter().enumerate() {
-            match groups
-                .iter_mut()
-                .find(|g| others(&combos[g[0]]) == others(c))
-            {
-                Some(g) => g.push(i),
-                None => groups.push(vec![i]),
-            }
-        }
-        let mut rows: Vec<(usize, Row)> = groups
-            .par_iter()
-            .flat_map(|g| self.run_friction_group(&combos, g))
-            .collect();
-        rows.sort_by_key(|(i, _)| *i);
-        rows.into_iter().map(|(_, r)| r).collect()
+        self.sweep_counted(axes).rows
     }
 
-    /// Runs that differ only in `contacts.mu`, through a [`FrictionFork`] when they allow it.
-    fn run_friction_group(
-        &self,
-        combos: &[Vec<(String, String)>],
-        group: &[usize],
-    ) -> Vec<(usize, Row)> {
-        let scenes: Vec<Option<Scene>> = group
-            .iter()
-            .map(|&i| self.row_scene(&combos[i]).ok())
+    /// [`Study::sweep`], with the number of runs of the integrator it took.
+    pub fn sweep_counted(&self, axes: &[Axis]) -> SweepOutcome {
+        let combos = combinations(axes);
+        let compiled: Vec<Result<Scene, ModelError>> =
+            combos.par_iter().map(|c| self.row_scene(c)).collect();
+        let mut rows: Vec<Option<Row>> = vec![None; combos.len()];
+        let scenes: Vec<Option<Scene>> = (compiled.into_iter().enumerate())
+            .map(|(i, r)| match r {
+                Ok(s) => Some(s),
+                Err(e) => {
+                    rows[i] = Some(error_row(combos[i].clone(), e.into()));
+                    None
+                }
+            })
             .collect();
-        let fork = scenes
-            .iter()
-            .flatten()
-            .next()
+        let same = same_scenes(&scenes);
+        let unique: Vec<usize> = (0..combos.len())
+            .filter(|&i| scenes[i].is_some() && same[i] == i)
+            .collect();
+        let runs = AtomicUsize::new(0);
+        let job = Job {
+            combos: &combos,
+            scenes: &scenes,
+            runs: &runs,
+        };
+        // μ variants of one run share their motion until the first contact event
+        let mu = FRICTION_KEY;
+        let ran: Vec<(usize, Row)> = if axes.iter().any(|a| a.key == mu && a.values.len() > 1) {
+            let others = |c: &[(String, String)]| -> Vec<(String, String)> {
+                c.iter().filter(|(k, _)| k != mu).cloned().collect()
+            };
+            let mut groups: Vec<Vec<usize>> = Vec::new();
+            for &i in &unique {
+                match (groups.iter_mut()).find(|g| others(&combos[g[0]]) == others(&combos[i])) {
+                    Some(g) => g.push(i),
+                    None => groups.push(vec![i]),
+                }
+            }
+            groups
+                .par_iter()
+                .flat_map(|g| job.friction_group(g))
+                .collect()
+        } else {
+            unique.par_iter().map(|&i| (i, job.row(i, None))).collect()
+        };
+        for (i, r) in ran {
+            rows[i] = Some(r);
+        }
+        let rows = (0..combos.len())
+            .map(|i| {
+                let mut r = rows[same[i]]
+                    .clone()
+                    .expect("every first of its scene has run");
+                r.settings = combos[i].clone();
+                r
+            })
+            .collect();
+        SweepOutcome {
+            rows,
+            integrations: runs.into_inner(),
+        }
+    }
+}
+
+/// The rows of a sweep and the runs of the integrator they took.
+#[derive(Clone, Debug)]
+pub struct SweepOutcome {
+    pub rows: Vec<Row>,
+    /// Runs of the integrator: one per distinct scene that compiled (a row whose scene
+    /// another row has is not run again).
+    pub integrations: usize,
+}
+
+/// Every combination of the axes' values, the first axis varying slowest.
+fn combinations(axes: &[Axis]) -> Vec<Vec<(String, String)>> {
+    let mut combos: Vec<Vec<(String, String)>> = vec![vec![]];
+    for ax in axes {
+        combos = combos
+            .into_iter()
+            .flat_map(|c| {
+                ax.values.iter().map(move |v| {
+                    let mut c = c.clone();
+                    c.push((ax.key.clone(), v.clone()));
+                    c
+                })
+            })
+            .collect();
+    }
+    combos
+}
+
+/// The rows of a sweep to run: their settings and compiled scenes, and a count of the runs.
+struct Job<'a> {
+    combos: &'a [Vec<(String, String)>],
+    scenes: &'a [Option<Scene>],
+    runs: &'a AtomicUsize,
+}
+
+impl Job<'_> {
+    /// Row `i` (its scene compiled), through `fork` when it allows it.
+    fn row(&self, i: usize, fork: Option<&FrictionFork>) -> Row {
+        let scene = self.scenes[i]
+            .as_ref()
+            .expect("a row that runs has compiled");
+        let settings = self.combos[i].clone();
+        let forked = fork.and_then(|f| f.run(scene));
+        self.runs.fetch_add(1, Ordering::Relaxed);
+        let result = match forked {
+            Some(r) => r.map_err(RunFailure::from),
+            None => simulate_scene(scene).map(|(r, _)| r),
+        };
+        match result {
+            Ok(r) => row_of(settings, &r),
+            Err(e) => error_row(settings, e),
+        }
+    }
+
+    /// Rows that differ only in `contacts.mu`, through a [`FrictionFork`] when they allow it.
+    fn friction_group(&self, group: &[usize]) -> Vec<(usize, Row)> {
+        let fork = (self.scenes[group[0]].as_ref())
             .filter(|_| group.len() > 1)
             .and_then(|s| FrictionFork::new(s).ok());
         group
             .par_iter()
-            .zip(scenes.par_iter())
-            .map(|(&i, scene)| {
-                let forked = match (&fork, scene) {
-                    (Some(f), Some(s)) => f.run(s),
-                    _ => None,
-                };
-                let row = match forked {
-                    Some(Ok(r)) => row_of(combos[i].clone(), &r),
-                    Some(Err(e)) => error_row(combos[i].clone(), e.into()),
-                    None => self.run(&combos[i]),
-                };
-                (i, row)
-            })
+            .map(|&i| (i, self.row(i, fork.as_ref())))
             .collect()
+    }
+}
+
+/// For each scene, the index of the first scene equal to it, itself when no scene before is
+/// (rows that did not compile are their own). Equal: the same bodies, contacts, elements,
+/// supports, loads, initial state and settings ([`SceneKey`]); the title, which names the
+/// run, is not compared.
+pub fn same_scenes(scenes: &[Option<Scene>]) -> Vec<usize> {
+    let keys: Vec<Option<SceneKey>> = (scenes.par_iter())
+        .map(|s| s.as_ref().map(SceneKey::of))
+        .collect();
+    let mut firsts: HashMap<&str, Vec<usize>> = HashMap::new();
+    (0..scenes.len())
+        .map(|i| {
+            let Some(k) = &keys[i] else { return i };
+            let known = firsts.entry(k.text.as_str()).or_default();
+            let same = known.iter().copied().find(|&j| {
+                let kj = keys[j].as_ref().expect("listed keys exist");
+                kj.same_motions(k)
+            });
+            same.unwrap_or_else(|| {
+                known.push(i);
+                i
+            })
+        })
+        .collect()
+}
+
+/// What a run of a scene depends on: every field but the title as exact text (`{:?}` writes
+/// each f64 as its shortest round-trip text: equal text, equal bits), the recorded support
+/// motions apart (compared by content, most often the same shared motion).
+pub struct SceneKey {
+    pub text: String,
+    pub motions: Vec<Arc<GroundMotion>>,
+}
+
+impl SceneKey {
+    pub fn of(scene: &Scene) -> Self {
+        // every field named: a field added to `Scene` must be added here
+        let Scene {
+            title: _,
+            seats,
+            bodies,
+            contacts,
+            springs,
+            hysteretic,
+            supports,
+            mass_damping,
+            loads,
+            mass,
+            dof_names,
+            q0,
+            v0,
+            settings,
+        } = scene;
+        let mut motions = Vec::new();
+        let supports: Vec<String> = (supports.iter())
+            .map(|s| {
+                let motion = match &s.motion {
+                    Motion::Record(g) => {
+                        motions.push(g.clone());
+                        format!("record {}", motions.len() - 1)
+                    }
+                    m => format!("{m:?}"),
+                };
+                format!("{:?} {:?} {motion}", s.name, s.factor)
+            })
+            .collect();
+        let text = format!(
+            "{seats:?}\n{bodies:?}\n{contacts:?}\n{springs:?}\n{hysteretic:?}\n{supports:?}\n\
+             {mass_damping:?}\n{loads:?}\n{mass:?}\n{dof_names:?}\n{q0:?}\n{v0:?}\n{settings:?}"
+        );
+        Self { text, motions }
+    }
+
+    /// The same recorded motions, in order (the same shared motion, or equal ones).
+    pub fn same_motions(&self, other: &SceneKey) -> bool {
+        self.motions.len() == other.motions.len()
+            && (self.motions.iter().zip(&other.motions)).all(|(a, b)| Arc::ptr_eq(a, b) || a == b)
     }
 }
 
@@ -442,7 +586,8 @@ pub fn run_count(text: &str) -> usize {
 /// Fig. 7: peak deck rotation per run with and without contact. Rows: run, pga_x, pga_y,
 /// peak without contact, peak with contact.
 pub fn rotation_vs_pga(study: &Study) -> Vec<(usize, f64, f64, Row, Row)> {
-    let n = run_count(&study.text);
+    let pgas = run_pgas(&study.text);
+    let n = pgas.len();
     let runs: Vec<String> = (1..=n).map(|i| i.to_string()).collect();
     let rows = study.sweep(&[
         Axis {
@@ -454,7 +599,6 @@ pub fn rotation_vs_pga(study: &Study) -> Vec<(usize, f64, f64, Row, Row)> {
             values: vec!["false".into(), "true".into()],
         },
     ]);
-    let pgas = run_pgas(&study.text);
     rows.chunks(2)
         .enumerate()
         .map(|(i, pair)| {
@@ -464,6 +608,8 @@ pub fn rotation_vs_pga(study: &Study) -> Vec<(usize, f64, f64, Row, Row)> {
         .collect()
 }
 
+/// (pga_x, pga_y) of each `[[run]]` of a bridge model (NaN where not given): as many as
+/// [`run_count`] counts.
 pub fn run_pgas(text: &str) -> Vec<(f64, f64)> {
     toml::from_str::<toml::Table>(text)
         .ok()
@@ -504,7 +650,8 @@ impl MuStudy {
 }
 
 pub fn increase_vs_mu(study: &Study, mus: &[f64]) -> MuStudy {
-    let n = run_count(&study.text);
+    let pgas = run_pgas(&study.text);
+    let n = pgas.len();
     let runs: Vec<String> = (1..=n).map(|i| i.to_string()).collect();
     let baseline = study.sweep(&[
         Axis {
@@ -528,7 +675,7 @@ pub fn increase_vs_mu(study: &Study, mus: &[f64]) -> MuStudy {
     ]);
     MuStudy {
         mus: mus.to_vec(),
-        pgas: run_pgas(&study.text),
+        pgas,
         baseline,
         rows: rows.chunks(mus.len()).map(|c| c.to_vec()).collect(),
     }

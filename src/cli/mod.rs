@@ -1,5 +1,6 @@
 //! Commands of the `deckspin` binary kept apart from `main.rs`.
 
+pub mod bench;
 pub mod sequence;
 pub mod stress;
 pub mod tables;

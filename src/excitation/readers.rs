@@ -109,6 +109,18 @@ fn parse_npts_dt(line: &str) -> std::result::Result<(usize, f64), String> {
     }
 }
 
+/// The blank-separated tokens of a line: split on ASCII blanks byte by byte when the whole
+/// text is ASCII without vertical tabs (every record seen; the same tokens, without decoding
+/// characters), else on Unicode white space.
+fn tokens(line: &str, ascii: bool) -> impl Iterator<Item = &str> {
+    let (a, u) = if ascii {
+        (Some(line.split_ascii_whitespace()), None)
+    } else {
+        (None, Some(line.split_whitespace()))
+    };
+    a.into_iter().flatten().chain(u.into_iter().flatten())
+}
+
 /// Parses AT2 text; `path` is only used in errors and the returned [`Record`].
 pub fn parse_at2(path: &Path, text: &str) -> Result<Record> {
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
@@ -127,8 +139,10 @@ pub fn parse_at2(path: &Path, text: &str) -> Result<Record> {
         reason,
     })?;
     let mut accel_g = Vec::with_capacity(npts);
+    // ASCII without vertical tabs (the one ASCII blank `split_ascii_whitespace` keeps)
+    let ascii = text.is_ascii() && !text.as_bytes().contains(&0x0b);
     for (k, line) in lines.enumerate() {
-        for tok in line.split_whitespace() {
+        for tok in tokens(line, ascii) {
             let v = parse_num(tok).ok_or_else(|| ExcitationError::Value {
                 path: path.to_path_buf(),
                 line: k + 5,

@@ -2,9 +2,9 @@
 //! once per (file, processing) and shared.
 
 use super::check::{Check, ModelError};
-use crate::excitation::{ExcitationError, GroundMotion, Processing};
+use crate::excitation::{ExcitationError, GroundMotion, Processing, Record};
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
+use std::sync::{Arc, Mutex, MutexGuard};
 
 /// Read and process a record named relative to the model file.
 pub fn load_motion(
@@ -34,9 +34,20 @@ fn resolve_record(model: &Path, file: &str) -> PathBuf {
 }
 
 /// Processed ground motions by (record file, processing): the supports of one model that share
-/// a record share one motion, and the loads of one study (its sweeps) read each record once.
+/// a record share one motion, and the loads of one study (its sweeps) read and parse each record
+/// file once, and process it once per processing (a sweep over runs scales it to each run's
+/// PGA).
 #[derive(Debug, Default)]
-pub struct Motions(std::sync::Mutex<Vec<(PathBuf, Processing, Arc<GroundMotion>)>>);
+pub struct Motions {
+    motions: Mutex<Vec<(PathBuf, Processing, Arc<GroundMotion>)>>,
+    /// The records read, by resolved path.
+    records: Mutex<Vec<(PathBuf, Arc<Record>)>>,
+}
+
+/// The list a mutex holds: a panic elsewhere while it was held leaves it intact, so use it.
+fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
+    m.lock().unwrap_or_else(|e| e.into_inner())
+}
 
 impl Motions {
     /// The motion of `file` (named relative to `model`) processed by `p`, read at first use.
@@ -52,24 +63,49 @@ impl Motions {
                 .find(|(f, q, _)| *f == rp && *q == p)
                 .map(|(_, _, m)| m.clone())
         };
-        // a panic elsewhere while the list was held leaves it intact: use it anyway
-        let lock = || self.0.lock().unwrap_or_else(|e| e.into_inner());
-        if let Some(m) = known(&lock()) {
+        if let Some(m) = known(&lock(&self.motions)) {
             return Ok(m);
         }
         let err = |e| ModelError::Excitation {
             path: model.to_path_buf(),
             source: e,
         };
-        let rec = crate::excitation::read_any(&rp).map_err(err)?;
+        let rec = self.record(&rp).map_err(err)?;
         let g = Arc::new(GroundMotion::from_record(&rec, &p).map_err(err)?);
-        let mut list = lock();
-        // another thread may have read it meanwhile: keep one
+        let mut list = lock(&self.motions);
+        // another thread may have processed it meanwhile: keep one
         if let Some(m) = known(&list) {
             return Ok(m);
         }
         list.push((rp, p, g.clone()));
         Ok(g)
+    }
+
+    /// The record at the resolved path `rp`, read and parsed at first use.
+    fn record(&self, rp: &Path) -> Result<Arc<Record>, ExcitationError> {
+        let known = |list: &[(PathBuf, Arc<Record>)]| {
+            (list.iter().find(|(f, _)| f == rp)).map(|(_, r)| r.clone())
+        };
+        if let Some(r) = known(&lock(&self.records)) {
+            return Ok(r);
+        }
+        let rec = Arc::new(crate::excitation::read_any(rp)?);
+        let mut list = lock(&self.records);
+        if let Some(r) = known(&list) {
+            return Ok(r);
+        }
+        list.push((rp.to_path_buf(), rec.clone()));
+        Ok(rec)
+    }
+
+    /// Record files read and parsed so far (each once).
+    pub fn records_read(&self) -> usize {
+        lock(&self.records).len()
+    }
+
+    /// Motions processed so far (each (record, processing) once).
+    pub fn motions_processed(&self) -> usize {
+        lock(&self.motions).len()
     }
 }
 

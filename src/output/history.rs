@@ -1,5 +1,6 @@
 //! history.csv: its columns and its writer.
 
+use super::number::Numbers;
 use super::{RunOutput, Sample, SampleKind};
 use std::io::Write;
 use std::path::Path;
@@ -20,6 +21,7 @@ pub struct HistoryWriter<W: Write> {
     rows: usize,
     /// (contact, edge) of each seat: its margin edge − g_N is a column.
     seats: Vec<(usize, f64)>,
+    numbers: Numbers,
 }
 
 impl<W: Write> HistoryWriter<W> {
@@ -27,7 +29,12 @@ impl<W: Write> HistoryWriter<W> {
     pub fn new(mut w: W, out: &RunOutput) -> std::io::Result<Self> {
         writeln!(w, "{}", history_header(out).join(","))?;
         let seats = out.seats.iter().map(|s| (s.contact, s.edge)).collect();
-        Ok(Self { w, rows: 0, seats })
+        Ok(Self {
+            w,
+            rows: 0,
+            seats,
+            numbers: Numbers::new(),
+        })
     }
 
     /// Rows written so far.
@@ -35,19 +42,21 @@ impl<W: Write> HistoryWriter<W> {
         self.rows
     }
 
-    /// One row per sample, written field by field: no string per value.
+    /// One row per sample, written field by field: no string per value; each number the
+    /// shortest text that reads back as the same f64 ([`Numbers`]).
     pub fn write(&mut self, samples: &[Sample]) -> std::io::Result<()> {
         let w = &mut self.w;
-        let num = |w: &mut W, x: f64| write!(w, ",{x:.12e}");
+        let n = &mut self.numbers;
         for s in samples {
-            let kind = match s.kind {
-                SampleKind::Grid => "grid",
-                SampleKind::PreEvent => "pre-event",
-                SampleKind::PostEvent => "post-event",
+            let kind: &[u8] = match s.kind {
+                SampleKind::Grid => b",grid",
+                SampleKind::PreEvent => b",pre-event",
+                SampleKind::PostEvent => b",post-event",
             };
-            write!(w, "{:.12e},{kind}", s.t)?;
+            n.write(w, s.t)?;
+            w.write_all(kind)?;
             for &x in s.q.iter().chain(s.v.iter()) {
-                num(w, x)?;
+                n.write_field(w, x)?;
             }
             for c in &s.contacts {
                 for x in [
@@ -57,13 +66,14 @@ impl<W: Write> HistoryWriter<W> {
                     c.normal_force,
                     c.tangential_force,
                 ] {
-                    num(w, x)?;
+                    n.write_field(w, x)?;
                 }
-                write!(w, ",{}", c.state.label())?;
+                w.write_all(b",")?;
+                w.write_all(c.state.label().as_bytes())?;
             }
             for &(e, f) in &s.elements {
-                num(w, e)?;
-                num(w, f)?;
+                n.write_field(w, e)?;
+                n.write_field(w, f)?;
             }
             let en = &s.energy;
             for x in [
@@ -78,12 +88,12 @@ impl<W: Write> HistoryWriter<W> {
                 en.supports,
                 en.closure,
             ] {
-                num(w, x)?;
+                n.write_field(w, x)?;
             }
             for &(c, edge) in &self.seats {
-                num(w, s.contacts.get(c).map_or(f64::NAN, |c| edge - c.gap))?;
+                n.write_field(w, s.contacts.get(c).map_or(f64::NAN, |c| edge - c.gap))?;
             }
-            writeln!(w)?;
+            w.write_all(b"\n")?;
         }
         self.rows += samples.len();
         Ok(())

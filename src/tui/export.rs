@@ -2,12 +2,12 @@
 
 use super::chart;
 use super::run_data::RunData;
+use crate::output::number::Numbers;
 use std::path::PathBuf;
 
 /// CSV of what is charted (full resolution, in the time window) and of the event log (the
 /// engine's `events.csv` columns).
 pub fn export_csv(run: &RunData, window: (f64, f64), element: usize) -> (String, String) {
-    use std::fmt::Write;
     let (t0, t1) = window;
     let mut cols: Vec<(String, &Vec<f64>)> = Vec::new();
     if let Some(r) = run.rot {
@@ -33,10 +33,12 @@ pub fn export_csv(run: &RunData, window: (f64, f64), element: usize) -> (String,
         chart.push_str(n);
     }
     chart.push('\n');
+    let mut n = Numbers::new();
     for i in chart::window(&run.t, t0, t1) {
-        let _ = write!(chart, "{:.12e}", run.t[i]);
+        n.push(&mut chart, run.t[i]);
         for (_, c) in &cols {
-            let _ = write!(chart, ",{:.12e}", c[i]);
+            chart.push(',');
+            n.push(&mut chart, c[i]);
         }
         chart.push('\n');
     }
