@@ -3,11 +3,10 @@
 //! rotation with μ (Fig. 8).
 
 use crate::FrictionFork;
-use crate::excitation::GroundMotion;
 use crate::model::{self, ModelError};
 use crate::output::RunOutput;
 use crate::run::SolverError;
-use crate::scene::{Motion, Scene};
+use crate::scene::{Scene, SceneKey};
 use rayon::prelude::*;
 use serde::{Serialize, Serializer};
 use std::collections::HashMap;
@@ -414,7 +413,7 @@ pub fn same_scenes(scenes: &[Option<Scene>]) -> Vec<usize> {
             let known = firsts.entry(k.text.as_str()).or_default();
             let same = known.iter().copied().find(|&j| {
                 let kj = keys[j].as_ref().expect("listed keys exist");
-                kj.same_motions(k)
+                kj.same(k)
             });
             same.unwrap_or_else(|| {
                 known.push(i);
@@ -422,60 +421,6 @@ pub fn same_scenes(scenes: &[Option<Scene>]) -> Vec<usize> {
             })
         })
         .collect()
-}
-
-/// What a run of a scene depends on: every field but the title as exact text (`{:?}` writes
-/// each f64 as its shortest round-trip text: equal text, equal bits), the recorded support
-/// motions apart (compared by content, most often the same shared motion).
-pub struct SceneKey {
-    pub text: String,
-    pub motions: Vec<Arc<GroundMotion>>,
-}
-
-impl SceneKey {
-    pub fn of(scene: &Scene) -> Self {
-        // every field named: a field added to `Scene` must be added here
-        let Scene {
-            title: _,
-            seats,
-            bodies,
-            contacts,
-            springs,
-            hysteretic,
-            supports,
-            mass_damping,
-            loads,
-            mass,
-            dof_names,
-            q0,
-            v0,
-            settings,
-        } = scene;
-        let mut motions = Vec::new();
-        let supports: Vec<String> = (supports.iter())
-            .map(|s| {
-                let motion = match &s.motion {
-                    Motion::Record(g) => {
-                        motions.push(g.clone());
-                        format!("record {}", motions.len() - 1)
-                    }
-                    m => format!("{m:?}"),
-                };
-                format!("{:?} {:?} {motion}", s.name, s.factor)
-            })
-            .collect();
-        let text = format!(
-            "{seats:?}\n{bodies:?}\n{contacts:?}\n{springs:?}\n{hysteretic:?}\n{supports:?}\n\
-             {mass_damping:?}\n{loads:?}\n{mass:?}\n{dof_names:?}\n{q0:?}\n{v0:?}\n{settings:?}"
-        );
-        Self { text, motions }
-    }
-
-    /// The same recorded motions, in order (the same shared motion, or equal ones).
-    pub fn same_motions(&self, other: &SceneKey) -> bool {
-        self.motions.len() == other.motions.len()
-            && (self.motions.iter().zip(&other.motions)).all(|(a, b)| Arc::ptr_eq(a, b) || a == b)
-    }
 }
 
 /// The sweep key whose variants share their motion until the first contact ([`FrictionFork`]).

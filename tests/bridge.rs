@@ -427,6 +427,18 @@ fn friction_sweep_shares_the_precontact_motion_and_matches_separate_runs() {
     let last = |r: &deckspin::RunOutput| r.samples.last().unwrap().q.clone();
     assert_eq!(last(&forked), last(&alone));
     assert!(fork.run(&c).is_none(), "a restitution change was forked");
+    // a seat (an event the fork's shared part watched) is part of what must be equal
+    let mut d = set("0.7", "0");
+    d.seats.push(deckspin::scene::Seat {
+        contact: 0,
+        width: 0.05,
+        edge: 0.05 + 0.0127,
+        required: None,
+    });
+    assert!(
+        fork.run(&d).is_none(),
+        "a scene with another seat was forked"
+    );
 }
 
 #[test]

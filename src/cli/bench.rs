@@ -127,14 +127,10 @@ fn instructions(model: &Path) -> CliResult {
         collected(&err)
             .ok_or_else(|| format!("no instruction count in valgrind's output: {err}").into())
     };
-    let all = count(None);
-    let integration = all
-        .as_ref()
-        .ok()
-        .map(|_| count(Some("deckspin::simulate::integrate*")));
+    let counts =
+        count(None).and_then(|all| Ok((all, count(Some("deckspin::simulate::integrate*"))?)));
     let _ = std::fs::remove_dir_all(&dir);
-    let all = all?;
-    let integration = integration.expect("counted when the first count succeeded")?;
+    let (all, integration) = counts?;
     println!(
         "`deckspin run {} --out DIR` under callgrind: {:.1} M instructions, {:.1} M inside simulate::integrate (the run, history.csv written as it goes), {:.1} M the rest (setup, events.csv, summary.json)",
         model.display(),

@@ -6,7 +6,7 @@ use super::workspace::Workspace;
 use crate::dopri;
 use crate::output::RunOutput;
 use crate::run::{Batcher, Silent, SolverError};
-use crate::scene::{ForceModel, Method, Motion, Scene};
+use crate::scene::{ForceModel, Method, Scene, SceneKey};
 
 /// Runs of scenes that differ only in their contacts' friction coefficients are the same motion
 /// until the first contact event (μ enters nowhere else): that part is integrated once, and
@@ -47,35 +47,7 @@ impl<'a> FrictionFork<'a> {
 
 /// `b` is `a` with other contact friction coefficients (nothing else differs).
 fn differs_only_in_friction(a: &Scene, b: &Scene) -> bool {
-    let contacts = |s: &Scene| {
-        let mut c = s.contacts.clone();
-        for x in &mut c {
-            x.mu = 0.0;
-        }
-        format!("{c:?}")
-    };
-    let records_equal = a.supports.len() == b.supports.len()
-        && a.supports.iter().zip(&b.supports).all(|(x, y)| {
-            x.name == y.name
-                && x.factor == y.factor
-                && match (&x.motion, &y.motion) {
-                    (Motion::Record(g), Motion::Record(h)) => {
-                        std::sync::Arc::ptr_eq(g, h) || **g == **h
-                    }
-                    (m1, m2) => format!("{m1:?}") == format!("{m2:?}"),
-                }
-        });
-    records_equal
-        && contacts(a) == contacts(b)
-        && format!("{:?}", a.bodies) == format!("{:?}", b.bodies)
-        && format!("{:?}", a.springs) == format!("{:?}", b.springs)
-        && format!("{:?}", a.hysteretic) == format!("{:?}", b.hysteretic)
-        && format!("{:?}", a.mass_damping) == format!("{:?}", b.mass_damping)
-        && format!("{:?}", a.settings) == format!("{:?}", b.settings)
-        && a.mass == b.mass
-        && a.loads == b.loads
-        && a.q0 == b.q0
-        && a.v0 == b.v0
+    SceneKey::without_friction(a).same(&SceneKey::without_friction(b))
 }
 
 impl<'a> Integration<'a> {

@@ -9,11 +9,13 @@
 //! - [`forces`]: the smooth forces h(t, q, q̇) of eq. 1 and the energy ledger's power terms.
 
 mod forces;
+mod key;
 mod kinematics;
 mod settings;
 
 pub use crate::methods::Method;
 pub use forces::{ForceModel, LEDGER_TERMS, PowerTerms, smooth_forces, smooth_forces_in};
+pub use key::SceneKey;
 pub use kinematics::{BodyState, ContactKinematics, Deformation, Frame, cos_sin, perp, spread};
 pub use settings::Settings;
 
