@@ -15,6 +15,8 @@ pub struct FrictionFork<'a> {
     shared: Integration<'a>,
     /// A contact event was reached (else the shared run is already the whole run).
     paused: bool,
+    /// The shared scene's identity up to friction.
+    key: SceneKey,
 }
 
 impl<'a> FrictionFork<'a> {
@@ -23,7 +25,12 @@ impl<'a> FrictionFork<'a> {
     pub fn new(scene: &'a Scene) -> Result<Self, SolverError> {
         let mut shared = Integration::start(scene)?;
         let paused = shared.advance(&mut Silent, true)?;
-        Ok(Self { shared, paused })
+        let key = SceneKey::without_friction(scene);
+        Ok(Self {
+            shared,
+            paused,
+            key,
+        })
     }
 
     /// The run of `scene` from the shared part; None if `scene` differs from the shared one in
@@ -31,7 +38,7 @@ impl<'a> FrictionFork<'a> {
     /// in its wall time.
     pub fn run(&self, scene: &Scene) -> Option<Result<RunOutput, SolverError>> {
         if scene.settings.method != Method::Event
-            || !differs_only_in_friction(self.shared.eng.scene, scene)
+            || !self.key.same(&SceneKey::without_friction(scene))
         {
             return None;
         }
@@ -45,14 +52,9 @@ impl<'a> FrictionFork<'a> {
     }
 }
 
-/// `b` is `a` with other contact friction coefficients (nothing else differs).
-fn differs_only_in_friction(a: &Scene, b: &Scene) -> bool {
-    SceneKey::without_friction(a).same(&SceneKey::without_friction(b))
-}
-
 impl<'a> Integration<'a> {
     /// The same run continued with `scene`, which differs from this run's only in contact
-    /// friction ([`differs_only_in_friction`]): a clone of the state, fresh reused storage.
+    /// friction (equal [`SceneKey::without_friction`]): a clone of the state, fresh reused storage.
     fn fork<'b>(&self, scene: &'b Scene) -> Integration<'b> {
         Integration {
             eng: self.eng.fork(scene),
