@@ -124,6 +124,9 @@ enum Command {
     Stress(cli::stress::StressArgs),
     /// Runs of a bridge file in sequence, each from the final state of the one before.
     Sequence(cli::sequence::SequenceArgs),
+    /// Before any run: what the impact law says of the model's corners and ends, where over
+    /// L/B × skew a deck rotates; `--equivalence`: which gap element reproduces it.
+    Screen(cli::screen::ScreenArgs),
 }
 
 fn main() -> ExitCode {
@@ -186,6 +189,7 @@ fn main() -> ExitCode {
         Some(Command::Bench(a)) => cli::bench::cmd_bench(&a),
         Some(Command::Stress(a)) => cli::stress::cmd_stress(&a),
         Some(Command::Sequence(a)) => cli::sequence::cmd_sequence(&a),
+        Some(Command::Screen(a)) => cli::screen::cmd_screen(&a),
         None => match cli.model {
             #[cfg(feature = "workbench")]
             Some(m) => deckspin::tui::run(&m),

@@ -301,3 +301,32 @@ fn a_study_whose_runs_would_not_fit_in_memory_is_refused_before_it_starts() {
         "{e}"
     );
 }
+
+#[test]
+fn screen_marks_the_specimen_and_writes_its_corners() {
+    let root = common::model("");
+    let out = std::env::temp_dir().join(format!("deckspin-screen-{}", std::process::id()));
+    let model = root.join("models/four-span.toml");
+    let o = deckspin(&[
+        "screen",
+        model.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert_eq!(text.matches("stays straight").count(), 3, "{text}"); // two ends and the legend
+    assert_eq!(text.matches('@').count(), 3, "{text}"); // both maps and the legend
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("screen.json")).unwrap()).unwrap();
+    let corners = json["corners_rigid_face"].as_array().unwrap();
+    assert_eq!(corners.len(), 4);
+    let mu = corners[0]["impact"]["stick_mu"].as_f64().unwrap();
+    assert!(
+        (mu - 16.1 * 1.2 / (13090.0 / 140.5 + 16.1 * 16.1)).abs() < 1e-12,
+        "{mu}"
+    );
+    let csv = std::fs::read_to_string(out.join("screen-map.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 1 + 31 * 13);
+    std::fs::remove_dir_all(&out).ok();
+}

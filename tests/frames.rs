@@ -256,20 +256,12 @@ fn skewed_and_curved_frames_start_at_their_gaps_with_flush_ends() {
     }
 }
 
-/// Closed form: a rigid deck (length L, width B, ends skewed φ) moving at v along −x hits a face
-/// parallel to its end, flush. No rotation after the impact is possible iff the moment of the
-/// normal and friction impulses can be balanced with both Λ_N ≥ 0:
-/// |sin φ + cos φ · Λ_T/Λ_N| cos φ ≤ B/L, with Λ_T/Λ_N = −sin φ/((1+ε)cos φ) when the corners
-/// stick (tan φ ≤ μ(1+ε)), else −μ. So it rotates iff ε sin φ cos φ/(1+ε) > B/L (stick) or
-/// |sin φ − μ cos φ| cos φ > B/L (slide): a function of L/B, φ, μ, ε only.
+/// The closed form (`design::screen::flush_impact`): whether the deck rotates after a flush
+/// impact, and how far from the boundary.
 fn rotates(l_over_b: f64, phi: f64, mu: f64, eps: f64) -> (bool, f64) {
-    let (s, c) = phi.sin_cos();
-    let lhs = if s <= mu * (1.0 + eps) * c {
-        eps * s * c / (1.0 + eps)
-    } else {
-        (s - mu * c).abs() * c
-    };
-    (lhs > 1.0 / l_over_b, (lhs * l_over_b - 1.0).abs())
+    use deckspin::design::screen::{Flush, flush_impact};
+    let (f, margin) = flush_impact(l_over_b, phi, mu, eps);
+    (f != Flush::Straight, margin)
 }
 
 #[test]
