@@ -1,6 +1,9 @@
 //! Commands of the `deckspin` binary kept apart from `main.rs`.
 
 pub mod bench;
+pub mod merge;
+pub mod progress;
 pub mod sequence;
 pub mod stress;
+pub mod sweep;
 pub mod tables;
