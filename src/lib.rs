@@ -15,8 +15,9 @@
 //! - [`model`]: model files (general scenes and bridges).
 //! - [`modal`]: K₀, modes and Rayleigh damping of any model.
 //! - [`output`]: history, events, energy ledger, summary.
-//! - [`studies`], [`stress`]: sweeps, the paper's studies, the stress test of records;
-//!   [`shard`]: jobs cut into parts and merged; [`progress`]: how far a job has come.
+//! - [`studies`], [`stress`], [`suite`]: sweeps, the paper's studies, record suites
+//!   (incremental dynamic analysis); [`shard`]: jobs cut into parts and merged; [`progress`]:
+//!   how far a job has come.
 
 pub mod clock;
 pub mod contact;
@@ -39,6 +40,7 @@ pub mod shard;
 pub mod simulate;
 pub mod stress;
 pub mod studies;
+pub mod suite;
 pub mod timestepping;
 #[cfg(feature = "workbench")]
 pub mod tui;

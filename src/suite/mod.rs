@@ -1,0 +1,3 @@
+//! Record suites (incremental dynamic analysis).
+
+pub mod intensity;
