@@ -113,7 +113,10 @@ enum Command {
     Stress(cli::stress::StressArgs),
     /// Runs of a bridge file in sequence, each from the final state of the one before.
     Sequence(cli::sequence::SequenceArgs),
-    /// Join the part files of a sharded `sweep` into its unsharded output.
+    /// A record suite (incremental dynamic analysis): the bridge under every record pair
+    /// scaled to each intensity level, × optional swept scalars.
+    Suite(cli::suite::SuiteArgs),
+    /// Join the part files of a sharded `suite` or `sweep` into its unsharded output.
     Merge(cli::merge::MergeArgs),
 }
 
@@ -172,6 +175,7 @@ fn main() -> ExitCode {
         Some(Command::Bench(a)) => cli::bench::cmd_bench(&a),
         Some(Command::Stress(a)) => cli::stress::cmd_stress(&a),
         Some(Command::Sequence(a)) => cli::sequence::cmd_sequence(&a),
+        Some(Command::Suite(a)) => cli::suite::cmd_suite(&a),
         Some(Command::Merge(a)) => cli::merge::cmd_merge(&a),
         None => match cli.model {
             #[cfg(feature = "workbench")]
@@ -195,7 +199,13 @@ fn main() -> ExitCode {
 /// 2 for a job refused before it starts (its output or its number of runs above a limit),
 /// else 1.
 fn exit_code(e: &(dyn std::error::Error + 'static)) -> ExitCode {
-    if e.is::<deckspin::run::LimitError>() || e.is::<deckspin::studies::SweepTooLarge>() {
+    use deckspin::suite::SuiteError;
+    let suite_too_large =
+        (e.downcast_ref::<SuiteError>()).is_some_and(|s| matches!(s, SuiteError::TooLarge(_)));
+    if e.is::<deckspin::run::LimitError>()
+        || e.is::<deckspin::studies::SweepTooLarge>()
+        || suite_too_large
+    {
         ExitCode::from(2)
     } else {
         ExitCode::FAILURE

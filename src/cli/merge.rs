@@ -1,5 +1,5 @@
-//! `deckspin merge`: the part files of a sharded `sweep` joined into the output of the
-//! unsharded job (library `shard`).
+//! `deckspin merge`: the part files of a sharded `suite` or `sweep` joined into the output
+//! of the unsharded job (library `shard`).
 
 use clap::Args;
 use std::path::PathBuf;
@@ -7,7 +7,7 @@ use std::path::PathBuf;
 /// Join the part files of a sharded job.
 #[derive(Args)]
 pub struct MergeArgs {
-    /// The merged CSV.
+    /// The merged CSV (a suite's statistics go beside it, as `suite` writes them).
     pub out: PathBuf,
     /// Every part file of the job (`--shard K/N` outputs), in any order.
     #[arg(required = true)]
@@ -19,8 +19,16 @@ pub fn cmd_merge(a: &MergeArgs) -> Result<(), Box<dyn std::error::Error>> {
     if let Some(dir) = a.out.parent() {
         std::fs::create_dir_all(dir)?;
     }
-    std::fs::write(&a.out, &merged.csv)?;
-    let wrote = a.out.display().to_string();
+    let wrote = match merged.kind.as_str() {
+        "suite" => {
+            let (keys, rows) = deckspin::suite::row::read_csv(&merged.csv)?;
+            super::suite::write_outputs(&a.out, &merged.csv, &keys, &rows)?
+        }
+        _ => {
+            std::fs::write(&a.out, &merged.csv)?;
+            a.out.display().to_string()
+        }
+    };
     println!(
         "merged {} parts of a {} of {} runs; wrote {wrote}",
         a.parts.len(),

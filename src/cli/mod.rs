@@ -5,5 +5,6 @@ pub mod merge;
 pub mod progress;
 pub mod sequence;
 pub mod stress;
+pub mod suite;
 pub mod sweep;
 pub mod tables;
