@@ -62,6 +62,10 @@ pub enum SuiteError {
     )]
     NotRecords { path: PathBuf, reason: String },
     #[error(
+        "{path}: the suite cannot append its [[run]] table (the one that scales the records): is `run` an inline array?"
+    )]
+    NoRunTable { path: PathBuf },
+    #[error(
         "'{argument}': the suite sets {key} itself for each run (the records, their scaling, the run's end)"
     )]
     Reserved { argument: String, key: String },
@@ -189,12 +193,18 @@ impl Suite {
             "{}\n[[run]]\nname = \"suite\"\npga_x = 1.0\npga_y = 1.0\n",
             text.trim_end()
         );
+        let appended = toml::from_str::<toml::Table>(&scaled).ok().and_then(|d| {
+            let a = d.get("run")?.as_array()?.len();
+            (a == runs + 1).then_some(())
+        });
+        if appended.is_none() {
+            return Err(SuiteError::NoRunTable {
+                path: path.to_path_buf(),
+            });
+        }
         let motions = Motions::default();
         // the model with its own records: refused here rather than in every run
         let scene = load_str_with(&unscaled, path, fix, &motions)?;
-        let mut check = fix.to_vec();
-        check.push(format!("excitation.run={}", runs + 1));
-        load_str_with(&scaled, path, &check, &motions.sharing_records())?;
         let measure = match spec.measure {
             MeasureSpec::Pga => Measure::Pga,
             MeasureSpec::Sa { period, damping } => Measure::Sa {
