@@ -45,7 +45,7 @@ pub fn suite_pairs(source: &Path) -> Result<(Vec<SuitePair>, Vec<PathBuf>), Reco
         source: e,
     };
     let (pairs, single) = if source.is_dir() {
-        (folder_pairs(source).map_err(io)?, folder_singles(source))
+        folder_pairs(source).map_err(io)?
     } else {
         let text = std::fs::read_to_string(source).map_err(io)?;
         (list_pairs(source, &text)?, Vec::new())
@@ -66,10 +66,10 @@ fn file_name(p: &Path) -> String {
     p.file_name().unwrap_or_default().to_string_lossy().into()
 }
 
-fn folder_pairs(dir: &Path) -> std::io::Result<Vec<SuitePair>> {
-    let (pairs, _) = record_pairs(dir)?;
-    Ok(pairs
-        .into_iter()
+/// The pairs of a folder and its files without a partner.
+fn folder_pairs(dir: &Path) -> std::io::Result<(Vec<SuitePair>, Vec<PathBuf>)> {
+    let (pairs, single) = record_pairs(dir)?;
+    let pairs = (pairs.into_iter())
         .map(|p| SuitePair {
             name: p.name,
             longitudinal_label: file_name(&p.longitudinal),
@@ -77,11 +77,8 @@ fn folder_pairs(dir: &Path) -> std::io::Result<Vec<SuitePair>> {
             longitudinal: absolute(&p.longitudinal),
             transverse: absolute(&p.transverse),
         })
-        .collect())
-}
-
-fn folder_singles(dir: &Path) -> Vec<PathBuf> {
-    record_pairs(dir).map(|(_, s)| s).unwrap_or_default()
+        .collect();
+    Ok((pairs, single))
 }
 
 /// The name of a pair the list does not name: the station of the two stems, else the
