@@ -15,6 +15,9 @@
 //! - [`model`]: model files (general scenes and bridges).
 //! - [`modal`]: K₀, modes and Rayleigh damping of any model.
 //! - [`output`]: history, events, energy ledger, summary.
+//! - [`studies`], [`stress`], [`suite`]: sweeps, the paper's studies, record suites
+//!   (incremental dynamic analysis); [`shard`]: jobs cut into parts and merged; [`progress`]:
+//!   how far a job has come.
 
 pub mod clock;
 pub mod contact;
@@ -30,12 +33,15 @@ pub mod modal;
 pub mod model;
 pub mod output;
 pub mod precision;
+pub mod progress;
 pub mod run;
 pub mod scene;
 pub mod sequence;
+pub mod shard;
 pub mod simulate;
 pub mod stress;
 pub mod studies;
+pub mod suite;
 pub mod timestepping;
 #[cfg(feature = "workbench")]
 pub mod tui;

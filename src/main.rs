@@ -67,18 +67,7 @@ enum Command {
         csv: Option<PathBuf>,
     },
     /// Run a model over every combination of swept scalars, in parallel (at most 100 000).
-    Sweep {
-        model: PathBuf,
-        /// key=a:b:step or key=v1,v2,... (repeatable: the cartesian product is run).
-        #[arg(long = "set", value_name = "KEY=RANGE", required = true)]
-        set: Vec<String>,
-        /// Fixed overrides applied to every run.
-        #[arg(long = "fix", value_name = "KEY=VALUE")]
-        fix: Vec<String>,
-        /// CSV output.
-        #[arg(long, default_value = "out/sweep.csv")]
-        out: PathBuf,
-    },
+    Sweep(cli::sweep::SweepArgs),
     /// The paper's studies: `pga` (Fig. 7) or `mu` (Fig. 8).
     Study {
         #[arg(value_parser = ["pga", "mu"])]
@@ -127,6 +116,11 @@ enum Command {
     /// Before any run: what the impact law says of the model's corners and ends, where over
     /// L/B × skew a deck rotates; `--equivalence`: which gap element reproduces it.
     Screen(cli::screen::ScreenArgs),
+    /// A record suite (incremental dynamic analysis): the bridge under every record pair
+    /// scaled to each intensity level, × optional swept scalars.
+    Suite(cli::suite::SuiteArgs),
+    /// Join the part files of a sharded `suite` or `sweep` into its unsharded output.
+    Merge(cli::merge::MergeArgs),
 }
 
 fn main() -> ExitCode {
@@ -160,12 +154,7 @@ fn main() -> ExitCode {
             baseline,
             csv,
         }) => cmd_excitation(&file, target_pga, time_scale, lag, baseline, csv.as_deref()),
-        Some(Command::Sweep {
-            model,
-            set,
-            fix,
-            out,
-        }) => cmd_sweep(&model, &set, &fix, &out),
+        Some(Command::Sweep(a)) => cli::sweep::cmd_sweep(&a),
         Some(Command::Study {
             kind,
             model,
@@ -190,6 +179,8 @@ fn main() -> ExitCode {
         Some(Command::Stress(a)) => cli::stress::cmd_stress(&a),
         Some(Command::Sequence(a)) => cli::sequence::cmd_sequence(&a),
         Some(Command::Screen(a)) => cli::screen::cmd_screen(&a),
+        Some(Command::Suite(a)) => cli::suite::cmd_suite(&a),
+        Some(Command::Merge(a)) => cli::merge::cmd_merge(&a),
         None => match cli.model {
             #[cfg(feature = "workbench")]
             Some(m) => deckspin::tui::run(&m),
@@ -212,7 +203,13 @@ fn main() -> ExitCode {
 /// 2 for a job refused before it starts (its output or its number of runs above a limit),
 /// else 1.
 fn exit_code(e: &(dyn std::error::Error + 'static)) -> ExitCode {
-    if e.is::<deckspin::run::LimitError>() || e.is::<deckspin::studies::SweepTooLarge>() {
+    use deckspin::suite::SuiteError;
+    let suite_too_large =
+        (e.downcast_ref::<SuiteError>()).is_some_and(|s| matches!(s, SuiteError::TooLarge(_)));
+    if e.is::<deckspin::run::LimitError>()
+        || e.is::<deckspin::studies::SweepTooLarge>()
+        || suite_too_large
+    {
         ExitCode::from(2)
     } else {
         ExitCode::FAILURE
@@ -425,40 +422,6 @@ fn cmd_excitation(
     Ok(())
 }
 
-fn cmd_sweep(
-    model: &std::path::Path,
-    set: &[String],
-    fix: &[String],
-    out: &std::path::Path,
-) -> CliResult {
-    use deckspin::studies::{MAX_SWEEP_RUNS, Study, parse_axis, sweep_size, table, write_csv};
-    let axes = set
-        .iter()
-        .map(|s| parse_axis(s))
-        .collect::<Result<Vec<_>, _>>()?;
-    sweep_size(&axes, MAX_SWEEP_RUNS)?;
-    let study = Study::open(model, fix)?;
-    let t0 = std::time::Instant::now();
-    let rows = study.try_sweep(&axes)?;
-    let wall = t0.elapsed().as_secs_f64();
-    print!("{}", table(&rows));
-    if let Some(dir) = out.parent() {
-        std::fs::create_dir_all(dir)?;
-    }
-    write_csv(&rows, out)?;
-    println!(
-        "{} runs in {:.3} s on {} threads; wrote {}",
-        rows.len(),
-        wall,
-        rayon::current_num_threads(),
-        out.display()
-    );
-    if rows.iter().any(|r| r.error.is_some()) {
-        return Err("some runs failed (see the table)".into());
-    }
-    Ok(())
-}
-
 fn cmd_study(
     kind: &str,
     model: &std::path::Path,
@@ -470,14 +433,16 @@ fn cmd_study(
     let study = Study::open(model, set)?;
     std::fs::create_dir_all(out)?;
     let t0 = std::time::Instant::now();
+    let bar = cli::progress::Bar::new();
     let (mut text, csv) = match kind {
-        "pga" => cli::tables::pga_table(&deckspin::studies::rotation_vs_pga(&study), "")?,
+        "pga" => cli::tables::pga_table(&deckspin::studies::rotation_vs_pga(&study, &bar), "")?,
         _ => {
             let mus: Vec<f64> = (0..=7).map(|i| i as f64 / 10.0).collect();
-            let m = deckspin::studies::increase_vs_mu(&study, &mus);
+            let m = deckspin::studies::increase_vs_mu(&study, &mus, &bar);
             cli::tables::mu_table(&m, &(1..=m.rows.len()).collect::<Vec<_>>(), "")?
         }
     };
+    bar.clear();
     writeln!(
         text,
         "({:.2} s wall on {} threads)",
@@ -509,33 +474,36 @@ fn precision_points(
     Box<dyn std::error::Error>,
 > {
     use deckspin::precision::{Bench, knobs};
+    use deckspin::progress::Progress;
     let bench = Bench::open(model, set)?;
     let scene = bench.study.scene(&[])?;
     // every run of the study keeps its history in memory
     deckspin::run::check_memory(&scene)?;
+    let (t_end, k) = (scene.settings.t_end, scene.settings.contact_stiffness);
+    let plan: Vec<_> = (methods.iter())
+        .flat_map(|&m| knobs(m, t_end, k, quick).into_iter().map(move |x| (m, x)))
+        .collect();
+    let bar = cli::progress::Bar::new();
+    bar.plan(plan.len() + 1);
     let reference = bench.reference(1e-10)?;
-    eprintln!(
+    bar.done(1);
+    bar.note(&format!(
         "reference: event-driven, rtol 1e-10: peak |{}| = {:.9e}",
         reference.run.dof_names[reference.dof], reference.peak
-    );
+    ));
     let mut points = Vec::new();
-    for &m in methods {
-        for (label, ov) in knobs(
-            m,
-            scene.settings.t_end,
-            scene.settings.contact_stiffness,
-            quick,
-        ) {
-            let p = bench.measure(&reference, m, &label, &ov);
-            eprintln!(
-                "  {m:<17} {label:<22} {:>10.4} s  peak err {:.3e}  {}",
-                p.cpu_s,
-                p.peak_error,
-                status(&p)
-            );
-            points.push(p);
-        }
+    for (m, (label, ov)) in plan {
+        let p = bench.measure(&reference, m, &label, &ov);
+        bar.done(1);
+        bar.note(&format!(
+            "  {m:<17} {label:<22} {:>10.4} s  peak err {:.3e}  {}",
+            p.cpu_s,
+            p.peak_error,
+            status(&p)
+        ));
+        points.push(p);
     }
+    bar.clear();
     Ok((reference, points))
 }
 

@@ -4,6 +4,7 @@
 //! above 1e-9 m and an energy closure within rtol/10.
 
 use crate::model::ModelError;
+use crate::progress::{Progress, Unwatched};
 use crate::run::Stop;
 use crate::scene::Motion;
 use rayon::prelude::*;
@@ -213,6 +214,16 @@ pub fn stress(
     pairs: &[RecordPair],
     grid: &StressGrid,
 ) -> Result<Vec<StressRow>, ModelError> {
+    stress_watched(path, pairs, grid, &Unwatched)
+}
+
+/// [`stress`], `progress` told of each run as it is done.
+pub fn stress_watched(
+    path: &Path,
+    pairs: &[RecordPair],
+    grid: &StressGrid,
+    progress: &dyn Progress,
+) -> Result<Vec<StressRow>, ModelError> {
     let text = std::fs::read_to_string(path).map_err(|e| ModelError::Io {
         path: path.to_path_buf(),
         source: e,
@@ -230,11 +241,14 @@ pub fn stress(
             }
         }
     }
+    progress.plan(jobs.len());
     Ok(jobs
         .par_iter()
         .map(|&(pair, run, eps, mu, law)| {
             let text = if law == "bilinear" { &bilinear } else { &text };
-            stress_run(text, path, pair, (run, eps, mu, law), grid.tail)
+            let row = stress_run(text, path, pair, (run, eps, mu, law), grid.tail);
+            progress.done(1);
+            row
         })
         .collect())
 }

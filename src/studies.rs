@@ -5,11 +5,14 @@
 use crate::FrictionFork;
 use crate::model::{self, ModelError};
 use crate::output::RunOutput;
+use crate::progress::{Progress, Unwatched};
 use crate::run::SolverError;
 use crate::scene::{Scene, SceneKey};
+use crate::shard::csv_line;
 use rayon::prelude::*;
 use serde::{Serialize, Serializer};
 use std::collections::HashMap;
+use std::ops::Range;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -271,7 +274,22 @@ impl Study {
 
     /// [`Study::sweep`], with the number of runs of the integrator it took.
     pub fn sweep_counted(&self, axes: &[Axis]) -> SweepOutcome {
-        let combos = combinations(axes);
+        self.sweep_rows(axes, 0..usize::MAX, &Unwatched)
+    }
+
+    /// The rows `range` (indices of [`Study::sweep`]'s rows, cut to their number) of the
+    /// sweep, `progress` told of each row as it is done: a shard of a sweep
+    /// ([`crate::shard`]). Rows of the same scene within `range` run once.
+    pub fn sweep_rows(
+        &self,
+        axes: &[Axis],
+        range: Range<usize>,
+        progress: &dyn Progress,
+    ) -> SweepOutcome {
+        let all = combinations(axes);
+        let range = range.start.min(all.len())..range.end.min(all.len());
+        let combos = &all[range];
+        progress.plan(combos.len());
         let compiled: Vec<Result<Scene, ModelError>> =
             combos.par_iter().map(|c| self.row_scene(c)).collect();
         let mut rows: Vec<Option<Row>> = vec![None; combos.len()];
@@ -280,19 +298,28 @@ impl Study {
                 Ok(s) => Some(s),
                 Err(e) => {
                     rows[i] = Some(error_row(combos[i].clone(), e.into()));
+                    progress.done(1);
                     None
                 }
             })
             .collect();
         let same = same_scenes(&scenes);
+        let mut shares = vec![0; combos.len()];
+        for (i, &j) in same.iter().enumerate() {
+            if scenes[i].is_some() {
+                shares[j] += 1;
+            }
+        }
         let unique: Vec<usize> = (0..combos.len())
             .filter(|&i| scenes[i].is_some() && same[i] == i)
             .collect();
         let runs = AtomicUsize::new(0);
         let job = Job {
-            combos: &combos,
+            combos,
             scenes: &scenes,
             runs: &runs,
+            shares: &shares,
+            progress,
         };
         // μ variants of one run share their motion until the first contact event
         let mu = FRICTION_KEY;
@@ -343,7 +370,7 @@ pub struct SweepOutcome {
 }
 
 /// Every combination of the axes' values, the first axis varying slowest.
-fn combinations(axes: &[Axis]) -> Vec<Vec<(String, String)>> {
+pub fn combinations(axes: &[Axis]) -> Vec<Vec<(String, String)>> {
     let mut combos: Vec<Vec<(String, String)>> = vec![vec![]];
     for ax in axes {
         combos = combos
@@ -365,6 +392,9 @@ struct Job<'a> {
     combos: &'a [Vec<(String, String)>],
     scenes: &'a [Option<Scene>],
     runs: &'a AtomicUsize,
+    /// Per row that runs, the rows that share its result (itself included).
+    shares: &'a [usize],
+    progress: &'a dyn Progress,
 }
 
 impl Job<'_> {
@@ -380,6 +410,7 @@ impl Job<'_> {
             Some(r) => r.map_err(RunFailure::from),
             None => simulate_scene(scene).map(|(r, _)| r),
         };
+        self.progress.done(self.shares[i]);
         match result {
             Ok(r) => row_of(settings, &r),
             Err(e) => error_row(settings, e),
@@ -423,6 +454,16 @@ pub fn same_scenes(scenes: &[Option<Scene>]) -> Vec<usize> {
         .collect()
 }
 
+/// A progress whose runs were planned already: passes on the runs done only.
+struct Forward<'a>(&'a dyn Progress);
+
+impl Progress for Forward<'_> {
+    fn plan(&self, _: usize) {}
+    fn done(&self, runs: usize) {
+        self.0.done(runs)
+    }
+}
+
 /// The sweep key whose variants share their motion until the first contact ([`FrictionFork`]).
 pub const FRICTION_KEY: &str = "contacts.mu";
 
@@ -447,13 +488,10 @@ fn error_row(settings: Vec<(String, String)>, e: RunFailure) -> Row {
     }
 }
 
-/// CSV of sweep rows.
-pub fn write_csv(rows: &[Row], path: &Path) -> std::io::Result<()> {
-    let mut w = csv::Writer::from_path(path)?;
-    let mut head: Vec<String> = rows
-        .first()
-        .map(|r| r.settings.iter().map(|(k, _)| k.clone()).collect())
-        .unwrap_or_default();
+/// The CSV columns of sweep rows: the swept keys, then what a row records (no wall time:
+/// a sweep's CSV is the same for every run of it, so that its shards merge byte for byte).
+pub fn csv_header(keys: &[String]) -> Vec<String> {
+    let mut head = keys.to_vec();
     head.extend(
         [
             "peak_rotation",
@@ -463,28 +501,46 @@ pub fn write_csv(rows: &[Row], path: &Path) -> std::io::Result<()> {
             "impacts",
             "stick_time",
             "energy_closure_rel",
-            "wall_time_s",
             "error",
         ]
         .map(String::from),
     );
-    w.write_record(&head)?;
+    head
+}
+
+/// The swept keys of a sweep over `axes`.
+pub fn axis_keys(axes: &[Axis]) -> Vec<String> {
+    axes.iter().map(|a| a.key.clone()).collect()
+}
+
+/// A row's CSV fields, in the order of [`csv_header`].
+pub fn csv_fields(r: &Row) -> Vec<String> {
+    let mut rec: Vec<String> = r.settings.iter().map(|(_, v)| v.clone()).collect();
+    rec.extend([
+        format!("{:.6e}", r.peak_rotation),
+        format!("{:.6e}", r.residual_rotation),
+        format!("{:.6e}", r.peak_x),
+        format!("{:.6e}", r.peak_y),
+        r.impacts.to_string(),
+        format!("{:.4}", r.stick_time),
+        format!("{:.3e}", r.energy_closure_rel),
+        r.error.as_ref().map_or(String::new(), |e| e.to_string()),
+    ]);
+    rec
+}
+
+/// The CSV of a sweep over `keys`.
+pub fn csv_text(keys: &[String], rows: &[Row]) -> String {
+    let mut out = csv_line(&csv_header(keys));
     for r in rows {
-        let mut rec: Vec<String> = r.settings.iter().map(|(_, v)| v.clone()).collect();
-        rec.extend([
-            format!("{:.6e}", r.peak_rotation),
-            format!("{:.6e}", r.residual_rotation),
-            format!("{:.6e}", r.peak_x),
-            format!("{:.6e}", r.peak_y),
-            r.impacts.to_string(),
-            format!("{:.4}", r.stick_time),
-            format!("{:.3e}", r.energy_closure_rel),
-            format!("{:.4}", r.wall_time),
-            r.error.as_ref().map_or(String::new(), |e| e.to_string()),
-        ]);
-        w.write_record(&rec)?;
+        out += &csv_line(&csv_fields(r));
     }
-    w.flush()
+    out
+}
+
+/// CSV of sweep rows ([`csv_text`]).
+pub fn write_csv(keys: &[String], rows: &[Row], path: &Path) -> std::io::Result<()> {
+    std::fs::write(path, csv_text(keys, rows))
 }
 
 /// A plain text table of sweep rows.
@@ -530,11 +586,11 @@ pub fn run_count(text: &str) -> usize {
 
 /// Fig. 7: peak deck rotation per run with and without contact. Rows: run, pga_x, pga_y,
 /// peak without contact, peak with contact.
-pub fn rotation_vs_pga(study: &Study) -> Vec<(usize, f64, f64, Row, Row)> {
+pub fn rotation_vs_pga(study: &Study, progress: &dyn Progress) -> Vec<(usize, f64, f64, Row, Row)> {
     let pgas = run_pgas(&study.text);
     let n = pgas.len();
     let runs: Vec<String> = (1..=n).map(|i| i.to_string()).collect();
-    let rows = study.sweep(&[
+    let axes = [
         Axis {
             key: "excitation.run".into(),
             values: runs,
@@ -543,7 +599,8 @@ pub fn rotation_vs_pga(study: &Study) -> Vec<(usize, f64, f64, Row, Row)> {
             key: "contacts.enabled".into(),
             values: vec!["false".into(), "true".into()],
         },
-    ]);
+    ];
+    let rows = study.sweep_rows(&axes, 0..usize::MAX, progress).rows;
     rows.chunks(2)
         .enumerate()
         .map(|(i, pair)| {
@@ -594,11 +651,11 @@ impl MuStudy {
     }
 }
 
-pub fn increase_vs_mu(study: &Study, mus: &[f64]) -> MuStudy {
+pub fn increase_vs_mu(study: &Study, mus: &[f64], progress: &dyn Progress) -> MuStudy {
     let pgas = run_pgas(&study.text);
     let n = pgas.len();
     let runs: Vec<String> = (1..=n).map(|i| i.to_string()).collect();
-    let baseline = study.sweep(&[
+    let baseline = [
         Axis {
             key: "excitation.run".into(),
             values: runs.clone(),
@@ -607,8 +664,8 @@ pub fn increase_vs_mu(study: &Study, mus: &[f64]) -> MuStudy {
             key: "contacts.enabled".into(),
             values: vec!["false".into()],
         },
-    ]);
-    let rows = study.sweep(&[
+    ];
+    let varied = [
         Axis {
             key: "excitation.run".into(),
             values: runs,
@@ -617,7 +674,13 @@ pub fn increase_vs_mu(study: &Study, mus: &[f64]) -> MuStudy {
             key: "contacts.mu".into(),
             values: mus.iter().map(|m| format!("{m}")).collect(),
         },
-    ]);
+    ];
+    // both planned before either runs, so that the bar's length is the job's
+    progress.plan(sweep_size(&baseline, usize::MAX).unwrap_or(0));
+    progress.plan(sweep_size(&varied, usize::MAX).unwrap_or(0));
+    let quiet = Forward(progress);
+    let baseline = study.sweep_rows(&baseline, 0..usize::MAX, &quiet).rows;
+    let rows = study.sweep_rows(&varied, 0..usize::MAX, &quiet).rows;
     MuStudy {
         mus: mus.to_vec(),
         pgas,

@@ -174,7 +174,7 @@ fn soft_gap_elements_miss_the_rotation_stiff_ones_find_it() {
         deckspin::methods::Method::Penalty,
         &ks,
         &hs,
-        &|_| {},
+        &deckspin::progress::Unwatched,
     );
     std::fs::remove_file(&path).ok();
     assert_eq!(cells.len(), 8);

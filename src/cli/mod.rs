@@ -1,7 +1,11 @@
 //! Commands of the `deckspin` binary kept apart from `main.rs`.
 
 pub mod bench;
+pub mod merge;
+pub mod progress;
 pub mod screen;
 pub mod sequence;
 pub mod stress;
+pub mod suite;
+pub mod sweep;
 pub mod tables;

@@ -211,7 +211,9 @@ fn equivalence(a: &ScreenArgs) -> Result<(), Box<dyn std::error::Error>> {
         reference.peak,
         ks.len() * hs.len()
     );
-    let cells = grid(&bench, &reference, Method::Penalty, &ks, &hs, &|_| {});
+    let bar = super::progress::Bar::new();
+    let cells = grid(&bench, &reference, Method::Penalty, &ks, &hs, &bar);
+    bar.clear();
     println!("\n{}", equivalence_table(&cells, &ks, &hs));
     for ans in answers(&cells, &[0.01, 0.05, 0.10]) {
         println!("{}", answer_text(&ans));

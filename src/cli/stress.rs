@@ -30,7 +30,7 @@ pub struct StressArgs {
 }
 
 pub fn cmd_stress(a: &StressArgs) -> Result<(), Box<dyn std::error::Error>> {
-    use deckspin::stress::{StressGrid, record_pairs, stress, tally};
+    use deckspin::stress::{StressGrid, record_pairs, stress_watched, tally};
     let (pairs, single) = record_pairs(&a.records)
         .map_err(|e| format!("{}: cannot read the records: {e}", a.records.display()))?;
     if pairs.is_empty() {
@@ -53,7 +53,9 @@ pub fn cmd_stress(a: &StressArgs) -> Result<(), Box<dyn std::error::Error>> {
         laws: a.laws.clone(),
         ..StressGrid::default()
     };
-    let rows = stress(&a.model, &pairs, &grid)?;
+    let bar = super::progress::Bar::new();
+    let rows = stress_watched(&a.model, &pairs, &grid, &bar)?;
+    bar.clear();
     if let Some(dir) = a.out.parent() {
         std::fs::create_dir_all(dir)?;
     }

@@ -3,6 +3,7 @@
 
 use crate::methods::Method;
 use crate::precision::{Bench, Point, Reference};
+use crate::progress::Progress;
 use rayon::prelude::*;
 use serde::Serialize;
 
@@ -23,21 +24,21 @@ impl Cell {
     }
 }
 
-/// The penalty `method` over every k × h, in parallel; `done` is called after each run with
-/// the number finished so far. Cells in the order k-major, as given.
+/// The penalty `method` over every k × h, in parallel, its runs reported to `progress`. Cells
+/// in the order k-major, as given.
 pub fn grid(
     bench: &Bench,
     reference: &Reference,
     method: Method,
     ks: &[f64],
     hs: &[f64],
-    done: &(dyn Fn(usize) + Sync),
+    progress: &dyn Progress,
 ) -> Vec<Cell> {
     let pairs: Vec<(f64, f64)> = ks
         .iter()
         .flat_map(|&k| hs.iter().map(move |&h| (k, h)))
         .collect();
-    let count = std::sync::atomic::AtomicUsize::new(0);
+    progress.plan(pairs.len());
     pairs
         .par_iter()
         .map(|&(k, h)| {
@@ -46,7 +47,7 @@ pub fn grid(
                 format!("solver.step={h:e}"),
             ];
             let point = bench.measure(reference, method, &format!("k={k:e} h={h:e}"), &set);
-            done(count.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1);
+            progress.done(1);
             Cell { k, h, point }
         })
         .collect()

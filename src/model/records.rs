@@ -98,6 +98,16 @@ impl Motions {
         Ok(rec)
     }
 
+    /// A cache holding the records read so far and no processed motion: for loads whose
+    /// processing is each its own (a record suite's scaling), so that the motions of one run
+    /// are dropped with it.
+    pub fn sharing_records(&self) -> Motions {
+        Motions {
+            motions: Mutex::new(Vec::new()),
+            records: Mutex::new(lock(&self.records).clone()),
+        }
+    }
+
     /// Record files read and parsed so far (each once).
     pub fn records_read(&self) -> usize {
         lock(&self.records).len()

@@ -1,0 +1,39 @@
+//! `deckspin merge`: the part files of a sharded `suite` or `sweep` joined into the output
+//! of the unsharded job (library `shard`).
+
+use clap::Args;
+use std::path::PathBuf;
+
+/// Join the part files of a sharded job.
+#[derive(Args)]
+pub struct MergeArgs {
+    /// The merged CSV (a suite's statistics go beside it, as `suite` writes them).
+    pub out: PathBuf,
+    /// Every part file of the job (`--shard K/N` outputs), in any order.
+    #[arg(required = true)]
+    pub parts: Vec<PathBuf>,
+}
+
+pub fn cmd_merge(a: &MergeArgs) -> Result<(), Box<dyn std::error::Error>> {
+    let merged = deckspin::shard::merge_files(&a.parts)?;
+    if let Some(dir) = a.out.parent() {
+        std::fs::create_dir_all(dir)?;
+    }
+    let wrote = match merged.kind.as_str() {
+        "suite" => {
+            let (keys, rows) = deckspin::suite::row::read_csv(&merged.csv)?;
+            super::suite::write_outputs(&a.out, &merged.csv, &keys, &rows)?
+        }
+        _ => {
+            std::fs::write(&a.out, &merged.csv)?;
+            a.out.display().to_string()
+        }
+    };
+    println!(
+        "merged {} parts of a {} of {} runs; wrote {wrote}",
+        a.parts.len(),
+        merged.kind,
+        merged.runs
+    );
+    Ok(())
+}

@@ -1,0 +1,61 @@
+//! The progress bar of long commands: runs done, rate and time left, drawn on stderr when it
+//! is a terminal (tests and pipes see nothing).
+
+use deckspin::progress::Progress;
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressState, ProgressStyle};
+use std::io::IsTerminal;
+
+/// A bar on stderr (hidden when stderr is not a terminal), fed by the library's counts.
+pub struct Bar(ProgressBar);
+
+impl Bar {
+    /// An empty bar; the job plans its runs.
+    pub fn new() -> Self {
+        let target = if std::io::stderr().is_terminal() {
+            ProgressDrawTarget::stderr()
+        } else {
+            ProgressDrawTarget::hidden()
+        };
+        let bar = ProgressBar::with_draw_target(Some(0), target);
+        let style = ProgressStyle::with_template(
+            "{bar:30} {pos}/{len} runs, {rate} runs/s, {eta} left ({elapsed})",
+        );
+        if let Ok(style) = style {
+            let rate = |s: &ProgressState, w: &mut dyn std::fmt::Write| {
+                let _ = write!(w, "{:.1}", s.per_sec());
+            };
+            bar.set_style(style.with_key("rate", rate));
+        }
+        Self(bar)
+    }
+
+    /// Prints a line above the bar (stderr).
+    pub fn note(&self, line: &str) {
+        if self.0.is_hidden() {
+            eprintln!("{line}");
+        } else {
+            self.0.println(line);
+        }
+    }
+
+    /// Removes the bar.
+    pub fn clear(&self) {
+        self.0.finish_and_clear();
+    }
+}
+
+impl Progress for Bar {
+    fn plan(&self, runs: usize) {
+        self.0.inc_length(runs as u64);
+    }
+
+    fn done(&self, runs: usize) {
+        self.0.inc(runs as u64);
+    }
+}
+
+impl Drop for Bar {
+    fn drop(&mut self) {
+        self.0.finish_and_clear();
+    }
+}

@@ -1,0 +1,151 @@
+//! `deckspin suite`: a record suite (incremental dynamic analysis, library `suite`), or a
+//! shard of it.
+
+use super::progress::Bar;
+use clap::Args;
+use deckspin::shard::{Shard, csv_line, part_text};
+use deckspin::studies::parse_axis;
+use deckspin::suite::intensity::{parse_levels, parse_measure};
+use deckspin::suite::records::suite_pairs;
+use deckspin::suite::row::{Status, SuiteRow, csv_fields, csv_header, csv_text};
+use deckspin::suite::stats::{level_stats, stats_csv, stats_json, stats_table};
+use deckspin::suite::{DEFAULT_TAIL, Suite, SuiteSpec};
+use std::path::{Path, PathBuf};
+
+/// A record suite: the bridge under every record pair scaled to each intensity level.
+#[derive(Args)]
+pub struct SuiteArgs {
+    pub model: PathBuf,
+    /// A folder of .AT2 records (paired by station: sorted names equal but for their last 3
+    /// characters, the first longitudinal) or a list file (`longitudinal transverse [name]`
+    /// per line, paths relative to it, # comments).
+    #[arg(long)]
+    pub records: PathBuf,
+    /// Intensity measure: pga, sa:T (T in s) or sa:T1 (the model's first mode period).
+    #[arg(long)]
+    pub measure: String,
+    /// Damping ratio of Sa (sa:… only; default 0.05).
+    #[arg(long)]
+    pub damping: Option<f64>,
+    /// Intensity levels, g: a:b:step (inclusive) or v1,v2,…
+    #[arg(long)]
+    pub levels: String,
+    /// Swept keys crossed with the levels: key=a:b:step or key=v1,v2 (repeatable).
+    #[arg(long = "set", value_name = "KEY=RANGE")]
+    pub set: Vec<String>,
+    /// Fixed overrides applied to every run.
+    #[arg(long = "fix", value_name = "KEY=VALUE")]
+    pub fix: Vec<String>,
+    /// Free vibration after the end of the longer record of each pair, s.
+    #[arg(long, default_value_t = DEFAULT_TAIL)]
+    pub tail: f64,
+    /// CSV of every run; the statistics go beside it (STEM-stats.csv, STEM-stats.json).
+    /// With --shard: the part file, for `deckspin merge`.
+    #[arg(long, default_value = "out/suite.csv")]
+    pub out: PathBuf,
+    /// Run only shard K of N (contiguous blocks of runs), written with their run indices.
+    #[arg(long, value_name = "K/N")]
+    pub shard: Option<String>,
+}
+
+type CliResult = Result<(), Box<dyn std::error::Error>>;
+
+pub fn cmd_suite(a: &SuiteArgs) -> CliResult {
+    let shard = a.shard.as_deref().map(Shard::parse).transpose()?;
+    let shard = shard.unwrap_or(Shard::ALL);
+    let measure = parse_measure(&a.measure, a.damping)?;
+    let levels = parse_levels(&a.levels)?;
+    let axes = (a.set.iter())
+        .map(|s| parse_axis(s).map_err(|e| format!("--set {e}")))
+        .collect::<Result<Vec<_>, _>>()?;
+    let (pairs, single) = suite_pairs(&a.records)?;
+    for s in &single {
+        eprintln!("deckspin: {}: no partner component, left out", s.display());
+    }
+    let spec = SuiteSpec {
+        measure,
+        levels,
+        axes,
+        tail: a.tail,
+    };
+    let suite = Suite::open(&a.model, &a.fix, pairs, spec)?;
+    let total = suite.runs();
+    let range = shard.range(total);
+    let t0 = std::time::Instant::now();
+    let bar = Bar::new();
+    let rows = suite.run(range.clone(), &bar);
+    bar.clear();
+    let wall = t0.elapsed().as_secs_f64();
+    if let Some(dir) = a.out.parent() {
+        std::fs::create_dir_all(dir)?;
+    }
+    let keys = suite.keys();
+    let wrote = if shard.is_all() {
+        write_outputs(&a.out, &csv_text(&keys, &rows), &keys, &rows)?
+    } else {
+        let lines: Vec<(usize, String)> = (range.clone().zip(&rows))
+            .map(|(i, r)| (i, csv_line(&csv_fields(r))))
+            .collect();
+        let header = csv_line(&csv_header(&keys));
+        std::fs::write(&a.out, part_text("suite", shard, total, &header, &lines))?;
+        format!(
+            "{} (shard {shard}: runs {}..{} of {total}; join the parts with `deckspin merge`)",
+            a.out.display(),
+            range.start,
+            range.end
+        )
+    };
+    println!("{}", tally(&rows));
+    eprintln!(
+        "{} runs in {wall:.2} s wall on {} threads",
+        rows.len(),
+        rayon::current_num_threads()
+    );
+    println!("wrote {wrote}");
+    Ok(())
+}
+
+/// Runs, finished, failed, refused.
+fn tally(rows: &[SuiteRow]) -> String {
+    let count = |f: &dyn Fn(&Status) -> bool| rows.iter().filter(|r| f(&r.status)).count();
+    format!(
+        "{} runs: {} finished, {} failed, {} refused",
+        rows.len(),
+        count(&|s| *s == Status::Finished),
+        count(&|s| matches!(s, Status::Failed { .. })),
+        count(&|s| matches!(s, Status::Refused(_)))
+    )
+}
+
+/// The statistics files beside the suite CSV `out`: STEM-stats.csv and STEM-stats.json.
+pub fn stats_paths(out: &Path) -> (PathBuf, PathBuf) {
+    let stem = out
+        .file_stem()
+        .map_or("suite".into(), |s| s.to_string_lossy().into_owned());
+    (
+        out.with_file_name(format!("{stem}-stats.csv")),
+        out.with_file_name(format!("{stem}-stats.json")),
+    )
+}
+
+/// The suite CSV `csv` (of `rows`) and its statistics (CSV, JSON); the statistics table
+/// printed. Returns what was written.
+pub fn write_outputs(
+    out: &Path,
+    csv: &str,
+    keys: &[String],
+    rows: &[SuiteRow],
+) -> Result<String, std::io::Error> {
+    std::fs::write(out, csv)?;
+    let stats = level_stats(rows);
+    let (stats_file, json) = stats_paths(out);
+    std::fs::write(&stats_file, stats_csv(keys, &stats))?;
+    std::fs::write(&json, stats_json(&stats))?;
+    print!("{}", stats_table(&stats));
+    Ok(format!(
+        "{}, {}, {}",
+        out.display(),
+        stats_file.display(),
+        json.display()
+    ))
+}
