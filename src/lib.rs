@@ -28,6 +28,7 @@ pub mod methods;
 pub mod modal;
 pub mod model;
 pub mod output;
+pub mod plot;
 pub mod precision;
 pub mod run;
 pub mod scene;
