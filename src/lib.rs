@@ -18,6 +18,7 @@
 
 pub mod clock;
 pub mod contact;
+pub mod design;
 pub mod dopri;
 pub mod event_driven;
 pub mod excitation;
