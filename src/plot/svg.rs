@@ -402,7 +402,11 @@ pub fn render_grid(grid: &Grid) -> String {
     let left = 16.0 + CHAR_WIDTH * longest as f64;
     let ncol = grid.rows.iter().map(|r| r.cells.len()).max().unwrap_or(0);
     let top = 64.0;
-    let w = (left + cw * ncol as f64 + 16.0).max(MIN_SIZE.0);
+    // the title at 14 px: about 8 px a character
+    let title_w = 8.0 * grid.title.chars().count() as f64 + 32.0;
+    let w = (left + cw * ncol as f64 + 16.0)
+        .max(title_w)
+        .max(MIN_SIZE.0);
     let h = top + ch * grid.rows.len() as f64 + 24.0 + 18.0 * grid.categories.len() as f64;
     let mut out = String::new();
     header(&mut out, w, h);

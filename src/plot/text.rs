@@ -1,8 +1,9 @@
 //! Charts and grids as plain ASCII text for any terminal: a value lands in grid column
 //! round(frac_x·(cols − 1)) and grid row round((1 − frac_y)·(rows − 1)) (row 0 at the top;
-//! [`layout`] says where the grid sits in the text).
+//! [`layout`] says where the grid sits in the text). Drawn in order: bands, reference lines,
+//! the lines of every series, then the marks of every series.
 
-use super::chart::{Chart, Grid, Series, Stroke};
+use super::chart::{Chart, Grid, Marker, Series, Stroke};
 use super::ticks::{Span, span};
 
 /// Character of a band's fill.
@@ -165,18 +166,29 @@ impl Canvas {
             prev = Some(r);
         }
     }
-    fn series(&mut self, s: &Series) {
+    /// The lines of a series (its marks come after every series' lines).
+    fn line(&mut self, s: &Series) {
+        if s.stroke == Stroke::None {
+            return;
+        }
         let g = glyph(s.glyph);
         let pts: Vec<Option<(f64, f64)>> = s.points.iter().map(|&(x, y)| self.at(x, y)).collect();
-        if s.stroke != Stroke::None {
-            for w in pts.windows(2) {
-                if let (Some(a), Some(b)) = (w[0], w[1]) {
-                    self.segment(a, b, g);
-                }
+        for w in pts.windows(2) {
+            if let (Some(a), Some(b)) = (w[0], w[1]) {
+                self.segment(a, b, g);
             }
         }
-        for p in pts.iter().flatten() {
-            self.set(p.0, p.1, g);
+    }
+    /// The glyph at each point of a series with markers.
+    fn marks(&mut self, s: &Series) {
+        if s.marker == Marker::None {
+            return;
+        }
+        let g = glyph(s.glyph);
+        for &(x, y) in &s.points {
+            if let Some((c, r)) = self.at(x, y) {
+                self.set(c, r, g);
+            }
         }
     }
 }
@@ -229,7 +241,10 @@ pub fn render(chart: &Chart, width: usize, height: usize) -> String {
         }
     }
     for s in &chart.series {
-        cv.series(s);
+        cv.line(s);
+    }
+    for s in &chart.series {
+        cv.marks(s);
     }
     let mut out = String::new();
     out += &cut(&ascii(&chart.title), width);

@@ -3,7 +3,7 @@
 
 use super::chart::{Axis, Scale};
 
-/// Linear axes aim at about this many intervals between ticks.
+/// Linear axes aim at about this many intervals between ticks (5 to 7).
 const TARGET_INTERVALS: f64 = 5.0;
 /// Most decade ticks on a log axis (more decades: every k-th).
 const MAX_DECADES: usize = 10;
@@ -14,6 +14,8 @@ pub struct Span {
     pub lo: f64,
     pub hi: f64,
     pub scale: Scale,
+    /// Tick step of a linear axis ([`linear_step`]).
+    pub step: f64,
 }
 
 impl Span {
@@ -36,7 +38,7 @@ impl Span {
     pub fn ticks(&self) -> Vec<f64> {
         match self.scale {
             Scale::Linear => {
-                let step = nice_step((self.hi - self.lo) / TARGET_INTERVALS);
+                let step = self.step;
                 let first = (self.lo / step - 1e-9).ceil() as i64;
                 let last = (self.hi / step + 1e-9).floor() as i64;
                 (first..=last)
@@ -77,7 +79,7 @@ impl Span {
                 let step = if ticks.len() > 1 {
                     ticks[1] - ticks[0]
                 } else {
-                    (self.hi - self.lo).abs()
+                    self.step
                 };
                 linear_label(v, step)
             }
@@ -97,6 +99,12 @@ pub fn nice_step(raw: f64) -> f64 {
         .map(|m| m * p)
         .find(|s| *s >= raw * (1.0 - 1e-12))
         .unwrap_or(10.0 * p)
+}
+
+/// The tick step of a linear range: the smallest of 1, 2, 5 × 10ᵏ at least 0.7·range/5
+/// (5 to 7 intervals).
+pub fn linear_step(range: f64) -> f64 {
+    nice_step(0.7 * range / TARGET_INTERVALS)
 }
 
 /// k·step without the rounding noise of the product (and without −0).
@@ -148,7 +156,13 @@ pub fn span(axis: &Axis, values: &[f64]) -> Span {
         let ok =
             lo.is_finite() && hi.is_finite() && hi > lo && (scale == Scale::Linear || lo > 0.0);
         if ok {
-            return Span { lo, hi, scale };
+            let step = linear_step(hi - lo);
+            return Span {
+                lo,
+                hi,
+                scale,
+                step,
+            };
         }
     }
     let usable = |v: &&f64| v.is_finite() && (scale == Scale::Linear || **v > 0.0);
@@ -164,13 +178,14 @@ pub fn span(axis: &Axis, values: &[f64]) -> Span {
                 let d = if lo == 0.0 { 1.0 } else { lo.abs() * 0.1 };
                 (lo, hi) = (lo - d, hi + d);
             }
-            let step = nice_step((hi - lo) / TARGET_INTERVALS);
+            let step = linear_step(hi - lo);
             let lo = (lo / step + 1e-9).floor() * step;
             let hi = (hi / step - 1e-9).ceil() * step;
             Span {
                 lo: clean(lo, step),
                 hi: clean(hi, step),
                 scale,
+                step,
             }
         }
         Scale::Log => {
@@ -186,6 +201,7 @@ pub fn span(axis: &Axis, values: &[f64]) -> Span {
                 lo: 10f64.powf(a),
                 hi: 10f64.powf(b),
                 scale,
+                step: 0.0,
             }
         }
     }
