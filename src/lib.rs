@@ -22,6 +22,7 @@ pub mod design;
 pub mod dopri;
 pub mod event_driven;
 pub mod excitation;
+pub mod figures;
 pub mod hysteresis;
 pub mod lemke;
 pub mod linalg;

@@ -117,6 +117,9 @@ enum Command {
         tolerance: f64,
         #[arg(long)]
         quick: bool,
+        /// Output directory of the grid's SVG (stability-MODEL.svg).
+        #[arg(long, default_value = "out")]
+        out: PathBuf,
     },
     /// Benchmark: one run of the model and the μ × runs sweep (CPU medians).
     Bench(cli::bench::BenchArgs),
@@ -124,6 +127,9 @@ enum Command {
     Stress(cli::stress::StressArgs),
     /// Runs of a bridge file in sequence, each from the final state of the one before.
     Sequence(cli::sequence::SequenceArgs),
+    /// Fragility curves of a record suite's per-run CSV: lognormal, maximum likelihood,
+    /// bootstrap band.
+    Fragility(cli::fragility::FragilityArgs),
 }
 
 fn main() -> ExitCode {
@@ -182,10 +188,12 @@ fn main() -> ExitCode {
             set,
             tolerance,
             quick,
-        }) => cmd_stability(&model, &set, tolerance, quick),
+            out,
+        }) => cmd_stability(&model, &set, tolerance, quick, &out),
         Some(Command::Bench(a)) => cli::bench::cmd_bench(&a),
         Some(Command::Stress(a)) => cli::stress::cmd_stress(&a),
         Some(Command::Sequence(a)) => cli::sequence::cmd_sequence(&a),
+        Some(Command::Fragility(a)) => cli::fragility::cmd_fragility(&a),
         None => match cli.model {
             #[cfg(feature = "workbench")]
             Some(m) => deckspin::tui::run(&m),
@@ -466,12 +474,18 @@ fn cmd_study(
     let study = Study::open(model, set)?;
     std::fs::create_dir_all(out)?;
     let t0 = std::time::Instant::now();
-    let (mut text, csv) = match kind {
-        "pga" => cli::tables::pga_table(&deckspin::studies::rotation_vs_pga(&study), "")?,
+    let (mut text, csv, figure) = match kind {
+        "pga" => {
+            let rows = deckspin::studies::rotation_vs_pga(&study);
+            let (text, csv) = cli::tables::pga_table(&rows, "")?;
+            (text, csv, deckspin::figures::rotation_vs_pga(&rows))
+        }
         _ => {
             let mus: Vec<f64> = (0..=7).map(|i| i as f64 / 10.0).collect();
             let m = deckspin::studies::increase_vs_mu(&study, &mus);
-            cli::tables::mu_table(&m, &(1..=m.rows.len()).collect::<Vec<_>>(), "")?
+            let runs: Vec<usize> = (1..=m.rows.len()).collect();
+            let (text, csv) = cli::tables::mu_table(&m, &runs, "")?;
+            (text, csv, deckspin::figures::increase_vs_mu(&m, &runs))
         }
     };
     writeln!(
@@ -488,7 +502,8 @@ fn cmd_study(
     };
     std::fs::write(out.join(format!("{stem}.csv")), csv)?;
     std::fs::write(out.join(format!("{stem}.txt")), text)?;
-    println!("wrote {}/{stem}.{{csv,txt}}", out.display());
+    cli::show::chart(&figure, &out.join(format!("{stem}.svg")))?;
+    println!("wrote {}/{stem}.{{csv,txt,svg}}", out.display());
     Ok(())
 }
 
@@ -548,7 +563,7 @@ fn cmd_precision(
     metric: Option<String>,
     out: &std::path::Path,
 ) -> CliResult {
-    use deckspin::precision::{chart, cheapest_within, write_csv};
+    use deckspin::precision::{cheapest_within, write_csv};
     let methods = (methods.split(',').map(|s| s.trim()))
         .map(|m| Method::parse(m).ok_or_else(|| format!("unknown method '{m}'")))
         .collect::<Result<Vec<_>, _>>()?;
@@ -589,7 +604,6 @@ fn cmd_precision(
     }
     text += "\n";
     text += &format!("watched: {}\n", reference.run.dof_names[reference.dof]);
-    text += &chart(&points, &metric, 64, 18);
     let tol = if metric == "impact" { 1e-3 } else { 0.01 };
     text += &format!("\ncheapest run within {tol} ({metric} error):\n");
     let event = cheapest_within(&points, Method::Event, &metric, tol).map(|p| p.cpu_s);
@@ -604,8 +618,12 @@ fn cmd_precision(
         }
     }
     print!("{text}");
+    let figure = deckspin::figures::work_precision(&points, &metric, tol);
+    text += "\n";
+    text += &deckspin::plot::text::render(&figure, 80, 30);
     std::fs::write(out.join(format!("precision-{stem}.txt")), &text)?;
-    println!("wrote {} and .txt", csv.display());
+    cli::show::chart(&figure, &out.join(format!("precision-{stem}.svg")))?;
+    println!("wrote {} and .txt, .svg", csv.display());
     Ok(())
 }
 
@@ -614,6 +632,7 @@ fn cmd_stability(
     set: &[String],
     tolerance: f64,
     quick: bool,
+    out: &std::path::Path,
 ) -> CliResult {
     use deckspin::precision::verdict;
     let (_, points) = precision_points(model, &Method::ALL, set, quick)?;
@@ -626,5 +645,12 @@ fn cmd_stability(
     for p in &points {
         println!("{:<17} {:<22} {}", p.method, p.knob, verdict(p, tolerance));
     }
+    std::fs::create_dir_all(out)?;
+    let stem = model
+        .file_stem()
+        .map_or("model".into(), |s| s.to_string_lossy().into_owned());
+    let path = out.join(format!("stability-{stem}.svg"));
+    cli::show::grid(&deckspin::figures::stability(&points, tolerance), &path)?;
+    println!("wrote {}", path.display());
     Ok(())
 }

@@ -431,6 +431,12 @@ fn degenerate_data_give_typed_errors() {
     // one capacity and censoring above it: a finite maximum
     let f = fit_ida(&[cap(0.4, false), cap(0.8, true), cap(0.8, true)]).unwrap();
     assert!(f.theta > 0.4 && f.beta > 0.0 && f.beta.is_finite(), "{f:?}");
+    // 40 % and 41 %: β = ln 2/(Φ⁻¹(0.41) − Φ⁻¹(0.40)) ≈ 27
+    let e = fit_stripes(&[c(0.2, 100, 40), c(0.4, 100, 41)]).unwrap_err();
+    assert!(
+        matches!(e, FitError::Flat { beta, .. } if (beta - 26.9).abs() < 0.2),
+        "{e}"
+    );
     // a fraction that falls with the level but overlaps: b < 0 at the maximum
     let e = fit_stripes(&[c(0.2, 10, 8), c(0.4, 10, 5), c(0.6, 10, 2)]).unwrap_err();
     assert!(matches!(e, FitError::Falling { .. }), "{e}");
@@ -548,4 +554,108 @@ fn bad_suites_name_file_line_and_column() {
     );
     let r = fragility::records(&s, &[], &limit()).unwrap();
     assert_eq!(r[0].runs, vec![(0.2, Outcome::Failed)]);
+}
+
+/// `deckspin args`.
+fn deckspin(args: &[&str]) -> std::process::Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_deckspin"))
+        .args(args)
+        .output()
+        .expect("deckspin runs")
+}
+
+#[test]
+fn the_command_prints_writes_and_draws_the_curves() {
+    let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("fragility-cli");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    // the two-stripe case: 1 of 4 at 0.2 g, 3 of 4 at 0.4 g (θ = √0.08 g), a failed run,
+    // and a model file naming a second limit state
+    let mut rows = Vec::new();
+    for (x, hits) in [(0.2, 1), (0.4, 3)] {
+        for r in 0..4 {
+            let rot = if r < hits { 0.02 } else { 0.001 };
+            rows.push(row(&format!("r{r}"), x, &[], "finished", Some(rot)));
+        }
+    }
+    rows.push(row("r9", 0.4, &[], "failed: t = 2 s: unstable", None));
+    let csv = dir.join("suite.csv");
+    std::fs::write(&csv, suite_text(&[], &rows)).unwrap();
+    let model = dir.join("limits.toml");
+    std::fs::write(
+        &model,
+        "[[limit_state]]\nname = \"drift\"\nexpression = \"max_drift_ratio>0.02\"\n",
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let (c, m, o) = (
+        csv.display().to_string(),
+        model.display().to_string(),
+        out.display().to_string(),
+    );
+    let r = deckspin(&[
+        "fragility",
+        &c,
+        "--limit",
+        "peak_rotation>0.01",
+        "--model",
+        &m,
+        "--bootstrap",
+        "200",
+        "--out",
+        &o,
+    ]);
+    let (stdout, stderr) = (
+        String::from_utf8_lossy(&r.stdout),
+        String::from_utf8_lossy(&r.stderr),
+    );
+    // drift never exceeds (0.01 in every run): a typed error, exit 1, the other curve written
+    assert_eq!(r.status.code(), Some(1), "{stdout}{stderr}");
+    assert!(
+        stdout.contains("limit state 'drift': none of the 8 runs exceeds"),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("peak_rotation>0.01             0.2828  0.5138"),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("      0.4      1       0                 3/4             0/4"),
+        "{stdout}"
+    );
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("fragility.json")).unwrap())
+            .unwrap();
+    let curve = &json["curves"][0];
+    let theta = curve["fit"]["theta"].as_f64().unwrap();
+    assert!((theta - 0.08f64.sqrt()).abs() < 1e-9, "{theta}");
+    assert_eq!(curve["levels"][1]["failed"], 1);
+    assert_eq!(curve["band"]["replicates"], 200);
+    assert_eq!(json["errors"][0]["limit_state"], "drift");
+    let points = std::fs::read_to_string(out.join("fragility.csv")).unwrap();
+    assert_eq!(points.lines().count(), 1 + fragility::CURVE_POINTS);
+    assert!(points.starts_with("limit_state,expression,method,theta,beta,im,p,p05,p95\n"));
+    let svg = std::fs::read_to_string(out.join("fragility.svg")).unwrap();
+    let doc = roxmltree::Document::parse(&svg).unwrap();
+    let count = |class: &str| {
+        doc.descendants()
+            .filter(|n| n.attribute("class") == Some(class))
+            .count()
+    };
+    assert_eq!(
+        (
+            count("band"),
+            count("ref"),
+            count("series"),
+            count("markers")
+        ),
+        (1, 1, 1, 1)
+    );
+    // errors name the bad text; no limit state at all is refused
+    let r = deckspin(&["fragility", &c, "--limit", "peak_rotation=>1", "--out", &o]);
+    assert_eq!(r.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&r.stderr).contains("'peak_rotation=>1'"));
+    let r = deckspin(&["fragility", &c, "--out", &o]);
+    assert_eq!(r.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&r.stderr).contains("no limit state"));
 }

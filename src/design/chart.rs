@@ -1,5 +1,6 @@
 //! The chart of fragility curves: per limit state the observed fraction at each level
-//! (markers), the fitted curve, the bootstrap band and a dashed line at θ.
+//! (markers), the fitted curve, the bootstrap band and a dashed line at θ (unlabelled: the
+//! curve's legend entry gives θ).
 
 use super::fragility::{Fragility, group_text};
 use crate::plot::{Axis, Band, Chart, Marker, RefLine, Series};
@@ -22,7 +23,7 @@ pub fn chart(fits: &[Fragility], measure: &str) -> Chart {
     let x_hi = (fits.iter())
         .flat_map(|f| f.curve.last().map(|p| p.x))
         .fold(0.0, f64::max);
-    let x_axis = Axis::linear(&format!("intensity ({measure})"), "g");
+    let x_axis = Axis::linear(&format!("intensity, {measure}"), "g");
     let x_axis = if x_hi > 0.0 {
         x_axis.with_range(0.0, x_hi)
     } else {
@@ -35,30 +36,24 @@ pub fn chart(fits: &[Fragility], measure: &str) -> Chart {
     );
     for (k, f) in fits.iter().enumerate() {
         let name = &f.limit.name;
-        if let Some(b) = &f.band {
+        if f.band.is_some() {
             let pts: Vec<(f64, f64, f64)> = (f.curve.iter())
                 .filter_map(|p| Some((p.x, p.lo?, p.hi?)))
                 .collect();
             c.bands.push(Band {
-                label: format!(
-                    "{name}: 5-95 % band ({} of {} replicates)",
-                    b.fitted, b.replicates
-                ),
+                label: format!("{name}: 5–95 % band"),
                 points: pts,
                 color: k,
             });
         }
-        c.lines.push(RefLine::vertical(
-            f.fit.theta,
-            &format!("{name}: θ = {:.3} g", f.fit.theta),
-            k,
-        ));
+        // unlabelled: the curve's legend entry gives θ
+        c.lines.push(RefLine::vertical(f.fit.theta, "", k));
         let observed: Vec<(f64, f64)> = (f.levels.iter())
             .filter(|l| l.runs > 0)
             .map(|l| (l.level, l.exceed as f64 / l.runs as f64))
             .collect();
         c.series.push(
-            Series::points(&format!("{name}: observed fraction"), observed)
+            Series::points(&format!("{name}: observed"), observed)
                 .marker(Marker::Circle)
                 .color(k)
                 .glyph(POINT_GLYPHS[k % POINT_GLYPHS.len()]),

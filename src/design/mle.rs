@@ -19,6 +19,10 @@
 use super::normal::{ln_cdf, mills, mills_slope};
 use serde::Serialize;
 
+/// Largest β of a fit: above it the fraction hardly rises with the level (a factor e^β of
+/// intensity between P = 16 % and 50 %) and the data say no fragility.
+pub const MAX_BETA: f64 = 10.0;
+
 /// Newton iterations before a fit is given up.
 pub const MAX_ITERATIONS: usize = 100;
 /// Halvings of a step before the line search gives up.
@@ -104,6 +108,8 @@ pub enum FitError {
     },
     #[error("every capacity is {capacity} and no record is censored above it: β → 0 (no spread)")]
     NoSpread { capacity: f64 },
+    #[error("the fraction hardly rises with the level: β = {beta:.3e} > {max} (θ = {theta:.3e})")]
+    Flat { theta: f64, beta: f64, max: f64 },
     #[error("no convergence in {iterations} Newton iterations")]
     NotConverged { iterations: usize },
 }
@@ -268,12 +274,27 @@ pub fn fit_stripes(counts: &[Count]) -> Result<Fit, FitError> {
             lowest_safe: lo_safe,
         });
     }
-    Ok(Fit {
+    checked(Fit {
         theta: (ubar - p[0] / p[1]).exp(),
         beta: 1.0 / p[1],
         log_likelihood: value,
         iterations,
     })
+}
+
+/// `fit` unless its β is above [`MAX_BETA`] or θ is not a finite positive number.
+fn checked(fit: Fit) -> Result<Fit, FitError> {
+    let ok =
+        fit.beta.is_finite() && fit.beta <= MAX_BETA && fit.theta.is_finite() && fit.theta > 0.0;
+    if ok {
+        Ok(fit)
+    } else {
+        Err(FitError::Flat {
+            theta: fit.theta,
+            beta: fit.beta,
+            max: MAX_BETA,
+        })
+    }
 }
 
 /// (min, max) of levels (∞, −∞ when empty).
@@ -367,7 +388,7 @@ pub fn fit_ida(caps: &[Capacity]) -> Result<Fit, FitError> {
     let start = [0.0, 1.0 / sd.max(1e-3)];
     let (p, _, iterations) = maximize(f, start)?;
     let (theta, beta) = ((m + p[0] / p[1]).exp(), 1.0 / p[1]);
-    Ok(Fit {
+    checked(Fit {
         theta,
         beta,
         log_likelihood: ida_log_likelihood(caps, theta, beta),
