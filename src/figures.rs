@@ -19,17 +19,17 @@ pub fn rotation_vs_pga(rows: &[(usize, f64, f64, Row, Row)]) -> Chart {
     );
     let mut sorted: Vec<&(usize, f64, f64, Row, Row)> = rows.iter().collect();
     sorted.sort_by(|a, b| a.1.total_cmp(&b.1));
-    let pts = |f: &dyn Fn(&(usize, f64, f64, Row, Row)) -> f64| -> Vec<(f64, f64)> {
-        sorted.iter().map(|r| (r.1, f(r))).collect()
+    let pts = |f: fn(&Row, &Row) -> f64| -> Vec<(f64, f64)> {
+        sorted.iter().map(|r| (r.1, f(&r.3, &r.4))).collect()
     };
     c.series.push(
-        Series::line("without contact", pts(&|r| r.3.peak_rotation))
+        Series::line("without contact", pts(|a, _| a.peak_rotation))
             .marker(Marker::Circle)
             .color(0)
             .glyph('o'),
     );
     c.series.push(
-        Series::line("with contact", pts(&|r| r.4.peak_rotation))
+        Series::line("with contact", pts(|_, b| b.peak_rotation))
             .marker(Marker::Square)
             .color(3)
             .glyph('#'),

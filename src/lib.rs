@@ -15,6 +15,8 @@
 //! - [`model`]: model files (general scenes and bridges).
 //! - [`modal`]: K₀, modes and Rayleigh damping of any model.
 //! - [`output`]: history, events, energy ledger, summary.
+//! - [`plot`]: charts as data, drawn as SVG or ASCII text; [`figures`]: the studies' charts.
+//! - [`design`]: fragility curves of a record suite (limit states: `model::limit_state`).
 
 pub mod clock;
 pub mod contact;

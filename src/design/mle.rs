@@ -268,7 +268,7 @@ pub fn fit_stripes(counts: &[Count]) -> Result<Fit, FitError> {
         e.value.is_finite().then_some(e)
     };
     let (p, value, iterations) = maximize(f, [0.0, 2.0])?;
-    if !(p[1] > 0.0) {
+    if p[1].is_nan() || p[1] <= 0.0 {
         return Err(FitError::Falling {
             highest_exceeding: hi_hit,
             lowest_safe: lo_safe,
@@ -357,7 +357,7 @@ pub fn fit_ida(caps: &[Capacity]) -> Result<Fit, FitError> {
     // Olsen: δ = μ/σ, γ = 1/σ (of the centred logs)
     let f = |p: [f64; 2]| {
         let (delta, gamma) = (p[0], p[1]);
-        if !(gamma > 0.0) {
+        if gamma.is_nan() || gamma <= 0.0 {
             return None;
         }
         let mut e = Eval {

@@ -190,7 +190,8 @@ fn pixel(a: &Area, sx: &Span, sy: &Span, x: f64, y: f64) -> Option<(f64, f64)> {
 
 fn band(out: &mut String, a: &Area, sx: &Span, sy: &Span, b: &Band) {
     // runs of drawable points, each a polygon: the upper edge forward, the lower edge back
-    let mut runs: Vec<Vec<((f64, f64), (f64, f64))>> = vec![Vec::new()];
+    type Edge = ((f64, f64), (f64, f64));
+    let mut runs: Vec<Vec<Edge>> = vec![Vec::new()];
     for &(x, lo, hi) in &b.points {
         match (pixel(a, sx, sy, x, lo), pixel(a, sx, sy, x, hi)) {
             (Some(l), Some(h)) => runs.last_mut().expect("one run").push((l, h)),

@@ -90,7 +90,7 @@ impl Span {
 
 /// The smallest of 1, 2, 5 × 10ᵏ at least `raw` (1 for a step that is not positive).
 pub fn nice_step(raw: f64) -> f64 {
-    if !(raw > 0.0) || !raw.is_finite() {
+    if raw.is_nan() || raw <= 0.0 || !raw.is_finite() {
         return 1.0;
     }
     let p = 10f64.powf(raw.log10().floor());
