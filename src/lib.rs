@@ -18,6 +18,8 @@
 //! - [`studies`], [`stress`], [`suite`]: sweeps, the paper's studies, record suites
 //!   (incremental dynamic analysis); [`shard`]: jobs cut into parts and merged; [`progress`]:
 //!   how far a job has come.
+//! - [`plot`]: charts as data, drawn as SVG or ASCII text; [`figures`]: the studies' charts.
+//! - [`design`]: fragility curves of a record suite (limit states: `model::limit_state`).
 
 pub mod clock;
 pub mod contact;
@@ -25,6 +27,7 @@ pub mod design;
 pub mod dopri;
 pub mod event_driven;
 pub mod excitation;
+pub mod figures;
 pub mod hysteresis;
 pub mod lemke;
 pub mod linalg;
@@ -32,6 +35,7 @@ pub mod methods;
 pub mod modal;
 pub mod model;
 pub mod output;
+pub mod plot;
 pub mod precision;
 pub mod progress;
 pub mod run;

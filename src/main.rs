@@ -106,6 +106,9 @@ enum Command {
         tolerance: f64,
         #[arg(long)]
         quick: bool,
+        /// Output directory of the grid's SVG (stability-MODEL.svg).
+        #[arg(long, default_value = "out")]
+        out: PathBuf,
     },
     /// Benchmark: one run of the model and the μ × runs sweep (CPU medians).
     Bench(cli::bench::BenchArgs),
@@ -121,6 +124,9 @@ enum Command {
     Suite(cli::suite::SuiteArgs),
     /// Join the part files of a sharded `suite` or `sweep` into its unsharded output.
     Merge(cli::merge::MergeArgs),
+    /// Fragility curves of a record suite's per-run CSV: lognormal, maximum likelihood,
+    /// bootstrap band.
+    Fragility(cli::fragility::FragilityArgs),
 }
 
 fn main() -> ExitCode {
@@ -174,13 +180,15 @@ fn main() -> ExitCode {
             set,
             tolerance,
             quick,
-        }) => cmd_stability(&model, &set, tolerance, quick),
+            out,
+        }) => cmd_stability(&model, &set, tolerance, quick, &out),
         Some(Command::Bench(a)) => cli::bench::cmd_bench(&a),
         Some(Command::Stress(a)) => cli::stress::cmd_stress(&a),
         Some(Command::Sequence(a)) => cli::sequence::cmd_sequence(&a),
         Some(Command::Screen(a)) => cli::screen::cmd_screen(&a),
         Some(Command::Suite(a)) => cli::suite::cmd_suite(&a),
         Some(Command::Merge(a)) => cli::merge::cmd_merge(&a),
+        Some(Command::Fragility(a)) => cli::fragility::cmd_fragility(&a),
         None => match cli.model {
             #[cfg(feature = "workbench")]
             Some(m) => deckspin::tui::run(&m),
@@ -434,12 +442,18 @@ fn cmd_study(
     std::fs::create_dir_all(out)?;
     let t0 = std::time::Instant::now();
     let bar = cli::progress::Bar::new();
-    let (mut text, csv) = match kind {
-        "pga" => cli::tables::pga_table(&deckspin::studies::rotation_vs_pga(&study, &bar), "")?,
+    let (mut text, csv, figure) = match kind {
+        "pga" => {
+            let rows = deckspin::studies::rotation_vs_pga(&study, &bar);
+            let (text, csv) = cli::tables::pga_table(&rows, "")?;
+            (text, csv, deckspin::figures::rotation_vs_pga(&rows))
+        }
         _ => {
             let mus: Vec<f64> = (0..=7).map(|i| i as f64 / 10.0).collect();
             let m = deckspin::studies::increase_vs_mu(&study, &mus, &bar);
-            cli::tables::mu_table(&m, &(1..=m.rows.len()).collect::<Vec<_>>(), "")?
+            let runs: Vec<usize> = (1..=m.rows.len()).collect();
+            let (text, csv) = cli::tables::mu_table(&m, &runs, "")?;
+            (text, csv, deckspin::figures::increase_vs_mu(&m, &runs))
         }
     };
     bar.clear();
@@ -457,7 +471,8 @@ fn cmd_study(
     };
     std::fs::write(out.join(format!("{stem}.csv")), csv)?;
     std::fs::write(out.join(format!("{stem}.txt")), text)?;
-    println!("wrote {}/{stem}.{{csv,txt}}", out.display());
+    cli::show::chart(&figure, &out.join(format!("{stem}.svg")))?;
+    println!("wrote {}/{stem}.{{csv,txt,svg}}", out.display());
     Ok(())
 }
 
@@ -520,7 +535,7 @@ fn cmd_precision(
     metric: Option<String>,
     out: &std::path::Path,
 ) -> CliResult {
-    use deckspin::precision::{chart, cheapest_within, write_csv};
+    use deckspin::precision::{cheapest_within, write_csv};
     let methods = (methods.split(',').map(|s| s.trim()))
         .map(|m| Method::parse(m).ok_or_else(|| format!("unknown method '{m}'")))
         .collect::<Result<Vec<_>, _>>()?;
@@ -561,7 +576,6 @@ fn cmd_precision(
     }
     text += "\n";
     text += &format!("watched: {}\n", reference.run.dof_names[reference.dof]);
-    text += &chart(&points, &metric, 64, 18);
     let tol = if metric == "impact" { 1e-3 } else { 0.01 };
     text += &format!("\ncheapest run within {tol} ({metric} error):\n");
     let event = cheapest_within(&points, Method::Event, &metric, tol).map(|p| p.cpu_s);
@@ -576,8 +590,12 @@ fn cmd_precision(
         }
     }
     print!("{text}");
+    let figure = deckspin::figures::work_precision(&points, &metric, tol);
+    text += "\n";
+    text += &deckspin::plot::text::render(&figure, 80, 30);
     std::fs::write(out.join(format!("precision-{stem}.txt")), &text)?;
-    println!("wrote {} and .txt", csv.display());
+    cli::show::chart(&figure, &out.join(format!("precision-{stem}.svg")))?;
+    println!("wrote {} and .txt, .svg", csv.display());
     Ok(())
 }
 
@@ -586,6 +604,7 @@ fn cmd_stability(
     set: &[String],
     tolerance: f64,
     quick: bool,
+    out: &std::path::Path,
 ) -> CliResult {
     use deckspin::precision::verdict;
     let (_, points) = precision_points(model, &Method::ALL, set, quick)?;
@@ -598,5 +617,12 @@ fn cmd_stability(
     for p in &points {
         println!("{:<17} {:<22} {}", p.method, p.knob, verdict(p, tolerance));
     }
+    std::fs::create_dir_all(out)?;
+    let stem = model
+        .file_stem()
+        .map_or("model".into(), |s| s.to_string_lossy().into_owned());
+    let path = out.join(format!("stability-{stem}.svg"));
+    cli::show::grid(&deckspin::figures::stability(&points, tolerance), &path)?;
+    println!("wrote {}", path.display());
     Ok(())
 }

@@ -230,58 +230,16 @@ pub fn knobs(method: Method, t_end: f64, k: f64, quick: bool) -> Vec<(String, Ve
     }
 }
 
-/// A log–log text chart of error against CPU time, one letter per method.
-pub fn chart(points: &[Point], metric: &str, width: usize, height: usize) -> String {
-    let good: Vec<&Point> = points
-        .iter()
-        .filter(|p| {
-            p.is_ok() && p.cpu_s > 0.0 && p.error(metric) > 0.0 && p.error(metric).is_finite()
-        })
-        .collect();
-    if good.is_empty() {
-        return "(no points)\n".into();
-    }
-    let lx: Vec<f64> = good.iter().map(|p| p.cpu_s.log10()).collect();
-    let ly: Vec<f64> = good
-        .iter()
-        .map(|p| p.error(metric).max(1e-16).log10())
-        .collect();
-    let (x0, x1) = (
-        lx.iter().cloned().fold(f64::INFINITY, f64::min).floor(),
-        lx.iter().cloned().fold(f64::NEG_INFINITY, f64::max).ceil(),
-    );
-    let (y0, y1) = (
-        ly.iter().cloned().fold(f64::INFINITY, f64::min).floor(),
-        ly.iter().cloned().fold(f64::NEG_INFINITY, f64::max).ceil(),
-    );
-    let (x1, y1) = (x1.max(x0 + 1.0), y1.max(y0 + 1.0));
-    let mut grid = vec![vec![' '; width]; height];
-    for (i, p) in good.iter().enumerate() {
-        let cx = (((lx[i] - x0) / (x1 - x0)) * (width - 1) as f64).round() as usize;
-        let cy = (((y1 - ly[i]) / (y1 - y0)) * (height - 1) as f64).round() as usize;
-        grid[cy.min(height - 1)][cx.min(width - 1)] = p.method.letter();
-    }
-    let mut s = format!(
-        "{metric} error (log10, {y1} at top … {y0} at bottom) against CPU time (log10 s, {x0} … {x1})\n"
-    );
-    for (r, row) in grid.iter().enumerate() {
-        let label = if r == 0 {
-            format!("1e{y1:<3}")
-        } else if r == height - 1 {
-            format!("1e{y0:<3}")
-        } else {
-            "     ".into()
-        };
-        s += &format!("{label}|{}\n", row.iter().collect::<String>());
-    }
-    s += &format!("     +{}\n", "-".repeat(width));
-    s += &format!(
-        "      1e{x0}s{}1e{x1}s\n",
-        " ".repeat(width.saturating_sub(12))
-    );
-    let legend = Method::ALL.map(|m| format!("{} {}", m.letter(), m.title()));
-    s += &format!("      {}\n", legend.join("  "));
-    s
+/// The family of a knob: its contact stiffness (`h=1e-3 k=1e6` → `k=1e6`), empty for
+/// methods with one knob. Points of one method and family form one curve.
+pub fn knob_family(knob: &str) -> &str {
+    knob.split_once(" k=")
+        .map_or("", |(_, k)| &knob[knob.len() - k.len() - 2..])
+}
+
+/// The knob without its family (`h=1e-3 k=1e6` → `h=1e-3`).
+pub fn knob_step(knob: &str) -> &str {
+    knob.split_once(" k=").map_or(knob, |(h, _)| h)
 }
 
 /// The cheapest knob of a method from which on every costlier knob also stays within `tol`
@@ -293,12 +251,7 @@ pub fn cheapest_within<'a>(
     metric: &str,
     tol: f64,
 ) -> Option<&'a Point> {
-    let family = |p: &Point| {
-        p.knob
-            .split_once(" k=")
-            .map(|(_, k)| k.to_string())
-            .unwrap_or_default()
-    };
+    let family = |p: &Point| knob_family(&p.knob).to_string();
     let mut families: Vec<String> = points
         .iter()
         .filter(|p| p.method == method)

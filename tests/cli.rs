@@ -376,3 +376,61 @@ fn a_sharded_sweep_merges_into_the_unsharded_output_byte_for_byte() {
     assert!(w.starts_with("contacts.mu,excitation.run,peak_rotation,"));
     assert!(!w.contains("wall"));
 }
+
+/// The SVG at `path`, parsed back: the texts of its legend and its number of polylines.
+fn svg_legend(path: &Path) -> (Vec<String>, usize) {
+    let s = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let doc = roxmltree::Document::parse(&s).unwrap_or_else(|e| panic!("{e}"));
+    let legend: Vec<String> = (doc.descendants())
+        .filter(|n| n.attribute("class") == Some("legend"))
+        .flat_map(|g| g.descendants().filter(|n| n.tag_name().name() == "text"))
+        .filter_map(|n| n.text().map(String::from))
+        .collect();
+    let lines = (doc.descendants())
+        .filter(|n| n.attribute("class") == Some("series"))
+        .count();
+    (legend, lines)
+}
+
+#[test]
+fn studies_precision_and_stability_write_their_charts() {
+    let out = dir("charts");
+    let o = out.display().to_string();
+    let r = deckspin(&["study", "pga", &model("models/four-span.toml"), "--out", &o]);
+    assert_eq!(r.status.code(), Some(0), "{}", text(&r.stderr));
+    let (legend, lines) = svg_legend(&out.join("rotation_vs_pga.svg"));
+    assert_eq!(legend, ["without contact", "with contact"]);
+    assert_eq!(lines, 2);
+    // stdout is not a terminal here: the table without the text chart
+    assert!(!text(&r.stdout).contains("P(exceed)") && !text(&r.stdout).contains("+---"));
+    let r = deckspin(&["study", "mu", &model("models/four-span.toml"), "--out", &o]);
+    assert_eq!(r.status.code(), Some(0), "{}", text(&r.stderr));
+    let (legend, lines) = svg_legend(&out.join("increase_vs_mu.svg"));
+    // seven runs, their mean, the no-contact line
+    assert_eq!(legend.len(), 9, "{legend:?}");
+    assert_eq!(
+        (legend[0].as_str(), legend[7].as_str()),
+        ("run 1 (0.09 g)", "mean")
+    );
+    assert_eq!(lines, 8);
+    let ball = model("models/validation/bouncing-ball.toml");
+    let r = deckspin(&["precision", &ball, "--quick", "--out", &o]);
+    assert_eq!(r.status.code(), Some(0), "{}", text(&r.stderr));
+    let (legend, _) = svg_legend(&out.join("precision-bouncing-ball.svg"));
+    assert_eq!(legend.first().map(String::as_str), Some("event-driven"));
+    assert_eq!(legend.last().map(String::as_str), Some("1 %"));
+    let txt = std::fs::read_to_string(out.join("precision-bouncing-ball.txt")).unwrap();
+    assert!(
+        txt.contains("Work-precision\nRMS history error (relative)\n"),
+        "{txt}"
+    );
+    let r = deckspin(&["stability", &ball, "--quick", "--out", &o]);
+    assert_eq!(r.status.code(), Some(0), "{}", text(&r.stderr));
+    let s = std::fs::read_to_string(out.join("stability-bouncing-ball.svg")).unwrap();
+    let doc = roxmltree::Document::parse(&s).unwrap();
+    let cells = (doc.descendants())
+        .filter(|n| n.attribute("class") == Some("cell"))
+        .count();
+    // three knobs of each of the four methods (--quick)
+    assert_eq!(cells, 12);
+}

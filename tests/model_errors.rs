@@ -664,3 +664,73 @@ law = { law = "key", gap = 0.05, stiffness = 800.0, capacity = 20.0, failure_dis
         "{msg}"
     );
 }
+
+/// `[[limit_state]]` tables appended to the default model.
+fn with_limit_states(tables: &'static str) -> impl Fn(String) -> String {
+    move |t: String| format!("{t}\n{tables}")
+}
+
+#[test]
+fn limit_states_in_a_model_file_are_checked_with_file_line_and_field() {
+    use deckspin::model::limit_state::{self, Op};
+    let good = "[[limit_state]]\nname = \"slight\"\nexpression = \"peak_rotation > 0.005\"\n\n\
+                [[limit_state]]\nname = \"unseated\"\nexpression = \"min_seat_margin<0\"\n";
+    four_span(&with_limit_states(good), &[]).expect("valid limit states load");
+    let text = with_limit_states(good)(std::fs::read_to_string(model(FOUR_SPAN)).unwrap());
+    let ls = limit_state::from_text(&text, &model(FOUR_SPAN)).unwrap();
+    assert_eq!(ls.len(), 2);
+    assert_eq!(
+        (
+            ls[0].name.as_str(),
+            ls[0].column.as_str(),
+            ls[0].op,
+            ls[0].threshold
+        ),
+        ("slight", "peak_rotation", Op::Above, 0.005)
+    );
+    assert_eq!(
+        (ls[1].column.as_str(), ls[1].op, ls[1].threshold),
+        ("min_seat_margin", Op::Below, 0.0)
+    );
+    let base_lines = text.lines().count() - good.lines().count();
+
+    // a bad expression: its line and field, and the text
+    let bad = "[[limit_state]]\nname = \"a\"\nexpression = \"peak_rotation>0.005\"\n\n\
+               [[limit_state]]\nname = \"b\"\nexpression = \"min_seat_margin>=0\"\n";
+    for e in [
+        four_span(&with_limit_states(bad), &[]).expect_err("must fail"),
+        limit_state::from_text(
+            &with_limit_states(bad)(std::fs::read_to_string(model(FOUR_SPAN)).unwrap()),
+            &model(FOUR_SPAN),
+        )
+        .expect_err("must fail"),
+    ] {
+        let msg = e.to_string();
+        let want = base_lines + 7;
+        assert!(
+            matches!(&e, ModelError::Invalid { line, field, .. }
+                if *line == want && field == "limit_state.1.expression"),
+            "{msg}"
+        );
+        assert!(
+            msg.contains("'min_seat_margin>=0'") && msg.contains("one comparison"),
+            "{msg}"
+        );
+    }
+    // the same name twice
+    let twice = "[[limit_state]]\nname = \"a\"\nexpression = \"impacts>3\"\n\n\
+                 [[limit_state]]\nname = \"a\"\nexpression = \"impacts>5\"\n";
+    let msg = (four_span(&with_limit_states(twice), &[]).expect_err("must fail")).to_string();
+    assert!(
+        msg.contains(&format!(":{}: limit_state.1.name", base_lines + 6)),
+        "{msg}"
+    );
+    // an unknown key of the table
+    let unknown = "[[limit_state]]\nname = \"a\"\nexpression = \"impacts>3\"\nthreshold = 1\n";
+    let e = four_span(&with_limit_states(unknown), &[]).expect_err("must fail");
+    assert!(
+        matches!(e, ModelError::Parse { line, .. } if line == base_lines + 4),
+        "{e}"
+    );
+    assert!(e.to_string().contains("threshold"), "{e}");
+}

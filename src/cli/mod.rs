@@ -1,10 +1,12 @@
 //! Commands of the `deckspin` binary kept apart from `main.rs`.
 
 pub mod bench;
+pub mod fragility;
 pub mod merge;
 pub mod progress;
 pub mod screen;
 pub mod sequence;
+pub mod show;
 pub mod stress;
 pub mod suite;
 pub mod sweep;

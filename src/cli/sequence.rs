@@ -25,7 +25,7 @@ pub struct SequenceArgs {
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
     /// Instead: the Fig. 7 (`pga`) or Fig. 8 (`mu`) analog with the runs in sequence
-    /// (DIR/sequence_rotation_vs_pga.{csv,txt} or DIR/sequence_increase_vs_mu.{csv,txt}).
+    /// (DIR/sequence_rotation_vs_pga.{csv,txt,svg} or DIR/sequence_increase_vs_mu.{csv,txt,svg}).
     #[arg(long, value_parser = ["pga", "mu"])]
     pub study: Option<String>,
 }
@@ -80,11 +80,17 @@ fn one_run(model: &BridgeSequence, seq: &mut Sequence, k: usize, dir: &Path) -> 
 fn study(model: &BridgeSequence, runs: &[usize], kind: &str, out: &Path) -> CliResult {
     let t0 = std::time::Instant::now();
     let note = " — runs in one sequence";
-    let (mut text, csv) = match kind {
-        "pga" => pga_table(&model.rotation_vs_pga(runs), note)?,
+    let (mut text, csv, figure) = match kind {
+        "pga" => {
+            let rows = model.rotation_vs_pga(runs);
+            let (text, csv) = pga_table(&rows, note)?;
+            (text, csv, deckspin::figures::rotation_vs_pga(&rows))
+        }
         _ => {
             let mus: Vec<f64> = (0..=7).map(|i| i as f64 / 10.0).collect();
-            mu_table(&model.increase_vs_mu(&mus, runs), runs, note)?
+            let m = model.increase_vs_mu(&mus, runs);
+            let (text, csv) = mu_table(&m, runs, note)?;
+            (text, csv, deckspin::figures::increase_vs_mu(&m, runs))
         }
     };
     text += &format!(
@@ -99,6 +105,7 @@ fn study(model: &BridgeSequence, runs: &[usize], kind: &str, out: &Path) -> CliR
     };
     std::fs::write(out.join(format!("{stem}.csv")), csv)?;
     std::fs::write(out.join(format!("{stem}.txt")), text)?;
-    println!("wrote {}/{stem}.{{csv,txt}}", out.display());
+    super::show::chart(&figure, &out.join(format!("{stem}.svg")))?;
+    println!("wrote {}/{stem}.{{csv,txt,svg}}", out.display());
     Ok(())
 }

@@ -7,6 +7,7 @@
 
 pub mod bridge;
 pub mod check;
+pub mod limit_state;
 pub mod limits;
 pub mod overrides;
 pub mod records;
@@ -108,10 +109,12 @@ fn compile_text(
         let file = bridge::BridgeFile::deserialize(Deserializer::from(doc)).map_err(located)?;
         let scene = bridge::compile(&file, &ck, motions)?;
         warnings.extend(bridge::warnings(&file, &ck));
+        limit_state::check_specs(&file.limit_states, &ck)?;
         (scene, file.solver)
     } else {
         bridge::refuse_without_deck(&table, &ck)?;
         let file = SceneFile::deserialize(Deserializer::from(doc)).map_err(located)?;
+        limit_state::check_specs(&file.limit_states, &ck)?;
         (scene_file::compile(&file, &ck, motions)?, file.solver)
     };
     let given = limits::Given {

@@ -2,6 +2,7 @@
 //! compilation into a [`Scene`].
 
 use super::check::{Check, ModelError};
+use super::limit_state::LimitStateSpec;
 use super::records::{Motions, record_error};
 use super::solver::{SolverSpec, settings};
 use crate::excitation::Processing;
@@ -152,6 +153,9 @@ pub struct SceneFile {
     pub hysteretic: Vec<HystereticSpec>,
     #[serde(default, rename = "support")]
     pub supports: Vec<SupportSpec>,
+    /// Limit states of a fragility (`deckspin fragility --model`).
+    #[serde(default, rename = "limit_state")]
+    pub limit_states: Vec<LimitStateSpec>,
 }
 
 fn axis_index(s: &str) -> Option<usize> {

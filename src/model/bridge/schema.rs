@@ -5,6 +5,7 @@
 use super::super::solver::SolverSpec;
 use crate::hysteresis::Law;
 use crate::model::check::{Check, ModelError};
+use crate::model::limit_state::LimitStateSpec;
 use serde::Deserialize;
 
 /// Names of the four abutment corners (paper: point 1 is the left, upper corner).
@@ -285,6 +286,9 @@ pub struct BridgeFile {
     pub runs: Vec<RunSpec>,
     #[serde(default)]
     pub solver: SolverSpec,
+    /// Limit states of the bridge's fragility (`deckspin fragility --model`).
+    #[serde(default, rename = "limit_state")]
+    pub limit_states: Vec<LimitStateSpec>,
 }
 
 /// The kind of an abutment.
