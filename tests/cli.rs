@@ -329,6 +329,19 @@ fn screen_marks_the_specimen_and_writes_its_corners() {
     );
     let csv = std::fs::read_to_string(out.join("screen-map.csv")).unwrap();
     assert_eq!(csv.lines().count(), 1 + 31 * 13);
+    // both maps as SVG grids: 31 × 13 cells, the specimen's one marked
+    for name in ["screen-flush.svg", "screen-corner.svg"] {
+        let s = std::fs::read_to_string(out.join(name)).unwrap();
+        let doc = roxmltree::Document::parse(&s).unwrap();
+        let cells = (doc.descendants())
+            .filter(|n| n.attribute("class") == Some("cell"))
+            .count();
+        assert_eq!(cells, 31 * 13, "{name}");
+        let marks = (doc.descendants())
+            .filter(|n| n.is_text() && n.text() == Some("@"))
+            .count();
+        assert_eq!(marks, 1, "{name}");
+    }
     std::fs::remove_dir_all(&out).ok();
 }
 

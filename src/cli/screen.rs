@@ -5,6 +5,8 @@
 use clap::Args;
 use deckspin::design::equivalence::{Answer, Cell, answers, default_grid, grid};
 use deckspin::design::screen::{Flush, MapCell, ModelCorner, model_screen, screening_map};
+use deckspin::design::screen_chart::map_grids;
+use deckspin::plot::svg::render_grid;
 use std::path::PathBuf;
 
 /// Closed-form screening by the impact law; `--equivalence` adds the gap-element table.
@@ -79,7 +81,8 @@ pub fn cmd_screen(a: &ScreenArgs) -> Result<(), Box<dyn std::error::Error>> {
     let (lb, skew) = axes();
     let cells = screening_map(&lb, &skew, mu, eps);
     let point = ends.first().map(|e| (e.l_over_b, e.skew_deg));
-    println!("\n{}", draw_map(&cells, &lb, &skew, point, mu, eps));
+    let mark = point.map(|(l, s)| (nearest(l, &lb, true), nearest(s, &skew, false)));
+    println!("\n{}", draw_map(&cells, &lb, &skew, mark, mu, eps));
     std::fs::create_dir_all(&a.out)?;
     let json = serde_json::json!({
         "model": a.model.display().to_string(),
@@ -93,7 +96,13 @@ pub fn cmd_screen(a: &ScreenArgs) -> Result<(), Box<dyn std::error::Error>> {
         serde_json::to_string_pretty(&json)?,
     )?;
     write_map_csv(&cells, &a.out.join("screen-map.csv"))?;
-    println!("wrote {}/screen.json, screen-map.csv", a.out.display());
+    let [flush, corner] = map_grids(&cells, &lb, &skew, mark, mu, eps);
+    std::fs::write(a.out.join("screen-flush.svg"), render_grid(&flush))?;
+    std::fs::write(a.out.join("screen-corner.svg"), render_grid(&corner))?;
+    println!(
+        "wrote {}/screen.json, screen-map.csv, screen-flush.svg, screen-corner.svg",
+        a.out.display()
+    );
     if a.equivalence {
         equivalence(a)?;
     }
@@ -126,21 +135,10 @@ fn draw_map(
     cells: &[MapCell],
     lb: &[f64],
     skew: &[f64],
-    point: Option<(f64, f64)>,
+    mark: Option<(usize, usize)>,
     mu: f64,
     eps: f64,
 ) -> String {
-    let nearest = |v: f64, axis: &[f64], log: bool| {
-        let f = |x: f64| if log { x.ln() } else { x };
-        (0..axis.len())
-            .min_by(|&i, &j| {
-                (f(axis[i]) - f(v))
-                    .abs()
-                    .total_cmp(&(f(axis[j]) - f(v)).abs())
-            })
-            .unwrap_or(0)
-    };
-    let mark = point.map(|(l, s)| (nearest(l, lb, true), nearest(s, skew, false)));
     let mut out = format!(
         "after a flush impact (μ {mu}, ε {eps}):  . stays straight   s rotates, corners stick   \
          S rotates, corners slide   @ this model\n\
@@ -179,6 +177,18 @@ fn draw_map(
     );
     out.push_str(&format!("       {axis}     {axis}\n"));
     out
+}
+
+/// The index of `axis` nearest to `v` (in ln on a log axis).
+fn nearest(v: f64, axis: &[f64], log: bool) -> usize {
+    let f = |x: f64| if log { x.ln() } else { x };
+    (0..axis.len())
+        .min_by(|&i, &j| {
+            (f(axis[i]) - f(v))
+                .abs()
+                .total_cmp(&(f(axis[j]) - f(v)).abs())
+        })
+        .unwrap_or(0)
 }
 
 fn write_map_csv(cells: &[MapCell], path: &std::path::Path) -> std::io::Result<()> {

@@ -142,10 +142,13 @@ pub fn write_outputs(
     std::fs::write(&stats_file, stats_csv(keys, &stats))?;
     std::fs::write(&json, stats_json(&stats))?;
     print!("{}", stats_table(&stats));
+    let svg = out.with_extension("svg");
+    super::show::chart(&deckspin::suite::chart::ida_chart(rows, &stats), &svg)?;
     Ok(format!(
-        "{}, {}, {}",
+        "{}, {}, {}, {}",
         out.display(),
         stats_file.display(),
-        json.display()
+        json.display(),
+        svg.display()
     ))
 }

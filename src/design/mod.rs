@@ -16,6 +16,7 @@ pub mod fragility;
 pub mod mle;
 pub mod normal;
 pub mod screen;
+pub mod screen_chart;
 pub mod suite;
 
 pub use fragility::{Fragility, FragilityError, Method, Options, fragility};

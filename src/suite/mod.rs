@@ -7,6 +7,7 @@
 //! level ⌊i/P⌋ mod L, point i mod P (L levels, P points). Rows ([`row`]), their statistics per
 //! level and point ([`stats`]).
 
+pub mod chart;
 pub mod intensity;
 pub mod metrics;
 pub mod records;
