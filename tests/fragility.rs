@@ -659,3 +659,45 @@ fn the_command_prints_writes_and_draws_the_curves() {
     assert_eq!(r.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&r.stderr).contains("no limit state"));
 }
+
+#[test]
+fn a_run_stopped_by_a_lost_seat_exceeds_every_limit_state() {
+    let mut rows: Vec<String> = Vec::new();
+    for (x, hits) in [(0.2, 1), (0.4, 2)] {
+        for r in 0..4 {
+            let rot = if r < hits { 0.02 } else { 0.001 };
+            rows.push(row(&format!("r{r}"), x, &[], "finished", Some(rot)));
+        }
+    }
+    // at 0.4 g a fifth record unseats before its rotation grows: a collapse, an exceedance
+    rows.push(row(
+        "r4",
+        0.4,
+        &[],
+        "failed: Unseated: t = 3.1 s: deck end left its seat",
+        Some(0.001),
+    ));
+    rows.push(row("r4", 0.2, &[], "finished", Some(0.001)));
+    let f =
+        fragility::fragility(&suite(&[], &rows), &[], &limit(), &opts(Method::Stripes, 0)).unwrap();
+    let l: Vec<(usize, usize, usize)> = (f.levels.iter())
+        .map(|c| (c.runs, c.exceed, c.failed))
+        .collect();
+    assert_eq!(l, [(5, 1, 0), (5, 3, 0)]);
+    // any other failure stays out of the likelihood
+    let other = rows
+        .iter()
+        .map(|r| r.replace("Unseated", "StepCollapse"))
+        .collect::<Vec<_>>();
+    let g = fragility::fragility(
+        &suite(&[], &other),
+        &[],
+        &limit(),
+        &opts(Method::Stripes, 0),
+    )
+    .unwrap();
+    let l: Vec<(usize, usize, usize)> = (g.levels.iter())
+        .map(|c| (c.runs, c.exceed, c.failed))
+        .collect();
+    assert_eq!(l, [(5, 1, 0), (4, 2, 1)]);
+}

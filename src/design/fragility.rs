@@ -4,7 +4,9 @@
 //! bootstrap over records (`design::bootstrap`).
 //!
 //! Runs that failed or were refused, and finished runs whose limit-state column is empty
-//! (does not apply), are counted per level ([`LevelCount`]) and left out of the likelihood.
+//! (does not apply), are counted per level ([`LevelCount`]) and left out of the likelihood;
+//! except a run that stopped because a deck end left its seat (`failed: Unseated: …`): the
+//! bridge has collapsed, and such a run exceeds every limit state.
 //! In IDA a record's capacity is the lowest level at which a finished run exceeds; a record
 //! none of whose finished runs exceeds is censored at the highest level it finished.
 
@@ -186,6 +188,7 @@ pub fn records(
         .filter(|r| r.params.iter().eq(values.iter().copied()))
     {
         let outcome = match (&r.status, r.values[column]) {
+            (RunStatus::Failed(reason), _) if is_unseated(reason) => Outcome::Exceed,
             (RunStatus::Failed(_), _) => Outcome::Failed,
             (RunStatus::Refused(_), _) => Outcome::Refused,
             (RunStatus::Finished, None) => Outcome::NotApplicable,
@@ -367,4 +370,9 @@ fn bootstrap(
         .map(|&x| (!fits.is_empty()).then(|| band_of(at(x))))
         .collect();
     (band, bounds)
+}
+
+/// A run stopped by the loss of a seat (the solver error's kind `Unseated`).
+fn is_unseated(reason: &str) -> bool {
+    reason.trim_start().starts_with("Unseated")
 }
