@@ -220,6 +220,10 @@ pub struct RunStats {
     /// Contacts left approaching by an impact (the impact law forbids it: always 0 unless the
     /// LCP was solved inaccurately; a debug build stops there).
     pub approaching_after_impact: usize,
+    /// Contacts that impacts elsewhere lifted slower than `zeno_velocity`, held closed (the
+    /// alternating impacts of two corners; left out of summary.json while 0).
+    #[serde(skip_serializing_if = "is_zero")]
+    pub held_after_impact: usize,
     pub events_located: usize,
     pub branch_events: usize,
     pub impacts: usize,

@@ -25,6 +25,7 @@ impl Engine<'_> {
             }
         }
         self.check_left_approaching(&impacted);
+        self.hold_slow_separations(&before, &impacted);
         self.contact_phase()?;
         self.project();
         self.log_transitions(&before, &impacted)
@@ -49,6 +50,39 @@ impl Engine<'_> {
             );
             self.state.out.stats.approaching_after_impact += usize::from(left);
         }
+    }
+
+    /// After impacts: a contact closed before them (stick or slide) that they leave at
+    /// g_N ≤ gap_tol separating slower than `zeno_velocity` stays closed, with the contacts the
+    /// impacts closed: q̇ is projected (minimum M-norm) onto ġ_N = 0 of all of them, and the
+    /// acceleration LCP (eq. 8–10) decides whether one detaches. This ends the Zeno sequence of
+    /// two corners of one end that no single contact's accumulation rule ends: each slow
+    /// impact of one corner lifting the other, flights shrinking geometrically while the end
+    /// slides along its face. The velocity change is below `zeno_velocity`.
+    fn hold_slow_separations(&mut self, before: &[ContactState], impacted: &[bool]) {
+        if !impacted.contains(&true) {
+            return;
+        }
+        let st = &self.scene.settings;
+        let kin = self.all_kinematics();
+        let near = |i: usize| kin[i].gap <= st.gap_tol;
+        let lifted =
+            |i: usize| before[i] != ContactState::Open && kin[i].gap_rate > st.velocity_tol;
+        let held: Vec<usize> = (0..kin.len())
+            .filter(|&i| near(i) && kin[i].gap_rate.abs() <= st.zeno_velocity)
+            .filter(|&i| lifted(i) || (impacted[i] && kin[i].gap_rate.abs() <= st.velocity_tol))
+            .collect();
+        if !held.iter().any(|&i| lifted(i)) {
+            return;
+        }
+        let rows: Vec<&DVector<f64>> = held.iter().map(|&i| &kin[i].w_n).collect();
+        let res: Vec<f64> = held.iter().map(|&i| kin[i].gap_rate).collect();
+        let mut singular = false;
+        let dv = crate::linalg::min_norm_correction(&rows, &res, &self.minv, &mut singular);
+        for k in 0..self.n {
+            self.state.y[self.n + k] -= dv[k];
+        }
+        self.state.out.stats.held_after_impact += 1;
     }
 
     /// One impact pass (eq. 5–7) over the contacts with g_N ≤ gap_tol, if any of them
