@@ -15,6 +15,8 @@
 //! - [`model`]: model files (general scenes and bridges).
 //! - [`modal`]: K₀, modes and Rayleigh damping of any model.
 //! - [`output`]: history, events, energy ledger, summary.
+//! - [`studies`]: sweeps and the paper's studies; [`study_table`], [`study_csv`]: a study's
+//!   results as a table that fills while it runs, and its CSV.
 
 pub mod clock;
 pub mod contact;
@@ -36,6 +38,8 @@ pub mod sequence;
 pub mod simulate;
 pub mod stress;
 pub mod studies;
+pub mod study_csv;
+pub mod study_table;
 pub mod timestepping;
 #[cfg(feature = "workbench")]
 pub mod tui;

@@ -473,7 +473,7 @@ fn cmd_study(
     let (mut text, csv) = match kind {
         "pga" => cli::tables::pga_table(&deckspin::studies::rotation_vs_pga(&study), "")?,
         _ => {
-            let mus: Vec<f64> = (0..=7).map(|i| i as f64 / 10.0).collect();
+            let mus = deckspin::studies::fig8_mus();
             let m = deckspin::studies::increase_vs_mu(&study, &mus);
             cli::tables::mu_table(&m, &(1..=m.rows.len()).collect::<Vec<_>>(), "")?
         }

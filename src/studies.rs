@@ -30,6 +30,9 @@ pub enum RunFailure {
     /// error: an earlier run stopped, a cancel, a state that could not be handed over).
     #[error("sequence: {0}")]
     Sequence(String),
+    /// The study was cancelled ([`Progress::go_on`]) before this run started.
+    #[error("cancelled before it ran")]
+    Cancelled,
 }
 
 impl From<SolverError> for RunFailure {
@@ -202,12 +205,18 @@ impl Study {
             path: path.to_path_buf(),
             source: e,
         })?;
+        Self::from_text(&text, path, base)
+    }
+
+    /// A study of model text that is not (or not yet) the file's content, such as the
+    /// workbench's form draft: `path` names it in errors and anchors the record files it
+    /// refers to. The model is compiled once here, so a bad one fails before any run.
+    pub fn from_text(text: &str, path: &Path, base: &[String]) -> Result<Self, ModelError> {
         let motions = model::Motions::default();
-        // validate once, so a bad model fails before any job starts
-        model::load_str_with(&text, path, base, &motions)?;
+        model::load_str_with(text, path, base, &motions)?;
         Ok(Self {
             path: path.to_path_buf(),
-            text,
+            text: text.to_string(),
             base: base.to_vec(),
             motions,
         })
@@ -271,6 +280,15 @@ impl Study {
 
     /// [`Study::sweep`], with the number of runs of the integrator it took.
     pub fn sweep_counted(&self, axes: &[Axis]) -> SweepOutcome {
+        self.sweep_watched(axes, &Unwatched)
+    }
+
+    /// [`Study::sweep_counted`] watched by `progress`: each row is handed to it as soon as it
+    /// is final (a run finished, or its model did not compile), by its index in the output,
+    /// from the threads that run them; once [`Progress::go_on`] says no, the runs not yet
+    /// started are skipped and their rows fail with [`RunFailure::Cancelled`] (not handed
+    /// over). Runs already started finish.
+    pub fn sweep_watched(&self, axes: &[Axis], progress: &dyn Progress) -> SweepOutcome {
         let combos = combinations(axes);
         let compiled: Vec<Result<Scene, ModelError>> =
             combos.par_iter().map(|c| self.row_scene(c)).collect();
@@ -279,7 +297,9 @@ impl Study {
             .map(|(i, r)| match r {
                 Ok(s) => Some(s),
                 Err(e) => {
-                    rows[i] = Some(error_row(combos[i].clone(), e.into()));
+                    let row = error_row(combos[i].clone(), e.into());
+                    progress.row(i, &row);
+                    rows[i] = Some(row);
                     None
                 }
             })
@@ -288,11 +308,19 @@ impl Study {
         let unique: Vec<usize> = (0..combos.len())
             .filter(|&i| scenes[i].is_some() && same[i] == i)
             .collect();
+        let mut sharing: Vec<Vec<usize>> = vec![Vec::new(); combos.len()];
+        for (i, &s) in same.iter().enumerate() {
+            if s != i {
+                sharing[s].push(i);
+            }
+        }
         let runs = AtomicUsize::new(0);
         let job = Job {
             combos: &combos,
             scenes: &scenes,
             runs: &runs,
+            sharing: &sharing,
+            progress,
         };
         // μ variants of one run share their motion until the first contact event
         let mu = FRICTION_KEY;
@@ -333,6 +361,41 @@ impl Study {
     }
 }
 
+/// Watches a sweep while it runs (the workbench's progress and cancel): told of each row as
+/// soon as it is final, asked before each run whether to go on. Called from the threads that
+/// run the rows, so it is `Sync`.
+pub trait Progress: Sync {
+    /// Row `index` (its position in the sweep's output) is final.
+    fn row(&self, index: usize, row: &Row);
+    /// False: the runs not started yet are skipped (their rows fail with
+    /// [`RunFailure::Cancelled`]). Always true by default.
+    fn go_on(&self) -> bool {
+        true
+    }
+}
+
+/// A sweep nobody watches.
+pub struct Unwatched;
+
+impl Progress for Unwatched {
+    fn row(&self, _: usize, _: &Row) {}
+}
+
+/// A progress whose indices start at `by` (a study made of several sweeps, one after another).
+struct Offset<'a> {
+    inner: &'a dyn Progress,
+    by: usize,
+}
+
+impl Progress for Offset<'_> {
+    fn row(&self, index: usize, row: &Row) {
+        self.inner.row(index + self.by, row);
+    }
+    fn go_on(&self) -> bool {
+        self.inner.go_on()
+    }
+}
+
 /// The rows of a sweep and the runs of the integrator they took.
 #[derive(Clone, Debug)]
 pub struct SweepOutcome {
@@ -360,36 +423,51 @@ fn combinations(axes: &[Axis]) -> Vec<Vec<(String, String)>> {
     combos
 }
 
-/// The rows of a sweep to run: their settings and compiled scenes, and a count of the runs.
+/// The rows of a sweep to run: their settings and compiled scenes, a count of the runs, the
+/// rows that share each row's scene, and who watches.
 struct Job<'a> {
     combos: &'a [Vec<(String, String)>],
     scenes: &'a [Option<Scene>],
     runs: &'a AtomicUsize,
+    /// For each row run, the later rows with the same scene.
+    sharing: &'a [Vec<usize>],
+    progress: &'a dyn Progress,
 }
 
 impl Job<'_> {
-    /// Row `i` (its scene compiled), through `fork` when it allows it.
+    /// Row `i` (its scene compiled), through `fork` when it allows it; skipped when the
+    /// progress says stop. The row and those sharing its scene go to the progress.
     fn row(&self, i: usize, fork: Option<&FrictionFork>) -> Row {
+        let settings = self.combos[i].clone();
+        if !self.progress.go_on() {
+            return error_row(settings, RunFailure::Cancelled);
+        }
         let scene = self.scenes[i]
             .as_ref()
             .expect("a row that runs has compiled");
-        let settings = self.combos[i].clone();
         let forked = fork.and_then(|f| f.run(scene));
         self.runs.fetch_add(1, Ordering::Relaxed);
         let result = match forked {
             Some(r) => r.map_err(RunFailure::from),
             None => simulate_scene(scene).map(|(r, _)| r),
         };
-        match result {
+        let row = match result {
             Ok(r) => row_of(settings, &r),
             Err(e) => error_row(settings, e),
+        };
+        self.progress.row(i, &row);
+        for &j in &self.sharing[i] {
+            let mut shared = row.clone();
+            shared.settings = self.combos[j].clone();
+            self.progress.row(j, &shared);
         }
+        row
     }
 
     /// Rows that differ only in `contacts.mu`, through a [`FrictionFork`] when they allow it.
     fn friction_group(&self, group: &[usize]) -> Vec<(usize, Row)> {
         let fork = (self.scenes[group[0]].as_ref())
-            .filter(|_| group.len() > 1)
+            .filter(|_| group.len() > 1 && self.progress.go_on())
             .and_then(|s| FrictionFork::new(s).ok());
         group
             .par_iter()
@@ -531,19 +609,33 @@ pub fn run_count(text: &str) -> usize {
 /// Fig. 7: peak deck rotation per run with and without contact. Rows: run, pga_x, pga_y,
 /// peak without contact, peak with contact.
 pub fn rotation_vs_pga(study: &Study) -> Vec<(usize, f64, f64, Row, Row)> {
+    rotation_vs_pga_watched(study, &Unwatched)
+}
+
+/// [`rotation_vs_pga`] watched by `progress` ([`Study::sweep_watched`]): row `2 (k − 1)` is
+/// run k without contact, `2 (k − 1) + 1` with contact.
+pub fn rotation_vs_pga_watched(
+    study: &Study,
+    progress: &dyn Progress,
+) -> Vec<(usize, f64, f64, Row, Row)> {
     let pgas = run_pgas(&study.text);
     let n = pgas.len();
     let runs: Vec<String> = (1..=n).map(|i| i.to_string()).collect();
-    let rows = study.sweep(&[
-        Axis {
-            key: "excitation.run".into(),
-            values: runs,
-        },
-        Axis {
-            key: "contacts.enabled".into(),
-            values: vec!["false".into(), "true".into()],
-        },
-    ]);
+    let rows = study
+        .sweep_watched(
+            &[
+                Axis {
+                    key: "excitation.run".into(),
+                    values: runs,
+                },
+                Axis {
+                    key: "contacts.enabled".into(),
+                    values: vec!["false".into(), "true".into()],
+                },
+            ],
+            progress,
+        )
+        .rows;
     rows.chunks(2)
         .enumerate()
         .map(|(i, pair)| {
@@ -594,30 +686,55 @@ impl MuStudy {
     }
 }
 
+/// The μ values of the paper's Fig. 8: 0, 0.1, …, 0.7.
+pub fn fig8_mus() -> Vec<f64> {
+    (0..=7).map(|i| i as f64 / 10.0).collect()
+}
+
+/// Fig. 8: the peak rotation of each run without contact, and with contact for each μ.
 pub fn increase_vs_mu(study: &Study, mus: &[f64]) -> MuStudy {
+    increase_vs_mu_watched(study, mus, &Unwatched)
+}
+
+/// [`increase_vs_mu`] watched by `progress` ([`Study::sweep_watched`]): rows `0..n` are the n
+/// runs without contact, then row `n + (k − 1) · mus.len() + j` is run k with `mus[j]`.
+pub fn increase_vs_mu_watched(study: &Study, mus: &[f64], progress: &dyn Progress) -> MuStudy {
     let pgas = run_pgas(&study.text);
     let n = pgas.len();
     let runs: Vec<String> = (1..=n).map(|i| i.to_string()).collect();
-    let baseline = study.sweep(&[
-        Axis {
-            key: "excitation.run".into(),
-            values: runs.clone(),
-        },
-        Axis {
-            key: "contacts.enabled".into(),
-            values: vec!["false".into()],
-        },
-    ]);
-    let rows = study.sweep(&[
-        Axis {
-            key: "excitation.run".into(),
-            values: runs,
-        },
-        Axis {
-            key: "contacts.mu".into(),
-            values: mus.iter().map(|m| format!("{m}")).collect(),
-        },
-    ]);
+    let baseline = study
+        .sweep_watched(
+            &[
+                Axis {
+                    key: "excitation.run".into(),
+                    values: runs.clone(),
+                },
+                Axis {
+                    key: "contacts.enabled".into(),
+                    values: vec!["false".into()],
+                },
+            ],
+            progress,
+        )
+        .rows;
+    let rows = study
+        .sweep_watched(
+            &[
+                Axis {
+                    key: "excitation.run".into(),
+                    values: runs,
+                },
+                Axis {
+                    key: "contacts.mu".into(),
+                    values: mus.iter().map(|m| format!("{m}")).collect(),
+                },
+            ],
+            &Offset {
+                inner: progress,
+                by: n,
+            },
+        )
+        .rows;
     MuStudy {
         mus: mus.to_vec(),
         pgas,

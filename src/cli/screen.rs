@@ -4,7 +4,9 @@
 
 use clap::Args;
 use deckspin::design::equivalence::{Answer, Cell, answers, default_grid, grid};
-use deckspin::design::screen::{Flush, MapCell, ModelCorner, model_screen, screening_map};
+use deckspin::design::screen::{
+    Flush, MapCell, ModelCorner, map_axes, model_screen, screening_map,
+};
 use std::path::PathBuf;
 
 /// Closed-form screening by the impact law; `--equivalence` adds the gap-element table.
@@ -23,13 +25,6 @@ pub struct ScreenArgs {
     /// Output directory (screen.json, screen-map.csv, equivalence.csv).
     #[arg(long, default_value = "out")]
     pub out: PathBuf,
-}
-
-/// L/B values of the map's columns and skew angles (degrees) of its rows.
-fn axes() -> (Vec<f64>, Vec<f64>) {
-    let lb = (0..=30).map(|i| 10f64.powf(i as f64 / 20.0)).collect(); // 1 … 31.6, log
-    let skew = (0..=12).map(|i| 5.0 * i as f64).collect(); // 0 … 60°
-    (lb, skew)
 }
 
 pub fn cmd_screen(a: &ScreenArgs) -> Result<(), Box<dyn std::error::Error>> {
@@ -76,7 +71,7 @@ pub fn cmd_screen(a: &ScreenArgs) -> Result<(), Box<dyn std::error::Error>> {
         .map(|e| (e.mu, e.restitution))
         .or_else(|| rigid.first().map(|c| (c.mu, c.restitution)))
         .unwrap_or((0.0, 0.0));
-    let (lb, skew) = axes();
+    let (lb, skew) = map_axes();
     let cells = screening_map(&lb, &skew, mu, eps);
     let point = ends.first().map(|e| (e.l_over_b, e.skew_deg));
     println!("\n{}", draw_map(&cells, &lb, &skew, point, mu, eps));
