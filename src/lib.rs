@@ -20,6 +20,8 @@
 //!   how far a job has come.
 //! - [`plot`]: charts as data, drawn as SVG or ASCII text; [`figures`]: the studies' charts.
 //! - [`design`]: fragility curves of a record suite (limit states: `model::limit_state`).
+//! - [`studies`]: sweeps and the paper's studies; [`study_table`], [`study_csv`]: a study's
+//!   results as a table that fills while it runs, and its CSV.
 
 pub mod clock;
 pub mod contact;
@@ -45,6 +47,8 @@ pub mod shard;
 pub mod simulate;
 pub mod stress;
 pub mod studies;
+pub mod study_csv;
+pub mod study_table;
 pub mod suite;
 pub mod timestepping;
 #[cfg(feature = "workbench")]

@@ -449,7 +449,7 @@ fn cmd_study(
             (text, csv, deckspin::figures::rotation_vs_pga(&rows))
         }
         _ => {
-            let mus: Vec<f64> = (0..=7).map(|i| i as f64 / 10.0).collect();
+            let mus = deckspin::studies::fig8_mus();
             let m = deckspin::studies::increase_vs_mu(&study, &mus, &bar);
             let runs: Vec<usize> = (1..=m.rows.len()).collect();
             let (text, csv) = cli::tables::mu_table(&m, &runs, "")?;

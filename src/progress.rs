@@ -7,6 +7,11 @@ pub trait Progress: Sync {
     fn plan(&self, runs: usize);
     /// `runs` more runs are done.
     fn done(&self, runs: usize);
+    /// False: the runs not started yet are skipped (a sweep's rows fail with
+    /// `studies::RunFailure::Cancelled`). Always true by default.
+    fn go_on(&self) -> bool {
+        true
+    }
 }
 
 /// A progress nobody watches.

@@ -33,6 +33,9 @@ pub enum RunFailure {
     /// error: an earlier run stopped, a cancel, a state that could not be handed over).
     #[error("sequence: {0}")]
     Sequence(String),
+    /// The study was cancelled ([`Progress::go_on`]) before this run started.
+    #[error("cancelled before it ran")]
+    Cancelled,
 }
 
 impl From<SolverError> for RunFailure {
@@ -205,12 +208,18 @@ impl Study {
             path: path.to_path_buf(),
             source: e,
         })?;
+        Self::from_text(&text, path, base)
+    }
+
+    /// A study of model text that is not (or not yet) the file's content, such as the
+    /// workbench's form draft: `path` names it in errors and anchors the record files it
+    /// refers to. The model is compiled once here, so a bad one fails before any run.
+    pub fn from_text(text: &str, path: &Path, base: &[String]) -> Result<Self, ModelError> {
         let motions = model::Motions::default();
-        // validate once, so a bad model fails before any job starts
-        model::load_str_with(&text, path, base, &motions)?;
+        model::load_str_with(text, path, base, &motions)?;
         Ok(Self {
             path: path.to_path_buf(),
-            text,
+            text: text.to_string(),
             base: base.to_vec(),
             motions,
         })
@@ -277,14 +286,23 @@ impl Study {
         self.sweep_rows(axes, 0..usize::MAX, &Unwatched)
     }
 
+    /// [`Study::sweep_counted`] watched by `progress`: each row is handed to it as soon as it
+    /// is final (a run finished, or its model did not compile), by its index in the output,
+    /// from the threads that run them; once [`Progress::go_on`] says no, the runs not yet
+    /// started are skipped and their rows fail with [`RunFailure::Cancelled`] (not handed
+    /// over). Runs already started finish.
+    pub fn sweep_watched(&self, axes: &[Axis], progress: &dyn Watch) -> SweepOutcome {
+        self.sweep_rows(axes, 0..usize::MAX, progress)
+    }
+
     /// The rows `range` (indices of [`Study::sweep`]'s rows, cut to their number) of the
-    /// sweep, `progress` told of each row as it is done: a shard of a sweep
-    /// ([`crate::shard`]). Rows of the same scene within `range` run once.
+    /// sweep, `progress` told of each row as it is done (by its index within `range`): a
+    /// shard of a sweep ([`crate::shard`]). Rows of the same scene within `range` run once.
     pub fn sweep_rows(
         &self,
         axes: &[Axis],
         range: Range<usize>,
-        progress: &dyn Progress,
+        progress: &dyn Watch,
     ) -> SweepOutcome {
         let all = combinations(axes);
         let range = range.start.min(all.len())..range.end.min(all.len());
@@ -297,28 +315,30 @@ impl Study {
             .map(|(i, r)| match r {
                 Ok(s) => Some(s),
                 Err(e) => {
-                    rows[i] = Some(error_row(combos[i].clone(), e.into()));
+                    let row = error_row(combos[i].clone(), e.into());
+                    progress.row(i, &row);
                     progress.done(1);
+                    rows[i] = Some(row);
                     None
                 }
             })
             .collect();
         let same = same_scenes(&scenes);
-        let mut shares = vec![0; combos.len()];
-        for (i, &j) in same.iter().enumerate() {
-            if scenes[i].is_some() {
-                shares[j] += 1;
-            }
-        }
         let unique: Vec<usize> = (0..combos.len())
             .filter(|&i| scenes[i].is_some() && same[i] == i)
             .collect();
+        let mut sharing: Vec<Vec<usize>> = vec![Vec::new(); combos.len()];
+        for (i, &s) in same.iter().enumerate() {
+            if s != i {
+                sharing[s].push(i);
+            }
+        }
         let runs = AtomicUsize::new(0);
         let job = Job {
             combos,
             scenes: &scenes,
             runs: &runs,
-            shares: &shares,
+            sharing: &sharing,
             progress,
         };
         // μ variants of one run share their motion until the first contact event
@@ -387,40 +407,52 @@ pub fn combinations(axes: &[Axis]) -> Vec<Vec<(String, String)>> {
     combos
 }
 
-/// The rows of a sweep to run: their settings and compiled scenes, and a count of the runs.
+/// The rows of a sweep to run: their settings and compiled scenes, a count of the runs, the
+/// rows that share each row's scene, and who watches.
 struct Job<'a> {
     combos: &'a [Vec<(String, String)>],
     scenes: &'a [Option<Scene>],
     runs: &'a AtomicUsize,
-    /// Per row that runs, the rows that share its result (itself included).
-    shares: &'a [usize],
-    progress: &'a dyn Progress,
+    /// For each row run, the later rows with the same scene.
+    sharing: &'a [Vec<usize>],
+    progress: &'a dyn Watch,
 }
 
 impl Job<'_> {
-    /// Row `i` (its scene compiled), through `fork` when it allows it.
+    /// Row `i` (its scene compiled), through `fork` when it allows it; skipped when the
+    /// progress says stop. The row and those sharing its scene go to the progress.
     fn row(&self, i: usize, fork: Option<&FrictionFork>) -> Row {
+        let settings = self.combos[i].clone();
+        if !self.progress.go_on() {
+            return error_row(settings, RunFailure::Cancelled);
+        }
         let scene = self.scenes[i]
             .as_ref()
             .expect("a row that runs has compiled");
-        let settings = self.combos[i].clone();
         let forked = fork.and_then(|f| f.run(scene));
         self.runs.fetch_add(1, Ordering::Relaxed);
         let result = match forked {
             Some(r) => r.map_err(RunFailure::from),
             None => simulate_scene(scene).map(|(r, _)| r),
         };
-        self.progress.done(self.shares[i]);
-        match result {
+        self.progress.done(1 + self.sharing[i].len());
+        let row = match result {
             Ok(r) => row_of(settings, &r),
             Err(e) => error_row(settings, e),
+        };
+        self.progress.row(i, &row);
+        for &j in &self.sharing[i] {
+            let mut shared = row.clone();
+            shared.settings = self.combos[j].clone();
+            self.progress.row(j, &shared);
         }
+        row
     }
 
     /// Rows that differ only in `contacts.mu`, through a [`FrictionFork`] when they allow it.
     fn friction_group(&self, group: &[usize]) -> Vec<(usize, Row)> {
         let fork = (self.scenes[group[0]].as_ref())
-            .filter(|_| group.len() > 1)
+            .filter(|_| group.len() > 1 && self.progress.go_on())
             .and_then(|s| FrictionFork::new(s).ok());
         group
             .par_iter()
@@ -454,13 +486,38 @@ pub fn same_scenes(scenes: &[Option<Scene>]) -> Vec<usize> {
         .collect()
 }
 
-/// A progress whose runs were planned already: passes on the runs done only.
-struct Forward<'a>(&'a dyn Progress);
+/// A sweep's watcher: its counts of runs ([`Progress`]) and each row as soon as it is final,
+/// by its index in the sweep's output (the workbench draws them as they come). Called from
+/// the threads that run the rows.
+pub trait Watch: Progress {
+    /// Row `index` is final.
+    fn row(&self, index: usize, row: &Row) {
+        let _ = (index, row);
+    }
+}
 
-impl Progress for Forward<'_> {
+impl Watch for Unwatched {}
+
+/// A watcher whose runs were planned already and whose indices start at `by` (a study made of
+/// several sweeps, one after another): passes on the runs done, the rows and the cancel.
+struct Offset<'a> {
+    inner: &'a dyn Watch,
+    by: usize,
+}
+
+impl Progress for Offset<'_> {
     fn plan(&self, _: usize) {}
     fn done(&self, runs: usize) {
-        self.0.done(runs)
+        self.inner.done(runs)
+    }
+    fn go_on(&self) -> bool {
+        self.inner.go_on()
+    }
+}
+
+impl Watch for Offset<'_> {
+    fn row(&self, index: usize, row: &Row) {
+        self.inner.row(index + self.by, row);
     }
 }
 
@@ -586,7 +643,7 @@ pub fn run_count(text: &str) -> usize {
 
 /// Fig. 7: peak deck rotation per run with and without contact. Rows: run, pga_x, pga_y,
 /// peak without contact, peak with contact.
-pub fn rotation_vs_pga(study: &Study, progress: &dyn Progress) -> Vec<(usize, f64, f64, Row, Row)> {
+pub fn rotation_vs_pga(study: &Study, progress: &dyn Watch) -> Vec<(usize, f64, f64, Row, Row)> {
     let pgas = run_pgas(&study.text);
     let n = pgas.len();
     let runs: Vec<String> = (1..=n).map(|i| i.to_string()).collect();
@@ -600,6 +657,7 @@ pub fn rotation_vs_pga(study: &Study, progress: &dyn Progress) -> Vec<(usize, f6
             values: vec!["false".into(), "true".into()],
         },
     ];
+    // row 2 (k − 1) is run k without contact, 2 (k − 1) + 1 with contact
     let rows = study.sweep_rows(&axes, 0..usize::MAX, progress).rows;
     rows.chunks(2)
         .enumerate()
@@ -651,7 +709,15 @@ impl MuStudy {
     }
 }
 
-pub fn increase_vs_mu(study: &Study, mus: &[f64], progress: &dyn Progress) -> MuStudy {
+/// The μ values of the paper's Fig. 8: 0, 0.1, …, 0.7.
+pub fn fig8_mus() -> Vec<f64> {
+    (0..=7).map(|i| i as f64 / 10.0).collect()
+}
+
+/// Fig. 8: the peak rotation of each run without contact, and with contact for each μ;
+/// `progress` gets rows `0..n` (the n runs without contact), then row
+/// `n + (k − 1) · mus.len() + j` (run k with `mus[j]`).
+pub fn increase_vs_mu(study: &Study, mus: &[f64], progress: &dyn Watch) -> MuStudy {
     let pgas = run_pgas(&study.text);
     let n = pgas.len();
     let runs: Vec<String> = (1..=n).map(|i| i.to_string()).collect();
@@ -678,9 +744,16 @@ pub fn increase_vs_mu(study: &Study, mus: &[f64], progress: &dyn Progress) -> Mu
     // both planned before either runs, so that the bar's length is the job's
     progress.plan(sweep_size(&baseline, usize::MAX).unwrap_or(0));
     progress.plan(sweep_size(&varied, usize::MAX).unwrap_or(0));
-    let quiet = Forward(progress);
-    let baseline = study.sweep_rows(&baseline, 0..usize::MAX, &quiet).rows;
-    let rows = study.sweep_rows(&varied, 0..usize::MAX, &quiet).rows;
+    let first = Offset {
+        inner: progress,
+        by: 0,
+    };
+    let baseline = study.sweep_rows(&baseline, 0..usize::MAX, &first).rows;
+    let then = Offset {
+        inner: progress,
+        by: n,
+    };
+    let rows = study.sweep_rows(&varied, 0..usize::MAX, &then).rows;
     MuStudy {
         mus: mus.to_vec(),
         pgas,

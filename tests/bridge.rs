@@ -679,5 +679,8 @@ fn two_corners_of_one_end_chattering_while_sliding_are_held_closed() {
         let close = t.windows(2).filter(|w| w[1] - w[0] < 1e-6).count();
         worst = worst.max(close);
     }
-    assert!(worst < 20, "{worst} impacts of one corner within 1 µs of the one before");
+    assert!(
+        worst < 20,
+        "{worst} impacts of one corner within 1 µs of the one before"
+    );
 }

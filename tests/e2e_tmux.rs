@@ -235,6 +235,18 @@ fn workbench_in_tmux() {
     tmux.wait("reloaded", 10, |s| s.contains("reloaded"));
     tmux.wait("run 3 to finish", 30, |s| s.contains("run 3 done"));
 
+    // the second Tab is the studies view: the PGA study runs in its own thread on the model,
+    // is drawn, and its CSV is written beside the model
+    tmux.wait("the studies view", 5, |s| s.contains(">PGA (Fig. 7)"));
+    tmux.keys(&["Enter"]);
+    let s = tmux.wait("the PGA study", 60, |s| s.contains(">PGA (Fig. 7): done"));
+    assert!(
+        s.contains("o with contact") && s.contains("PGA x [g]"),
+        "{s}"
+    );
+    let csv = d.join("models/four-span.studies/pga-1.csv");
+    tmux.wait("its CSV", 10, |_| csv.is_file());
+
     // quit: back to the shell on the normal screen
     tmux.keys(&["q"]);
     let s = tmux.wait("the shell", 10, |s| s.contains("deckspin-exited-0"));

@@ -283,6 +283,14 @@ fn every_binding_is_handled_in_its_context() {
                 }
                 Ctx::Help => app.mode = Mode::Help,
                 Ctx::Form => app.view = View::Form,
+                Ctx::Studies => app.view = View::Studies,
+                Ctx::Pick => {
+                    app.view = View::Studies;
+                    app.mode = Mode::Pick {
+                        files: vec![PathBuf::from("models/x.studies/pga-1.csv")],
+                        selected: 0,
+                    }
+                }
                 Ctx::Charts | Ctx::Global => {}
             }
             let ev = match *k {
@@ -1186,7 +1194,7 @@ fn resize_and_too_small() {
         (200, 60),
         (300, 12),
     ] {
-        for view in [View::Charts, View::Form] {
+        for view in [View::Charts, View::Form, View::Studies] {
             app.view = view;
             render(&mut app, w, h);
             act(&mut app, Action::Help);
@@ -1815,4 +1823,545 @@ fn frames_bents_and_keys_are_added_and_removed_as_lists() {
     update(&mut one_app, key('-'));
     update(&mut one_app, key('-'));
     assert!(one_app.status.contains("invalid"), "{}", one_app.status);
+}
+
+// ---------------------------------------------------------------------------------------------
+// the studies view
+
+use deckspin::study_csv::to_csv;
+use deckspin::study_table::{PointStatus, StudyKind, StudyTable};
+use deckspin::tui::msg::StudyOutcome;
+use deckspin::tui::study::{Phase, Source, study_dirs};
+
+fn study_index(kind: StudyKind) -> usize {
+    StudyKind::ALL.iter().position(|k| *k == kind).unwrap()
+}
+
+/// `Enter` on `kind` in the studies view: the study's id and its worker's spec.
+fn start_study(app: &mut App, kind: StudyKind) -> (u64, Box<tui::study::StudySpec>) {
+    app.view = View::Studies;
+    app.studies.selected = study_index(kind);
+    let mut fx = act(app, Action::StudyRun);
+    assert_eq!(fx.len(), 1, "{}", app.status);
+    match fx.remove(0) {
+        Effect::StartStudy { id, spec } => (id, spec),
+        e => panic!("{e:?}"),
+    }
+}
+
+/// The table a study ends with (the messages of its worker, run here).
+fn final_table(msgs: Vec<Msg>) -> StudyTable {
+    match msgs.into_iter().last() {
+        Some(Msg::StudyDone {
+            outcome: StudyOutcome::Finished(t),
+            ..
+        }) => *t,
+        m => panic!("{m:?}"),
+    }
+}
+
+/// The PGA, μ (μ 0, 0.3, 0.6) and screening studies of the short bridge, computed once.
+fn study_tables() -> &'static [StudyTable; 3] {
+    static T: OnceLock<[StudyTable; 3]> = OnceLock::new();
+    T.get_or_init(|| {
+        [StudyKind::Pga, StudyKind::Mu, StudyKind::Screen].map(|k| {
+            let mut app = bridge_app();
+            app.studies.mus = vec![0.0, 0.3, 0.6];
+            let (id, spec) = start_study(&mut app, k);
+            final_table(tui::study_worker::run_blocking(id, &spec))
+        })
+    })
+}
+
+/// The bridge app in the studies view with `kind` finished (as if its CSV were written to
+/// `models/four-span.studies/<kind>-1.csv`).
+fn studies_app(kind: StudyKind) -> App {
+    let mut app = bridge_app();
+    let (id, _) = start_study(&mut app, kind);
+    let table = study_tables()[study_index(kind)].clone();
+    let outcome = StudyOutcome::Finished(Box::new(table));
+    let fx = update(&mut app, Msg::StudyDone { id, outcome });
+    assert!(
+        matches!(fx.as_slice(), [Effect::WriteStudy { .. }]),
+        "{fx:?}"
+    );
+    let csv = PathBuf::from(format!("models/four-span.studies/{}-1.csv", kind.key()));
+    update(
+        &mut app,
+        Msg::StudyWritten {
+            id,
+            result: Ok(csv),
+        },
+    );
+    app
+}
+
+/// The rows of the run table of `kind`.
+fn runs_of(app: &App, kind: StudyKind) -> Vec<deckspin::study_table::StudyRun> {
+    match &app.studies.entry(kind).expect("an entry").table {
+        Some(StudyTable::Runs(t)) => t.runs.clone(),
+        t => panic!("{t:?}"),
+    }
+}
+
+#[test]
+fn the_studies_view_is_the_third_view() {
+    let mut app = bridge_app();
+    let views: Vec<View> = (0..3)
+        .map(|_| {
+            update(&mut app, code(KeyCode::Tab));
+            app.view
+        })
+        .collect();
+    assert_eq!(views, vec![View::Form, View::Studies, View::Charts]);
+    update(&mut app, code(KeyCode::BackTab));
+    assert_eq!(app.view, View::Studies);
+    let s = screen(&render(&mut app, 80, 24));
+    assert!(s.lines().next().unwrap().contains("│ studies"), "{s}");
+    assert!(s.contains(">PGA (Fig. 7): not run"), "{s}");
+    assert!(
+        s.contains("Fig. 7: peak |θ| vs PGA · model: four-span.toml as saved"),
+        "{s}"
+    );
+    // h/l move through the list, round
+    for (k, want) in [('l', 1), ('l', 2), ('l', 0), ('h', 2)] {
+        update(&mut app, key(k));
+        assert_eq!(app.studies.selected, want);
+    }
+    assert_eq!(app.studies.kind(), StudyKind::Screen);
+    // the help puts the studies keys after those of everywhere
+    act(&mut app, Action::Help);
+    let s = screen(&render(&mut app, 80, 24));
+    let (everywhere, studies) = (
+        s.find("everywhere").unwrap(),
+        s.find("studies view").unwrap(),
+    );
+    assert!(
+        everywhere < studies && s.contains("reopen a study from its CSV"),
+        "{s}"
+    );
+}
+
+#[test]
+fn a_study_starts_in_a_worker_on_the_form_model() {
+    let mut app = bridge_app();
+    assert!(edit(&mut app, "contacts.mu", "0.3").is_empty());
+    assert!(app.dirty());
+    let (id, spec) = start_study(&mut app, StudyKind::Pga);
+    // the form's model, edits included, as the worker's
+    assert_eq!(spec.kind, StudyKind::Pga);
+    assert_eq!(spec.text, app.draft);
+    assert!(spec.text.contains("mu = 0.3"));
+    assert_eq!(spec.path, app.path);
+    let e = app.studies.entry(StudyKind::Pga).unwrap();
+    assert_eq!((e.id, &e.phase), (id, &Phase::Running));
+    assert_eq!(
+        e.source,
+        Source::Form {
+            file: "four-span.toml".into(),
+            edited: true
+        }
+    );
+    // seven [[run]] tables, each without and with contact
+    assert_eq!(e.progress(), (0, 14));
+    assert_eq!(
+        app.status,
+        "PGA (Fig. 7) study started on the form's model (four-span.toml with unsaved edits)"
+    );
+    let s = screen(&render(&mut app, 80, 24));
+    assert!(s.contains("0/14 runs"), "{s}");
+    assert!(s.contains("form draft (unsaved edits)"), "{s}");
+    // one study at a time; the run of the charts is not touched
+    app.studies.selected = study_index(StudyKind::Mu);
+    assert!(act(&mut app, Action::StudyRun).is_empty());
+    assert_eq!(
+        app.status,
+        "the PGA (Fig. 7) study is running: Esc cancels it first"
+    );
+    // a model without [[run]] tables has no PGA study
+    let mut corner = corner_app();
+    corner.view = View::Studies;
+    assert!(act(&mut corner, Action::StudyRun).is_empty());
+    assert!(
+        corner.status.contains("needs [[run]] tables"),
+        "{}",
+        corner.status
+    );
+    // the screening runs on any model
+    corner.studies.selected = study_index(StudyKind::Screen);
+    let fx = act(&mut corner, Action::StudyRun);
+    assert!(
+        matches!(fx.as_slice(), [Effect::StartStudy { .. }]),
+        "{fx:?}"
+    );
+}
+
+#[test]
+fn study_rows_arrive_as_progress_and_the_end_writes_its_csv() {
+    let mut app = bridge_app();
+    let (id, spec) = start_study(&mut app, StudyKind::Pga);
+    let msgs = tui::study_worker::run_blocking(id, &spec);
+    assert_eq!(msgs.len(), 15, "14 rows and the end");
+    let mut done = 0;
+    for m in msgs {
+        let row = matches!(m, Msg::StudyRow { .. });
+        let fx = update(&mut app, m);
+        if row {
+            done += 1;
+            assert!(fx.is_empty());
+            let e = app.studies.entry(StudyKind::Pga).unwrap();
+            assert_eq!(e.progress(), (done, 14));
+            if done == 5 {
+                let s = screen(&render(&mut app, 80, 24));
+                assert!(s.contains("5/14 runs") && s.contains("Esc cancels"), "{s}");
+                assert!(
+                    s.lines().next().unwrap().contains("PGA 5/14 · run 2 done"),
+                    "{s}"
+                );
+            }
+            continue;
+        }
+        // the end: the whole table, then its CSV written beside the model
+        let [Effect::WriteStudy { id: w, dirs, table }] = fx.as_slice() else {
+            panic!("{fx:?}")
+        };
+        assert_eq!(*w, id);
+        assert_eq!(*dirs, study_dirs(Path::new("models/four-span.toml")));
+        assert_eq!(dirs[0], PathBuf::from("models/four-span.studies"));
+        assert_eq!(to_csv(table), to_csv(&study_tables()[0]));
+    }
+    let e = app.studies.entry(StudyKind::Pga).unwrap();
+    assert_eq!(e.phase, Phase::Finished);
+    assert_eq!(
+        app.status,
+        "PGA (Fig. 7) finished: 14 of 14 runs — writing its CSV…"
+    );
+    // the rows as they came are those of the table the worker ended with
+    let runs = runs_of(&app, StudyKind::Pga);
+    let StudyTable::Runs(t) = &study_tables()[0] else {
+        unreachable!()
+    };
+    for (a, b) in runs.iter().zip(&t.runs) {
+        assert_eq!(a.peak_rotation.to_bits(), b.peak_rotation.to_bits());
+        assert_eq!(a.status, PointStatus::Ok);
+    }
+    // the runs without impacts peak as without contact, those that pound do not; runs 6 and 7
+    // (the same scene) the same
+    let [without, with] = t.fig7();
+    for (k, (n, w)) in without.iter().zip(&with).enumerate() {
+        let pounds = t.runs[2 * k + 1].impacts > 0;
+        assert_eq!(pounds, n.1 != w.1, "run {}: {n:?} {w:?}", k + 1);
+    }
+    assert_eq!(t.runs[1].impacts, 0, "run 1 does not reach the abutments");
+    assert!(t.runs[13].impacts > 0);
+    assert_eq!(with[5].1.to_bits(), with[6].1.to_bits());
+}
+
+#[test]
+fn a_cancelled_study_keeps_its_finished_rows() {
+    use std::sync::Mutex;
+    use std::sync::atomic::{AtomicBool, Ordering};
+    let mut app = bridge_app();
+    let (id, spec) = start_study(&mut app, StudyKind::Pga);
+    // the worker, its cancel flag raised by the third row as Esc would
+    let cancel = AtomicBool::new(false);
+    let sent = Mutex::new(Vec::new());
+    let send = |m: Msg| {
+        let mut s = sent.lock().unwrap();
+        s.push(m);
+        if s.len() == 3 {
+            cancel.store(true, Ordering::SeqCst);
+        }
+    };
+    let done = tui::study_worker::run(id, &spec, &cancel, &send);
+    let rows = sent.into_inner().unwrap();
+    let n = rows.len();
+    assert!((3..14).contains(&n), "{n} rows before the runs stopped");
+    for m in rows.into_iter().take(3) {
+        update(&mut app, m);
+    }
+    let fx = update(&mut app, code(KeyCode::Esc));
+    assert!(
+        matches!(fx.as_slice(), [Effect::CancelStudy { id: i }] if *i == id),
+        "{fx:?}"
+    );
+    assert_eq!(
+        app.studies.entry(StudyKind::Pga).unwrap().phase,
+        Phase::Cancelling
+    );
+    let s = screen(&render(&mut app, 80, 24));
+    assert!(s.contains("cancelling after 3/14 runs"), "{s}");
+    let before = runs_of(&app, StudyKind::Pga);
+    let Msg::StudyDone {
+        outcome: StudyOutcome::Cancelled(_),
+        ..
+    } = &done
+    else {
+        panic!("{done:?}")
+    };
+    let fx = update(&mut app, done);
+    // its CSV is written all the same, the runs not run marked so
+    assert!(
+        matches!(fx.as_slice(), [Effect::WriteStudy { .. }]),
+        "{fx:?}"
+    );
+    let e = app.studies.entry(StudyKind::Pga).unwrap();
+    assert_eq!(e.phase, Phase::Cancelled);
+    assert_eq!(e.progress(), (n, 14));
+    let after = runs_of(&app, StudyKind::Pga);
+    for (a, b) in before.iter().zip(&after) {
+        if a.status == PointStatus::Ok {
+            assert_eq!(a.peak_rotation.to_bits(), b.peak_rotation.to_bits());
+        }
+    }
+    let not_run = after
+        .iter()
+        .filter(|r| r.status == PointStatus::NotRun)
+        .count();
+    assert_eq!(not_run, 14 - n);
+    assert!(
+        app.status
+            .starts_with(&format!("PGA (Fig. 7) cancelled: {n} of 14 runs")),
+        "{}",
+        app.status
+    );
+    let s = screen(&render(&mut app, 80, 24));
+    assert!(s.contains(">PGA (Fig. 7): cancelled"), "{s}");
+    assert!(
+        s.contains(&format!("cancelled: {n} of 14 runs done, drawn")),
+        "{s}"
+    );
+    assert!(
+        s.contains("Fig. 7: peak |θ| vs PGA · cancelled · model: four-span.toml"),
+        "{s}"
+    );
+    // nothing left to cancel
+    assert!(update(&mut app, code(KeyCode::Esc)).is_empty());
+    assert_eq!(app.status, "no study in progress (c cancels the run)");
+}
+
+/// The bridge (2 s, 4 mm gaps) written into a scratch folder, its app opened there.
+fn scratch_bridge(name: &str) -> (PathBuf, App) {
+    let d = scratch(name);
+    let model = d.join("models/four-span.toml");
+    std::fs::write(&model, short_bridge("0.004")).unwrap();
+    let app = App::new_from_text(&read(&model), &model);
+    (d, app)
+}
+
+#[test]
+fn a_finished_study_is_written_and_reopened_from_its_csv_exactly() {
+    let (d, mut app) = scratch_bridge("study-csv");
+    app.studies.mus = vec![0.1 + 0.2, 0.6];
+    app.view = View::Studies;
+    app.studies.selected = study_index(StudyKind::Mu);
+    for n in 1..=2 {
+        let fx = act(&mut app, Action::StudyRun);
+        tui::execute_blocking(&mut app, fx);
+        let csv = d.join(format!("models/four-span.studies/mu-{n}.csv"));
+        assert!(csv.is_file(), "{}", app.status);
+        assert!(
+            app.status.ends_with(&format!("; CSV {}", csv.display())),
+            "{}",
+            app.status
+        );
+    }
+    let written = app
+        .studies
+        .entry(StudyKind::Mu)
+        .unwrap()
+        .table
+        .clone()
+        .unwrap();
+    assert_eq!(written.progress(), (7 + 7 * 2, 21));
+    // f lists the CSVs (newest first), Enter opens one
+    let fx = update(&mut app, key('f'));
+    tui::execute_blocking(&mut app, fx);
+    let Mode::Pick { files, .. } = &app.mode else {
+        panic!("{:?} {}", app.mode, app.status)
+    };
+    assert_eq!(files.len(), 2);
+    assert!(
+        files
+            .iter()
+            .all(|f| f.starts_with(d.join("models/four-span.studies")))
+    );
+    let s = screen(&render(&mut app, 80, 24));
+    assert!(
+        s.contains("reopen a study") && s.contains("mu-1.csv"),
+        "{s}"
+    );
+    update(&mut app, key('j'));
+    let Mode::Pick { files, selected } = &app.mode else {
+        unreachable!()
+    };
+    let chosen = files[*selected].clone();
+    let fx = update(&mut app, code(KeyCode::Enter));
+    assert_eq!(app.mode, Mode::Normal);
+    tui::execute_blocking(&mut app, fx);
+    let e = app.studies.entry(StudyKind::Mu).unwrap();
+    assert_eq!(e.source, Source::Csv(chosen.clone()));
+    assert_eq!(e.phase, Phase::Finished);
+    assert!(
+        app.status
+            .starts_with(&format!("opened {}", chosen.display())),
+        "{}",
+        app.status
+    );
+    // the numbers read back are the numbers run, bit for bit
+    let read = e.table.clone().unwrap();
+    assert_eq!(to_csv(&read), to_csv(&written));
+    let (StudyTable::Runs(a), StudyTable::Runs(b)) = (&read, &written) else {
+        panic!()
+    };
+    for (x, y) in a.runs.iter().zip(&b.runs) {
+        assert_eq!(x.peak_rotation.to_bits(), y.peak_rotation.to_bits());
+        assert_eq!(x.residual_rotation.to_bits(), y.residual_rotation.to_bits());
+        assert_eq!(x.mu.map(f64::to_bits), y.mu.map(f64::to_bits));
+    }
+    assert_eq!(a.fig8(), b.fig8());
+    let s = screen(&render(&mut app, 80, 24));
+    assert!(
+        s.contains(&format!(
+            "from {}",
+            chosen.file_name().unwrap().to_string_lossy()
+        )),
+        "{s}"
+    );
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+#[test]
+fn a_malformed_study_csv_is_reported_with_its_file_and_line() {
+    let (d, mut app) = scratch_bridge("study-bad-csv");
+    let dir = d.join("models/four-span.studies");
+    std::fs::create_dir_all(&dir).unwrap();
+    let bad = dir.join("pga-1.csv");
+    std::fs::write(
+        &bad,
+        "study,run,pga_x,pga_y,contact,mu,peak_rotation,residual_rotation,impacts,status\n\
+         pga,1,0.09,0.075,false,,1e-4,0,0,ok\n\
+         pga,1,0.09,0.075,true,,abc,0,2,ok\n",
+    )
+    .unwrap();
+    app.view = View::Studies;
+    let fx = update(&mut app, key('f'));
+    tui::execute_blocking(&mut app, fx);
+    let fx = update(&mut app, code(KeyCode::Enter));
+    tui::execute_blocking(&mut app, fx);
+    assert_eq!(
+        app.status,
+        format!(
+            "cannot open the study: {}:3: peak_rotation: `abc` is not a number",
+            bad.display()
+        )
+    );
+    assert_eq!(app.status_kind, StatusKind::Error);
+    assert!(app.studies.entry(StudyKind::Pga).is_none());
+    // no CSVs at all: said so
+    std::fs::remove_file(&bad).unwrap();
+    let fx = update(&mut app, key('f'));
+    tui::execute_blocking(&mut app, fx);
+    assert_eq!(app.mode, Mode::Normal);
+    assert!(app.status.starts_with("no study CSVs in"), "{}", app.status);
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+#[test]
+fn a_study_that_cannot_run_says_why() {
+    let mut app = bridge_app();
+    app.studies.overrides = vec!["solver.t_end=-1".into()];
+    let (id, spec) = start_study(&mut app, StudyKind::Mu);
+    let msgs = tui::study_worker::run_blocking(id, &spec);
+    assert_eq!(msgs.len(), 1, "no row, the end");
+    for m in msgs {
+        assert!(update(&mut app, m).is_empty(), "no CSV");
+    }
+    let e = app.studies.entry(StudyKind::Mu).unwrap();
+    let Phase::Failed(why) = &e.phase else {
+        panic!("{:?}", e.phase)
+    };
+    assert!(why.contains("solver.t_end"), "{why}");
+    assert_eq!(app.status, format!("μ (Fig. 8) failed: {why}"));
+    let s = screen(&render(&mut app, 80, 24));
+    assert!(
+        s.contains(">μ (Fig. 8): failed") && s.contains("failed: the reason below"),
+        "{s}"
+    );
+    // the hint bar of the studies view: Esc cancels the study, not the run
+    let bar = s.lines().last().unwrap();
+    assert!(bar.contains("Esc cancel study"), "{bar}");
+    assert_eq!(bar.matches("Esc cancel").count(), 1, "{bar}");
+}
+
+#[test]
+fn quitting_cancels_a_running_study() {
+    let mut app = bridge_app();
+    let (id, _) = start_study(&mut app, StudyKind::Screen);
+    let fx = act(&mut app, Action::Quit);
+    assert!(
+        fx.iter()
+            .any(|e| matches!(e, Effect::CancelStudy { id: i } if *i == id)),
+        "{fx:?}"
+    );
+}
+
+#[test]
+fn studies_in_ascii_mode_and_without_colour() {
+    for kind in StudyKind::ALL {
+        let mut app = studies_app(kind);
+        app.ascii = true;
+        for (w, h) in [(80, 24), (120, 40), (60, 18)] {
+            let s = screen(&render(&mut app, w, h));
+            // below the header line (shared with the other views), ASCII only
+            for (y, line) in s.lines().enumerate().skip(1) {
+                let wide: Vec<char> = line.chars().filter(|c| *c as u32 > 0x7e).collect();
+                assert!(wide.is_empty(), "{kind:?} {w}x{h} line {y}: {wide:?}\n{s}");
+            }
+        }
+    }
+    // without colour the series differ by their marks: o with contact, x without
+    let mut app = studies_app(StudyKind::Pga);
+    app.opts.color = false;
+    let t = render(&mut app, 80, 24);
+    for c in t.backend().buffer().content() {
+        assert_eq!(c.fg, ratatui::style::Color::Reset, "coloured cell {c:?}");
+    }
+    let s = screen(&t);
+    let plot: String = s.lines().skip(5).take(14).collect();
+    assert!(plot.contains('o') && plot.contains('x'), "{s}");
+    assert!(
+        s.contains("x without contact") && s.contains("o with contact"),
+        "{s}"
+    );
+}
+
+#[test]
+fn snapshot_studies_pga_80x24() {
+    let mut app = studies_app(StudyKind::Pga);
+    let t = render(&mut app, 80, 24);
+    snapshot_settings().bind(|| insta::assert_snapshot!("studies_pga_80x24", t.backend()));
+}
+
+#[test]
+fn snapshot_studies_mu_120x40() {
+    let mut app = studies_app(StudyKind::Mu);
+    let t = render(&mut app, 120, 40);
+    snapshot_settings().bind(|| insta::assert_snapshot!("studies_mu_120x40", t.backend()));
+}
+
+#[test]
+fn snapshot_studies_screen_80x24() {
+    let mut app = studies_app(StudyKind::Screen);
+    let t = render(&mut app, 80, 24);
+    snapshot_settings().bind(|| insta::assert_snapshot!("studies_screen_80x24", t.backend()));
+}
+
+#[test]
+fn snapshot_studies_screen_120x40_ascii() {
+    let mut app = studies_app(StudyKind::Screen);
+    app.ascii = true;
+    let t = render(&mut app, 120, 40);
+    snapshot_settings()
+        .bind(|| insta::assert_snapshot!("studies_screen_120x40_ascii", t.backend()));
 }

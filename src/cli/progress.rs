@@ -54,6 +54,8 @@ impl Progress for Bar {
     }
 }
 
+impl deckspin::studies::Watch for Bar {}
+
 impl Drop for Bar {
     fn drop(&mut self) {
         self.0.finish_and_clear();

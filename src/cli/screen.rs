@@ -4,7 +4,9 @@
 
 use clap::Args;
 use deckspin::design::equivalence::{Answer, Cell, answers, default_grid, grid};
-use deckspin::design::screen::{Flush, MapCell, ModelCorner, model_screen, screening_map};
+use deckspin::design::screen::{
+    Flush, MapCell, ModelCorner, map_axes, model_screen, screening_map,
+};
 use deckspin::design::screen_chart::map_grids;
 use deckspin::plot::svg::render_grid;
 use std::path::PathBuf;
@@ -25,13 +27,6 @@ pub struct ScreenArgs {
     /// Output directory (screen.json, screen-map.csv, equivalence.csv).
     #[arg(long, default_value = "out")]
     pub out: PathBuf,
-}
-
-/// L/B values of the map's columns and skew angles (degrees) of its rows.
-fn axes() -> (Vec<f64>, Vec<f64>) {
-    let lb = (0..=30).map(|i| 10f64.powf(i as f64 / 20.0)).collect(); // 1 … 31.6, log
-    let skew = (0..=12).map(|i| 5.0 * i as f64).collect(); // 0 … 60°
-    (lb, skew)
 }
 
 pub fn cmd_screen(a: &ScreenArgs) -> Result<(), Box<dyn std::error::Error>> {
@@ -78,7 +73,7 @@ pub fn cmd_screen(a: &ScreenArgs) -> Result<(), Box<dyn std::error::Error>> {
         .map(|e| (e.mu, e.restitution))
         .or_else(|| rigid.first().map(|c| (c.mu, c.restitution)))
         .unwrap_or((0.0, 0.0));
-    let (lb, skew) = axes();
+    let (lb, skew) = map_axes();
     let cells = screening_map(&lb, &skew, mu, eps);
     let point = ends.first().map(|e| (e.l_over_b, e.skew_deg));
     let mark = point.map(|(l, s)| (nearest(l, &lb, true), nearest(s, &skew, false)));

@@ -179,7 +179,7 @@ pub fn rectangle_corner(
 }
 
 /// One cell of the screening map.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct MapCell {
     pub l_over_b: f64,
     /// Skew φ, degrees.
@@ -230,7 +230,7 @@ pub struct ModelCorner {
 }
 
 /// An end of a frame flush against a face: the rectangle the corner pair spans.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct ModelEnd {
     /// The two corners' contacts.
     pub contacts: [String; 2],
@@ -340,5 +340,113 @@ fn body_index(b: BodyRef) -> Option<usize> {
     match b {
         BodyRef::Body(i) => Some(i),
         BodyRef::Ground => None,
+    }
+}
+
+/// The axes of the screening map of `deckspin screen`: 31 values of L/B from 1 to 31.6 on a
+/// log scale (20 per decade) and the skews 0°, 5°, …, 60°.
+pub fn map_axes() -> (Vec<f64>, Vec<f64>) {
+    let lb = (0..=30).map(|i| 10f64.powf(i as f64 / 20.0)).collect();
+    let skew = (0..=12).map(|i| 5.0 * i as f64).collect();
+    (lb, skew)
+}
+
+/// A corner struck alone, as a table row: against a rigid face or against the face's own body.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct CornerAlone {
+    pub contact: String,
+    /// The face held fixed (a rigid abutment); else the face's body with its own mass.
+    pub rigid_face: bool,
+    pub mu: f64,
+    pub restitution: f64,
+    /// Sticks during the impact; None when there is no closed form (`note` says why).
+    pub sticks: Option<bool>,
+    /// The μ a stick needs (NaN without a closed form).
+    pub stick_mu: f64,
+    /// θ̇⁺ of the struck frame, rad/s per m/s of approach (NaN without a closed form).
+    pub spin: f64,
+    pub note: Option<String>,
+}
+
+impl CornerAlone {
+    fn of(c: &ModelCorner, rigid_face: bool) -> Self {
+        Self {
+            contact: c.contact.clone(),
+            rigid_face,
+            mu: c.mu,
+            restitution: c.restitution,
+            sticks: c.impact.as_ref().map(|i| i.sticks),
+            stick_mu: c.impact.as_ref().map_or(f64::NAN, |i| i.stick_mu),
+            spin: c.spin,
+            note: c.note.clone(),
+        }
+    }
+}
+
+/// The screening of a model, all `deckspin screen` reports without `--equivalence`: the map
+/// over L/B × skew ([`map_axes`]) at the model's μ and ε (those of its first end, else of its
+/// first corner), its flush ends, and its corners struck alone against a rigid face and
+/// against the face's own body.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ScreenStudy {
+    pub mu: f64,
+    pub restitution: f64,
+    pub l_over_b: Vec<f64>,
+    pub skew_deg: Vec<f64>,
+    /// Row by row of skew: the cell of `l_over_b[i]` and `skew_deg[j]` is at
+    /// `j · l_over_b.len() + i` ([`screening_map`]'s order).
+    pub cells: Vec<MapCell>,
+    pub ends: Vec<ModelEnd>,
+    /// Each corner against a rigid face, then each against the face's own body.
+    pub corners: Vec<CornerAlone>,
+}
+
+/// [`ScreenStudy`] of a compiled model.
+pub fn screen_study(scene: &Scene) -> ScreenStudy {
+    let (rigid, ends) = model_screen(scene, true);
+    let body = model_screen(scene, false).0;
+    let (mu, restitution) = ends
+        .first()
+        .map(|e| (e.mu, e.restitution))
+        .or_else(|| rigid.first().map(|c| (c.mu, c.restitution)))
+        .unwrap_or((0.0, 0.0));
+    let (l_over_b, skew_deg) = map_axes();
+    let cells = screening_map(&l_over_b, &skew_deg, mu, restitution);
+    let corners = (rigid.iter().map(|c| CornerAlone::of(c, true)))
+        .chain(body.iter().map(|c| CornerAlone::of(c, false)))
+        .collect();
+    ScreenStudy {
+        mu,
+        restitution,
+        l_over_b,
+        skew_deg,
+        cells,
+        ends,
+        corners,
+    }
+}
+
+impl ScreenStudy {
+    /// The cell nearest the model's first end, `(L/B index, skew index)`: nearest in log L/B
+    /// and in skew. None without ends or without cells.
+    pub fn mark(&self) -> Option<(usize, usize)> {
+        let e = self.ends.first()?;
+        let nearest = |v: f64, axis: &[f64], f: fn(f64) -> f64| {
+            (0..axis.len()).min_by(|&i, &j| {
+                let (a, b) = ((f(axis[i]) - f(v)).abs(), (f(axis[j]) - f(v)).abs());
+                a.total_cmp(&b)
+            })
+        };
+        Some((
+            nearest(e.l_over_b, &self.l_over_b, f64::ln)?,
+            nearest(e.skew_deg, &self.skew_deg, |x| x)?,
+        ))
+    }
+
+    /// The map cell of `l_over_b[i]` and `skew_deg[j]`.
+    pub fn cell(&self, i: usize, j: usize) -> Option<&MapCell> {
+        (i < self.l_over_b.len())
+            .then(|| self.cells.get(j * self.l_over_b.len() + i))
+            .flatten()
     }
 }

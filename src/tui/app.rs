@@ -5,6 +5,7 @@ use super::form::{self, Form};
 use super::keymap::{self, Ctx};
 pub use super::merge::Conflict;
 use super::run_data::RunData;
+use super::study::Studies;
 use crate::scene::Scene;
 use std::hash::{Hash, Hasher};
 use std::path::{Path, PathBuf};
@@ -17,6 +18,7 @@ pub const MIN_HEIGHT: u16 = 18;
 pub enum View {
     Charts,
     Form,
+    Studies,
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -45,6 +47,11 @@ pub enum Mode {
     },
     Confirm(Confirm),
     Help,
+    /// Choosing a study's CSV to reopen (the files found, newest first).
+    Pick {
+        files: Vec<PathBuf>,
+        selected: usize,
+    },
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -154,6 +161,8 @@ pub struct App {
     pub watch_mode: String,
     /// Bumped whenever charted data changes (keys the drawing caches).
     pub generation: u64,
+    /// The studies view: the last study of each kind, running or done.
+    pub studies: Studies,
 }
 
 impl App {
@@ -190,6 +199,7 @@ impl App {
             quit: false,
             watch_mode: String::new(),
             generation: 0,
+            studies: Studies::default(),
         };
         match form::validate(text, path) {
             Ok(scene) => {
@@ -282,12 +292,18 @@ impl App {
             Mode::Confirm(Confirm::Merge { .. }) => Some(Ctx::Merge),
             Mode::Confirm(_) => Some(Ctx::Confirm),
             Mode::Help => Some(Ctx::Help),
+            Mode::Pick { .. } => Some(Ctx::Pick),
         };
-        let view = match self.view {
+        keymap::active(mode, self.view_ctx())
+    }
+
+    /// The keymap context of the view shown.
+    pub fn view_ctx(&self) -> Ctx {
+        match self.view {
             View::Charts => Ctx::Charts,
             View::Form => Ctx::Form,
-        };
-        keymap::active(mode, view)
+            View::Studies => Ctx::Studies,
+        }
     }
 
     /// Rebuilds the form from the draft, keeping the selected field.

@@ -4,8 +4,9 @@
 use super::app::App;
 use super::export;
 use super::msg::{Effect, Msg};
+use super::study::StudySpec;
 use super::update::update;
-use super::worker;
+use super::{study_files, study_worker, worker};
 use crate::scene::Scene;
 use std::collections::VecDeque;
 use std::io::{self, Write};
@@ -59,6 +60,9 @@ pub trait Host {
     /// none when they come later through the runtime's channel).
     fn start_run(&mut self, id: u64, scene: Scene) -> Vec<Msg>;
     fn cancel_run(&mut self, id: u64);
+    /// Starts study `id`; returns the messages available now (as [`Host::start_run`]).
+    fn start_study(&mut self, id: u64, spec: StudySpec) -> Vec<Msg>;
+    fn cancel_study(&mut self, id: u64);
     /// Runs a slow job (export formatting); returns its message now or sends it later.
     fn background(&mut self, job: Job) -> Vec<Msg>;
     /// A timing milestone.
@@ -112,6 +116,22 @@ fn execute(app: &mut App, host: &mut impl Host, e: Effect) -> Vec<Msg> {
             let files = export::export_files(&stem, &run, window, element);
             Msg::Exported(export::write_exports(&dirs, &files))
         })),
+        Effect::StartStudy { id, spec } => host.start_study(id, *spec),
+        Effect::CancelStudy { id } => {
+            host.cancel_study(id);
+            Vec::new()
+        }
+        Effect::WriteStudy { id, dirs, table } => host.background(Box::new(move || {
+            let result = study_files::write(&dirs, &table);
+            Msg::StudyWritten { id, result }
+        })),
+        Effect::ListStudies { dirs } => {
+            host.background(Box::new(move || Msg::StudyFiles(study_files::list(&dirs))))
+        }
+        Effect::LoadStudy { path } => host.background(Box::new(move || {
+            let result = study_files::load(&path);
+            Msg::StudyLoaded { path, result }
+        })),
         Effect::Quit => {
             app.quit = true;
             Vec::new()
@@ -127,6 +147,10 @@ impl Host for Blocking {
         worker::run_blocking(id, &scene)
     }
     fn cancel_run(&mut self, _id: u64) {}
+    fn start_study(&mut self, id: u64, spec: StudySpec) -> Vec<Msg> {
+        study_worker::run_blocking(id, &spec)
+    }
+    fn cancel_study(&mut self, _id: u64) {}
     fn background(&mut self, job: Job) -> Vec<Msg> {
         vec![job()]
     }

@@ -9,6 +9,7 @@ pub enum Action {
     Quit,
     Help,
     SwitchView,
+    SwitchViewBack,
     Rerun,
     Cancel,
     Save,
@@ -45,6 +46,15 @@ pub enum Action {
     KeepMineAll,
     TakeTheirsAll,
     CloseHelp,
+    StudyPrev,
+    StudyNext,
+    StudyRun,
+    StudyCancel,
+    StudyReopen,
+    PickUp,
+    PickDown,
+    PickLoad,
+    PickClose,
 }
 
 /// Where a binding applies. Lookup order: the mode's own context first, then the view, then
@@ -54,6 +64,8 @@ pub enum Ctx {
     Global,
     Charts,
     Form,
+    Studies,
+    Pick,
     Edit,
     Confirm,
     Merge,
@@ -66,6 +78,8 @@ impl Ctx {
             Ctx::Global => "everywhere",
             Ctx::Charts => "charts view",
             Ctx::Form => "form view",
+            Ctx::Studies => "studies view",
+            Ctx::Pick => "choosing a study CSV",
             Ctx::Edit => "editing a value",
             Ctx::Confirm => "answering a question",
             Ctx::Merge => "a value changed on disk and here",
@@ -85,6 +99,16 @@ pub enum K {
 }
 
 impl K {
+    /// The key event this key is (for lookups).
+    pub fn event(&self) -> KeyEvent {
+        match *self {
+            K::Ch(c) => KeyEvent::new(KeyCode::Char(c), KeyModifiers::NONE),
+            K::Ctrl(c) => KeyEvent::new(KeyCode::Char(c), KeyModifiers::CONTROL),
+            K::Code(c) => KeyEvent::new(c, KeyModifiers::NONE),
+            K::Shift(c) => KeyEvent::new(c, KeyModifiers::SHIFT),
+        }
+    }
+
     pub fn matches(&self, ev: &KeyEvent) -> bool {
         let ctrl = ev.modifiers.contains(KeyModifiers::CONTROL);
         let shift = ev.modifiers.contains(KeyModifiers::SHIFT);
@@ -145,6 +169,11 @@ pub const KEYMAP: &[Binding] = &[
     b(Ctx::Merge, &[K::Ch('t')], "t", A::TakeTheirs, "take the value on disk", Some(("t", "take theirs"))),
     b(Ctx::Merge, &[K::Ch('M')], "M", A::KeepMineAll, "keep mine for all of them", Some(("M", "mine for all"))),
     b(Ctx::Merge, &[K::Ch('T')], "T", A::TakeTheirsAll, "take theirs for all of them", Some(("T", "theirs for all"))),
+    // choosing a study's CSV to reopen
+    b(Ctx::Pick, &[K::Code(KC::Up), K::Ch('k')], "Up/k", A::PickUp, "previous file", None),
+    b(Ctx::Pick, &[K::Code(KC::Down), K::Ch('j')], "Down/j", A::PickDown, "next file", Some(("j/k", "file"))),
+    b(Ctx::Pick, &[K::Code(KC::Enter)], "Enter", A::PickLoad, "open the study of the file", Some(("Enter", "open"))),
+    b(Ctx::Pick, &[K::Code(KC::Esc), K::Ch('q')], "Esc/q", A::PickClose, "close the list", Some(("Esc", "close"))),
     // help
     b(Ctx::Help, &[K::Ch('?'), K::Code(KC::Esc), K::Ch('q')], "?/Esc/q", A::CloseHelp, "close the help", Some(("?/Esc/q", "close"))),
     // charts view
@@ -166,12 +195,19 @@ pub const KEYMAP: &[Binding] = &[
     b(Ctx::Form, &[K::Code(KC::PageDown)], "PgDn", A::FieldPageDown, "page down", None),
     b(Ctx::Form, &[K::Code(KC::Enter)], "Enter", A::FieldEdit, "edit the value", Some(("Enter", "edit"))),
     b(Ctx::Form, &[K::Ch('u')], "u", A::FieldRevert, "revert to the saved value", Some(("u", "revert"))),
-    b(Ctx::Form, &[K::Ch('+')], "+", A::ItemDuplicate, "copy frame, bent, run; add key", None),
+    b(Ctx::Form, &[K::Ch('+')], "+", A::ItemDuplicate, "copy frame/bent/run; add key", None),
     b(Ctx::Form, &[K::Ch('-')], "-", A::ItemRemove, "remove frame, bent, run, key", None),
+    // studies view
+    b(Ctx::Studies, &[K::Code(KC::Left), K::Ch('h')], "Left/h", A::StudyPrev, "previous study", None),
+    b(Ctx::Studies, &[K::Code(KC::Right), K::Ch('l')], "Right/l", A::StudyNext, "next study", Some(("h/l", "study"))),
+    b(Ctx::Studies, &[K::Code(KC::Enter)], "Enter", A::StudyRun, "run the study (form's model)", Some(("Enter", "run study"))),
+    b(Ctx::Studies, &[K::Code(KC::Esc)], "Esc", A::StudyCancel, "cancel the running study", Some(("Esc", "cancel study"))),
+    b(Ctx::Studies, &[K::Ch('f')], "f", A::StudyReopen, "reopen a study from its CSV", Some(("f", "reopen CSV"))),
     // everywhere
     b(Ctx::Global, &[K::Ch('q'), K::Ctrl('c')], "q", A::Quit, "quit (asks if edits unsaved)", Some(("q", "quit"))),
     b(Ctx::Global, &[K::Ch('?')], "?", A::Help, "this help", Some(("?", "help"))),
-    b(Ctx::Global, &[K::Code(KC::Tab), K::Code(KC::BackTab)], "Tab", A::SwitchView, "charts ⇄ form", Some(("Tab", "view"))),
+    b(Ctx::Global, &[K::Code(KC::Tab)], "Tab", A::SwitchView, "view: charts, form, studies", Some(("Tab", "view"))),
+    b(Ctx::Global, &[K::Code(KC::BackTab), K::Shift(KC::BackTab)], "S-Tab", A::SwitchViewBack, "the view before", None),
     b(Ctx::Global, &[K::Ch('s')], "s", A::Save, "save the file and rerun", Some(("s", "save"))),
     b(Ctx::Global, &[K::Ch('r')], "r", A::Rerun, "rerun (with unsaved edits)", Some(("r", "rerun"))),
     b(Ctx::Global, &[K::Code(KC::Esc), K::Ch('c')], "Esc/c", A::Cancel, "cancel the simulation", Some(("Esc", "cancel"))),
@@ -200,12 +236,19 @@ pub fn lookup(ctxs: &[Ctx], ev: &KeyEvent) -> Option<Action> {
 }
 
 /// (keys, hint) pairs for the key-hint bar: help and quit first, then the contexts' keys in
-/// table order.
+/// table order; a binding whose first key a more specific context takes (`Esc` in the studies
+/// view) has no hint there.
 pub fn hints(ctxs: &[Ctx]) -> Vec<(&'static str, &'static str)> {
+    let shadowed = |bd: &Binding| {
+        let i = ctxs.iter().position(|c| *c == bd.ctx).unwrap_or(0);
+        bd.keys
+            .first()
+            .is_some_and(|k| lookup(&ctxs[..i], &k.event()).is_some())
+    };
     let all: Vec<&Binding> = ctxs
         .iter()
         .flat_map(|c| KEYMAP.iter().filter(move |bd| bd.ctx == *c))
-        .filter(|bd| bd.hint.is_some())
+        .filter(|bd| bd.hint.is_some() && !shadowed(bd))
         .collect();
     let pinned = |bd: &&Binding| matches!(bd.action, Action::Help | Action::Quit);
     let mut out: Vec<&Binding> = all.iter().copied().filter(pinned).collect();
@@ -220,6 +263,8 @@ pub fn help() -> Vec<(&'static str, Vec<(&'static str, &'static str)>)> {
         Ctx::Global,
         Ctx::Charts,
         Ctx::Form,
+        Ctx::Studies,
+        Ctx::Pick,
         Ctx::Edit,
         Ctx::Confirm,
         Ctx::Merge,

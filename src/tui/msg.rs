@@ -2,8 +2,11 @@
 
 use super::keymap::Action;
 use super::run_data::{RunData, RunFailure};
+use super::study::StudySpec;
 use crate::output::{EventRecord, RunOutput, Sample};
 use crate::scene::Scene;
+use crate::studies::Row;
+use crate::study_table::StudyTable;
 use crossterm::event::KeyEvent;
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -14,6 +17,14 @@ pub enum RunOutcome {
     Finished(Box<RunOutput>),
     Cancelled { t: f64 },
     Failed(Arc<RunFailure>),
+}
+
+/// How a study ended: its table (rows not run marked so when cancelled), or why none ran.
+#[derive(Debug)]
+pub enum StudyOutcome {
+    Finished(Box<StudyTable>),
+    Cancelled(Box<StudyTable>),
+    Failed(String),
 }
 
 /// Input of [`super::update`].
@@ -49,6 +60,28 @@ pub enum Msg {
     Signal(i32),
     /// Result of [`Effect::Export`]: the written paths.
     Exported(Result<Vec<PathBuf>, String>),
+    /// Row `index` of study `id`'s table is final.
+    StudyRow {
+        id: u64,
+        index: usize,
+        row: Box<Row>,
+    },
+    StudyDone {
+        id: u64,
+        outcome: StudyOutcome,
+    },
+    /// Result of [`Effect::WriteStudy`]: the CSV written.
+    StudyWritten {
+        id: u64,
+        result: Result<PathBuf, String>,
+    },
+    /// Result of [`Effect::ListStudies`]: the study CSVs found, newest first.
+    StudyFiles(Result<Vec<PathBuf>, String>),
+    /// Result of [`Effect::LoadStudy`].
+    StudyLoaded {
+        path: PathBuf,
+        result: Result<Box<StudyTable>, String>,
+    },
 }
 
 /// Output of [`super::update`], executed by [`super::effects::perform`].
@@ -78,6 +111,29 @@ pub enum Effect {
         run: Box<RunData>,
         window: (f64, f64),
         element: usize,
+    },
+    /// Run a study in a worker thread ([`super::study_worker`]).
+    StartStudy {
+        id: u64,
+        spec: Box<StudySpec>,
+    },
+    CancelStudy {
+        id: u64,
+    },
+    /// Write study `id`'s table as `<kind>-<n>.csv` (the first free n) into the first of
+    /// `dirs` that accepts it (created if need be).
+    WriteStudy {
+        id: u64,
+        dirs: Vec<PathBuf>,
+        table: Box<StudyTable>,
+    },
+    /// List the CSV files of `dirs`.
+    ListStudies {
+        dirs: Vec<PathBuf>,
+    },
+    /// Read a study's CSV.
+    LoadStudy {
+        path: PathBuf,
     },
     Quit,
 }

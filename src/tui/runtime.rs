@@ -6,9 +6,10 @@
 use super::app::{App, Options};
 use super::effects::{Host, Job, perform};
 use super::msg::Msg;
+use super::study::StudySpec;
 use super::ui;
 use super::update::update;
-use super::{signals, watch, worker};
+use super::{signals, study_worker, watch, worker};
 use crate::scene::Scene;
 use crossterm::event::{self, Event};
 use crossterm::execute;
@@ -110,6 +111,7 @@ impl Timing {
 struct Threads {
     tx: Sender<Msg>,
     runs: HashMap<u64, worker::RunHandle>,
+    studies: HashMap<u64, study_worker::StudyHandle>,
     timing: Timing,
 }
 
@@ -123,6 +125,18 @@ impl Host for Threads {
     }
     fn cancel_run(&mut self, id: u64) {
         if let Some(h) = self.runs.get(&id) {
+            h.cancel();
+        }
+    }
+    fn start_study(&mut self, id: u64, spec: StudySpec) -> Vec<Msg> {
+        self.timing.log(&format!("study-start {id}"));
+        self.studies.retain(|_, h| h.id + 8 > id);
+        let h = study_worker::spawn(id, spec, self.tx.clone());
+        self.studies.insert(id, h);
+        Vec::new()
+    }
+    fn cancel_study(&mut self, id: u64) {
+        if let Some(h) = self.studies.get(&id) {
             h.cancel();
         }
     }
@@ -142,6 +156,9 @@ impl Host for Threads {
 impl Threads {
     fn cancel_all(&self) {
         for h in self.runs.values() {
+            h.cancel();
+        }
+        for h in self.studies.values() {
             h.cancel();
         }
     }
@@ -198,6 +215,7 @@ pub fn run(model: &Path) -> Result<(), Box<dyn std::error::Error>> {
     let mut host = Threads {
         tx: tx.clone(),
         runs: HashMap::new(),
+        studies: HashMap::new(),
         timing,
     };
     let fx = app.start();

@@ -98,7 +98,8 @@ fn outcome(r: Run, full: Option<f64>) -> RunOutcome {
     }
 }
 
-fn panic_text(p: &(dyn std::any::Any + Send)) -> String {
+/// The message of a panic caught on a worker thread.
+pub(crate) fn panic_text(p: &(dyn std::any::Any + Send)) -> String {
     LAST_PANIC
         .with(|l| l.borrow_mut().take())
         .or_else(|| p.downcast_ref::<&str>().map(|s| s.to_string()))

@@ -128,3 +128,78 @@ pub(super) fn overlay_run(app: &App) -> Option<&RunData> {
         None
     }
 }
+
+impl Theme {
+    /// Text as drawn: in ASCII mode Greek letters and symbols are spelled out (`θ` theta,
+    /// `μ` mu, `ε` eps, `…` ..., `×` x, `·` |, `→` ->, `≥` >=) and anything else above 0x7E
+    /// becomes `?`.
+    pub(super) fn text(&self, s: &str) -> String {
+        if !self.ascii {
+            return s.to_string();
+        }
+        let mut out = String::with_capacity(s.len());
+        for c in s.chars() {
+            match c {
+                'θ' => out.push_str("theta"),
+                'μ' => out.push_str("mu"),
+                'ε' => out.push_str("eps"),
+                '…' => out.push_str("..."),
+                '×' => out.push('x'),
+                '·' | '│' => out.push('|'),
+                '→' => out.push_str("->"),
+                '≥' => out.push_str(">="),
+                '≤' => out.push_str("<="),
+                '—' | '–' | '─' => out.push('-'),
+                '°' => out.push_str(" deg"),
+                c if (c as u32) < 0x7f => out.push(c),
+                _ => out.push('?'),
+            }
+        }
+        out
+    }
+
+    /// The separator of items on one line.
+    pub(super) fn sep(&self) -> &'static str {
+        if self.ascii { " | " } else { " · " }
+    }
+}
+
+/// As many of `items` as fit whole in `width` columns, in order, joined by `sep` (an item
+/// that does not fit is left out, never cut).
+pub(super) fn fit(items: &[String], sep: &str, width: usize) -> String {
+    let mut out = String::new();
+    for it in items.iter().filter(|i| !i.is_empty()) {
+        let extra = if out.is_empty() {
+            0
+        } else {
+            sep.chars().count()
+        };
+        if out.chars().count() + extra + it.chars().count() <= width {
+            if !out.is_empty() {
+                out.push_str(sep);
+            }
+            out.push_str(it);
+        }
+    }
+    out
+}
+
+/// `items` flowed in order into at most `lines` lines of `width` columns, joined by `sep`; an
+/// item that does not fit on a line of its own, or finds no line left, is left out whole.
+pub(super) fn fit_lines(items: &[String], sep: &str, width: usize, lines: usize) -> Vec<String> {
+    let mut out: Vec<String> = Vec::new();
+    for it in items.iter().filter(|i| !i.is_empty()) {
+        let n = it.chars().count();
+        if n > width {
+            continue;
+        }
+        let fits = |l: &String| l.chars().count() + sep.chars().count() + n <= width;
+        if let Some(l) = out.last_mut().filter(|l| fits(l)) {
+            l.push_str(sep);
+            l.push_str(it);
+        } else if out.len() < lines {
+            out.push(it.clone());
+        }
+    }
+    out
+}

@@ -3,6 +3,7 @@
 use super::common::Theme;
 use crate::tui::app::{App, LoadError, StatusKind, View};
 use crate::tui::run_data::RunStatus;
+use crate::tui::study::short_title;
 use ratatui::Frame;
 use ratatui::layout::{Alignment, Constraint, Layout, Rect};
 use ratatui::style::Color;
@@ -91,9 +92,31 @@ fn fmt_t(t: f64) -> String {
     format!("{t:.2}")
 }
 
+/// The running study and its progress (`PGA 5/14 · `), if any.
+fn study_progress(app: &App, th: &Theme) -> Option<Vec<Span<'static>>> {
+    let (k, e) = app.studies.running()?;
+    let (done, all) = e.progress();
+    let text = if all > 0 {
+        format!("{} {done}/{all}", short_title(k))
+    } else {
+        format!("{} …", short_title(k))
+    };
+    Some(vec![
+        Span::styled(th.text(&text), th.fg(Color::Magenta)),
+        Span::styled(th.sep(), th.dim()),
+    ])
+}
+
 /// Draws the header line.
 pub(super) fn draw_header(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
-    let right = run_progress(app, th);
+    let mut right = run_progress(app, th);
+    if let Some(mut spans) = study_progress(app, th) {
+        let w: usize = spans.iter().map(Span::width).sum();
+        if right.width() + w <= (area.width * 3 / 5) as usize {
+            spans.append(&mut right.spans);
+            right = Line::from(spans);
+        }
+    }
     let rw = (right.width() as u16).min(area.width * 3 / 5);
     let [l, r] = Layout::horizontal([Constraint::Min(0), Constraint::Length(rw + 1)]).areas(area);
     let mut name = app.file_name();
@@ -103,6 +126,7 @@ pub(super) fn draw_header(frame: &mut Frame, area: Rect, app: &App, th: &Theme) 
     let view = match app.view {
         View::Charts => "charts",
         View::Form => "form",
+        View::Studies => "studies",
     };
     let fixed = 8 + 3 + name.chars().count() + 3 + 3 + view.len();
     let room = (l.width as usize).saturating_sub(fixed);

@@ -9,10 +9,13 @@ mod form;
 mod header;
 mod loop_chart;
 mod plan;
+mod screen_map;
 mod side;
 mod status;
+mod studies;
 mod time;
 mod timeline;
+mod xy_plot;
 
 pub use cache::Cache;
 pub use timeline::{event_strip, key_failure_mark, key_strip};
@@ -47,11 +50,13 @@ pub fn draw(frame: &mut Frame, app: &App, cache: &mut Cache) {
     match app.view {
         View::Charts => draw_charts(frame, body, app, cache, &th),
         View::Form => form::draw_form(frame, body, app, &th),
+        View::Studies => studies::draw_studies(frame, body, app, &th),
     }
     status::draw_status(frame, status, app, &th);
     status::draw_hints(frame, hints, app, &th);
     match &app.mode {
-        Mode::Help => status::draw_help(frame, area, &th),
+        Mode::Help => status::draw_help(frame, area, app, &th),
+        Mode::Pick { files, selected } => studies::draw_picker(frame, area, files, *selected, &th),
         Mode::Confirm(c) => status::draw_confirm(frame, area, app, c, &th),
         _ => {}
     }

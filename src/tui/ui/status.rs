@@ -33,7 +33,10 @@ pub(super) fn draw_status(frame: &mut Frame, area: Rect, app: &App, th: &Theme) 
     let ww = (wm.chars().count() as u16 + 1).min(area.width / 3);
     let [l, r] = Layout::horizontal([Constraint::Min(0), Constraint::Length(ww)]).areas(area);
     frame.render_widget(
-        Paragraph::new(Line::styled(app.status.clone(), th.status(app.status_kind))),
+        Paragraph::new(Line::styled(
+            th.text(&app.status),
+            th.status(app.status_kind),
+        )),
         l,
     );
     frame.render_widget(
@@ -72,9 +75,16 @@ fn centered(area: Rect, w: u16, h: u16) -> Rect {
     )
 }
 
-/// Draws the help overlay: every key, from the keymap.
-pub(super) fn draw_help(frame: &mut Frame, area: Rect, th: &Theme) {
-    let groups: Vec<Vec<Line>> = keymap::help()
+/// Draws the help overlay: every key, from the keymap; the keys of the view shown come right
+/// after those that work everywhere.
+pub(super) fn draw_help(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
+    let view = app.view_ctx().title();
+    let mut help = keymap::help();
+    if let Some(i) = help.iter().position(|(t, _)| *t == view) {
+        let group = help.remove(i);
+        help.insert(1.min(help.len()), group);
+    }
+    let groups: Vec<Vec<Line>> = help
         .into_iter()
         .map(|(title, rows)| {
             let mut g = vec![Line::styled(
@@ -90,18 +100,50 @@ pub(super) fn draw_help(frame: &mut Frame, area: Rect, th: &Theme) {
             g
         })
         .collect();
-    let all: Vec<Line> = groups.into_iter().flatten().collect();
-    let half = all.len().div_ceil(2);
-    let (c0, c1) = (all[..half].to_vec(), all[half..].to_vec());
     let rect = centered(area, area.width.min(100), area.height);
     let block = th.block(" help — keys (Esc closes) ");
     let inner = block.inner(rect);
+    let (c0, c1) = help_columns(groups, inner.height as usize, th);
     frame.render_widget(Clear, rect);
     frame.render_widget(block, rect);
-    let [a, b] =
-        Layout::horizontal([Constraint::Percentage(50), Constraint::Percentage(50)]).areas(inner);
+    let [a, b] = Layout::horizontal([Constraint::Percentage(50), Constraint::Percentage(50)])
+        .spacing(1)
+        .areas(inner);
     frame.render_widget(Paragraph::new(c0), a);
     frame.render_widget(Paragraph::new(c1), b);
+}
+
+/// The help's two columns of `rows` lines: split in the middle when every line fits, else
+/// whole groups in order, each into the first column with room for it; the groups left out
+/// (keys of other modes, shown in the hint bar there) are counted on the last line.
+fn help_columns<'a>(
+    groups: Vec<Vec<Line<'a>>>,
+    rows: usize,
+    th: &Theme,
+) -> (Vec<Line<'a>>, Vec<Line<'a>>) {
+    let all: usize = groups.iter().map(Vec::len).sum();
+    if all <= 2 * rows {
+        let lines: Vec<Line> = groups.into_iter().flatten().collect();
+        let half = lines.len().div_ceil(2);
+        return (lines[..half].to_vec(), lines[half..].to_vec());
+    }
+    let mut cols: [Vec<Line>; 2] = [Vec::new(), Vec::new()];
+    let mut left = 0;
+    for g in groups {
+        // the second column keeps a line for the count of the groups left out
+        let room = |k: usize, c: &Vec<Line>| c.len() + g.len() + k <= rows;
+        match (room(0, &cols[0]), room(1, &cols[1])) {
+            (true, _) => cols[0].extend(g),
+            (_, true) => cols[1].extend(g),
+            _ => left += 1,
+        }
+    }
+    if left > 0 {
+        let note = format!("({left} more groups: a taller terminal)");
+        cols[1].push(Line::styled(note, th.dim()));
+    }
+    let [a, b] = cols;
+    (a, b)
 }
 
 /// The question's lines and its keys (key, meaning).

@@ -6,6 +6,7 @@ mod edit;
 mod file;
 mod reconcile;
 mod run;
+mod study;
 mod view;
 
 use crate::tui::app::{App, Confirm, Mode, StatusKind};
@@ -48,6 +49,11 @@ pub fn update(app: &mut App, msg: Msg) -> Vec<Effect> {
         Msg::Saved { text, result } => file::on_saved(app, text, result),
         Msg::SaveConflict(disk) => reconcile::on_save_conflict(app, disk),
         Msg::Exported(r) => on_exported(app, r),
+        Msg::StudyRow { id, index, row } => study::on_row(app, id, index, &row),
+        Msg::StudyDone { id, outcome } => study::on_done(app, id, outcome),
+        Msg::StudyWritten { id, result } => study::on_written(app, id, result),
+        Msg::StudyFiles(r) => study::on_files(app, r),
+        Msg::StudyLoaded { path, result } => study::on_loaded(app, path, result),
         // the runtime ends the loop on it (see `signals`)
         Msg::Signal(_) => Vec::new(),
     }
@@ -103,7 +109,7 @@ fn on_action(app: &mut App, a: Action) -> Vec<Effect> {
         A::TakeTheirs | A::TakeTheirsAll => {
             reconcile::answer_conflict(app, false, a == A::TakeTheirsAll)
         }
-        A::SwitchView | A::ToggleMarker | A::ToggleOverlay => {
+        A::SwitchView | A::SwitchViewBack | A::ToggleMarker | A::ToggleOverlay => {
             view::toggle(app, a);
             Vec::new()
         }
@@ -136,6 +142,15 @@ fn on_action(app: &mut App, a: Action) -> Vec<Effect> {
             edit::form_action(app, a);
             Vec::new()
         }
+        A::StudyPrev
+        | A::StudyNext
+        | A::StudyRun
+        | A::StudyCancel
+        | A::StudyReopen
+        | A::PickUp
+        | A::PickDown
+        | A::PickLoad
+        | A::PickClose => study::study_action(app, a),
     }
 }
 
@@ -163,6 +178,9 @@ fn quit(app: &mut App) -> Vec<Effect> {
     let mut fx = Vec::new();
     if let Some(cur) = app.current.as_ref().filter(|c| c.running()) {
         fx.push(Effect::CancelRun { id: cur.id });
+    }
+    if let Some((_, e)) = app.studies.running() {
+        fx.push(Effect::CancelStudy { id: e.id });
     }
     fx.push(Effect::Quit);
     fx

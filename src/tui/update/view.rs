@@ -3,13 +3,21 @@
 use crate::tui::app::{App, StatusKind, View};
 use crate::tui::keymap::Action;
 
-/// `Tab`, `m`, `o`.
+/// `Tab`, `S-Tab`, `m`, `o`.
 pub(super) fn toggle(app: &mut App, a: Action) {
     match a {
         Action::SwitchView => {
             app.view = match app.view {
                 View::Charts => View::Form,
+                View::Form => View::Studies,
+                View::Studies => View::Charts,
+            };
+        }
+        Action::SwitchViewBack => {
+            app.view = match app.view {
+                View::Charts => View::Studies,
                 View::Form => View::Charts,
+                View::Studies => View::Form,
             };
         }
         Action::ToggleMarker => {

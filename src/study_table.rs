@@ -1,0 +1,261 @@
+//! The paper's studies as tables that a front end fills while they run, draws, writes and
+//! reads back ([`crate::study_csv`]): one row per run of the PGA study (Fig. 7: peak |θ|
+//! against PGA, with and without contact) and of the μ study (Fig. 8: peak |θ| for each μ and
+//! without contact, whose ratio is the increase), and the screening by the impact law
+//! ([`ScreenStudy`]). [`run_study`] runs one, watched by a [`Watch`].
+
+use crate::design::screen::{ScreenStudy, screen_study};
+use crate::model::ModelError;
+use crate::studies::{Row, RunFailure, Study, Watch, increase_vs_mu, rotation_vs_pga, run_pgas};
+
+/// A study of the workbench's list.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum StudyKind {
+    /// Fig. 7: peak |θ| against PGA with contact and without.
+    Pga,
+    /// Fig. 8: the increase of peak |θ| over no contact against μ, one curve per run.
+    Mu,
+    /// The screening by the impact law: the L/B × skew maps, the model's ends and corners.
+    Screen,
+}
+
+impl StudyKind {
+    /// Every study, in the order the workbench lists them.
+    pub const ALL: [StudyKind; 3] = [StudyKind::Pga, StudyKind::Mu, StudyKind::Screen];
+
+    /// The name of its CSV files (`pga-3.csv`) and the value of their `study` column.
+    pub fn key(self) -> &'static str {
+        match self {
+            StudyKind::Pga => "pga",
+            StudyKind::Mu => "mu",
+            StudyKind::Screen => "screen",
+        }
+    }
+}
+
+/// How one run of a study ended.
+#[derive(Clone, Debug, PartialEq)]
+pub enum PointStatus {
+    Ok,
+    /// Not run (yet, or the study was cancelled before it).
+    NotRun,
+    /// The run failed: the reason.
+    Failed(String),
+}
+
+/// One run of the PGA or μ study.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StudyRun {
+    /// The `[[run]]` number, from 1.
+    pub run: usize,
+    /// Target PGAs of the run, g (NaN where the model does not give them).
+    pub pga_x: f64,
+    pub pga_y: f64,
+    pub contact: bool,
+    /// `contacts.mu` of the run (the μ study); None: the model's own μ.
+    pub mu: Option<f64>,
+    /// Peak |θ| of the deck, rad (NaN unless the run finished).
+    pub peak_rotation: f64,
+    /// θ at the end of the run, rad.
+    pub residual_rotation: f64,
+    pub impacts: usize,
+    pub status: PointStatus,
+}
+
+impl StudyRun {
+    fn planned(run: usize, (pga_x, pga_y): (f64, f64), contact: bool, mu: Option<f64>) -> Self {
+        Self {
+            run,
+            pga_x,
+            pga_y,
+            contact,
+            mu,
+            peak_rotation: f64::NAN,
+            residual_rotation: f64::NAN,
+            impacts: 0,
+            status: PointStatus::NotRun,
+        }
+    }
+
+    pub fn is_ok(&self) -> bool {
+        self.status == PointStatus::Ok
+    }
+}
+
+/// One curve of Fig. 8: a run's increase of peak |θ| over its no-contact peak, % against μ.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Fig8Curve {
+    pub run: usize,
+    pub pga_x: f64,
+    /// (μ, increase %), for the μ whose run and whose run without contact both finished.
+    pub points: Vec<(f64, f64)>,
+}
+
+/// The runs of the PGA or μ study, in the order of their progress index ([`RunTable::record`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct RunTable {
+    /// [`StudyKind::Pga`] or [`StudyKind::Mu`].
+    pub kind: StudyKind,
+    pub runs: Vec<StudyRun>,
+}
+
+impl RunTable {
+    /// The PGA study of a bridge model's text, nothing run: for each `[[run]]`, without
+    /// contact then with contact ([`rotation_vs_pga`]'s order).
+    pub fn pga_plan(text: &str) -> Self {
+        let runs = (run_pgas(text).into_iter().enumerate())
+            .flat_map(|(i, p)| [false, true].map(|c| StudyRun::planned(i + 1, p, c, None)))
+            .collect();
+        Self {
+            kind: StudyKind::Pga,
+            runs,
+        }
+    }
+
+    /// The μ study, nothing run: each `[[run]]` without contact, then each run with each μ
+    /// ([`increase_vs_mu`]'s order).
+    pub fn mu_plan(text: &str, mus: &[f64]) -> Self {
+        let pgas = run_pgas(text);
+        let baseline =
+            (pgas.iter().enumerate()).map(|(i, &p)| StudyRun::planned(i + 1, p, false, None));
+        let with = (pgas.iter().enumerate()).flat_map(|(i, &p)| {
+            mus.iter()
+                .map(move |&m| StudyRun::planned(i + 1, p, true, Some(m)))
+        });
+        Self {
+            kind: StudyKind::Mu,
+            runs: baseline.chain(with).collect(),
+        }
+    }
+
+    /// Row `index` of the study's sweeps finished (or failed, or was skipped by a cancel);
+    /// false when there is no such row.
+    pub fn record(&mut self, index: usize, row: &Row) -> bool {
+        let Some(r) = self.runs.get_mut(index) else {
+            return false;
+        };
+        r.status = match row.error.as_deref() {
+            None => PointStatus::Ok,
+            Some(RunFailure::Cancelled) => PointStatus::NotRun,
+            Some(e) => PointStatus::Failed(e.to_string()),
+        };
+        r.peak_rotation = row.peak_rotation;
+        r.residual_rotation = row.residual_rotation;
+        r.impacts = row.impacts;
+        true
+    }
+
+    /// Runs finished or failed (not [`PointStatus::NotRun`]).
+    pub fn done(&self) -> usize {
+        (self.runs.iter())
+            .filter(|r| r.status != PointStatus::NotRun)
+            .count()
+    }
+
+    pub fn failed(&self) -> usize {
+        (self.runs.iter())
+            .filter(|r| matches!(r.status, PointStatus::Failed(_)))
+            .count()
+    }
+
+    /// Fig. 7: (PGA x, peak |θ|) of the finished runs without contact and with contact, in run
+    /// order (runs without a PGA left out).
+    pub fn fig7(&self) -> [Vec<(f64, f64)>; 2] {
+        let points = |contact: bool| {
+            (self.runs.iter())
+                .filter(|r| r.contact == contact && r.is_ok() && r.pga_x.is_finite())
+                .map(|r| (r.pga_x, r.peak_rotation))
+                .collect()
+        };
+        [points(false), points(true)]
+    }
+
+    /// Fig. 8: for each run, 100 (peak(μ) / peak without contact − 1) against μ, as
+    /// [`crate::studies::MuStudy::increase`] computes it.
+    pub fn fig8(&self) -> Vec<Fig8Curve> {
+        let mut curves: Vec<Fig8Curve> = Vec::new();
+        for base in self.runs.iter().filter(|r| !r.contact) {
+            let points = (self.runs.iter())
+                .filter(|r| r.run == base.run && r.contact && r.is_ok() && base.is_ok())
+                .filter_map(|r| {
+                    let mu = r.mu?;
+                    Some((mu, 100.0 * (r.peak_rotation / base.peak_rotation - 1.0)))
+                })
+                .collect();
+            curves.push(Fig8Curve {
+                run: base.run,
+                pga_x: base.pga_x,
+                points,
+            });
+        }
+        curves
+    }
+
+    /// The μ values of the runs with contact, in order of first appearance.
+    pub fn mus(&self) -> Vec<f64> {
+        let mut out: Vec<f64> = Vec::new();
+        for m in self.runs.iter().filter_map(|r| r.mu) {
+            if !out.iter().any(|x| x.to_bits() == m.to_bits()) {
+                out.push(m);
+            }
+        }
+        out
+    }
+}
+
+/// A study's results, complete or in part.
+#[derive(Clone, Debug, PartialEq)]
+pub enum StudyTable {
+    Runs(RunTable),
+    Screen(Box<ScreenStudy>),
+}
+
+impl StudyTable {
+    pub fn kind(&self) -> StudyKind {
+        match self {
+            StudyTable::Runs(t) => t.kind,
+            StudyTable::Screen(_) => StudyKind::Screen,
+        }
+    }
+
+    /// (runs done, runs in all): the screening counts as one.
+    pub fn progress(&self) -> (usize, usize) {
+        match self {
+            StudyTable::Runs(t) => (t.done(), t.runs.len()),
+            StudyTable::Screen(_) => (1, 1),
+        }
+    }
+}
+
+/// Runs study `kind` of `study` (μ values `mus` for the μ study), telling `progress` of each
+/// row by its index in the table ([`RunTable::pga_plan`], [`RunTable::mu_plan`]); the
+/// screening compiles the model once and runs nothing. The table is complete, rows skipped
+/// by a cancel marked [`PointStatus::NotRun`].
+pub fn run_study(
+    kind: StudyKind,
+    study: &Study,
+    mus: &[f64],
+    progress: &dyn Watch,
+) -> Result<StudyTable, ModelError> {
+    Ok(match kind {
+        StudyKind::Pga => {
+            let mut t = RunTable::pga_plan(&study.text);
+            let rows = rotation_vs_pga(study, progress);
+            for (k, (_, _, _, without, with)) in rows.iter().enumerate() {
+                t.record(2 * k, without);
+                t.record(2 * k + 1, with);
+            }
+            StudyTable::Runs(t)
+        }
+        StudyKind::Mu => {
+            let mut t = RunTable::mu_plan(&study.text, mus);
+            let m = increase_vs_mu(study, mus, progress);
+            let rows = m.baseline.iter().chain(m.rows.iter().flatten());
+            for (i, row) in rows.enumerate() {
+                t.record(i, row);
+            }
+            StudyTable::Runs(t)
+        }
+        StudyKind::Screen => StudyTable::Screen(Box::new(screen_study(&study.scene(&[])?))),
+    })
+}

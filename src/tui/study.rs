@@ -1,0 +1,199 @@
+//! The studies view's state: the list of studies (one entry per [`StudyKind`]), and for each
+//! the last one run or reopened — where its model came from, how far it got, its table.
+//!
+//! A study is added to the view by a variant of [`StudyKind`] (with its plan, runner and CSV
+//! in the library: `study_table`, `study_csv`), its texts in [`title`], [`what`] and
+//! [`plan`] below, and its panel in `ui/studies.rs`.
+
+use crate::study_table::{RunTable, StudyKind, StudyTable};
+use std::path::{Path, PathBuf};
+
+/// Where a study's model came from.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Source {
+    /// The form's model when the study started (`file`: the model file's name); `edited`: it
+    /// held unsaved edits.
+    Form { file: String, edited: bool },
+    /// Reopened from this CSV.
+    Csv(PathBuf),
+}
+
+/// How far a study got.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Phase {
+    Running,
+    /// Esc was pressed; the runs already started finish.
+    Cancelling,
+    Finished,
+    /// Cancelled: the runs finished before are kept.
+    Cancelled,
+    /// No run could start (the model does not compile, a panic): the reason.
+    Failed(String),
+}
+
+/// The last study of one kind.
+#[derive(Clone, Debug)]
+pub struct Entry {
+    /// Messages of its worker carry this id.
+    pub id: u64,
+    pub source: Source,
+    pub phase: Phase,
+    /// The runs so far (the PGA and μ studies: their plan at the start); the screening's
+    /// once it is done.
+    pub table: Option<StudyTable>,
+    /// Where its CSV was written (or the CSV it was read from).
+    pub csv: Option<PathBuf>,
+}
+
+impl Entry {
+    /// (runs done, runs in all); (0, 0) while the screening computes.
+    pub fn progress(&self) -> (usize, usize) {
+        self.table.as_ref().map_or((0, 0), StudyTable::progress)
+    }
+
+    pub fn running(&self) -> bool {
+        matches!(self.phase, Phase::Running | Phase::Cancelling)
+    }
+}
+
+/// What a study worker needs: the study, the model text and path (records are found from
+/// it), overrides applied to every run (`key=value`, as `--set`), the μ values of the μ study.
+#[derive(Clone, Debug)]
+pub struct StudySpec {
+    pub kind: StudyKind,
+    pub text: String,
+    pub path: PathBuf,
+    pub overrides: Vec<String>,
+    pub mus: Vec<f64>,
+}
+
+/// The studies view.
+#[derive(Clone, Debug)]
+pub struct Studies {
+    /// The selected entry of [`StudyKind::ALL`].
+    pub selected: usize,
+    /// The last study of each kind, in [`StudyKind::ALL`]'s order.
+    pub entries: Vec<Option<Entry>>,
+    pub next_id: u64,
+    /// Overrides applied to every run of a study (none by default; tests shorten the runs).
+    pub overrides: Vec<String>,
+    /// The μ values of the μ study ([`crate::studies::fig8_mus`] by default).
+    pub mus: Vec<f64>,
+}
+
+impl Default for Studies {
+    fn default() -> Self {
+        Self {
+            selected: 0,
+            entries: vec![None; StudyKind::ALL.len()],
+            next_id: 1,
+            overrides: Vec::new(),
+            mus: crate::studies::fig8_mus(),
+        }
+    }
+}
+
+impl Studies {
+    pub fn kind(&self) -> StudyKind {
+        StudyKind::ALL[self.selected.min(StudyKind::ALL.len() - 1)]
+    }
+
+    pub fn index_of(kind: StudyKind) -> usize {
+        (StudyKind::ALL.iter())
+            .position(|k| *k == kind)
+            .unwrap_or(0)
+    }
+
+    pub fn entry(&self, kind: StudyKind) -> Option<&Entry> {
+        self.entries[Self::index_of(kind)].as_ref()
+    }
+
+    pub fn entry_mut(&mut self, kind: StudyKind) -> Option<&mut Entry> {
+        self.entries[Self::index_of(kind)].as_mut()
+    }
+
+    /// The entry whose worker has this id.
+    pub fn by_id(&mut self, id: u64) -> Option<&mut Entry> {
+        (self.entries.iter_mut().flatten()).find(|e| e.id == id)
+    }
+
+    /// The study running, if any (one at a time).
+    pub fn running(&self) -> Option<(StudyKind, &Entry)> {
+        (StudyKind::ALL.iter().zip(&self.entries))
+            .find_map(|(k, e)| e.as_ref().filter(|e| e.running()).map(|e| (*k, e)))
+    }
+}
+
+/// The folders of a model's study CSVs: `<model stem>.studies/` beside the model, then in the
+/// current directory (where they go when the model's folder is not writable).
+pub fn study_dirs(model: &Path) -> Vec<PathBuf> {
+    let stem = model
+        .file_stem()
+        .map_or("model".into(), |s| s.to_string_lossy().into_owned());
+    let name = format!("{stem}.studies");
+    let beside = match model.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.join(&name),
+        _ => PathBuf::from(&name),
+    };
+    let here = PathBuf::from(&name);
+    if beside == here {
+        vec![beside]
+    } else {
+        vec![beside, here]
+    }
+}
+
+/// The study's name in the list.
+pub fn title(kind: StudyKind) -> &'static str {
+    match kind {
+        StudyKind::Pga => "PGA (Fig. 7)",
+        StudyKind::Mu => "μ (Fig. 8)",
+        StudyKind::Screen => "screen",
+    }
+}
+
+/// The study's name in the header's progress.
+pub fn short_title(kind: StudyKind) -> &'static str {
+    match kind {
+        StudyKind::Pga => "PGA",
+        StudyKind::Mu => "μ",
+        StudyKind::Screen => "screen",
+    }
+}
+
+/// What the study computes, in a sentence.
+pub fn what(kind: StudyKind) -> &'static str {
+    match kind {
+        StudyKind::Pga => {
+            "Peak deck rotation |θ| against the target PGA of each [[run]] of the model, with \
+             contact and without (the paper's Fig. 7): two runs per [[run]] table."
+        }
+        StudyKind::Mu => {
+            "The increase of peak |θ| over the run without contact, against μ, one curve per \
+             [[run]] (the paper's Fig. 8): one run without contact and one per μ for each \
+             [[run]] table."
+        }
+        StudyKind::Screen => {
+            "The impact law in closed form, before any run: where over L/B × skew a flush end \
+             impact turns the deck, which corners stick when struck alone, this model marked; \
+             the model's ends and corners."
+        }
+    }
+}
+
+/// The study's table before any run, from the model text (None: the screening, whose table
+/// comes whole); Err: why it cannot run on this model.
+pub fn plan(kind: StudyKind, text: &str, mus: &[f64]) -> Result<Option<RunTable>, String> {
+    let table = match kind {
+        StudyKind::Pga => RunTable::pga_plan(text),
+        StudyKind::Mu => RunTable::mu_plan(text, mus),
+        StudyKind::Screen => return Ok(None),
+    };
+    if table.runs.is_empty() {
+        return Err(format!(
+            "the {} study needs [[run]] tables (a bridge with its runs): this model has none",
+            title(kind)
+        ));
+    }
+    Ok(Some(table))
+}

@@ -1,0 +1,116 @@
+//! Studies off the UI thread: `study_table::run_study` on the form's model in a thread of its
+//! own, with its runs on a pool of threads named like the simulation's (a panic there is
+//! reported, the terminal left alone). Each row is a [`Msg::StudyRow`] as soon as it is
+//! final; the end a [`Msg::StudyDone`] with the whole table. A cancel flag, read before each
+//! run starts, skips the runs not started.
+
+use super::msg::{Msg, StudyOutcome};
+use super::study::StudySpec;
+use super::worker::{THREAD_PREFIX, panic_text};
+use crate::progress::Progress;
+use crate::studies::{Row, Study, Watch};
+use crate::study_table::run_study;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc::Sender;
+use std::sync::{Arc, Mutex};
+
+/// A running study.
+pub struct StudyHandle {
+    pub id: u64,
+    cancel: Arc<AtomicBool>,
+}
+
+impl StudyHandle {
+    pub fn cancel(&self) {
+        self.cancel.store(true, Ordering::Relaxed);
+    }
+}
+
+/// Forwards each final row; stops when cancelled.
+struct Watcher<'a> {
+    id: u64,
+    cancel: &'a AtomicBool,
+    send: &'a (dyn Fn(Msg) + Sync),
+}
+
+impl Progress for Watcher<'_> {
+    fn plan(&self, _: usize) {}
+    fn done(&self, _: usize) {}
+    fn go_on(&self) -> bool {
+        !self.cancel.load(Ordering::Relaxed)
+    }
+}
+
+impl Watch for Watcher<'_> {
+    fn row(&self, index: usize, row: &Row) {
+        (self.send)(Msg::StudyRow {
+            id: self.id,
+            index,
+            row: Box::new(row.clone()),
+        });
+    }
+}
+
+/// Runs study `id` in this thread (its runs on a pool of named threads), sending its rows to
+/// `send`; returns its [`Msg::StudyDone`].
+pub fn run(id: u64, spec: &StudySpec, cancel: &AtomicBool, send: &(dyn Fn(Msg) + Sync)) -> Msg {
+    let work = || {
+        let study =
+            Study::from_text(&spec.text, &spec.path, &spec.overrides).map_err(|e| e.to_string())?;
+        let watch = Watcher { id, cancel, send };
+        let go = || run_study(spec.kind, &study, &spec.mus, &watch);
+        let pool = rayon::ThreadPoolBuilder::new()
+            .thread_name(move |i| format!("{THREAD_PREFIX}-study{id}-{i}"))
+            .build();
+        match pool {
+            Ok(p) => p.install(go),
+            Err(_) => go(),
+        }
+        .map_err(|e| e.to_string())
+    };
+    let outcome = match std::panic::catch_unwind(std::panic::AssertUnwindSafe(work)) {
+        Ok(Ok(table)) => {
+            let (done, all) = table.progress();
+            if done < all {
+                StudyOutcome::Cancelled(Box::new(table))
+            } else {
+                StudyOutcome::Finished(Box::new(table))
+            }
+        }
+        Ok(Err(e)) => StudyOutcome::Failed(e),
+        Err(p) => StudyOutcome::Failed(format!("panic: {}", panic_text(p.as_ref()))),
+    };
+    Msg::StudyDone { id, outcome }
+}
+
+/// Starts study `id` in a thread sending to `tx`.
+pub fn spawn(id: u64, spec: StudySpec, tx: Sender<Msg>) -> StudyHandle {
+    let cancel = Arc::new(AtomicBool::new(false));
+    let flag = cancel.clone();
+    let tx2 = tx.clone();
+    let spawned = std::thread::Builder::new()
+        .name(format!("{THREAD_PREFIX}-study{id}"))
+        .spawn(move || {
+            let send = |m: Msg| {
+                let _ = tx.send(m);
+            };
+            let done = run(id, &spec, &flag, &send);
+            let _ = tx.send(done);
+        });
+    if let Err(e) = spawned {
+        let outcome = StudyOutcome::Failed(format!("cannot start a thread: {e}"));
+        let _ = tx2.send(Msg::StudyDone { id, outcome });
+    }
+    StudyHandle { id, cancel }
+}
+
+/// Runs study `id` to its end in this thread and returns the messages a worker would have
+/// sent (for tests and headless use).
+pub fn run_blocking(id: u64, spec: &StudySpec) -> Vec<Msg> {
+    let msgs = Mutex::new(Vec::new());
+    let send = |m: Msg| msgs.lock().unwrap_or_else(|p| p.into_inner()).push(m);
+    let done = run(id, spec, &AtomicBool::new(false), &send);
+    let mut msgs = msgs.into_inner().unwrap_or_else(|p| p.into_inner());
+    msgs.push(done);
+    msgs
+}

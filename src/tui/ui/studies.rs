@@ -1,0 +1,372 @@
+//! The studies view: the list of studies on one line (the selected one marked `>`), the
+//! selected study's state on the next (progress, counts, its CSV), and its panel: titled with
+//! where its model came from, its figure (Fig. 7, Fig. 8 or the screening maps) or what it
+//! does before it has run. Also the list of CSVs to reopen.
+
+use super::common::{Theme, fit};
+use super::screen_map::draw_screen;
+use super::xy_plot::{Plot, Series, draw_plot};
+use crate::study_table::{RunTable, StudyKind, StudyTable};
+use crate::tui::app::{App, StatusKind};
+use crate::tui::chart::bounds;
+use crate::tui::study::{Entry, Phase, Source, title, what};
+use ratatui::Frame;
+use ratatui::layout::{Constraint, Layout, Rect};
+use ratatui::text::{Line, Span};
+use ratatui::widgets::{Block, Borders, Clear, Paragraph, Wrap};
+use std::path::PathBuf;
+
+/// Draws the studies view.
+pub(super) fn draw_studies(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
+    let [tabs, line, panel] = Layout::vertical([
+        Constraint::Length(1),
+        Constraint::Length(1),
+        Constraint::Min(0),
+    ])
+    .areas(area);
+    draw_tabs(frame, tabs, app, th);
+    let kind = app.studies.kind();
+    let entry = app.studies.entry(kind);
+    let mut items: Vec<String> = info(entry, th)
+        .into_iter()
+        .filter(|i| !i.is_empty())
+        .collect();
+    let width = line.width as usize;
+    // a CSV path too long for the line: its file name
+    let cut = fit(&items, th.sep(), width).len() < items.join(th.sep()).len();
+    if let (true, Some(last), Some(name)) = (
+        cut,
+        items.last_mut(),
+        entry
+            .and_then(|e| e.csv.as_ref())
+            .and_then(|p| p.file_name()),
+    ) {
+        *last = format!("CSV {}", th.text(&name.to_string_lossy()));
+    }
+    frame.render_widget(
+        Paragraph::new(Line::from(fit(&items, th.sep(), width))),
+        line,
+    );
+    let next = if app.dirty() {
+        "model: form draft (unsaved edits)".to_string()
+    } else {
+        format!("model: {} as saved", app.file_name())
+    };
+    draw_panel(frame, panel, kind, entry, &next, th);
+}
+
+/// A study's state in a word or two.
+fn state(e: Option<&Entry>) -> String {
+    let Some(e) = e else {
+        return "not run".into();
+    };
+    let (done, all) = e.progress();
+    match (&e.phase, &e.source) {
+        (Phase::Running, _) if all > 0 => format!("{done}/{all}"),
+        (Phase::Running, _) => "running".into(),
+        (Phase::Cancelling, _) => "cancelling".into(),
+        (Phase::Cancelled, _) => "cancelled".into(),
+        (Phase::Failed(_), _) => "failed".into(),
+        (Phase::Finished, Source::Csv(_)) => "from CSV".into(),
+        (Phase::Finished, Source::Form { .. }) => "done".into(),
+    }
+}
+
+/// The list of studies; the selected one always shown, others while they fit.
+fn draw_tabs(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
+    let sel = app.studies.selected;
+    let items: Vec<String> = (StudyKind::ALL.iter().enumerate())
+        .map(|(i, k)| {
+            let mark = if i == sel { '>' } else { ' ' };
+            th.text(&format!(
+                "{mark}{}: {} ",
+                title(*k),
+                state(app.studies.entry(*k))
+            ))
+        })
+        .collect();
+    let mut room = area.width as usize - items[sel].chars().count().min(area.width as usize);
+    let mut spans = Vec::new();
+    for (i, it) in items.iter().enumerate() {
+        let n = it.chars().count() + 1;
+        if i == sel {
+            spans.push(Span::styled(it.clone(), th.selected().patch(th.bold())));
+            spans.push(Span::raw(" "));
+        } else if n <= room {
+            room -= n;
+            spans.push(Span::raw(it.clone()));
+            spans.push(Span::raw(" "));
+        }
+    }
+    frame.render_widget(Paragraph::new(Line::from(spans)), area);
+}
+
+/// A progress bar in ASCII: `[####      ]`.
+fn bar(done: usize, all: usize, width: usize) -> String {
+    let full = (done * width).checked_div(all).unwrap_or(0).min(width);
+    format!("[{}{}]", "#".repeat(full), " ".repeat(width - full))
+}
+
+/// The selected study's state line, as items in order of importance.
+fn info(e: Option<&Entry>, th: &Theme) -> Vec<String> {
+    let Some(e) = e else {
+        return vec![
+            "not run yet".into(),
+            "Enter runs it on the form's model".into(),
+            "f reopens a CSV".into(),
+        ];
+    };
+    let (done, all) = e.progress();
+    let failed = match &e.table {
+        Some(StudyTable::Runs(t)) if t.failed() > 0 => format!("{} failed", t.failed()),
+        _ => String::new(),
+    };
+    let csv = e.csv.as_ref().map_or(String::new(), |p| {
+        let what = if matches!(e.source, Source::Csv(_)) {
+            "read from"
+        } else {
+            "CSV"
+        };
+        format!("{what} {}", p.display())
+    });
+    let items = match &e.phase {
+        Phase::Running if all > 0 => {
+            vec![
+                format!("{} {done}/{all} runs", bar(done, all, 10)),
+                failed,
+                "Esc cancels".into(),
+            ]
+        }
+        Phase::Running => vec!["computing…".into()],
+        Phase::Cancelling => vec![format!("cancelling after {done}/{all} runs…")],
+        Phase::Finished if all > 1 => vec![format!("{done} runs"), failed, csv],
+        Phase::Finished => vec!["done".into(), csv],
+        Phase::Cancelled => vec![
+            format!("cancelled: {done} of {all} runs done, drawn"),
+            failed,
+            csv,
+        ],
+        Phase::Failed(_) => vec!["failed: the reason below".into()],
+    };
+    items.iter().map(|i| th.text(i)).collect()
+}
+
+/// The panel's title: the figure and where its model came from (`next`: the model a run
+/// would use, for a study not run).
+fn panel_title(kind: StudyKind, e: Option<&Entry>, next: &str) -> Vec<String> {
+    let fig = match kind {
+        StudyKind::Pga => "Fig. 7: peak |θ| vs PGA",
+        StudyKind::Mu => "Fig. 8: increase of peak |θ| vs μ",
+        StudyKind::Screen => "screening by the impact law",
+    };
+    let source = match e.map(|e| &e.source) {
+        None => next.to_string(),
+        Some(Source::Form { edited: true, .. }) => "model: form draft (unsaved edits)".into(),
+        Some(Source::Form { file, .. }) => format!("model: {file} as saved"),
+        Some(Source::Csv(p)) => format!(
+            "from {}",
+            p.file_name().map_or(p.display().to_string(), |n| n
+                .to_string_lossy()
+                .into_owned())
+        ),
+    };
+    let cancelled = match e.map(|e| &e.phase) {
+        Some(Phase::Cancelled) => "cancelled".to_string(),
+        _ => String::new(),
+    };
+    vec![fig.into(), cancelled, source]
+}
+
+fn draw_panel(
+    frame: &mut Frame,
+    area: Rect,
+    kind: StudyKind,
+    e: Option<&Entry>,
+    next: &str,
+    th: &Theme,
+) {
+    let items: Vec<String> = (panel_title(kind, e, next).iter())
+        .map(|t| th.text(t))
+        .collect();
+    let title = fit(&items, th.sep(), area.width.saturating_sub(2) as usize);
+    let block = Block::new()
+        .borders(Borders::TOP)
+        .border_set(th.border())
+        .border_style(th.dim())
+        .title(Line::styled(title, th.bold()));
+    let inner = block.inner(area);
+    frame.render_widget(block, area);
+    let table = e.and_then(|e| e.table.as_ref());
+    match (table, e.map(|e| &e.phase)) {
+        (_, Some(Phase::Failed(why))) => {
+            let lines = vec![
+                Line::styled(th.text(why), th.status(StatusKind::Error)),
+                Line::from(""),
+                Line::from(th.text(what(kind))),
+            ];
+            frame.render_widget(Paragraph::new(lines).wrap(Wrap { trim: true }), inner);
+        }
+        (Some(StudyTable::Runs(t)), _) if t.done() > 0 => draw_figure(frame, inner, t, th),
+        (Some(StudyTable::Screen(s)), _) => draw_screen(frame, inner, s, th),
+        (_, Some(Phase::Running | Phase::Cancelling)) => {
+            let t = match kind {
+                StudyKind::Screen => th.text("computing the screening…"),
+                _ => th.text("no run finished yet…"),
+            };
+            frame.render_widget(Paragraph::new(t), inner);
+        }
+        _ => {
+            let lines = vec![
+                Line::from(th.text(what(kind))),
+                Line::from(""),
+                Line::from(th.text(
+                    "Enter runs it on the model in the form, its unsaved edits included; \
+                     f reopens a study from its CSV.",
+                )),
+            ];
+            frame.render_widget(Paragraph::new(lines).wrap(Wrap { trim: true }), inner);
+        }
+    }
+}
+
+/// Fig. 7 or Fig. 8 of a run table.
+fn draw_figure(frame: &mut Frame, area: Rect, t: &RunTable, th: &Theme) {
+    let plot = match t.kind {
+        StudyKind::Mu => fig8(t, th),
+        _ => fig7(t, th),
+    };
+    draw_plot(frame, area, &plot, th);
+}
+
+/// Bounds of a finite range, padded ([`bounds`]).
+fn range(v: impl Iterator<Item = f64>) -> [f64; 2] {
+    let v: Vec<f64> = v.filter(|x| x.is_finite()).collect();
+    bounds(v.iter())
+}
+
+fn fig7(t: &RunTable, th: &Theme) -> Plot {
+    let [without, with] = t.fig7();
+    let peak = (with.iter().chain(&without))
+        .map(|p| p.1)
+        .fold(0.0, f64::max);
+    let yb = if peak > 0.0 {
+        [0.0, peak * 1.08]
+    } else {
+        [0.0, 1.0]
+    };
+    Plot {
+        y_title: th.text("peak |θ| [rad]"),
+        x_title: "PGA x [g]".into(),
+        xb: [
+            0.0,
+            1.05 * (t.runs.iter().map(|r| r.pga_x)).fold(0.0, f64::max),
+        ],
+        yb,
+        series: vec![
+            Series {
+                name: "without contact".into(),
+                mark: 'x',
+                style: th.series(1),
+                points: without,
+            },
+            Series {
+                name: "with contact".into(),
+                mark: 'o',
+                style: th.series(0),
+                points: with,
+            },
+        ],
+    }
+}
+
+/// The character marking run k's points: 1–9, then a–z.
+fn run_mark(k: usize) -> char {
+    match k {
+        1..=9 => char::from(b'0' + k as u8),
+        10..=35 => char::from(b'a' + (k - 10) as u8),
+        _ => '+',
+    }
+}
+
+fn fig8(t: &RunTable, th: &Theme) -> Plot {
+    let curves = t.fig8();
+    let ys = (curves.iter()).flat_map(|c| c.points.iter().map(|p| p.1));
+    let mut yb = range(ys.chain([0.0]));
+    if yb[0] > 0.0 {
+        yb[0] = 0.0;
+    }
+    let series = (curves.iter().enumerate())
+        .map(|(i, c)| Series {
+            name: format!("{} g", crate::tui::chart::fmt_sig(c.pga_x, 3)),
+            mark: run_mark(c.run),
+            style: th.series(i),
+            points: c.points.clone(),
+        })
+        .collect();
+    Plot {
+        y_title: th.text("increase of peak |θ| [%] by run (PGA x)"),
+        x_title: th.text("μ [-]"),
+        xb: {
+            let mus = t.mus();
+            let lo = mus.iter().copied().fold(f64::INFINITY, f64::min);
+            let hi = mus.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+            if hi > lo {
+                [lo, hi]
+            } else {
+                range(mus.into_iter())
+            }
+        },
+        yb,
+        series,
+    }
+}
+
+/// Draws the list of CSVs to reopen over the screen.
+pub(super) fn draw_picker(
+    frame: &mut Frame,
+    area: Rect,
+    files: &[PathBuf],
+    selected: usize,
+    th: &Theme,
+) {
+    let names: Vec<String> = files
+        .iter()
+        .map(|p| th.text(&p.display().to_string()))
+        .collect();
+    let longest = names.iter().map(|n| n.chars().count()).max().unwrap_or(0) as u16;
+    let w = (longest + 6).clamp(40, area.width.saturating_sub(4).max(10));
+    let h = (files.len() as u16 + 3)
+        .min(area.height.saturating_sub(2))
+        .max(3);
+    let rect = Rect::new(
+        area.x + (area.width.saturating_sub(w)) / 2,
+        area.y + (area.height.saturating_sub(h)) / 2,
+        w.min(area.width),
+        h,
+    );
+    let block = th.block(th.text(" reopen a study — newest first "));
+    let inner = block.inner(rect);
+    frame.render_widget(Clear, rect);
+    frame.render_widget(block, rect);
+    let rows = inner.height as usize;
+    let off = selected.saturating_sub(rows.saturating_sub(1));
+    let room = (inner.width as usize).saturating_sub(2);
+    let lines: Vec<Line> = (names.iter().enumerate().skip(off).take(rows))
+        .map(|(i, n)| {
+            // a path too long keeps its end (the file's name) after `...`
+            let count = n.chars().count();
+            let shown = if count > room {
+                let tail: String = n.chars().skip(count + 3 - room).collect();
+                format!("...{tail}")
+            } else {
+                n.clone()
+            };
+            if i == selected {
+                Line::styled(format!("> {shown}"), th.selected().patch(th.bold()))
+            } else {
+                Line::from(format!("  {shown}"))
+            }
+        })
+        .collect();
+    frame.render_widget(Paragraph::new(lines), inner);
+}
