@@ -36,6 +36,9 @@ pub enum RunFailure {
     /// The study was cancelled ([`Progress::go_on`]) before this run started.
     #[error("cancelled before it ran")]
     Cancelled,
+    /// A run of a record suite that failed or was refused: its status (`crate::suite`).
+    #[error("{0}")]
+    Suite(String),
 }
 
 impl From<SolverError> for RunFailure {

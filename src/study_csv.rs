@@ -2,9 +2,10 @@
 //! text ([`crate::output::number`]), so a table read back holds the same f64 bit for bit; a
 //! file that is not such a table is refused with its path, line and the reason.
 //!
-//! The PGA and μ studies, one line per run:
+//! The PGA, μ and suite studies, one line per run:
 //! `study,run,pga_x,pga_y,contact,mu,peak_rotation,residual_rotation,impacts,status` —
-//! `study` is `pga` or `mu`, `mu` is empty where the model's own μ applies (the PGA study, the
+//! `study` is `pga`, `mu` or `suite` (`run` the record pair's number, `pga_x` the level, g,
+//! `pga_y` NaN), `mu` is empty where the model's own μ applies (the PGA study, the
 //! μ study's runs without contact), `status` is `ok`, `not run` (the study was cancelled
 //! first) or the reason the run failed.
 //!
@@ -282,7 +283,8 @@ fn run_row(
     let k = match &rec[0] {
         "pga" => StudyKind::Pga,
         "mu" => StudyKind::Mu,
-        s => return Err(format!("study: `{s}` is not pga or mu")),
+        "suite" => StudyKind::Suite,
+        s => return Err(format!("study: `{s}` is not pga, mu or suite")),
     };
     if kind.is_some_and(|p| p != k) {
         return Err(format!("study: `{}` after lines of another study", &rec[0]));
@@ -296,7 +298,10 @@ fn run_row(
         _ => Some(number(rec, 5, h)?),
     };
     match (k, contact, mu) {
-        (StudyKind::Pga, _, Some(_)) => return Err("mu: given in the PGA study".into()),
+        (StudyKind::Pga | StudyKind::Suite, _, Some(_)) => {
+            return Err(format!("mu: given in the {} study", k.key()));
+        }
+        (StudyKind::Suite, false, _) => return Err("contact: false in the suite".into()),
         (StudyKind::Mu, true, None) => return Err("mu: empty on a run with contact".into()),
         (StudyKind::Mu, false, Some(_)) => return Err("mu: given on a run without contact".into()),
         _ => {}

@@ -5,8 +5,13 @@
 //! ([`ScreenStudy`]). [`run_study`] runs one, watched by a [`Watch`].
 
 use crate::design::screen::{ScreenStudy, screen_study};
-use crate::model::ModelError;
 use crate::studies::{Row, RunFailure, Study, Watch, increase_vs_mu, rotation_vs_pga, run_pgas};
+use crate::suite::intensity::MeasureSpec;
+use crate::suite::records::{SuitePair, suite_pairs};
+use crate::suite::row::{Status as SuiteStatus, SuiteRow};
+use crate::suite::stats::median;
+use crate::suite::{CANCELLED, Suite, SuiteSpec};
+use std::path::{Path, PathBuf};
 
 /// A study of the workbench's list.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -15,19 +20,28 @@ pub enum StudyKind {
     Pga,
     /// Fig. 8: the increase of peak |θ| over no contact against μ, one curve per run.
     Mu,
+    /// A record suite, a chosen subset ([`SuiteSubset`]): peak |θ| against PGA for each pair,
+    /// and the median per level (`crate::suite`).
+    Suite,
     /// The screening by the impact law: the L/B × skew maps, the model's ends and corners.
     Screen,
 }
 
 impl StudyKind {
     /// Every study, in the order the workbench lists them.
-    pub const ALL: [StudyKind; 3] = [StudyKind::Pga, StudyKind::Mu, StudyKind::Screen];
+    pub const ALL: [StudyKind; 4] = [
+        StudyKind::Pga,
+        StudyKind::Mu,
+        StudyKind::Screen,
+        StudyKind::Suite,
+    ];
 
     /// The name of its CSV files (`pga-3.csv`) and the value of their `study` column.
     pub fn key(self) -> &'static str {
         match self {
             StudyKind::Pga => "pga",
             StudyKind::Mu => "mu",
+            StudyKind::Suite => "suite",
             StudyKind::Screen => "screen",
         }
     }
@@ -99,7 +113,99 @@ pub struct RunTable {
     pub runs: Vec<StudyRun>,
 }
 
+/// The subset of a record suite the workbench runs: the first `pairs` pairs of the folder
+/// `records` (paired as `deckspin suite` pairs them) at each PGA of `levels` (g).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SuiteSubset {
+    pub records: PathBuf,
+    pub pairs: usize,
+    pub levels: Vec<f64>,
+}
+
+impl SuiteSubset {
+    /// The far-field set of the project, found from the model's folder (`../excitations/
+    /// far-field`, then `excitations/far-field` beside the model), 4 pairs, 0.2 … 1.2 g by 0.2.
+    pub fn near(model: &Path) -> Self {
+        let dir = model.parent().unwrap_or(Path::new("."));
+        let up = dir.join("../excitations/far-field");
+        let records = if up.is_dir() {
+            up
+        } else {
+            dir.join("excitations/far-field")
+        };
+        Self {
+            records,
+            pairs: 4,
+            levels: (1..=6).map(|i| 0.2 * i as f64).collect(),
+        }
+    }
+
+    /// Its pairs: the first [`SuiteSubset::pairs`] of the folder.
+    pub fn read_pairs(&self) -> Result<Vec<SuitePair>, String> {
+        let (pairs, _) = suite_pairs(&self.records).map_err(|e| e.to_string())?;
+        if pairs.is_empty() {
+            return Err(format!("{}: no record pairs", self.records.display()));
+        }
+        Ok(pairs.into_iter().take(self.pairs.max(1)).collect())
+    }
+}
+
+/// A suite's run as a sweep's row (what the studies' tables and the workbench take).
+pub fn suite_row(r: &SuiteRow) -> Row {
+    let m = |k: usize| r.metrics[k].unwrap_or(f64::NAN);
+    let error = match &r.status {
+        SuiteStatus::Finished => None,
+        SuiteStatus::Refused(why) if why == CANCELLED => Some(RunFailure::Cancelled),
+        s => Some(RunFailure::Suite(s.text())),
+    };
+    Row {
+        settings: vec![("records".into(), r.pair.clone())],
+        peak_rotation: m(0),
+        residual_rotation: m(1),
+        peak_x: m(2),
+        peak_y: m(3),
+        impacts: r.metrics[7].map_or(0, |x| x as usize),
+        stick_time: f64::NAN,
+        energy_closure_rel: f64::NAN,
+        wall_time: f64::NAN,
+        error: error.map(std::sync::Arc::new),
+    }
+}
+
 impl RunTable {
+    /// The suite subset, nothing run: for each pair (run = its number, from 1), each level as
+    /// `pga_x` ([`Suite::run`]'s order).
+    pub fn suite_plan(pairs: usize, levels: &[f64]) -> Self {
+        let runs = (1..=pairs)
+            .flat_map(|p| {
+                (levels.iter()).map(move |&l| StudyRun::planned(p, (l, f64::NAN), true, None))
+            })
+            .collect();
+        Self {
+            kind: StudyKind::Suite,
+            runs,
+        }
+    }
+
+    /// The suite: (level, peak |θ|) of every finished run, and the median per level of the
+    /// levels with a finished run.
+    pub fn suite_points(&self) -> [Vec<(f64, f64)>; 2] {
+        let runs: Vec<(f64, f64)> = (self.runs.iter())
+            .filter(|r| r.is_ok())
+            .map(|r| (r.pga_x, r.peak_rotation))
+            .collect();
+        let mut levels: Vec<f64> = runs.iter().map(|p| p.0).collect();
+        levels.sort_by(f64::total_cmp);
+        levels.dedup();
+        let medians = (levels.iter())
+            .filter_map(|&l| {
+                let v: Vec<f64> = runs.iter().filter(|p| p.0 == l).map(|p| p.1).collect();
+                median(&v).map(|m| (l, m))
+            })
+            .collect();
+        [runs, medians]
+    }
+
     /// The PGA study of a bridge model's text, nothing run: for each `[[run]]`, without
     /// contact then with contact ([`rotation_vs_pga`]'s order).
     pub fn pga_plan(text: &str) -> Self {
@@ -235,9 +341,11 @@ pub fn run_study(
     kind: StudyKind,
     study: &Study,
     mus: &[f64],
+    suite: &SuiteSubset,
     progress: &dyn Watch,
-) -> Result<StudyTable, ModelError> {
+) -> Result<StudyTable, String> {
     Ok(match kind {
+        StudyKind::Suite => StudyTable::Runs(run_suite(study, suite, progress)?),
         StudyKind::Pga => {
             let mut t = RunTable::pga_plan(&study.text);
             let rows = rotation_vs_pga(study, progress);
@@ -256,6 +364,35 @@ pub fn run_study(
             }
             StudyTable::Runs(t)
         }
-        StudyKind::Screen => StudyTable::Screen(Box::new(screen_study(&study.scene(&[])?))),
+        StudyKind::Screen => {
+            let scene = study.scene(&[]).map_err(|e| e.to_string())?;
+            StudyTable::Screen(Box::new(screen_study(&scene)))
+        }
     })
+}
+
+/// The suite subset on the study's model (its text and overrides), each row to `progress`.
+fn run_suite(
+    study: &Study,
+    subset: &SuiteSubset,
+    progress: &dyn Watch,
+) -> Result<RunTable, String> {
+    let pairs = subset.read_pairs()?;
+    let n = pairs.len();
+    let spec = SuiteSpec {
+        measure: MeasureSpec::Pga,
+        levels: subset.levels.clone(),
+        axes: Vec::new(),
+        tail: 2.0,
+    };
+    let suite = Suite::from_text(&study.text, &study.path, &study.base, pairs, spec)
+        .map_err(|e| e.to_string())?;
+    let mut t = RunTable::suite_plan(n, &subset.levels);
+    let rows = suite.run_each(0..suite.runs(), progress, &|i, r| {
+        progress.row(i, &suite_row(r))
+    });
+    for (i, r) in rows.iter().enumerate() {
+        t.record(i, &suite_row(r));
+    }
+    Ok(t)
 }

@@ -4,7 +4,7 @@
 use deckspin::progress::{Progress, Unwatched};
 use deckspin::studies::{Row, Study, Watch, increase_vs_mu};
 use deckspin::study_csv::{StudyCsvError, read_csv, to_csv};
-use deckspin::study_table::{PointStatus, RunTable, StudyKind, StudyTable, run_study};
+use deckspin::study_table::{PointStatus, RunTable, StudyKind, StudyTable, SuiteSubset, run_study};
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -26,6 +26,11 @@ fn bridge_text(runs: usize) -> String {
     });
     doc["excitation"]["run"] = toml_edit::value(1);
     doc.to_string()
+}
+
+/// The workbench's default record suite of the bridge.
+fn subset() -> SuiteSubset {
+    SuiteSubset::near(&bridge_path())
 }
 
 /// A study of the bridge with `runs` runs, each 0.6 s long.
@@ -80,7 +85,7 @@ fn runs(t: &StudyTable) -> &RunTable {
 fn the_pga_study_tells_each_row_once_and_fills_its_table() {
     let study = short_study(3);
     let rec = Recorder::new(usize::MAX);
-    let t = run_study(StudyKind::Pga, &study, &[], &rec).unwrap();
+    let t = run_study(StudyKind::Pga, &study, &[], &subset(), &rec).unwrap();
     let t = runs(&t);
     assert_eq!(t.kind, StudyKind::Pga);
     assert_eq!(t.runs.len(), 6);
@@ -113,7 +118,7 @@ fn the_pga_study_tells_each_row_once_and_fills_its_table() {
 fn a_cancelled_study_keeps_the_rows_already_run() {
     let study = short_study(4);
     let rec = Recorder::new(2);
-    let t = run_study(StudyKind::Pga, &study, &[], &rec).unwrap();
+    let t = run_study(StudyKind::Pga, &study, &[], &subset(), &rec).unwrap();
     let t = runs(&t);
     let told = rec.rows.into_inner().unwrap();
     // the runs started before the cancel finish (at most one per thread), the rest are skipped
@@ -138,7 +143,14 @@ fn a_cancelled_study_keeps_the_rows_already_run() {
 fn the_mu_table_gives_the_increase_of_the_mu_study() {
     let study = short_study(2);
     let mus = [0.2, 0.6];
-    let t = run_study(StudyKind::Mu, &study, &mus, &Recorder::new(usize::MAX)).unwrap();
+    let t = run_study(
+        StudyKind::Mu,
+        &study,
+        &mus,
+        &subset(),
+        &Recorder::new(usize::MAX),
+    )
+    .unwrap();
     let t = runs(&t);
     // two runs without contact, then each run with each μ
     assert_eq!(t.runs.len(), 2 + 2 * 2);
@@ -170,7 +182,14 @@ fn round_trip(t: &StudyTable) -> StudyTable {
 #[test]
 fn study_csv_reads_back_bit_for_bit() {
     let study = short_study(2);
-    let t = run_study(StudyKind::Mu, &study, &[0.1 + 0.2, 0.5], &Recorder::new(3)).unwrap();
+    let t = run_study(
+        StudyKind::Mu,
+        &study,
+        &[0.1 + 0.2, 0.5],
+        &subset(),
+        &Recorder::new(3),
+    )
+    .unwrap();
     let back = round_trip(&t);
     let (a, b) = (runs(&t), runs(&back));
     assert_eq!(b.kind, StudyKind::Mu);
@@ -192,7 +211,7 @@ fn study_csv_reads_back_bit_for_bit() {
     );
     assert_eq!(b.mus(), vec![0.1 + 0.2, 0.5]);
     // the screening, with a failed run's reason (commas, quotes) in a run table too
-    let screen = run_study(StudyKind::Screen, &study, &[], &Recorder::new(1)).unwrap();
+    let screen = run_study(StudyKind::Screen, &study, &[], &subset(), &Recorder::new(1)).unwrap();
     let StudyTable::Screen(s) = round_trip(&screen) else {
         panic!("a screening")
     };
@@ -250,7 +269,14 @@ fn malformed_study_csv_names_the_file_and_line() {
     assert_eq!(error_of(head), "dir/pga-1.csv:2: no rows after the header");
     assert!(error_of("t,deck.theta\n0,0\n").starts_with("dir/pga-1.csv:1: not a study's CSV"));
     // a screening whose cells are out of order
-    let screen = run_study(StudyKind::Screen, &short_study(1), &[], &Recorder::new(1)).unwrap();
+    let screen = run_study(
+        StudyKind::Screen,
+        &short_study(1),
+        &[],
+        &subset(),
+        &Recorder::new(1),
+    )
+    .unwrap();
     let csv = to_csv(&screen);
     let mut lines: Vec<&str> = csv.lines().collect();
     lines.swap(2, 40);
@@ -262,4 +288,50 @@ fn malformed_study_csv_names_the_file_and_line() {
         e.to_string().starts_with("no/such/study.csv: cannot read"),
         "{e}"
     );
+}
+
+#[test]
+fn the_suite_study_runs_the_subset_as_deckspin_suite_does_and_reads_back() {
+    use deckspin::suite::intensity::MeasureSpec;
+    use deckspin::suite::{Suite, SuiteSpec};
+    let mut sub = subset();
+    sub.pairs = 2;
+    sub.levels = vec![0.2, 0.4];
+    let text = std::fs::read_to_string(bridge_path()).unwrap();
+    let study = Study::from_text(&text, &bridge_path(), &[]).unwrap();
+    let rec = Recorder::new(usize::MAX);
+    let t = run_study(StudyKind::Suite, &study, &[], &sub, &rec).unwrap();
+    let table = runs(&t);
+    assert_eq!(table.kind, StudyKind::Suite);
+    assert_eq!((table.done(), table.runs.len(), table.failed()), (4, 4, 0));
+    assert_eq!(rec.rows.lock().unwrap().len(), 4);
+    // the same runs by the suite itself: pair p, level l at index 2 p + l
+    let spec = SuiteSpec {
+        measure: MeasureSpec::Pga,
+        levels: sub.levels.clone(),
+        axes: Vec::new(),
+        tail: 2.0,
+    };
+    let suite = Suite::open(&bridge_path(), &[], sub.read_pairs().unwrap(), spec).unwrap();
+    let rows = suite.run(0..4, &Unwatched);
+    for (r, s) in table.runs.iter().zip(&rows) {
+        assert_eq!(
+            (r.pga_x, r.run),
+            (s.level, 1 + (s.pair != rows[0].pair) as usize)
+        );
+        assert_eq!(r.peak_rotation.to_bits(), s.metrics[0].unwrap().to_bits());
+    }
+    let [points, medians] = table.suite_points();
+    assert_eq!(points.len(), 4);
+    let m02 = 0.5 * (rows[0].metrics[0].unwrap() + rows[2].metrics[0].unwrap());
+    assert_eq!(medians[0], (0.2, m02));
+    // its CSV reads back bit for bit
+    let back = read_csv(&to_csv(&t), Path::new("suite-1.csv")).unwrap();
+    assert_eq!(to_csv(&back), to_csv(&t)); // pga_y is NaN: compared as text
+    for (a, b) in runs(&back).runs.iter().zip(&table.runs) {
+        assert_eq!(a.peak_rotation.to_bits(), b.peak_rotation.to_bits());
+    }
+    let bad = to_csv(&t).replacen(",true,", ",false,", 1);
+    let e = read_csv(&bad, Path::new("s.csv")).unwrap_err().to_string();
+    assert!(e.contains("s.csv:2: contact: false in the suite"), "{e}");
 }

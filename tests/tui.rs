@@ -1860,13 +1860,17 @@ fn final_table(msgs: Vec<Msg>) -> StudyTable {
     }
 }
 
-/// The PGA, μ (μ 0, 0.3, 0.6) and screening studies of the short bridge, computed once.
-fn study_tables() -> &'static [StudyTable; 3] {
-    static T: OnceLock<[StudyTable; 3]> = OnceLock::new();
+/// The PGA, μ (μ 0, 0.3, 0.6), screening and suite (2 pairs at 0.2 and 0.4 g) studies of
+/// the short bridge, computed once.
+fn study_tables() -> &'static [StudyTable; 4] {
+    static T: OnceLock<[StudyTable; 4]> = OnceLock::new();
     T.get_or_init(|| {
-        [StudyKind::Pga, StudyKind::Mu, StudyKind::Screen].map(|k| {
+        StudyKind::ALL.map(|k| {
             let mut app = bridge_app();
             app.studies.mus = vec![0.0, 0.3, 0.6];
+            let mut sub = app.studies.suite_for(&app.path);
+            (sub.pairs, sub.levels) = (2, vec![0.2, 0.4]);
+            app.studies.suite = Some(sub);
             let (id, spec) = start_study(&mut app, k);
             final_table(tui::study_worker::run_blocking(id, &spec))
         })
@@ -1924,7 +1928,7 @@ fn the_studies_view_is_the_third_view() {
         "{s}"
     );
     // h/l move through the list, round
-    for (k, want) in [('l', 1), ('l', 2), ('l', 0), ('h', 2)] {
+    for (k, want) in [('l', 1), ('l', 2), ('l', 3), ('l', 0), ('h', 3), ('h', 2)] {
         update(&mut app, key(k));
         assert_eq!(app.studies.selected, want);
     }
@@ -2341,6 +2345,25 @@ fn snapshot_studies_pga_80x24() {
     let mut app = studies_app(StudyKind::Pga);
     let t = render(&mut app, 80, 24);
     snapshot_settings().bind(|| insta::assert_snapshot!("studies_pga_80x24", t.backend()));
+}
+
+#[test]
+fn snapshot_studies_suite_80x24() {
+    // 2 far-field pairs at 0.2 and 0.4 g: each pair's peak |θ| joined across the levels, the
+    // median marked #; + and - change the number of pairs
+    let mut app = studies_app(StudyKind::Suite);
+    let t = render(&mut app, 80, 24);
+    let s = screen(&t);
+    assert!(s.contains("record suite: peak |θ| vs PGA"), "{s}");
+    assert!(s.contains("4 runs"), "{s}");
+    act(&mut app, Action::StudyMore);
+    assert_eq!(app.studies.suite.as_ref().map(|s| s.pairs), Some(5)); // 4 by default
+    assert!(
+        app.status.contains("suite: 5 record pairs × 6 levels"),
+        "{}",
+        app.status
+    );
+    snapshot_settings().bind(|| insta::assert_snapshot!("studies_suite_80x24", t.backend()));
 }
 
 #[test]

@@ -129,6 +129,9 @@ struct Prepared {
     heights: Vec<(String, f64)>,
 }
 
+/// Why a run was refused when its suite was cancelled before it started.
+pub const CANCELLED: &str = "cancelled before it ran";
+
 /// A bridge model, its record pairs, levels and swept keys: the runs of a suite.
 pub struct Suite {
     path: PathBuf,
@@ -184,8 +187,20 @@ impl Suite {
             path: path.to_path_buf(),
             source: e,
         })?;
-        let unscaled = unscaled_text(&text, path)?;
-        let doc: toml::Table = toml::from_str(&text).unwrap_or_default();
+        Self::from_text(&text, path, fix, pairs, spec)
+    }
+
+    /// [`Suite::open`] of model text that is not (or not yet) the file's, such as the
+    /// workbench's form draft: `path` names it in errors and anchors its record files.
+    pub fn from_text(
+        text: &str,
+        path: &Path,
+        fix: &[String],
+        pairs: Vec<SuitePair>,
+        spec: SuiteSpec,
+    ) -> Result<Self, SuiteError> {
+        let unscaled = unscaled_text(text, path)?;
+        let doc: toml::Table = toml::from_str(text).unwrap_or_default();
         let runs = doc
             .get("run")
             .and_then(|r| r.as_array())
@@ -252,6 +267,18 @@ impl Suite {
 
     /// The runs `range` (cut to [`Suite::runs`]) in parallel, in order; `progress` told of each.
     pub fn run(&self, range: Range<usize>, progress: &dyn Progress) -> Vec<SuiteRow> {
+        self.run_each(range, progress, &|_, _| {})
+    }
+
+    /// [`Suite::run`], `each` handed every row (by its index in the suite) as soon as it is
+    /// final; once [`Progress::go_on`] says no, the runs not started are refused as
+    /// [`CANCELLED`].
+    pub fn run_each(
+        &self,
+        range: Range<usize>,
+        progress: &dyn Progress,
+        each: &(dyn Fn(usize, &SuiteRow) + Sync),
+    ) -> Vec<SuiteRow> {
         let range = range.start.min(self.runs())..range.end.min(self.runs());
         progress.plan(range.len());
         // the (pair, point)s of the range, each once
@@ -268,8 +295,15 @@ impl Suite {
             .into_par_iter()
             .map(|i| {
                 let (p, l, k) = self.coordinates(i);
-                let row = self.run_one((p, l, k), &prepared[&(p, k)]);
+                let cancelled = Err(CANCELLED.to_string());
+                let prep = if progress.go_on() {
+                    &prepared[&(p, k)]
+                } else {
+                    &cancelled
+                };
+                let row = self.run_one((p, l, k), prep);
                 progress.done(1);
+                each(i, &row);
                 row
             })
             .collect()

@@ -51,6 +51,9 @@ pub enum Action {
     StudyRun,
     StudyCancel,
     StudyReopen,
+    /// The record suite with one pair more / fewer.
+    StudyMore,
+    StudyFewer,
     PickUp,
     PickDown,
     PickLoad,
@@ -203,6 +206,8 @@ pub const KEYMAP: &[Binding] = &[
     b(Ctx::Studies, &[K::Code(KC::Enter)], "Enter", A::StudyRun, "run the study (form's model)", Some(("Enter", "run study"))),
     b(Ctx::Studies, &[K::Code(KC::Esc)], "Esc", A::StudyCancel, "cancel the running study", Some(("Esc", "cancel study"))),
     b(Ctx::Studies, &[K::Ch('f')], "f", A::StudyReopen, "reopen a study from its CSV", Some(("f", "reopen CSV"))),
+    b(Ctx::Studies, &[K::Ch('+'), K::Ch('=')], "+", A::StudyMore, "suite: one record pair more", None),
+    b(Ctx::Studies, &[K::Ch('-')], "-", A::StudyFewer, "suite: one record pair fewer", None),
     // everywhere
     b(Ctx::Global, &[K::Ch('q'), K::Ctrl('c')], "q", A::Quit, "quit (asks if edits unsaved)", Some(("q", "quit"))),
     b(Ctx::Global, &[K::Ch('?')], "?", A::Help, "this help", Some(("?", "help"))),

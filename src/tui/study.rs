@@ -5,7 +5,7 @@
 //! in the library: `study_table`, `study_csv`), its texts in [`title`], [`what`] and
 //! [`plan`] below, and its panel in `ui/studies.rs`.
 
-use crate::study_table::{RunTable, StudyKind, StudyTable};
+use crate::study_table::{RunTable, StudyKind, StudyTable, SuiteSubset};
 use std::path::{Path, PathBuf};
 
 /// Where a study's model came from.
@@ -65,6 +65,8 @@ pub struct StudySpec {
     pub path: PathBuf,
     pub overrides: Vec<String>,
     pub mus: Vec<f64>,
+    /// The record suite's subset.
+    pub suite: SuiteSubset,
 }
 
 /// The studies view.
@@ -79,6 +81,9 @@ pub struct Studies {
     pub overrides: Vec<String>,
     /// The μ values of the μ study ([`crate::studies::fig8_mus`] by default).
     pub mus: Vec<f64>,
+    /// The record suite's subset (None: [`SuiteSubset::near`] the model); `+`/`-` change its
+    /// number of pairs.
+    pub suite: Option<SuiteSubset>,
 }
 
 impl Default for Studies {
@@ -89,11 +94,19 @@ impl Default for Studies {
             next_id: 1,
             overrides: Vec::new(),
             mus: crate::studies::fig8_mus(),
+            suite: None,
         }
     }
 }
 
 impl Studies {
+    /// The suite subset of the model at `path` (chosen, or the default near it).
+    pub fn suite_for(&self, path: &Path) -> SuiteSubset {
+        self.suite
+            .clone()
+            .unwrap_or_else(|| SuiteSubset::near(path))
+    }
+
     pub fn kind(&self) -> StudyKind {
         StudyKind::ALL[self.selected.min(StudyKind::ALL.len() - 1)]
     }
@@ -148,6 +161,7 @@ pub fn title(kind: StudyKind) -> &'static str {
     match kind {
         StudyKind::Pga => "PGA (Fig. 7)",
         StudyKind::Mu => "μ (Fig. 8)",
+        StudyKind::Suite => "suite",
         StudyKind::Screen => "screen",
     }
 }
@@ -157,6 +171,7 @@ pub fn short_title(kind: StudyKind) -> &'static str {
     match kind {
         StudyKind::Pga => "PGA",
         StudyKind::Mu => "μ",
+        StudyKind::Suite => "suite",
         StudyKind::Screen => "screen",
     }
 }
@@ -173,6 +188,11 @@ pub fn what(kind: StudyKind) -> &'static str {
              [[run]] (the paper's Fig. 8): one run without contact and one per μ for each \
              [[run]] table."
         }
+        StudyKind::Suite => {
+            "A record suite: the first pairs of the far-field set (+/- more or fewer), both \
+             components scaled to each PGA, 0.2 to 1.2 g; peak |θ| of every run against PGA, \
+             and the median per level (as deckspin suite computes it)."
+        }
         StudyKind::Screen => {
             "The impact law in closed form, before any run: where over L/B × skew a flush end \
              impact turns the deck, which corners stick when struck alone, this model marked; \
@@ -183,10 +203,19 @@ pub fn what(kind: StudyKind) -> &'static str {
 
 /// The study's table before any run, from the model text (None: the screening, whose table
 /// comes whole); Err: why it cannot run on this model.
-pub fn plan(kind: StudyKind, text: &str, mus: &[f64]) -> Result<Option<RunTable>, String> {
+pub fn plan(
+    kind: StudyKind,
+    text: &str,
+    mus: &[f64],
+    suite: &SuiteSubset,
+) -> Result<Option<RunTable>, String> {
     let table = match kind {
         StudyKind::Pga => RunTable::pga_plan(text),
         StudyKind::Mu => RunTable::mu_plan(text, mus),
+        StudyKind::Suite => {
+            let pairs = suite.read_pairs()?;
+            RunTable::suite_plan(pairs.len(), &suite.levels)
+        }
         StudyKind::Screen => return Ok(None),
     };
     if table.runs.is_empty() {

@@ -58,7 +58,7 @@ pub fn run(id: u64, spec: &StudySpec, cancel: &AtomicBool, send: &(dyn Fn(Msg) +
         let study =
             Study::from_text(&spec.text, &spec.path, &spec.overrides).map_err(|e| e.to_string())?;
         let watch = Watcher { id, cancel, send };
-        let go = || run_study(spec.kind, &study, &spec.mus, &watch);
+        let go = || run_study(spec.kind, &study, &spec.mus, &spec.suite, &watch);
         let pool = rayon::ThreadPoolBuilder::new()
             .thread_name(move |i| format!("{THREAD_PREFIX}-study{id}-{i}"))
             .build();

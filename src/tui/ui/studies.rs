@@ -157,6 +157,7 @@ fn panel_title(kind: StudyKind, e: Option<&Entry>, next: &str) -> Vec<String> {
     let fig = match kind {
         StudyKind::Pga => "Fig. 7: peak |θ| vs PGA",
         StudyKind::Mu => "Fig. 8: increase of peak |θ| vs μ",
+        StudyKind::Suite => "record suite: peak |θ| vs PGA",
         StudyKind::Screen => "screening by the impact law",
     };
     let source = match e.map(|e| &e.source) {
@@ -233,6 +234,7 @@ fn draw_panel(
 fn draw_figure(frame: &mut Frame, area: Rect, t: &RunTable, th: &Theme) {
     let plot = match t.kind {
         StudyKind::Mu => fig8(t, th),
+        StudyKind::Suite => fig_suite(t, th),
         _ => fig7(t, th),
     };
     draw_plot(frame, area, &plot, th);
@@ -276,6 +278,46 @@ fn fig7(t: &RunTable, th: &Theme) -> Plot {
                 points: with,
             },
         ],
+    }
+}
+
+/// The record suite: each pair's peak |θ| against PGA (marked by its number, joined across
+/// the levels: its IDA curve), and the median per level (`#`).
+fn fig_suite(t: &RunTable, th: &Theme) -> Plot {
+    let [runs, medians] = t.suite_points();
+    let peak = runs.iter().map(|p| p.1).fold(0.0, f64::max);
+    let yb = if peak > 0.0 {
+        [0.0, peak * 1.08]
+    } else {
+        [0.0, 1.0]
+    };
+    let pairs = t.runs.iter().map(|r| r.run).max().unwrap_or(0);
+    let mut series: Vec<Series> = (1..=pairs)
+        .map(|p| Series {
+            name: format!("pair {p}"),
+            mark: run_mark(p),
+            style: th.series(p),
+            points: (t.runs.iter())
+                .filter(|r| r.run == p && r.is_ok())
+                .map(|r| (r.pga_x, r.peak_rotation))
+                .collect(),
+        })
+        .collect();
+    series.push(Series {
+        name: "median".into(),
+        mark: '#',
+        style: th.series(0),
+        points: medians,
+    });
+    Plot {
+        y_title: th.text("peak |θ| [rad]"),
+        x_title: "PGA [g]".into(),
+        xb: [
+            0.0,
+            1.05 * (t.runs.iter().map(|r| r.pga_x)).fold(0.0, f64::max),
+        ],
+        yb,
+        series,
     }
 }
 

@@ -147,6 +147,8 @@ fn on_action(app: &mut App, a: Action) -> Vec<Effect> {
         | A::StudyRun
         | A::StudyCancel
         | A::StudyReopen
+        | A::StudyMore
+        | A::StudyFewer
         | A::PickUp
         | A::PickDown
         | A::PickLoad

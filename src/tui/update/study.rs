@@ -9,6 +9,9 @@ use crate::tui::msg::{Effect, StudyOutcome};
 use crate::tui::study::{self, Entry, Phase, Source, Studies, StudySpec, study_dirs, title};
 use std::path::PathBuf;
 
+/// The most record pairs the workbench's suite takes (the far-field set has 19).
+const MAX_SUITE_PAIRS: usize = 50;
+
 /// The keys of the studies view and of the list of CSVs.
 pub(super) fn study_action(app: &mut App, a: Action) -> Vec<Effect> {
     let n = StudyKind::ALL.len();
@@ -17,6 +20,23 @@ pub(super) fn study_action(app: &mut App, a: Action) -> Vec<Effect> {
         Action::StudyPrev => s.selected = (s.selected + n - 1) % n,
         Action::StudyNext => s.selected = (s.selected + 1) % n,
         Action::StudyRun => return start(app),
+        Action::StudyMore | Action::StudyFewer => {
+            let mut sub = app.studies.suite_for(&app.path);
+            sub.pairs = if a == Action::StudyMore {
+                (sub.pairs + 1).min(MAX_SUITE_PAIRS)
+            } else {
+                sub.pairs.saturating_sub(1).max(1)
+            };
+            let msg = format!(
+                "suite: {} record pairs × {} levels from {}",
+                sub.pairs,
+                sub.levels.len(),
+                sub.records.display()
+            );
+            app.studies.suite = Some(sub);
+            app.studies.selected = Studies::index_of(StudyKind::Suite);
+            app.set_status(StatusKind::Info, msg);
+        }
         Action::StudyCancel => return cancel(app),
         Action::StudyReopen => {
             let dirs = study_dirs(&app.path);
@@ -61,7 +81,8 @@ fn start(app: &mut App) -> Vec<Effect> {
         app.set_status(StatusKind::Warn, msg);
         return Vec::new();
     }
-    let table = match study::plan(kind, &app.draft, &app.studies.mus) {
+    let suite = app.studies.suite_for(&app.path);
+    let table = match study::plan(kind, &app.draft, &app.studies.mus, &suite) {
         Ok(t) => t.map(StudyTable::Runs),
         Err(e) => {
             app.set_status(StatusKind::Error, e);
@@ -95,6 +116,7 @@ fn start(app: &mut App) -> Vec<Effect> {
         path: app.path.clone(),
         overrides: app.studies.overrides.clone(),
         mus: app.studies.mus.clone(),
+        suite,
     };
     vec![Effect::StartStudy {
         id,
