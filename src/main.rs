@@ -102,7 +102,7 @@ enum Command {
         #[arg(long = "set", value_name = "KEY=VALUE")]
         set: Vec<String>,
         /// Peak error above this counts as inaccurate.
-        #[arg(long, default_value_t = 0.05)]
+        #[arg(long, default_value_t = deckspin::precision::INACCURATE_ABOVE)]
         tolerance: f64,
         #[arg(long)]
         quick: bool,
@@ -295,7 +295,7 @@ fn print_report(s: &deckspin::output::Summary, scene: &deckspin::scene::Scene) {
         println!("  step size set by: {}", top.join(", "));
     }
     println!(
-        "  energy closure {:.3e} J (rel {:.3e}), max penetration {:.3e} m",
+        "  energy closure {:.3e} (rel {:.3e}; the model's force × length: kJ in t, kN, m), max penetration {:.3e} m",
         s.energy_closure_abs, s.energy_closure_rel, s.max_penetration
     );
     for p in &s.peaks {
@@ -344,31 +344,7 @@ fn print_state_at(run: &deckspin::RunOutput, s: &deckspin::output::Sample, t: f6
 fn cmd_modes(model: &std::path::Path, set: &[String]) -> CliResult {
     let scene = deckspin::load(model, set)?;
     let modes = deckspin::modal::modes(&scene);
-    println!("{} — {} DOF", scene.title, scene.ndof());
-    print!("{:>5} {:>10} {:>10}", "mode", "T (s)", "f (Hz)");
-    for n in &scene.dof_names {
-        print!(" {n:>12.12}");
-    }
-    println!();
-    for (i, m) in modes.iter().enumerate() {
-        let big = m.shape.amax().max(1e-300);
-        print!(
-            "{:>5} {:>10.5} {:>10.4}",
-            i + 1,
-            m.period,
-            m.omega / (2.0 * std::f64::consts::PI)
-        );
-        for x in m.shape.iter() {
-            print!(" {:>12.4}", x / big);
-        }
-        println!();
-    }
-    if scene.mass_damping.alpha != 0.0 {
-        println!(
-            "Rayleigh: a0 = {:.5e} 1/s (mass), element dashpots a1·k",
-            scene.mass_damping.alpha
-        );
-    }
+    print!("{}", cli::tables::modes_table(&scene, &modes));
     Ok(())
 }
 
@@ -522,9 +498,10 @@ fn precision_points(
     Ok((reference, points))
 }
 
-/// "ok" or why the run gave no output.
+/// The point's verdict as `stability` gives it (ok / inaccurate above
+/// [`deckspin::precision::INACCURATE_ABOVE`] / unstable / failed), one legend for both.
 fn status(p: &deckspin::precision::Point) -> String {
-    p.failure.as_ref().map_or("ok".into(), |e| e.to_string())
+    deckspin::precision::verdict(p, deckspin::precision::INACCURATE_ABOVE).to_string()
 }
 
 fn cmd_precision(
@@ -609,7 +586,7 @@ fn cmd_stability(
     use deckspin::precision::verdict;
     let (_, points) = precision_points(model, &Method::ALL, set, quick)?;
     println!(
-        "{:<17} {:<22} verdict (peak error limit {:.0} %)",
+        "{:<17} {:<22} verdict (inaccurate above {:.0} % peak or history error)",
         "method",
         "knob",
         tolerance * 100.0

@@ -315,6 +315,10 @@ pub enum Verdict {
     Failed(Failure),
 }
 
+/// The error above which `stability` calls a run inaccurate unless told otherwise, and
+/// `precision` marks its points: one legend for both.
+pub const INACCURATE_ABOVE: f64 = 0.05;
+
 /// Classify a point for the stability table: the larger of the peak and the RMS history
 /// error against `tol` (a coarse run can hit the peak by chance, not the history).
 pub fn verdict(p: &Point, tol: f64) -> Verdict {
@@ -344,7 +348,39 @@ impl fmt::Display for Verdict {
                 write!(f, "inaccurate ({})", pct(*peak, *history))
             }
             Verdict::Unstable => f.write_str("unstable (detected: energy growth)"),
-            Verdict::Failed(e) => write!(f, "failed: {e}"),
+            // a solver error's own text starts with "failed: " already
+            Verdict::Failed(e) => match &**e {
+                RunFailure::Solver(s) => write!(f, "failed: {s}"),
+                other => write!(f, "failed: {other}"),
+            },
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::run::SolverError;
+
+    #[test]
+    fn a_failed_run_says_failed_once() {
+        let p = Point {
+            method: Method::Event,
+            knob: "rtol=1e-3".into(),
+            cpu_s: f64::NAN,
+            peak_error: f64::NAN,
+            rms_error: f64::NAN,
+            impact_time_error: f64::NAN,
+            steps: 0,
+            failure: Some(Arc::new(RunFailure::Solver(SolverError::NonFinite {
+                t: 1.5,
+            }))),
+        };
+        let v = verdict(&p, INACCURATE_ABOVE).to_string();
+        assert!(
+            v.starts_with("failed: ") && !v.contains("failed: failed"),
+            "{v}"
+        );
+        assert!(v.contains("1.5"), "{v}");
     }
 }

@@ -437,6 +437,12 @@ fn studies_precision_and_stability_write_their_charts() {
         txt.contains("Work-precision\nRMS history error (relative)\n"),
         "{txt}"
     );
+    // each point with the verdict stability gives it, never a bare "ok" beside a large error
+    assert!(
+        txt.contains("inaccurate (peak") && txt.contains("ok (peak"),
+        "{txt}"
+    );
+    assert!(!txt.lines().any(|l| l.trim_end().ends_with(" ok")), "{txt}");
     let r = deckspin(&["stability", &ball, "--quick", "--out", &o]);
     assert_eq!(r.status.code(), Some(0), "{}", text(&r.stderr));
     let s = std::fs::read_to_string(out.join("stability-bouncing-ball.svg")).unwrap();
@@ -446,4 +452,23 @@ fn studies_precision_and_stability_write_their_charts() {
         .count();
     // three knobs of each of the four methods (--quick)
     assert_eq!(cells, 12);
+}
+
+#[test]
+fn modes_name_every_dof_in_full_and_print_no_negative_zero() {
+    let r = deckspin(&["modes", &model("models/four-span.toml")]);
+    assert_eq!(r.status.code(), Some(0), "{}", text(&r.stderr));
+    let out = text(&r.stdout);
+    let header = out.lines().nth(1).unwrap();
+    for name in [
+        "left_abutment.x",
+        "left_abutment.theta",
+        "deck.theta",
+        "right_abutment.theta",
+    ] {
+        assert!(header.contains(name), "{header}");
+    }
+    assert!(!out.contains("-0.0000"), "{out}");
+    // mode 1: the deck's transverse sway with its rotation, -0.1814 rad per m
+    assert!(out.lines().nth(2).unwrap().contains("-0.1814"), "{out}");
 }

@@ -90,3 +90,38 @@ pub fn mu_table(
     }
     Ok((text, csv))
 }
+
+/// `deckspin modes`: periods, frequencies and shapes (each scaled to its largest component),
+/// every column as wide as its DOF's full name; a component that rounds to zero is shown as
+/// 0, without a sign.
+pub fn modes_table(scene: &deckspin::scene::Scene, modes: &[deckspin::modal::Mode]) -> String {
+    use std::fmt::Write as _;
+    let mut s = format!("{} — {} DOF\n", scene.title, scene.ndof());
+    let widths: Vec<usize> = (scene.dof_names.iter())
+        .map(|n| n.chars().count().max(8))
+        .collect();
+    let _ = write!(s, "{:>5} {:>10} {:>10}", "mode", "T (s)", "f (Hz)");
+    for (n, w) in scene.dof_names.iter().zip(&widths) {
+        let _ = write!(s, " {n:>w$}");
+    }
+    s.push('\n');
+    for (i, m) in modes.iter().enumerate() {
+        let big = m.shape.amax().max(1e-300);
+        let f = m.omega / (2.0 * std::f64::consts::PI);
+        let _ = write!(s, "{:>5} {:>10.5} {:>10.4}", i + 1, m.period, f);
+        for (x, w) in m.shape.iter().zip(&widths) {
+            let v = x / big;
+            let v = if v.abs() < 5e-5 { 0.0 } else { v };
+            let _ = write!(s, " {v:>w$.4}");
+        }
+        s.push('\n');
+    }
+    if scene.mass_damping.alpha != 0.0 {
+        let _ = writeln!(
+            s,
+            "Rayleigh: a0 = {:.5e} 1/s (mass), element dashpots a1·k",
+            scene.mass_damping.alpha
+        );
+    }
+    s
+}
