@@ -2,6 +2,7 @@
 //! scalar leaf of the TOML document under its dotted path. Edits are applied to the text with
 //! `toml_edit`, keeping comments and layout; validation is the engine's own (`load_str`).
 
+use super::units::{split_unit, unit_factor, unit_hint};
 use std::path::Path;
 use toml_edit::{DocumentMut, Item, Value};
 
@@ -392,26 +393,33 @@ pub fn build(draft: &str, saved: &str) -> Form {
     }
 }
 
-/// Parses what the user typed for a field of this kind. A trailing unit equal to the field's
-/// unit is accepted and dropped ("0.02 m").
+/// Parses what the user typed for a field of this kind. A number may carry a unit: the
+/// field's own ("0.02 m") or one that converts to it ([`super::units::CONVERSIONS`]: "20 mm", "1e4 kN/mm",
+/// "650 kg"); any other unit is refused, naming the ones taken.
 pub fn parse_input(kind: Kind, raw: &str, unit: &str) -> Result<Value, String> {
-    let mut t = raw.trim();
-    if !unit.is_empty() {
-        t = t.strip_suffix(unit).unwrap_or(t).trim_end();
-    }
+    let t = raw.trim();
     if t.is_empty() {
         return Err(format!("empty: expected a {}", kind.name()));
     }
     match kind {
-        Kind::Float => match t.parse::<Value>() {
-            Ok(Value::Float(f)) => Ok(Value::Float(f)),
-            Ok(Value::Integer(i)) => Ok(Value::from(*i.value() as f64)),
-            _ => t
-                .parse::<f64>()
-                .map(Value::from)
-                .map_err(|_| format!("'{t}' is not a number{}", unit_hint(unit))),
-        },
-        Kind::Int => match t.parse::<Value>() {
+        Kind::Float => {
+            let (number, typed) = split_unit(t);
+            let factor = unit_factor(typed, unit)?;
+            let v = match number.parse::<Value>() {
+                Ok(Value::Float(f)) => *f.value(),
+                Ok(Value::Integer(i)) => *i.value() as f64,
+                _ => number
+                    .parse::<f64>()
+                    .map_err(|_| format!("'{number}' is not a number{}", unit_hint(unit)))?,
+            };
+            Ok(Value::from(v * factor))
+        }
+        Kind::Int => match t
+            .strip_suffix(unit)
+            .unwrap_or(t)
+            .trim_end()
+            .parse::<Value>()
+        {
             Ok(Value::Integer(i)) => Ok(Value::Integer(i)),
             _ => Err(format!("'{t}' is not an integer")),
         },
@@ -424,14 +432,6 @@ pub fn parse_input(kind: Kind, raw: &str, unit: &str) -> Result<Value, String> {
             Ok(Value::String(s)) => Ok(Value::String(s)),
             _ => Ok(Value::from(t)),
         },
-    }
-}
-
-fn unit_hint(unit: &str) -> String {
-    if unit.is_empty() || unit == "–" {
-        String::new()
-    } else {
-        format!(" (in {unit})")
     }
 }
 

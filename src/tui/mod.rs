@@ -21,6 +21,7 @@ pub mod study;
 pub mod study_files;
 pub mod study_worker;
 pub mod ui;
+pub mod units;
 pub mod update;
 pub mod watch;
 pub mod worker;
