@@ -7,15 +7,8 @@
 
 use std::path::{Path, PathBuf};
 
-/// The leading columns, in order.
-pub const HEAD: [&str; 6] = [
-    "pair",
-    "longitudinal",
-    "transverse",
-    "measure",
-    "level",
-    "scale",
-];
+/// The leading columns, in order (those the suite writes).
+pub use crate::suite::row::LEAD as HEAD;
 
 /// Most runs a suite file may hold (the read keeps them all in memory).
 pub const MAX_RUNS: usize = 1_000_000;

@@ -66,20 +66,9 @@ mod tests {
     use super::*;
     use crate::suite::stats::level_stats;
 
+    /// [`crate::suite::stats::tests::row`] without impacts.
     fn row(level: f64, mu: &str, status: Status, peak: f64) -> SuiteRow {
-        let mut metrics = [None; 11];
-        metrics[0] = Some(peak);
-        SuiteRow {
-            pair: "p".into(),
-            longitudinal: "l".into(),
-            transverse: "t".into(),
-            measure: "pga".into(),
-            level,
-            scale: Some(1.0),
-            settings: vec![("contacts.mu".into(), mu.into())],
-            status,
-            metrics,
-        }
+        crate::suite::stats::tests::row(level, mu, status, peak, 0.0)
     }
 
     #[test]

@@ -26,7 +26,7 @@ pub const METRICS: [&str; 11] = [
 const COUNTS: [&str; 2] = ["key_failures", "impacts"];
 
 /// The columns before the swept keys.
-const LEAD: [&str; 6] = [
+pub const LEAD: [&str; 6] = [
     "pair",
     "longitudinal",
     "transverse",

@@ -213,10 +213,11 @@ pub fn stats_table(stats: &[LevelStats]) -> String {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
-    fn row(level: f64, mu: &str, status: Status, peak: f64, impacts: f64) -> SuiteRow {
+    /// A run at `level` with `contacts.mu` = `mu`, its peak rotation and impacts.
+    pub(crate) fn row(level: f64, mu: &str, status: Status, peak: f64, impacts: f64) -> SuiteRow {
         let mut metrics = [None; 11];
         metrics[0] = Some(peak);
         metrics[7] = Some(impacts);
