@@ -151,17 +151,8 @@ fn draw_map(
                 })
                 .collect()
         };
-        let flush = row(&|m| match m.flush {
-            Flush::Straight => '.',
-            Flush::RotatesSticking => 's',
-            Flush::RotatesSliding => 'S',
-        });
-        let corner = row(&|m| match (m.acute_sticks, m.obtuse_sticks) {
-            (Some(true), Some(true)) => 'B',
-            (Some(true), _) => 'a',
-            (_, Some(true)) => 'o',
-            _ => '-',
-        });
+        let flush = row(&|m| m.flush.glyph());
+        let corner = row(&|m| m.corners().glyph());
         out.push_str(&format!("{phi:>4.0}° |{flush}|   |{corner}|\n"));
     }
     let axis = format!(

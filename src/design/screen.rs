@@ -124,6 +124,72 @@ pub enum Flush {
     RotatesSliding,
 }
 
+impl Flush {
+    /// Every outcome, in the maps' legend order.
+    pub const ALL: [Flush; 3] = [
+        Flush::Straight,
+        Flush::RotatesSticking,
+        Flush::RotatesSliding,
+    ];
+
+    /// Its character on the text maps.
+    pub fn glyph(self) -> char {
+        match self {
+            Flush::Straight => '.',
+            Flush::RotatesSticking => 's',
+            Flush::RotatesSliding => 'S',
+        }
+    }
+
+    /// Its name in the legends.
+    pub fn name(self) -> &'static str {
+        match self {
+            Flush::Straight => "stays straight",
+            Flush::RotatesSticking => "rotates, corners stick",
+            Flush::RotatesSliding => "rotates, corners slide",
+        }
+    }
+}
+
+/// Which corners of an end stick when each is struck alone.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Corners {
+    Both,
+    Acute,
+    Obtuse,
+    Neither,
+}
+
+impl Corners {
+    /// Every outcome, in the maps' legend order.
+    pub const ALL: [Corners; 4] = [
+        Corners::Both,
+        Corners::Acute,
+        Corners::Obtuse,
+        Corners::Neither,
+    ];
+
+    /// Its character on the text maps.
+    pub fn glyph(self) -> char {
+        match self {
+            Corners::Both => 'B',
+            Corners::Acute => 'a',
+            Corners::Obtuse => 'o',
+            Corners::Neither => '-',
+        }
+    }
+
+    /// Its name in the legends.
+    pub fn name(self) -> &'static str {
+        match self {
+            Corners::Both => "both corners stick",
+            Corners::Acute => "only the acute corner sticks",
+            Corners::Obtuse => "only the obtuse corner sticks",
+            Corners::Neither => "neither sticks",
+        }
+    }
+}
+
 /// A rigid deck (length L, width B, ends skewed φ) moving along its axis hits a face parallel to
 /// its end, flush: no rotation is possible iff |sin φ + cos φ Λ_T/Λ_N| cos φ ≤ B/L, with
 /// Λ_T/Λ_N = −sin φ/((1+ε) cos φ) when the corners stick (tan φ ≤ μ(1+ε)), else −μ. So it
@@ -191,6 +257,18 @@ pub struct MapCell {
     pub obtuse_sticks: Option<bool>,
     /// θ̇⁺ L / v after the acute corner's impact alone (the end's spin per approach speed).
     pub acute_spin: f64,
+}
+
+impl MapCell {
+    /// Which corners stick when struck alone.
+    pub fn corners(&self) -> Corners {
+        match (self.acute_sticks, self.obtuse_sticks) {
+            (Some(true), Some(true)) => Corners::Both,
+            (Some(true), _) => Corners::Acute,
+            (_, Some(true)) => Corners::Obtuse,
+            _ => Corners::Neither,
+        }
+    }
 }
 
 /// The screening map over `l_over_b` × `skew_deg` for μ and ε.

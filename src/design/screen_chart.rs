@@ -1,7 +1,7 @@
 //! The screening maps as `plot` grids: rows of skew (60° at the top), columns of L/B, the
 //! model's end marked `@`.
 
-use super::screen::{Flush, MapCell};
+use super::screen::{Corners, Flush, MapCell};
 use crate::plot::{Category, Cell, Grid, GridRow};
 
 fn category(name: &str, glyph: char, color: usize) -> Category {
@@ -23,16 +23,10 @@ pub fn map_grids(
     mu: f64,
     eps: f64,
 ) -> [Grid; 2] {
-    let flush = |m: &MapCell| match m.flush {
-        Flush::Straight => 0,
-        Flush::RotatesSticking => 1,
-        Flush::RotatesSliding => 2,
-    };
-    let corner = |m: &MapCell| match (m.acute_sticks, m.obtuse_sticks) {
-        (Some(true), Some(true)) => 0,
-        (Some(true), _) => 1,
-        (_, Some(true)) => 2,
-        _ => 3,
+    let flush = |m: &MapCell| Flush::ALL.iter().position(|f| *f == m.flush).unwrap_or(0);
+    let corner = |m: &MapCell| {
+        let c = m.corners();
+        Corners::ALL.iter().position(|k| *k == c).unwrap_or(0)
     };
     let rows = |f: &dyn Fn(&MapCell) -> usize| -> Vec<GridRow> {
         (0..skew.len())
@@ -65,22 +59,17 @@ pub fn map_grids(
             title: format!("After a flush impact of the end (μ {mu}, ε {eps})"),
             columns: columns.clone(),
             rows: rows(&flush),
-            categories: vec![
-                category("stays straight", '.', 2),
-                category("rotates, corners stick", 's', 1),
-                category("rotates, corners slide", 'S', 3),
-            ],
+            categories: (Flush::ALL.iter().zip([2, 1, 3]))
+                .map(|(f, color)| category(f.name(), f.glyph(), color))
+                .collect(),
         },
         Grid {
             title: format!("A corner struck alone against a rigid face (μ {mu}, ε {eps})"),
             columns,
             rows: rows(&corner),
-            categories: vec![
-                category("both corners stick", 'B', 0),
-                category("only the acute corner sticks", 'a', 4),
-                category("only the obtuse corner sticks", 'o', 1),
-                category("neither sticks", '-', 7),
-            ],
+            categories: (Corners::ALL.iter().zip([0, 4, 1, 7]))
+                .map(|(c, color)| category(c.name(), c.glyph(), color))
+                .collect(),
         },
     ]
 }

@@ -26,20 +26,11 @@ fn spread(n: usize, k: usize) -> Vec<usize> {
 }
 
 fn flush_char(c: &MapCell) -> char {
-    match c.flush {
-        Flush::Straight => '.',
-        Flush::RotatesSticking => 's',
-        Flush::RotatesSliding => 'S',
-    }
+    c.flush.glyph()
 }
 
 fn corner_char(c: &MapCell) -> char {
-    match (c.acute_sticks, c.obtuse_sticks) {
-        (Some(true), Some(true)) => 'B',
-        (Some(true), _) => 'a',
-        (_, Some(true)) => 'o',
-        _ => '-',
-    }
+    c.corners().glyph()
 }
 
 /// Which cells of the map are shown, and where the model's mark goes among them.
