@@ -19,6 +19,7 @@
 //!   (incremental dynamic analysis); [`shard`]: jobs cut into parts and merged; [`progress`]:
 //!   how far a job has come.
 //! - [`plot`]: charts as data, drawn as SVG or ASCII text; [`figures`]: the studies' charts.
+//! - [`units`]: the model's unit system (the `units` key: SI-kN, SI, kip-in).
 //! - [`design`]: fragility curves of a record suite (limit states: `model::limit_state`).
 //! - [`studies`]: sweeps and the paper's studies; [`study_table`], [`study_csv`]: a study's
 //!   results as a table that fills while it runs, and its CSV.
@@ -51,6 +52,7 @@ pub mod study_csv;
 pub mod study_table;
 pub mod suite;
 pub mod timestepping;
+pub mod units;
 #[cfg(feature = "workbench")]
 pub mod tui;
 

@@ -294,9 +294,14 @@ fn print_report(s: &deckspin::output::Summary, scene: &deckspin::scene::Scene) {
             .collect();
         println!("  step size set by: {}", top.join(", "));
     }
+    let u = scene.units;
     println!(
-        "  energy closure {:.3e} (rel {:.3e}; the model's force × length: kJ in t, kN, m), max penetration {:.3e} m",
-        s.energy_closure_abs, s.energy_closure_rel, s.max_penetration
+        "  energy closure {:.3e} {} (rel {:.3e}; units {u}), max penetration {:.3e} {}",
+        s.energy_closure_abs,
+        u.unit(deckspin::units::Quantity::Energy),
+        s.energy_closure_rel,
+        s.max_penetration,
+        u.unit(deckspin::units::Quantity::Length)
     );
     for p in &s.peaks {
         println!(

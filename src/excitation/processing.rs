@@ -68,6 +68,11 @@ pub struct Processing {
     pub taper: f64,
     /// Zero acceleration appended, processed seconds, ≥ 0. Default 0.
     pub pad: f64,
+    /// Length units of the model per metre: the processed motion (m/s², m/s, m) is multiplied
+    /// by it last (`UnitSystem::per_metre`). Default 1; set from the model's `units`, never
+    /// read from a file.
+    #[serde(skip)]
+    pub per_metre: f64,
 }
 
 impl Default for Processing {
@@ -80,6 +85,7 @@ impl Default for Processing {
             baseline: Baseline::default(),
             taper: 0.5,
             pad: 0.0,
+            per_metre: 1.0,
         }
     }
 }
@@ -392,7 +398,13 @@ impl GroundMotion {
                 ),
             ));
         }
-        Self::from_samples(rec.dt, rec.accel_g.iter().map(|x| x * G).collect(), p)
+        let mut m = Self::from_samples(rec.dt, rec.accel_g.iter().map(|x| x * G).collect(), p)?;
+        if p.per_metre != 1.0 {
+            for v in [&mut m.acc, &mut m.vel, &mut m.disp] {
+                v.iter_mut().for_each(|x| *x *= p.per_metre);
+            }
+        }
+        Ok(m)
     }
 
     /// Processes uniformly sampled accelerations (m/s², `dt` in record seconds); steps in the

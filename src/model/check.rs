@@ -186,6 +186,8 @@ pub struct Check<'a> {
     pub path: &'a Path,
     /// The fields `--set` arguments wrote.
     pub applied: &'a [Applied],
+    /// The file's `units` (SI-kN when absent).
+    pub units: crate::units::UnitSystem,
 }
 
 impl Check<'_> {

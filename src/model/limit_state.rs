@@ -167,6 +167,7 @@ pub fn from_text(text: &str, path: &Path) -> Result<Vec<LimitState>, ModelError>
         text,
         path,
         applied: &[],
+        units: Default::default(),
     };
     check_specs(&only.specs, &ck)
 }

@@ -27,6 +27,7 @@ pub use solver::{SolverSpec, settings};
 pub use warnings::ModelWarning;
 
 use crate::scene::Scene;
+use crate::units::UnitSystem;
 use serde::Deserialize;
 use std::path::Path;
 use toml::de::{DeTable, Deserializer};
@@ -83,6 +84,18 @@ pub fn load_str_with(
     compile_text(text, path, overrides, motions, StepLimit::Warn).map(|l| l.scene)
 }
 
+/// The top-level `units` key (SI-kN when absent).
+fn units_of(table: &toml::Table, ck: &Check) -> Result<UnitSystem, ModelError> {
+    match table.get("units") {
+        None => Ok(UnitSystem::default()),
+        Some(toml::Value::String(s)) => UnitSystem::parse(s).map_err(|m| ck.err("units", m)),
+        Some(v) => Err(ck.err(
+            "units",
+            format!("must be a string (SI-kN, SI, kip-in), got {}", v.type_str()),
+        )),
+    }
+}
+
 /// The one path: overrides applied, the TOML parsed once, compiled as a bridge or a general
 /// scene, then the checks of the whole scene (`limits`).
 fn compile_text(
@@ -98,11 +111,13 @@ fn compile_text(
     // the document as a plain table: what kind of file, and the values toml's own `Table`
     // rejects (integers beyond i64) rejected first, as when it was read that way
     let table = toml::Table::deserialize(Deserializer::from(doc.clone())).map_err(located)?;
-    let ck = Check {
+    let mut ck = Check {
         text: &text,
         path,
         applied: &applied,
+        units: Default::default(),
     };
+    ck.units = units_of(&table, &ck)?;
     let mut warnings = Vec::new();
     let bridge = table.contains_key("deck") || table.contains_key("frame");
     let (mut scene, solver) = if bridge {
@@ -125,6 +140,7 @@ fn compile_text(
         bridge,
         step_limit,
     };
+    scene.units = ck.units;
     limits::finish(&mut scene, &given, &ck, &mut warnings)?;
     Ok(Loaded { scene, warnings })
 }

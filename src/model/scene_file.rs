@@ -139,6 +139,9 @@ fn one() -> f64 {
 #[serde(deny_unknown_fields)]
 pub struct SceneFile {
     pub title: Option<String>,
+    /// The unit system (read before the rest: `Check::units`).
+    #[allow(dead_code)]
+    pub units: Option<String>,
     #[serde(default)]
     pub solver: SolverSpec,
     /// Gravity vector (x, y), m/s², applied as m·g to x/y DOFs.
@@ -214,6 +217,7 @@ pub fn compile(f: &SceneFile, ck: &Check, motions: &Motions) -> Result<Scene, Mo
         ..
     } = dofs;
     Ok(Scene {
+        units: ck.units,
         seats,
         title: f.title.clone().unwrap_or_else(|| {
             path.file_stem()
@@ -430,7 +434,10 @@ fn support_motion(
                 .file
                 .as_ref()
                 .ok_or_else(|| ck.err(&fld("file"), "required for a record support"))?;
-            let p = s.processing.clone().unwrap_or_default();
+            let p = Processing {
+                per_metre: ck.units.per_metre(),
+                ..s.processing.clone().unwrap_or_default()
+            };
             let processing = |f: &str| Some(fld(&format!("processing.{f}")));
             let motion = (motions.get(path, file, p))
                 .map_err(|e| record_error(e, ck, &fld("file"), file, &processing))?;

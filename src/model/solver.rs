@@ -40,6 +40,13 @@ pub struct SolverSpec {
 /// Settings from `[solver]`.
 pub fn settings(s: &SolverSpec, ck: &Check) -> Result<Settings, ModelError> {
     let mut out = Settings::default();
+    // the defaults with a length in them are SI-kN's, in the model's units
+    let (m, kn) = (ck.units.per_metre(), ck.units.per_kilonewton());
+    out.gap_tol *= m;
+    out.velocity_tol *= m;
+    out.zeno_velocity *= m;
+    out.max_penetration *= m;
+    out.contact_stiffness *= kn / m;
     macro_rules! pos {
         ($f:ident) => {
             if let Some(x) = s.$f {

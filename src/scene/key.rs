@@ -29,6 +29,7 @@ impl SceneKey {
         // every field named: a field added to `Scene` must be added here
         let Scene {
             title: _,
+            units: _,
             seats,
             bodies,
             contacts,

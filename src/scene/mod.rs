@@ -210,6 +210,8 @@ pub struct MassDamping {
 #[derive(Clone, Debug)]
 pub struct Scene {
     pub title: String,
+    /// The model's unit system (names units; the engine itself is unit-free).
+    pub units: crate::units::UnitSystem,
     /// Seats under the deck ends (bridge files with `abutment.seat_width`): one per corner.
     pub seats: Vec<Seat>,
     pub bodies: Vec<Body>,

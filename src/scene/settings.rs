@@ -3,8 +3,8 @@
 use crate::lemke::LemkeOptions;
 use crate::methods::Method;
 
-/// Solver settings of one run (`[solver]` of a model file). Units are the model's (the bridge:
-/// t, kN, m, s). Each field says which method reads it: E = event-driven, M = Moreau–Jean,
+/// Solver settings of one run (`[solver]` of a model file). Units are the model's (`units`; the
+/// defaults below are SI-kN's: t, kN, m, s, converted by `model::solver::settings`). Each field says which method reads it: E = event-driven, M = Moreau–Jean,
 /// P = penalty (Newmark), X = penalty-explicit; the defaults are those of [`Settings::default`].
 #[derive(Clone, Debug)]
 pub struct Settings {

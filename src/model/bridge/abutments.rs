@@ -9,6 +9,7 @@ use super::schema::{AbutmentSpec, BridgeFile, KeySpec, Kind};
 use crate::hysteresis::{HysteresisError, Hysteretic, Law};
 use crate::model::check::{Check, ModelError};
 use crate::scene::{Attachment, HystereticElement, Spring};
+use crate::units::UnitSystem;
 use nalgebra::Vector2;
 
 /// Caltrans SDC v1.7 §7.8.1 initial backfill stiffness per unit width and height ratio:
@@ -131,7 +132,7 @@ pub(super) fn abutment_elements(
         let sy = ends.sy.map(|s| s[i]);
         if kind == Kind::Backfill {
             let line = &plan.lines[if right { n } else { 0 }];
-            let (stiffness, capacity) = backfill_of(a, frames[k].width, line.skew);
+            let (stiffness, capacity) = backfill_of(a, frames[k].width, line.skew, ck.units);
             let ab = if right { ends.last } else { 0 };
             let off = a.actuator_offset.unwrap_or(0.0);
             let d = Vector2::new(if right { 1.0 } else { -1.0 }, 0.0);
@@ -187,14 +188,15 @@ pub(super) fn abutment_elements(
 }
 
 /// The backfill of one backwall: given, or Caltrans' from its height, the deck's width along
-/// the skewed wall (w / cos θ) and the skew.
-fn backfill_of(a: &AbutmentSpec, width: f64, skew: f64) -> (f64, f64) {
-    let h = a.backwall_height.unwrap_or(0.0);
-    let w = width / skew.to_radians().cos();
+/// the skewed wall (w / cos θ) and the skew; in the model's units `u`.
+fn backfill_of(a: &AbutmentSpec, width: f64, skew: f64, u: UnitSystem) -> (f64, f64) {
+    let m = u.per_metre();
+    let h = a.backwall_height.unwrap_or(0.0) / m;
+    let w = width / skew.to_radians().cos() / m;
     let (k, p) = caltrans_backfill(h, w, skew);
     (
-        a.backfill_stiffness.unwrap_or(k),
-        a.backfill_capacity.unwrap_or(p),
+        a.backfill_stiffness.unwrap_or(k * u.per_kilonewton() / m),
+        a.backfill_capacity.unwrap_or(p * u.per_kilonewton()),
     )
 }
 

@@ -78,7 +78,8 @@ pub fn compile(f: &BridgeFile, ck: &Check, motions: &Motions) -> Result<Scene, M
     let seats = seat::seats(&seat_lines(f, &frames, &plan), ck)?;
     let n = mass.len();
     let mut scene = Scene {
-        title: f.title.clone().unwrap_or_else(|| "bridge".into()),
+        title: title(f),
+        units: ck.units,
         seats,
         bodies,
         contacts,
@@ -98,6 +99,23 @@ pub fn compile(f: &BridgeFile, ck: &Check, motions: &Motions) -> Result<Scene, M
             .map_err(|r| ck.err("damping.modes", r))?;
     }
     Ok(scene)
+}
+
+/// The title: the file's (or "bridge") and, for a record input at a test run, that run and
+/// its target PGAs (`four-span straight bridge, test run 4 (0.60 g / 0.50 g)`).
+fn title(f: &BridgeFile) -> String {
+    let base = f.title.clone().unwrap_or_else(|| "bridge".into());
+    let run = (f.excitation.as_ref())
+        .filter(|e| e.kind == "record")
+        .and_then(|e| e.run)
+        .and_then(|r| Some((r, f.runs.get(r.checked_sub(1)?)?)));
+    match run {
+        Some((r, spec)) => format!(
+            "{base}, test run {r} ({:.2} g / {:.2} g)",
+            spec.pga_x, spec.pga_y
+        ),
+        None => base,
+    }
 }
 
 /// Mean column height of some frames' bents, m.

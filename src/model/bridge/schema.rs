@@ -268,6 +268,9 @@ fn three() -> usize {
 #[serde(deny_unknown_fields)]
 pub struct BridgeFile {
     pub title: Option<String>,
+    /// The unit system (read before the rest: `Check::units`).
+    #[allow(dead_code)]
+    pub units: Option<String>,
     /// One frame (with `[[bent]]`), or none with `[[frame]]`.
     pub deck: Option<DeckSpec>,
     #[serde(default, rename = "frame")]

@@ -56,7 +56,8 @@ pub(super) fn seats(lines: &[SeatSpec], ck: &Check) -> Result<Vec<Seat>, ModelEr
             Some(p) => ck.positive(&field("seat_percent"), p)?,
             None => 100.0,
         };
-        let n = aashto_support_length(f.length, f.height, f.skew);
+        let m = ck.units.per_metre();
+        let n = m * aashto_support_length(f.length / m, f.height / m, f.skew);
         out.extend(f.corners.iter().map(|&(contact, gap)| Seat {
             contact,
             width,

@@ -97,6 +97,7 @@ fn record_supports(
             order: e.baseline_order,
         },
         taper: e.taper.unwrap_or(Processing::default().taper),
+        per_metre: ck.units.per_metre(),
         ..Processing::default()
     };
     // supports with the same record, PGA and lag share one motion
