@@ -107,7 +107,7 @@ fn workspace() -> PathBuf {
     d
 }
 
-/// The two numbers of a summary row (current, previous).
+/// The first two numbers of a row of the runs compared (the baseline, the shown run).
 fn row(screen: &str, name: &str) -> (String, String) {
     let line = screen
         .lines()
@@ -181,7 +181,7 @@ fn workbench_in_tmux() {
         &format!("DECKSPIN_TIMING='{}'", timing.display()),
     );
     // the first run streams and finishes
-    let s = tmux.wait("run 1 to finish", 30, |s| s.contains("run 1 done"));
+    let s = tmux.wait("#1 to finish", 30, |s| s.contains("#1 done"));
     assert_eq!(
         tmux.alternate_on(),
         "1",
@@ -213,7 +213,7 @@ fn workbench_in_tmux() {
 
     // save: the file keeps its comments, the model reruns, the comparison changes
     tmux.keys(&["s"]);
-    let s = tmux.wait("run 2 to finish", 30, |s| s.contains("run 2 done"));
+    let s = tmux.wait("#2 to finish", 30, |s| s.contains("#2 done"));
     let saved = std::fs::read_to_string(&model).unwrap();
     assert!(
         saved.contains("gaps = [0.002, 0.0127, 0.0127, 0.0127]"),
@@ -221,21 +221,31 @@ fn workbench_in_tmux() {
     );
     assert!(saved.contains("# m, corners left_top, left_bottom, right_top, right_bottom"));
     assert!(!s.contains("[+]"), "saved: no unsaved edits left\n{s}");
-    let (now, before) = row(&s, "peak |θ|");
-    assert_ne!(now, before, "the rotation peak changed with the gap:\n{s}");
-    assert!(s.contains("run 1"), "previous run compared:\n{s}");
+    let (base, now) = row(&s, "peak |θ|");
+    assert_ne!(now, base, "the rotation peak changed with the gap:\n{s}");
+    assert!(s.contains("#1 base"), "the baseline compared:\n{s}");
 
-    // change the file on disk like an editor (write a temporary file, rename it over)
-    tmux.keys(&["Tab"]);
+    // the run list: #2 against the baseline #1, its model diff; kept beside the model
+    tmux.keys(&["#"]);
+    let s = tmux.wait("the run list", 5, |s| {
+        s.contains("#2 against #1: 1 changed")
+    });
+    assert!(s.contains("contacts.gaps.0: 0.0127 → 0.002"), "{s}");
+    let stored = d.join("models/four-span.runs/0002.json");
+    tmux.wait("the run stored", 10, |_| stored.is_file());
+
+    // change the file on disk like an editor (write a temporary file, rename it over); from
+    // the run list, S-Tab is the studies view
+    tmux.keys(&["BTab"]);
     let edited = saved.replace("mu = 0.5 ", "mu = 0.4 ") + "# touched by the e2e test\n";
     let tmp = d.join("models/.four-span.toml.swp");
     std::fs::write(&tmp, &edited).unwrap();
     let t_write = unix_ms();
     std::fs::rename(&tmp, &model).unwrap();
     tmux.wait("reloaded", 10, |s| s.contains("reloaded"));
-    tmux.wait("run 3 to finish", 30, |s| s.contains("run 3 done"));
+    tmux.wait("#3 to finish", 30, |s| s.contains("#3 done"));
 
-    // the second Tab is the studies view: the PGA study runs in its own thread on the model,
+    // the studies view: the PGA study runs in its own thread on the model,
     // is drawn, and its CSV is written beside the model
     tmux.wait("the studies view", 5, |s| s.contains(">PGA (Fig. 7)"));
     tmux.keys(&["Enter"]);
@@ -288,7 +298,7 @@ fn panics_restore_the_terminal() {
         socket: format!("deckspin-e2e-worker-{}", std::process::id()),
     };
     start(&tmux, &d, "DECKSPIN_TEST_PANIC=worker");
-    let s = tmux.wait("the failed run", 30, |s| s.contains("run 1 failed"));
+    let s = tmux.wait("the failed run", 30, |s| s.contains("#1 failed"));
     assert!(s.contains("the engine panicked"), "{s}");
     assert!(s.contains("DECKSPIN_TEST_PANIC=worker"), "{s}");
     tmux.keys(&["q"]);

@@ -9,6 +9,7 @@ use deckspin::tui::app::{Confirm, Mode, StatusKind, View};
 use deckspin::tui::keymap::{Action, Ctx, KEYMAP};
 use deckspin::tui::msg::RunOutcome;
 use deckspin::tui::run_data::{RunData, RunStatus};
+use deckspin::tui::run_list::{Ended, Entry};
 use deckspin::tui::{self, App, Effect, Msg, Options, chart, form, update};
 use ratatui::Terminal;
 use ratatui::backend::TestBackend;
@@ -71,21 +72,35 @@ fn bridge_run() -> &'static RunData {
     R.get_or_init(|| run_of(&short_bridge("0.004"), &bridge_path(), 2))
 }
 
-/// Run 1: the same bridge with 6 mm gaps (the "previous" run of the compare snapshots).
+/// Run 1: the same bridge with 6 mm gaps (the baseline of the compare snapshots).
 fn bridge_prev_run() -> &'static RunData {
     static R: OnceLock<RunData> = OnceLock::new();
     R.get_or_init(|| run_of(&short_bridge("0.006"), &bridge_path(), 1))
 }
 
-/// A deterministic app: the short bridge with run 2 current and run 1 as the overlay. The
+/// Keeps `#1` (6 mm gaps, the baseline) and `#2` (4 mm gaps) in the run list of `app`, as
+/// if they had been run in it.
+fn keep_bridge_runs(app: &mut App) {
+    let saved = app.text.clone();
+    app.runs.add(
+        Entry::of_run(bridge_prev_run(), short_bridge("0.006")),
+        &saved,
+    );
+    app.runs.pin(1);
+    app.runs
+        .add(Entry::of_run(bridge_run(), short_bridge("0.004")), &saved);
+    app.runs.selected = 1;
+}
+
+/// A deterministic app: the short bridge with #2 current and #1 the baseline, overlaid. The
 /// model path is relative (tests run in the package root) so that snapshots do not contain
 /// the checkout's location.
 fn bridge_app() -> App {
     let mut app = App::new_from_text(&short_bridge("0.004"), Path::new("models/four-span.toml"));
     app.current = Some(bridge_run().clone());
-    app.previous = Some(bridge_prev_run().clone());
+    keep_bridge_runs(&mut app);
     app.next_run = 3;
-    app.set_status(StatusKind::Ok, "run 2 finished");
+    app.set_status(StatusKind::Ok, "#2 finished");
     app
 }
 
@@ -290,6 +305,11 @@ fn every_binding_is_handled_in_its_context() {
                         files: vec![PathBuf::from("models/x.studies/pga-1.csv")],
                         selected: 0,
                     }
+                }
+                Ctx::Runs => app.view = View::Runs,
+                Ctx::Naming => {
+                    app.view = View::Runs;
+                    act(&mut app, Action::RunRename);
                 }
                 Ctx::Charts | Ctx::Global => {}
             }
@@ -644,7 +664,7 @@ fn run_starts_a_worker_and_batches_stream_in() {
     assert!(app.status.contains("finished"), "{}", app.status);
     // progress on screen
     let s = screen(&render(&mut app, 80, 24));
-    assert!(s.contains("run 1 done"), "{s}");
+    assert!(s.contains("#1 done"), "{s}");
 }
 
 #[test]
@@ -702,12 +722,16 @@ fn cancel_a_run() {
         },
     );
     assert_eq!(app.current.as_ref().unwrap().status, RunStatus::Cancelled);
-    assert_eq!(app.status, "run 1 cancelled at t = 0.250 s");
-    // nothing left to cancel; rerun starts again and a cancelled run is not the overlay
+    assert_eq!(app.status, "#1 cancelled at t = 0.250 s");
+    // kept in the run list as cancelled, not made the baseline
+    assert_eq!(app.runs.list.len(), 1);
+    assert_eq!(app.runs.list[0].ended, Ended::Cancelled);
+    assert_eq!(app.runs.baseline, None);
+    // nothing left to cancel; rerun starts again with nothing overlaid
     assert!(update(&mut app, key('c')).is_empty());
     let fx = act(&mut app, Action::Rerun);
     assert_eq!(start_ids(&fx), vec![2]);
-    assert!(app.previous.is_none());
+    assert!(app.runs.overlays().is_empty());
 }
 
 #[test]
@@ -765,42 +789,55 @@ fn the_worker_streams_and_cancel_stops_the_engine() {
 }
 
 #[test]
-fn rerun_keeps_the_previous_run_as_overlay() {
+fn every_run_is_kept_and_compared_with_the_baseline_not_the_run_before() {
     let mut app = corner_app();
+    // the first finished run is pinned as the baseline
+    assert_eq!(app.runs.baseline, Some(1));
+    assert!(app.status.contains("#1 is the baseline"), "{}", app.status);
     let fx = update(&mut app, key('r'));
     assert_eq!(start_ids(&fx), vec![2]);
-    assert_eq!(app.previous.as_ref().unwrap().id, 1);
     assert_eq!(app.current.as_ref().unwrap().id, 2);
+    let over: Vec<u64> = app.runs.overlays().iter().map(|e| e.number).collect();
+    assert_eq!(over, [1]);
     tui::execute_blocking(&mut app, fx);
-    assert_eq!(app.previous.as_ref().unwrap().id, 1);
     assert_eq!(app.current.as_ref().unwrap().status, RunStatus::Finished);
-    // rerun while running: the running one is cancelled, the finished previous stays
     let fx = act(&mut app, Action::Rerun);
-    assert_eq!(start_ids(&fx), vec![3]);
-    assert_eq!(app.previous.as_ref().unwrap().id, 2);
+    tui::execute_blocking(&mut app, fx);
+    // #3 is compared with #1, never with #2 (the run before)
+    let kept: Vec<u64> = app.runs.list.iter().map(|e| e.number).collect();
+    assert_eq!(kept, [1, 2, 3]);
+    let over: Vec<u64> = app.runs.overlays().iter().map(|e| e.number).collect();
+    assert_eq!(over, [1]);
+    assert_eq!(app.runs.get(3).unwrap().name, "same as #1");
+    // rerun while running: the running one is cancelled (kept only with samples)
+    let fx = act(&mut app, Action::Rerun);
+    assert_eq!(start_ids(&fx), vec![4]);
     let fx = act(&mut app, Action::Rerun);
     assert!(
         matches!(
             fx.as_slice(),
-            [Effect::CancelRun { id: 3 }, Effect::StartRun { id: 4, .. }]
+            [Effect::CancelRun { id: 4 }, Effect::StartRun { id: 5, .. }]
         ),
         "{fx:?}"
     );
-    assert_eq!(app.previous.as_ref().unwrap().id, 2);
+    assert_eq!(app.runs.list.len(), 3, "#4 had no sample yet");
+    assert_eq!(app.runs.baseline, Some(1));
     // the overlay can be hidden
     act(&mut app, Action::ToggleOverlay);
     assert!(!app.overlay);
 }
 
 #[test]
-fn compare_table_shows_current_and_previous() {
+fn compare_table_shows_the_baseline_and_the_shown_run() {
     let mut app = bridge_app();
     let s = screen(&render(&mut app, 120, 40));
-    assert!(s.contains("run 2"), "{s}");
-    assert!(s.contains("current vs previous"), "{s}");
+    assert!(s.contains("#2 done"), "{s}");
+    assert!(s.contains("runs compared"), "{s}");
     let cur = bridge_run();
-    let prev = bridge_prev_run();
-    assert_ne!(cur.total_impacts(), prev.total_impacts());
+    let base = bridge_prev_run();
+    assert_ne!(cur.total_impacts(), base.total_impacts());
+    let head = s.lines().find(|l| l.contains("#1 base")).expect("header");
+    assert!(head.find("#1 base") < head.find("#2 "), "{head}");
     let row = s
         .lines()
         .find(|l| l.contains("│impacts"))
@@ -810,8 +847,8 @@ fn compare_table_shows_current_and_previous() {
         cells,
         [
             "impacts",
-            &cur.total_impacts().to_string(),
-            &prev.total_impacts().to_string()
+            &base.total_impacts().to_string(),
+            &cur.total_impacts().to_string()
         ],
         "{row}"
     );
@@ -862,13 +899,13 @@ fn reload_with_changed_content_reruns() {
     assert_eq!(app.text, changed);
     assert_eq!(app.scene.as_ref().unwrap().contacts[0].mu, 0.1);
     assert_eq!(
-        app.previous.as_ref().unwrap().id,
-        1,
-        "the old run is the overlay"
+        app.runs.overlays().first().map(|e| e.number),
+        Some(1),
+        "the first run is the baseline, overlaid"
     );
     tui::execute_blocking(&mut app, fx);
     let s = screen(&render(&mut app, 80, 24));
-    assert!(s.contains("reloaded") || s.contains("run 2"), "{s}");
+    assert!(s.contains("reloaded") || s.contains("#2"), "{s}");
 }
 
 #[test]
@@ -1124,7 +1161,7 @@ fn ascii_markers_and_no_color() {
         },
     );
     mono.current = Some(bridge_run().clone());
-    mono.previous = Some(bridge_prev_run().clone());
+    keep_bridge_runs(&mut mono);
     let t = render(&mut mono, 120, 40);
     let buf = t.backend().buffer();
     for c in buf.content() {
@@ -2019,7 +2056,7 @@ fn study_rows_arrive_as_progress_and_the_end_writes_its_csv() {
                 let s = screen(&render(&mut app, 80, 24));
                 assert!(s.contains("5/14 runs") && s.contains("Esc cancels"), "{s}");
                 assert!(
-                    s.lines().next().unwrap().contains("PGA 5/14 · run 2 done"),
+                    s.lines().next().unwrap().contains("PGA 5/14 · #2 done"),
                     "{s}"
                 );
             }

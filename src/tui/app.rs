@@ -5,6 +5,7 @@ use super::form::{self, Form};
 use super::keymap::{self, Ctx};
 pub use super::merge::Conflict;
 use super::run_data::RunData;
+use super::run_list::Runs;
 use super::study::Studies;
 use crate::scene::Scene;
 use std::hash::{Hash, Hasher};
@@ -19,6 +20,8 @@ pub enum View {
     Charts,
     Form,
     Studies,
+    /// The run list, its model diffs and the comparison (`#`).
+    Runs,
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -51,6 +54,11 @@ pub enum Mode {
     Pick {
         files: Vec<PathBuf>,
         selected: usize,
+    },
+    /// Typing a name for run `number` of the run list.
+    Naming {
+        number: u64,
+        buffer: String,
     },
 }
 
@@ -141,7 +149,8 @@ pub struct App {
     pub view: View,
     pub mode: Mode,
     pub current: Option<RunData>,
-    pub previous: Option<RunData>,
+    /// The runs kept: numbered, named, one the baseline; stored beside the model.
+    pub runs: Runs,
     pub next_run: u64,
     /// Time cursor (when not following the latest sample).
     pub cursor: f64,
@@ -163,6 +172,8 @@ pub struct App {
     pub generation: u64,
     /// The studies view: the last study of each kind, running or done.
     pub studies: Studies,
+    /// Runs found on disk beyond the bound, removed with the next store.
+    pub runs_older: Vec<u64>,
 }
 
 impl App {
@@ -184,7 +195,7 @@ impl App {
             view: View::Charts,
             mode: Mode::Normal,
             current: None,
-            previous: None,
+            runs: Runs::default(),
             next_run: 1,
             cursor: 0.0,
             follow: true,
@@ -200,6 +211,7 @@ impl App {
             watch_mode: String::new(),
             generation: 0,
             studies: Studies::default(),
+            runs_older: Vec::new(),
         };
         match form::validate(text, path) {
             Ok(scene) => {
@@ -223,7 +235,45 @@ impl App {
     pub fn new_from_path(path: &Path, opts: Options) -> Result<App, String> {
         let text = std::fs::read_to_string(path)
             .map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
-        Ok(Self::with_options(&text, path, opts))
+        let mut app = Self::with_options(&text, path, opts);
+        app.open_runs();
+        Ok(app)
+    }
+
+    /// Reads the runs stored beside the model (`<stem>.runs/`) and keeps storing there; says
+    /// on the status line what came back and what was skipped.
+    pub fn open_runs(&mut self) {
+        let dir = super::run_store::runs_dir(&self.path);
+        let loaded = super::run_store::load(&dir);
+        self.runs = loaded.runs;
+        self.runs_older = loaded.older;
+        self.next_run = self.next_run.max(self.runs.last_number() + 1);
+        let mut notes = Vec::new();
+        if !self.runs.list.is_empty() {
+            let base = self
+                .runs
+                .baseline
+                .map_or(String::new(), |b| format!(", baseline #{b}"));
+            notes.push(format!(
+                "{} runs reopened from {}{base}",
+                self.runs.list.len(),
+                dir.display()
+            ));
+        }
+        let kind = if loaded.skipped.is_empty() {
+            self.status_kind
+        } else {
+            notes.push(format!(
+                "skipped in {}: {}",
+                dir.display(),
+                loaded.skipped.join("; ")
+            ));
+            StatusKind::Warn
+        };
+        if !notes.is_empty() {
+            let s = format!("{} · {}", self.status, notes.join(" · "));
+            self.set_status(kind, s);
+        }
     }
 
     pub fn dirty(&self) -> bool {
@@ -293,6 +343,7 @@ impl App {
             Mode::Confirm(_) => Some(Ctx::Confirm),
             Mode::Help => Some(Ctx::Help),
             Mode::Pick { .. } => Some(Ctx::Pick),
+            Mode::Naming { .. } => Some(Ctx::Naming),
         };
         keymap::active(mode, self.view_ctx())
     }
@@ -303,6 +354,7 @@ impl App {
             View::Charts => Ctx::Charts,
             View::Form => Ctx::Form,
             View::Studies => Ctx::Studies,
+            View::Runs => Ctx::Runs,
         }
     }
 

@@ -6,7 +6,7 @@ use super::export;
 use super::msg::{Effect, Msg};
 use super::study::StudySpec;
 use super::update::update;
-use super::{study_files, study_worker, worker};
+use super::{run_store, study_files, study_worker, worker};
 use crate::scene::Scene;
 use std::collections::VecDeque;
 use std::io::{self, Write};
@@ -65,6 +65,11 @@ pub trait Host {
     fn cancel_study(&mut self, id: u64);
     /// Runs a slow job (export formatting); returns its message now or sends it later.
     fn background(&mut self, job: Job) -> Vec<Msg>;
+    /// Runs a job after the jobs given to it before (the run list's files); by default at
+    /// once.
+    fn in_order(&mut self, job: Job) -> Vec<Msg> {
+        vec![job()]
+    }
     /// A timing milestone.
     fn log(&mut self, _label: &str) {}
 }
@@ -131,6 +136,9 @@ fn execute(app: &mut App, host: &mut impl Host, e: Effect) -> Vec<Msg> {
         Effect::LoadStudy { path } => host.background(Box::new(move || {
             let result = study_files::load(&path);
             Msg::StudyLoaded { path, result }
+        })),
+        Effect::StoreRuns { dir, jobs, remove } => host.in_order(Box::new(move || {
+            Msg::RunsStored(run_store::store(&dir, &jobs, &remove))
         })),
         Effect::Quit => {
             app.quit = true;

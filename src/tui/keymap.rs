@@ -58,6 +58,21 @@ pub enum Action {
     PickDown,
     PickLoad,
     PickClose,
+    // the run list
+    /// Open the run list (or go back from it).
+    RunsView,
+    RunUp,
+    RunDown,
+    /// Overlay the selected run (and compare it) or take it off.
+    RunOverlay,
+    /// Pin the selected run as the baseline.
+    RunBaseline,
+    RunRename,
+    RunsToCharts,
+    NameCommit,
+    NameCancel,
+    NameBackspace,
+    NameClear,
 }
 
 /// Where a binding applies. Lookup order: the mode's own context first, then the view, then
@@ -73,6 +88,8 @@ pub enum Ctx {
     Confirm,
     Merge,
     Help,
+    Runs,
+    Naming,
 }
 
 impl Ctx {
@@ -87,6 +104,8 @@ impl Ctx {
             Ctx::Confirm => "answering a question",
             Ctx::Merge => "a value changed on disk and here",
             Ctx::Help => "this help",
+            Ctx::Runs => "run list",
+            Ctx::Naming => "naming a run",
         }
     }
 }
@@ -208,6 +227,18 @@ pub const KEYMAP: &[Binding] = &[
     b(Ctx::Studies, &[K::Ch('f')], "f", A::StudyReopen, "reopen a study from its CSV", Some(("f", "reopen CSV"))),
     b(Ctx::Studies, &[K::Ch('+'), K::Ch('=')], "+", A::StudyMore, "suite: one record pair more", None),
     b(Ctx::Studies, &[K::Ch('-')], "-", A::StudyFewer, "suite: one record pair fewer", None),
+    // the run list
+    b(Ctx::Runs, &[K::Code(KC::Up), K::Ch('k')], "Up/k", A::RunUp, "previous run", None),
+    b(Ctx::Runs, &[K::Code(KC::Down), K::Ch('j')], "Down/j", A::RunDown, "next run", Some(("j/k", "run"))),
+    b(Ctx::Runs, &[K::Ch(' ')], "Space", A::RunOverlay, "overlay and compare the run, or not", Some(("Space", "overlay"))),
+    b(Ctx::Runs, &[K::Ch('b')], "b", A::RunBaseline, "pin the run as the baseline", Some(("b", "baseline"))),
+    b(Ctx::Runs, &[K::Ch('n')], "n", A::RunRename, "name the run", Some(("n", "name"))),
+    b(Ctx::Runs, &[K::Code(KC::Enter)], "Enter", A::RunsToCharts, "back to the charts", Some(("Enter", "charts"))),
+    // naming a run
+    b(Ctx::Naming, &[K::Code(KC::Enter)], "Enter", A::NameCommit, "keep the name (empty: the derived one)", Some(("Enter", "keep"))),
+    b(Ctx::Naming, &[K::Code(KC::Esc)], "Esc", A::NameCancel, "leave the name as it was", Some(("Esc", "cancel"))),
+    b(Ctx::Naming, &[K::Code(KC::Backspace)], "Bksp", A::NameBackspace, "delete a character", Some(("Bksp", "delete"))),
+    b(Ctx::Naming, &[K::Ctrl('u')], "^U", A::NameClear, "clear the name", Some(("^U", "clear"))),
     // everywhere
     b(Ctx::Global, &[K::Ch('q'), K::Ctrl('c')], "q", A::Quit, "quit (asks if edits unsaved)", Some(("q", "quit"))),
     b(Ctx::Global, &[K::Ch('?')], "?", A::Help, "this help", Some(("?", "help"))),
@@ -215,9 +246,10 @@ pub const KEYMAP: &[Binding] = &[
     b(Ctx::Global, &[K::Code(KC::BackTab), K::Shift(KC::BackTab)], "S-Tab", A::SwitchViewBack, "the view before", None),
     b(Ctx::Global, &[K::Ch('s')], "s", A::Save, "save the file and rerun", Some(("s", "save"))),
     b(Ctx::Global, &[K::Ch('r')], "r", A::Rerun, "rerun (with unsaved edits)", Some(("r", "rerun"))),
+    b(Ctx::Global, &[K::Ch('#')], "#", A::RunsView, "list, pin and compare the runs", Some(("#", "runs"))),
     b(Ctx::Global, &[K::Code(KC::Esc), K::Ch('c')], "Esc/c", A::Cancel, "cancel the simulation", Some(("Esc", "cancel"))),
     b(Ctx::Global, &[K::Ch('e')], "e", A::Export, "export chart + events CSV", Some(("e", "export"))),
-    b(Ctx::Global, &[K::Ch('o')], "o", A::ToggleOverlay, "show/hide the previous run", Some(("o", "overlay"))),
+    b(Ctx::Global, &[K::Ch('o')], "o", A::ToggleOverlay, "show/hide the overlaid runs", Some(("o", "overlay"))),
     b(Ctx::Global, &[K::Ch('m')], "m", A::ToggleMarker, "markers Braille ⇄ ASCII", Some(("m", "markers"))),
 ];
 
@@ -269,7 +301,9 @@ pub fn help() -> Vec<(&'static str, Vec<(&'static str, &'static str)>)> {
         Ctx::Charts,
         Ctx::Form,
         Ctx::Studies,
+        Ctx::Runs,
         Ctx::Pick,
+        Ctx::Naming,
         Ctx::Edit,
         Ctx::Confirm,
         Ctx::Merge,

@@ -15,6 +15,8 @@ pub mod list_edit;
 pub mod merge;
 pub mod msg;
 pub mod run_data;
+pub mod run_list;
+pub mod run_store;
 pub mod runtime;
 pub mod signals;
 pub mod study;

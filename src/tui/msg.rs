@@ -2,6 +2,7 @@
 
 use super::keymap::Action;
 use super::run_data::{RunData, RunFailure};
+use super::run_store;
 use super::study::StudySpec;
 use crate::output::{EventRecord, RunOutput, Sample};
 use crate::scene::Scene;
@@ -82,6 +83,8 @@ pub enum Msg {
         path: PathBuf,
         result: Result<Box<StudyTable>, String>,
     },
+    /// Result of [`Effect::StoreRuns`].
+    RunsStored(Result<(), String>),
 }
 
 /// Output of [`super::update`], executed by [`super::effects::perform`].
@@ -134,6 +137,13 @@ pub enum Effect {
     /// Read a study's CSV.
     LoadStudy {
         path: PathBuf,
+    },
+    /// Write runs of the run list into `dir` (each file atomically) and remove the files of
+    /// the runs `remove`, in the order asked (one writer).
+    StoreRuns {
+        dir: PathBuf,
+        jobs: Vec<run_store::Job>,
+        remove: Vec<u64>,
     },
     Quit,
 }

@@ -41,7 +41,7 @@ pub enum RunStatus {
 #[derive(Clone, Debug)]
 pub struct RunData {
     pub id: u64,
-    /// "run 3" or "run 3 (unsaved edits)".
+    /// "#3" or "#3 (unsaved edits)" (the workbench's run number, not the test run).
     pub label: String,
     pub dof_names: Vec<String>,
     pub contact_names: Vec<String>,

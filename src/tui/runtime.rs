@@ -113,6 +113,8 @@ struct Threads {
     runs: HashMap<u64, worker::RunHandle>,
     studies: HashMap<u64, study_worker::StudyHandle>,
     timing: Timing,
+    /// The thread that writes the run list's files, one job after the other.
+    writer: Option<(Sender<Job>, std::thread::JoinHandle<()>)>,
 }
 
 impl Host for Threads {
@@ -148,12 +150,44 @@ impl Host for Threads {
         });
         Vec::new()
     }
+    fn in_order(&mut self, job: Job) -> Vec<Msg> {
+        if self.writer.is_none() {
+            let (jobs, queue) = mpsc::channel::<Job>();
+            let tx = self.tx.clone();
+            let spawned = std::thread::Builder::new()
+                .name("deckspin-runs".into())
+                .spawn(move || {
+                    for job in queue {
+                        let _ = tx.send(job());
+                    }
+                });
+            if let Ok(h) = spawned {
+                self.writer = Some((jobs, h));
+            }
+        }
+        match &self.writer {
+            Some((w, _)) => match w.send(job) {
+                Ok(()) => Vec::new(),
+                Err(mpsc::SendError(job)) => vec![job()],
+            },
+            // no writer thread: write here
+            None => vec![job()],
+        }
+    }
     fn log(&mut self, label: &str) {
         self.timing.log(label);
     }
 }
 
 impl Threads {
+    /// Waits for the run list's files being written.
+    fn finish_writes(&mut self) {
+        if let Some((jobs, h)) = self.writer.take() {
+            drop(jobs);
+            let _ = h.join();
+        }
+    }
+
     fn cancel_all(&self) {
         for h in self.runs.values() {
             h.cancel();
@@ -217,11 +251,13 @@ pub fn run(model: &Path) -> Result<(), Box<dyn std::error::Error>> {
         runs: HashMap::new(),
         studies: HashMap::new(),
         timing,
+        writer: None,
     };
     let fx = app.start();
     perform(&mut app, &mut host, fx);
     let ended = event_loop(&mut terminal, &mut app, &mut host, &rx);
     host.cancel_all();
+    host.finish_writes();
     drop(terminal);
     drop(guard);
     // a signal ends the loop, or the terminal went away after one (SIGHUP) and drawing failed

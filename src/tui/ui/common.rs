@@ -46,6 +46,20 @@ impl Theme {
             Style::default().add_modifier(Modifier::DIM)
         }
     }
+    /// The `i`-th overlaid run that is not the baseline.
+    pub(super) fn overlay(&self, i: usize) -> Style {
+        const OVERLAY: [Color; 4] = [
+            Color::Gray,
+            Color::LightBlue,
+            Color::LightMagenta,
+            Color::LightYellow,
+        ];
+        if self.color {
+            Style::default().fg(OVERLAY[i % OVERLAY.len()])
+        } else {
+            Style::default().add_modifier(Modifier::DIM)
+        }
+    }
     pub(super) fn cursor(&self) -> Style {
         if self.color {
             Style::default().fg(Color::LightRed)
@@ -115,18 +129,46 @@ pub(super) fn theme(app: &App) -> Theme {
     }
 }
 
-/// The run whose layout (names) drives the charts: the current one, else the previous.
+/// The run whose layout (names) drives the charts: the current one.
 pub(super) fn shown_run(app: &App) -> Option<&RunData> {
-    app.current.as_ref().or(app.previous.as_ref())
+    app.current.as_ref()
 }
 
-/// The overlay: the previous run, unless hidden.
-pub(super) fn overlay_run(app: &App) -> Option<&RunData> {
-    if app.overlay {
-        app.previous.as_ref()
-    } else {
-        None
+/// A run drawn under the shown one: its series, its number, its style.
+pub(super) struct Overlay<'a> {
+    pub data: &'a RunData,
+    pub number: u64,
+    pub style: Style,
+}
+
+/// The runs overlaid on the charts (unless hidden with `o`): the baseline, then the runs
+/// selected in the run list, each in its own style; never the shown run itself.
+pub(super) fn overlay_runs<'a>(app: &'a App, th: &Theme) -> Vec<Overlay<'a>> {
+    if !app.overlay {
+        return Vec::new();
     }
+    let shown = shown_run(app).map(|r| r.id);
+    app.runs
+        .overlays()
+        .into_iter()
+        .enumerate()
+        .filter(|(_, e)| Some(e.number) != shown)
+        .map(|(i, e)| Overlay {
+            data: &e.data,
+            number: e.number,
+            style: if Some(e.number) == app.runs.baseline {
+                th.previous()
+            } else {
+                th.overlay(i)
+            },
+        })
+        .collect()
+}
+
+/// The first overlaid run (the baseline, when it is not the shown run).
+pub(super) fn overlay_run(app: &App) -> Option<&RunData> {
+    let th = theme(app);
+    overlay_runs(app, &th).first().map(|o| o.data)
 }
 
 impl Theme {

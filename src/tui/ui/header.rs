@@ -45,7 +45,7 @@ fn run_progress(app: &App, th: &Theme) -> Line<'static> {
         return Line::styled("no run", th.dim());
     };
     let ev = r.events.len();
-    let label = format!("run {}", r.id);
+    let label = format!("#{}", r.id);
     match &r.status {
         RunStatus::Running | RunStatus::Cancelling => {
             let mut spans = vec![
@@ -127,6 +127,7 @@ pub(super) fn draw_header(frame: &mut Frame, area: Rect, app: &App, th: &Theme) 
         View::Charts => "charts",
         View::Form => "form",
         View::Studies => "studies",
+        View::Runs => "runs",
     };
     let fixed = 8 + 3 + name.chars().count() + 3 + 3 + view.len();
     let room = (l.width as usize).saturating_sub(fixed);

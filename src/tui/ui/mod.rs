@@ -5,10 +5,12 @@
 
 mod cache;
 mod common;
+mod compare;
 mod form;
 mod header;
 mod loop_chart;
 mod plan;
+mod runs;
 mod screen_map;
 mod side;
 mod status;
@@ -51,6 +53,7 @@ pub fn draw(frame: &mut Frame, app: &App, cache: &mut Cache) {
         View::Charts => draw_charts(frame, body, app, cache, &th),
         View::Form => form::draw_form(frame, body, app, &th),
         View::Studies => studies::draw_studies(frame, body, app, &th),
+        View::Runs => runs::draw_runs(frame, body, app, &th),
     }
     status::draw_status(frame, status, app, &th);
     status::draw_hints(frame, hints, app, &th);

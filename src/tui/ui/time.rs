@@ -1,8 +1,8 @@
-//! The time charts (rotation, gaps, x/y) with the previous run underneath and the time
-//! cursor, above the event strip.
+//! The time charts (rotation, gaps, x/y) with the overlaid runs (the baseline and those
+//! selected in the run list) underneath and the time cursor, above the event strip.
 
 use super::cache::Cache;
-use super::common::{LABEL_W, Theme, overlay_run, shown_run};
+use super::common::{LABEL_W, Overlay, Theme, overlay_runs, shown_run};
 use super::timeline::draw_timeline;
 use crate::output::EventKind;
 use crate::tui::app::App;
@@ -18,12 +18,14 @@ struct Series {
     name: String,
     style: Style,
     data: Vec<(f64, f64)>,
+    /// The number of the overlaid run it belongs to (None: the shown run).
+    overlay: Option<u64>,
 }
 
 /// What the series of one panel are drawn from: the runs, the time window, the columns.
 struct Window<'a> {
     run: &'a RunData,
-    prev: Option<&'a RunData>,
+    overlays: Vec<Overlay<'a>>,
     t0: f64,
     t1: f64,
     cols: u16,
@@ -49,7 +51,7 @@ pub(super) fn draw_time_panel(
         frame.render_widget(Paragraph::new(msg).block(th.block(" charts ")), area);
         return;
     };
-    let prev = overlay_run(app).filter(|p| p.id != run.id);
+    let overlays = overlay_runs(app, th);
     let (t0, t1) = app.window();
     let nc = run.contact_names.len();
     let max_rows = (area.height as usize / 3).max(1);
@@ -69,7 +71,7 @@ pub(super) fn draw_time_panel(
     let tc = app.cursor_time();
     let sp = Window {
         run,
-        prev,
+        overlays,
         t0,
         t1,
         cols,
@@ -94,19 +96,22 @@ fn rotation_chart(sp: &Window, cache: &mut Cache, th: &Theme) -> Option<TimeChar
     let r = run.rot?;
     let name = run.dof_names[r].clone();
     let mut s = Vec::new();
-    if let Some(p) = sp.prev
-        && let Some(k) = p.dof(&name)
-    {
-        s.push(Series {
-            name: format!("{} (previous)", name),
-            style: th.previous(),
-            data: cache.decimated(p, &format!("q{k}"), &p.q[k], t0, t1, cols),
-        });
+    for o in &sp.overlays {
+        let p = o.data;
+        if let Some(k) = p.dof(&name) {
+            s.push(Series {
+                name: format!("{name} (#{})", o.number),
+                style: o.style,
+                data: cache.decimated(p, &format!("q{k}"), &p.q[k], t0, t1, cols),
+                overlay: Some(o.number),
+            });
+        }
     }
     s.push(Series {
         name: name.clone(),
         style: th.series(0),
         data: cache.decimated(run, &format!("q{r}"), &run.q[r], t0, t1, cols),
+        overlay: None,
     });
     Some((name.clone(), unit_of(&name).into(), s))
 }
@@ -118,13 +123,15 @@ fn gap_chart(sp: &Window, cache: &mut Cache, th: &Theme) -> Option<TimeChart> {
         return None;
     }
     let mut s = Vec::new();
-    if let Some(p) = sp.prev {
+    for o in &sp.overlays {
+        let p = o.data;
         for (i, n) in p.contact_names.iter().enumerate() {
             if run.contact_names.contains(n) {
                 s.push(Series {
-                    name: format!("{n} (previous)"),
-                    style: th.previous(),
+                    name: format!("{n} (#{})", o.number),
+                    style: o.style,
                     data: cache.decimated(p, &format!("g{i}"), &p.gap[i], t0, t1, cols),
+                    overlay: Some(o.number),
                 });
             }
         }
@@ -134,6 +141,7 @@ fn gap_chart(sp: &Window, cache: &mut Cache, th: &Theme) -> Option<TimeChart> {
             name: n.clone(),
             style: th.series(i),
             data: cache.decimated(run, &format!("g{i}"), &run.gap[i], t0, t1, cols),
+            overlay: None,
         });
     }
     Some(("gaps g_N".into(), "m".into(), s))
@@ -146,13 +154,15 @@ fn xy_chart(sp: &Window, cache: &mut Cache, th: &Theme) -> Option<TimeChart> {
         return None;
     }
     let mut s = Vec::new();
-    if let Some(p) = sp.prev {
+    for o in &sp.overlays {
+        let p = o.data;
         for &k in &run.xy {
             if let Some(pk) = p.dof(&run.dof_names[k]) {
                 s.push(Series {
-                    name: format!("{} (previous)", run.dof_names[k]),
-                    style: th.previous(),
+                    name: format!("{} (#{})", run.dof_names[k], o.number),
+                    style: o.style,
                     data: cache.decimated(p, &format!("q{pk}"), &p.q[pk], t0, t1, cols),
+                    overlay: Some(o.number),
                 });
             }
         }
@@ -162,6 +172,7 @@ fn xy_chart(sp: &Window, cache: &mut Cache, th: &Theme) -> Option<TimeChart> {
             name: run.dof_names[k].clone(),
             style: th.series(i + 4),
             data: cache.decimated(run, &format!("q{k}"), &run.q[k], t0, t1, cols),
+            overlay: None,
         });
     }
     let names: Vec<&str> = run.xy.iter().map(|&k| run.dof_names[k].as_str()).collect();
@@ -253,19 +264,14 @@ fn chart_header(
     th: &Theme,
 ) -> Line<'static> {
     let mut spans = vec![Span::styled(format!("{title} [{unit}]"), th.bold())];
-    let current: Vec<&Series> = series
-        .iter()
-        .filter(|s| !s.name.ends_with("(previous)"))
-        .collect();
+    let current: Vec<&Series> = series.iter().filter(|s| s.overlay.is_none()).collect();
     if current.len() > 1 {
         for s in &current {
             spans.push(Span::styled(" ━", s.style));
             spans.push(Span::raw(s.name.clone()));
         }
     }
-    if series.iter().any(|s| s.name.ends_with("(previous)")) {
-        spans.push(Span::styled(" ┈prev", th.previous()));
-    }
+    spans.extend(overlay_legend(series));
     if current.len() == 1 {
         let name = &current[0].name;
         let col = run.dof(name).map(|k| &run.q[k]).or_else(|| {
@@ -282,4 +288,19 @@ fn chart_header(
         }
     }
     Line::from(spans)
+}
+
+/// The legend of the overlaid runs: `┈#1` in each run's style, once per run.
+fn overlay_legend(series: &[Series]) -> Vec<Span<'static>> {
+    let mut seen: Vec<u64> = Vec::new();
+    let mut spans = Vec::new();
+    for s in series {
+        if let Some(n) = s.overlay
+            && !seen.contains(&n)
+        {
+            seen.push(n);
+            spans.push(Span::styled(format!(" ┈#{n}"), s.style));
+        }
+    }
+    spans
 }

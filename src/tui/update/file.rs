@@ -106,14 +106,9 @@ pub(super) fn apply_reload(app: &mut App, text: String) -> Vec<Effect> {
     }
 }
 
-/// `e`: export the shown run (current, else previous).
+/// `e`: export the shown run.
 pub(super) fn export(app: &mut App) -> Vec<Effect> {
-    let Some(run) = app
-        .current
-        .as_ref()
-        .filter(|r| !r.t.is_empty())
-        .or(app.previous.as_ref())
-    else {
+    let Some(run) = app.current.as_ref().filter(|r| !r.t.is_empty()) else {
         app.set_status(StatusKind::Info, "nothing to export yet");
         return Vec::new();
     };

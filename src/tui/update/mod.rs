@@ -6,6 +6,7 @@ mod edit;
 mod file;
 mod reconcile;
 mod run;
+mod runs;
 mod study;
 mod view;
 
@@ -54,6 +55,7 @@ pub fn update(app: &mut App, msg: Msg) -> Vec<Effect> {
         Msg::StudyWritten { id, result } => study::on_written(app, id, result),
         Msg::StudyFiles(r) => study::on_files(app, r),
         Msg::StudyLoaded { path, result } => study::on_loaded(app, path, result),
+        Msg::RunsStored(r) => runs::on_stored(app, r),
         // the runtime ends the loop on it (see `signals`)
         Msg::Signal(_) => Vec::new(),
     }
@@ -89,6 +91,11 @@ fn on_key(app: &mut App, ev: KeyEvent) -> Vec<Effect> {
     {
         buffer.push(c);
         edit::recheck(app);
+    }
+    if let KeyCode::Char(c) = ev.code
+        && !ev.modifiers.contains(KeyModifiers::CONTROL)
+    {
+        runs::name_type(app, c);
     }
     Vec::new()
 }
@@ -153,6 +160,17 @@ fn on_action(app: &mut App, a: Action) -> Vec<Effect> {
         | A::PickDown
         | A::PickLoad
         | A::PickClose => study::study_action(app, a),
+        A::RunsView
+        | A::RunUp
+        | A::RunDown
+        | A::RunOverlay
+        | A::RunBaseline
+        | A::RunRename
+        | A::RunsToCharts
+        | A::NameCommit
+        | A::NameCancel
+        | A::NameBackspace
+        | A::NameClear => runs::runs_action(app, a),
     }
 }
 

@@ -1,5 +1,6 @@
 //! Runs: start, cancel, streamed batches, the end of a run.
 
+use super::runs::keep;
 use crate::output::{EventKind, EventRecord, Sample};
 use crate::tui::app::{App, StatusKind};
 use crate::tui::msg::{Effect, RunOutcome};
@@ -31,7 +32,7 @@ pub(super) fn cancel(app: &mut App) -> Vec<Effect> {
         Some(cur) if cur.status == RunStatus::Running => {
             cur.status = RunStatus::Cancelling;
             let id = cur.id;
-            app.set_status(StatusKind::Info, format!("cancelling run {id}…"));
+            app.set_status(StatusKind::Info, format!("cancelling #{id}…"));
             vec![Effect::CancelRun { id }]
         }
         _ => {
@@ -56,26 +57,29 @@ pub(super) fn on_batch(
     Vec::new()
 }
 
-/// Starts a run of the current draft: the finished current run becomes the overlay.
+/// Starts a run of the current draft (a run still going is cancelled and kept in the run list
+/// with what it computed).
 pub(super) fn start_run(app: &mut App) -> Vec<Effect> {
     let Some(scene) = app.scene.clone() else {
         return Vec::new();
     };
     let mut fx = Vec::new();
-    if let Some(cur) = app.current.take() {
-        if cur.running() {
-            fx.push(Effect::CancelRun { id: cur.id });
-        }
-        if cur.status == RunStatus::Finished {
-            app.previous = Some(cur);
+    if let Some(mut cur) = app.current.take()
+        && cur.running()
+    {
+        fx.push(Effect::CancelRun { id: cur.id });
+        if !cur.t.is_empty() {
+            cur.status = RunStatus::Cancelled;
+            fx.extend(keep(app, &cur).0);
         }
     }
     let id = app.next_run;
     app.next_run += 1;
+    app.runs.started = Some((id, app.draft.clone()));
     let label = if app.dirty() {
-        format!("run {id} (unsaved edits)")
+        format!("#{id} (unsaved edits)")
     } else {
-        format!("run {id}")
+        format!("#{id}")
     };
     app.set_status(StatusKind::Info, format!("{label} started"));
     app.current = Some(RunData::for_scene(id, label, &scene));
@@ -138,5 +142,18 @@ pub(super) fn on_done(app: &mut App, run: u64, outcome: RunOutcome) -> Vec<Effec
         }
     }
     app.generation += 1;
-    Vec::new()
+    let (fx, note) = match app.current.take() {
+        Some(cur) => {
+            let kept = keep(app, &cur);
+            app.current = Some(cur);
+            kept
+        }
+        None => (Vec::new(), None),
+    };
+    if let Some(note) = note {
+        let s = format!("{} · {note}", app.status);
+        let kind = app.status_kind;
+        app.set_status(kind, s);
+    }
+    fx
 }

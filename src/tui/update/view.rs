@@ -8,14 +8,14 @@ pub(super) fn toggle(app: &mut App, a: Action) {
     match a {
         Action::SwitchView => {
             app.view = match app.view {
-                View::Charts => View::Form,
+                View::Charts | View::Runs => View::Form,
                 View::Form => View::Studies,
                 View::Studies => View::Charts,
             };
         }
         Action::SwitchViewBack => {
             app.view = match app.view {
-                View::Charts => View::Studies,
+                View::Charts | View::Runs => View::Studies,
                 View::Form => View::Charts,
                 View::Studies => View::Form,
             };
@@ -30,7 +30,7 @@ pub(super) fn toggle(app: &mut App, a: Action) {
             app.overlay = !app.overlay;
             app.generation += 1;
             let m = if app.overlay { "shown" } else { "hidden" };
-            app.set_status(StatusKind::Info, format!("previous run {m}"));
+            app.set_status(StatusKind::Info, format!("overlaid runs {m}"));
         }
         _ => {}
     }

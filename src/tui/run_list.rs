@@ -1,0 +1,409 @@
+//! The workbench's run history: every finished, cancelled or failed run kept as `#N` with its
+//! name, status, key results, the model text it ran and a decimated copy of its charted series;
+//! one pinned baseline that every comparison and overlay is against; the model diff of each
+//! run against it. Bounded: the newest [`KEEP`] runs plus the baseline. Stored on disk by
+//! [`super::run_store`].
+
+use super::chart;
+use super::form;
+use super::run_data::{RunData, RunStatus};
+use serde::{Deserialize, Serialize};
+use std::path::PathBuf;
+
+/// Runs kept (the baseline is kept besides, however old).
+pub const KEEP: usize = 50;
+/// Runs overlaid on the charts besides the baseline.
+pub const MAX_OVERLAY: usize = 4;
+/// A kept run's series hold at most this many samples (the minimum and the maximum of the
+/// rotation in each of half as many equal slices, the first and last sample besides).
+pub const MAX_SAMPLES: usize = 2000;
+
+/// How a kept run ended.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "status", content = "reason", rename_all = "lowercase")]
+pub enum Ended {
+    Finished,
+    Cancelled,
+    Failed(String),
+}
+
+impl Ended {
+    pub fn word(&self) -> &'static str {
+        match self {
+            Ended::Finished => "done",
+            Ended::Cancelled => "cancelled",
+            Ended::Failed(_) => "failed",
+        }
+    }
+}
+
+/// The key results of a run (None: not known, e.g. the residual of a run still going).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Results {
+    /// The charted rotation DOF and the translations (`deck.theta`, `deck.x`, `deck.y`).
+    pub rotation: String,
+    pub translations: Vec<String>,
+    pub peak_rot: Option<f64>,
+    pub peak_rot_t: Option<f64>,
+    /// Rotation at the end of a finished run.
+    pub residual_rot: Option<f64>,
+    /// Peak |x|, |y| of the translations.
+    pub peak_xy: Vec<Option<f64>>,
+    pub impacts: usize,
+    /// Stick time of all contacts, s.
+    pub stick_time: Option<f64>,
+    /// Smallest gap of all contacts, m.
+    pub min_gap: Option<f64>,
+    /// The engine's relative energy closure of a finished run.
+    pub closure: Option<f64>,
+    /// Simulated time reached, s.
+    pub t_sim: f64,
+    pub events: usize,
+}
+
+fn finite(v: f64) -> Option<f64> {
+    v.is_finite().then_some(v)
+}
+
+impl Results {
+    /// The results of a run so far.
+    pub fn of(r: &RunData) -> Results {
+        let finished = r.status == RunStatus::Finished;
+        let (peak, at) = r.peak_rot();
+        let has_rot = r.rot.is_some();
+        Results {
+            rotation: r.rot_name().to_string(),
+            translations: r.xy.iter().map(|&k| r.dof_names[k].clone()).collect(),
+            peak_rot: has_rot.then_some(peak),
+            peak_rot_t: has_rot.then_some(at),
+            residual_rot: (finished && has_rot).then(|| r.residual_rot()),
+            peak_xy: r.xy.iter().map(|&k| finite(r.q_peak(k))).collect(),
+            impacts: r.total_impacts(),
+            stick_time: (!r.contact_names.is_empty()).then(|| r.total_stick_time()),
+            min_gap: finite(r.min_gap()),
+            closure: r
+                .summary
+                .as_ref()
+                .filter(|_| finished)
+                .and_then(|s| finite(s.energy_closure_rel)),
+            t_sim: r.t_sim,
+            events: r.events.len(),
+        }
+    }
+}
+
+/// One value that differs between two model texts, by dotted path (None: absent).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Change {
+    pub path: String,
+    pub old: Option<String>,
+    pub new: Option<String>,
+}
+
+impl Change {
+    /// `contacts.mu: 0.3 → 0.5`.
+    pub fn line(&self) -> String {
+        let v = |s: &Option<String>| s.clone().unwrap_or_else(|| "(none)".into());
+        format!("{}: {} → {}", self.path, v(&self.old), v(&self.new))
+    }
+}
+
+/// The scalar values that differ between two model texts, by dotted path (array elements as
+/// `contacts.gaps.2`): those of `new` in its order, then those only in `old`.
+pub fn model_diff(old: &str, new: &str) -> Vec<Change> {
+    if old == new {
+        return Vec::new();
+    }
+    let (Some(a), Some(b)) = (form::scalars(old), form::scalars(new)) else {
+        return vec![Change {
+            path: "(the file is not TOML)".into(),
+            old: None,
+            new: None,
+        }];
+    };
+    let show = |v: &toml_edit::Value| form::show(v);
+    let mut out = Vec::new();
+    for (p, v) in &b {
+        let before = a.iter().find(|(q, _)| q == p).map(|(_, w)| show(w));
+        let after = show(v);
+        if before.as_deref() != Some(after.as_str()) {
+            out.push(Change {
+                path: p.clone(),
+                old: before,
+                new: Some(after),
+            });
+        }
+    }
+    for (p, v) in &a {
+        if !b.iter().any(|(q, _)| q == p) {
+            out.push(Change {
+                path: p.clone(),
+                old: Some(show(v)),
+                new: None,
+            });
+        }
+    }
+    out
+}
+
+/// A run's default name: its first change (`contacts.mu=0.5`, `+2` more), or what it equals.
+pub fn derived_name(changes: &[Change], against: Option<u64>) -> String {
+    let Some(first) = changes.first() else {
+        return match against {
+            Some(b) => format!("same as #{b}"),
+            None => "as saved".into(),
+        };
+    };
+    let mut s = match &first.new {
+        Some(v) => format!("{}={v}", first.path),
+        None => format!("{} removed", first.path),
+    };
+    if changes.len() > 1 {
+        s.push_str(&format!(" +{}", changes.len() - 1));
+    }
+    s
+}
+
+/// The indices of at most [`MAX_SAMPLES`] samples of `y` that keep its shape: per slice the
+/// minimum and the maximum, in order; the first and the last sample.
+pub fn thin_indices(y: &[f64]) -> Vec<usize> {
+    let n = y.len();
+    if n <= MAX_SAMPLES {
+        return (0..n).collect();
+    }
+    let slices = MAX_SAMPLES / 2 - 1;
+    let mut out = vec![0];
+    for s in 0..slices {
+        let (a, b) = (s * n / slices, ((s + 1) * n / slices).min(n));
+        if a >= b {
+            continue;
+        }
+        let (mut lo, mut hi) = (a, a);
+        for i in a..b {
+            if y[i] < y[lo] {
+                lo = i;
+            }
+            if y[i] > y[hi] {
+                hi = i;
+            }
+        }
+        for i in [lo.min(hi), lo.max(hi)] {
+            if *out.last().unwrap_or(&usize::MAX) != i {
+                out.push(i);
+            }
+        }
+    }
+    if *out.last().unwrap_or(&0) != n - 1 {
+        out.push(n - 1);
+    }
+    out
+}
+
+/// The part of a run that is overlaid on the charts: the rotation, the translations, the gaps
+/// and the hysteretic elements, at most [`MAX_SAMPLES`] samples (no events, no contact
+/// states).
+pub fn thin(r: &RunData) -> RunData {
+    let idx = match r.rot {
+        Some(k) => thin_indices(&r.q[k]),
+        None => thin_indices(&r.t),
+    };
+    let pick = |c: &[f64]| {
+        idx.iter()
+            .map(|&i| c.get(i).copied().unwrap_or(f64::NAN))
+            .collect()
+    };
+    let dofs: Vec<usize> = r.rot.into_iter().chain(r.xy.iter().copied()).collect();
+    let mut d = RunData::new(
+        r.id,
+        r.label.clone(),
+        dofs.iter().map(|&k| r.dof_names[k].clone()).collect(),
+        r.contact_names.clone(),
+        r.element_names.clone(),
+        r.t_end,
+    );
+    d.t = pick(&r.t);
+    d.q = dofs.iter().map(|&k| pick(&r.q[k])).collect();
+    d.gap = r.gap.iter().map(|g| pick(g)).collect();
+    d.state = vec![Vec::new(); r.contact_names.len()];
+    d.el = r.el.iter().map(|(a, b)| (pick(a), pick(b))).collect();
+    d.el_range = r.el_range.clone();
+    d.impacts = r.impacts.clone();
+    d.t_sim = r.t_sim;
+    d.status = r.status.clone();
+    d.summary = r.summary.clone();
+    d.steps = r.steps;
+    d
+}
+
+/// One kept run.
+#[derive(Clone, Debug)]
+pub struct Entry {
+    pub number: u64,
+    pub name: String,
+    /// The name was given by the user (else derived from the diff).
+    pub named: bool,
+    /// The model text it ran (the draft, unsaved edits included).
+    pub model: String,
+    pub ended: Ended,
+    pub results: Results,
+    /// Its charted series, thinned ([`thin`]).
+    pub data: RunData,
+    /// Selected for the overlay and the comparison.
+    pub overlay: bool,
+    /// Its model against the baseline's.
+    pub changes: Vec<Change>,
+}
+
+impl Entry {
+    /// The entry of a run that ended, with the model text it ran.
+    pub fn of_run(r: &RunData, model: String) -> Entry {
+        let ended = match &r.status {
+            RunStatus::Finished => Ended::Finished,
+            RunStatus::Failed(e) => Ended::Failed(e.to_string()),
+            _ => Ended::Cancelled,
+        };
+        Entry {
+            number: r.id,
+            name: String::new(),
+            named: false,
+            model,
+            ended,
+            results: Results::of(r),
+            data: thin(r),
+            overlay: false,
+            changes: Vec::new(),
+        }
+    }
+}
+
+/// The run list.
+#[derive(Clone, Debug, Default)]
+pub struct Runs {
+    /// Oldest first.
+    pub list: Vec<Entry>,
+    pub baseline: Option<u64>,
+    /// Index of the run selected in the list.
+    pub selected: usize,
+    /// Where the runs are stored (None: not stored, e.g. a model given as text).
+    pub dir: Option<PathBuf>,
+    /// The run going and the model text it runs.
+    pub started: Option<(u64, String)>,
+}
+
+impl Runs {
+    pub fn get(&self, n: u64) -> Option<&Entry> {
+        self.list.iter().find(|e| e.number == n)
+    }
+
+    pub fn get_mut(&mut self, n: u64) -> Option<&mut Entry> {
+        self.list.iter_mut().find(|e| e.number == n)
+    }
+
+    pub fn baseline_entry(&self) -> Option<&Entry> {
+        self.baseline.and_then(|b| self.get(b))
+    }
+
+    pub fn selected_entry(&self) -> Option<&Entry> {
+        self.list.get(self.selected)
+    }
+
+    /// The largest number kept.
+    pub fn last_number(&self) -> u64 {
+        self.list.iter().map(|e| e.number).max().unwrap_or(0)
+    }
+
+    /// Adds a run (unless named, named from its diff against the baseline, or against the
+    /// `saved` model text when there is none) and drops the oldest beyond [`KEEP`] (never the
+    /// baseline); returns the numbers dropped.
+    pub fn add(&mut self, mut e: Entry, saved: &str) -> Vec<u64> {
+        let base = self.baseline_entry().map(|b| (b.number, b.model.clone()));
+        if let Some((_, m)) = &base {
+            e.changes = model_diff(m, &e.model);
+        }
+        if !e.named {
+            e.name = match &base {
+                Some((b, _)) => derived_name(&e.changes, Some(*b)),
+                None => derived_name(&model_diff(saved, &e.model), None),
+            };
+        }
+        self.list.retain(|x| x.number != e.number);
+        self.list.push(e);
+        self.list.sort_by_key(|x| x.number);
+        self.bound()
+    }
+
+    /// Drops the oldest runs beyond [`KEEP`] (never the baseline).
+    pub fn bound(&mut self) -> Vec<u64> {
+        let mut dropped = Vec::new();
+        let extra = |l: &Vec<Entry>, b: Option<u64>| {
+            l.len() - usize::from(b.is_some_and(|b| l.iter().any(|e| e.number == b)))
+        };
+        while extra(&self.list, self.baseline) > KEEP {
+            let Some(i) = self
+                .list
+                .iter()
+                .position(|x| Some(x.number) != self.baseline)
+            else {
+                break;
+            };
+            dropped.push(self.list.remove(i).number);
+        }
+        self.selected = self.selected.min(self.list.len().saturating_sub(1));
+        dropped
+    }
+
+    /// Pins run `n` as the baseline; every run's diff is then against it.
+    pub fn pin(&mut self, n: u64) {
+        self.baseline = Some(n);
+        if let Some(e) = self.get_mut(n) {
+            e.overlay = false;
+        }
+        self.rediff();
+    }
+
+    fn rediff(&mut self) {
+        let base = self.baseline_entry().map(|b| b.model.clone());
+        for e in &mut self.list {
+            e.changes = base
+                .as_ref()
+                .map_or_else(Vec::new, |m| model_diff(m, &e.model));
+        }
+    }
+
+    /// Toggles run `n` in the overlay; refused beyond [`MAX_OVERLAY`] runs.
+    pub fn toggle_overlay(&mut self, n: u64) -> Result<bool, String> {
+        let count = self.list.iter().filter(|e| e.overlay).count();
+        let base = self.baseline;
+        let e = self.get_mut(n).ok_or("no such run")?;
+        if Some(n) == base {
+            return Err(format!("#{n} is the baseline: always overlaid"));
+        }
+        if !e.overlay && count >= MAX_OVERLAY {
+            return Err(format!(
+                "at most {MAX_OVERLAY} runs overlaid besides the baseline: space on one of them first"
+            ));
+        }
+        e.overlay = !e.overlay;
+        Ok(e.overlay)
+    }
+
+    /// The runs overlaid: the baseline, then those selected, oldest first.
+    pub fn overlays(&self) -> Vec<&Entry> {
+        let mut v: Vec<&Entry> = self.baseline_entry().into_iter().collect();
+        v.extend(
+            self.list
+                .iter()
+                .filter(|e| e.overlay && Some(e.number) != self.baseline),
+        );
+        v
+    }
+}
+
+/// A number for the run tables (`—` unknown, `0` for |v| < 1e-9).
+pub fn cell(v: Option<f64>) -> String {
+    match v {
+        None => "—".into(),
+        Some(v) if v.abs() < 1e-9 => "0".into(),
+        Some(v) => chart::fmt_sig(v, 4),
+    }
+}

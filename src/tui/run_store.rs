@@ -1,0 +1,325 @@
+//! The run list on disk: `<model stem>.runs/` beside the model, three files per run `N`
+//! (`0007.json` its number, name, baseline flag, status and key results; `0007.toml` the model
+//! text it ran; `0007.csv` its thinned series), each written atomically (a temporary file in
+//! the folder, then renamed). Read back when the workbench opens the model again; a file that
+//! is not a run's, or does not read, is named in the report and skipped.
+
+use super::run_data::{RunData, RunStatus};
+use super::run_list::{Ended, Entry, KEEP, Results, Runs};
+use crate::output::number::Numbers;
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
+
+/// The first line of every metadata file's `format` field.
+const FORMAT: &str = "deckspin run list 1";
+
+/// `models/four-span.runs` for `models/four-span.toml`.
+pub fn runs_dir(model: &Path) -> PathBuf {
+    let stem = model
+        .file_stem()
+        .map_or("model".into(), |s| s.to_string_lossy().into_owned());
+    let name = format!("{stem}.runs");
+    match model.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.join(name),
+        _ => PathBuf::from(name),
+    }
+}
+
+#[derive(Serialize, Deserialize)]
+struct Meta {
+    format: String,
+    number: u64,
+    name: String,
+    named: bool,
+    baseline: bool,
+    ended: Ended,
+    t_end: f64,
+    results: Results,
+}
+
+fn stem(n: u64) -> String {
+    format!("{n:04}")
+}
+
+/// What to write of a run: its metadata, and with `full` its model text and series.
+#[derive(Clone, Debug)]
+pub struct Job {
+    pub entry: Box<Entry>,
+    pub baseline: bool,
+    pub full: bool,
+}
+
+/// The metadata file of a run.
+pub fn meta_text(e: &Entry, baseline: bool) -> String {
+    let m = Meta {
+        format: FORMAT.into(),
+        number: e.number,
+        name: e.name.clone(),
+        named: e.named,
+        baseline,
+        ended: e.ended.clone(),
+        t_end: e.data.t_end,
+        results: e.results.clone(),
+    };
+    serde_json::to_string_pretty(&m).unwrap_or_default() + "\n"
+}
+
+/// A value of the series file: the time exactly, the others to single precision.
+fn push_value(s: &mut String, nums: &mut Numbers, v: f64, exact: bool) {
+    if exact {
+        nums.push(s, v);
+    } else if v.is_finite() && v != 0.0 && !(1e-3..1e6).contains(&v.abs()) {
+        s.push_str(&format!("{:e}", v as f32));
+    } else {
+        s.push_str(&format!("{}", v as f32));
+    }
+}
+
+/// The series file: `t`, `q:<dof>`, `gap:<contact>`, `def:<element>`, `force:<element>`.
+pub fn series_text(d: &RunData) -> String {
+    let mut cols: Vec<(String, &[f64])> = vec![("t".into(), &d.t)];
+    for (n, c) in d.dof_names.iter().zip(&d.q) {
+        cols.push((format!("q:{n}"), c));
+    }
+    for (n, c) in d.contact_names.iter().zip(&d.gap) {
+        cols.push((format!("gap:{n}"), c));
+    }
+    for (n, (a, b)) in d.element_names.iter().zip(&d.el) {
+        cols.push((format!("def:{n}"), a));
+        cols.push((format!("force:{n}"), b));
+    }
+    let mut w = csv::Writer::from_writer(Vec::new());
+    let _ = w.write_record(cols.iter().map(|c| c.0.as_str()));
+    let mut out = String::from_utf8(w.into_inner().unwrap_or_default()).unwrap_or_default();
+    let mut nums = Numbers::new();
+    for i in 0..d.t.len() {
+        for (j, (_, c)) in cols.iter().enumerate() {
+            if j > 0 {
+                out.push(',');
+            }
+            push_value(
+                &mut out,
+                &mut nums,
+                c.get(i).copied().unwrap_or(f64::NAN),
+                j == 0,
+            );
+        }
+        out.push('\n');
+    }
+    out
+}
+
+/// Writes `text` to `path` through a temporary file in the same folder and a rename.
+pub fn write_atomic(path: &Path, text: &str) -> Result<(), String> {
+    static N: AtomicU64 = AtomicU64::new(0);
+    let dir = path.parent().unwrap_or(Path::new("."));
+    let name = path
+        .file_name()
+        .map_or("run".into(), |n| n.to_string_lossy());
+    let tmp = dir.join(format!(
+        ".{name}.{}-{}.tmp",
+        std::process::id(),
+        N.fetch_add(1, Ordering::Relaxed)
+    ));
+    let r = (|| {
+        let mut f = std::fs::File::create(&tmp)?;
+        f.write_all(text.as_bytes())?;
+        f.sync_all()?;
+        std::fs::rename(&tmp, path)
+    })();
+    if r.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    r.map_err(|e| format!("{}: {e}", path.display()))
+}
+
+/// Writes the jobs' files into `dir` (created if need be) and removes the files of the runs
+/// `remove`.
+pub fn store(dir: &Path, jobs: &[Job], remove: &[u64]) -> Result<(), String> {
+    std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    for j in jobs {
+        let s = stem(j.entry.number);
+        if j.full {
+            write_atomic(&dir.join(format!("{s}.toml")), &j.entry.model)?;
+            write_atomic(&dir.join(format!("{s}.csv")), &series_text(&j.entry.data))?;
+        }
+        // the metadata last: a run is listed once its other files are there
+        write_atomic(
+            &dir.join(format!("{s}.json")),
+            &meta_text(&j.entry, j.baseline),
+        )?;
+    }
+    for n in remove {
+        for ext in ["json", "csv", "toml"] {
+            let p = dir.join(format!("{}.{ext}", stem(*n)));
+            match std::fs::remove_file(&p) {
+                Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
+                    return Err(format!("{}: {e}", p.display()));
+                }
+                _ => {}
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The runs read back: the list (newest [`KEEP`] and the baseline), the numbers of older
+/// runs left on disk, and what was skipped (`file: why`).
+pub struct Loaded {
+    pub runs: Runs,
+    pub older: Vec<u64>,
+    pub skipped: Vec<String>,
+}
+
+/// Reads the series file of run `n`.
+fn read_series(text: &str, n: u64, t_end: f64) -> Result<RunData, String> {
+    let mut r = csv::ReaderBuilder::new()
+        .has_headers(true)
+        .from_reader(text.as_bytes());
+    let head: Vec<String> = r
+        .headers()
+        .map_err(|e| e.to_string())?
+        .iter()
+        .map(str::to_string)
+        .collect();
+    if head.first().map(String::as_str) != Some("t") {
+        return Err("the first column is not t".into());
+    }
+    let named = |p: &str| -> Vec<String> {
+        head.iter()
+            .filter_map(|h| h.strip_prefix(p).map(str::to_string))
+            .collect()
+    };
+    let (dofs, contacts, elements) = (named("q:"), named("gap:"), named("def:"));
+    let mut d = RunData::new(n, format!("#{n}"), dofs, contacts, elements, t_end);
+    let want = 1 + d.q.len() + d.gap.len() + 2 * d.el.len();
+    if head.len() != want {
+        return Err(format!("{} columns, expected {want}", head.len()));
+    }
+    for (line, rec) in r.records().enumerate() {
+        let rec = rec.map_err(|e| e.to_string())?;
+        let mut vals = Vec::with_capacity(want);
+        for f in rec.iter() {
+            vals.push(
+                f.trim()
+                    .parse::<f64>()
+                    .map_err(|_| format!("line {}: `{f}` is not a number", line + 2))?,
+            );
+        }
+        if vals.len() != want {
+            return Err(format!("line {}: {} values", line + 2, vals.len()));
+        }
+        let mut it = vals.into_iter();
+        d.t.extend(it.next());
+        for c in &mut d.q {
+            c.extend(it.next());
+        }
+        for c in &mut d.gap {
+            c.extend(it.next());
+        }
+        for (j, (a, b)) in d.el.iter_mut().enumerate() {
+            let (x, y) = (it.next().unwrap_or(f64::NAN), it.next().unwrap_or(f64::NAN));
+            a.push(x);
+            b.push(y);
+            let e = &mut d.el_range[j];
+            if x.is_finite() && y.is_finite() {
+                *e = [e[0].min(x), e[1].max(x), e[2].min(y), e[3].max(y)];
+            }
+        }
+    }
+    d.state = vec![Vec::new(); d.gap.len()];
+    Ok(d)
+}
+
+/// Reads run `n` from its three files.
+fn read_run(dir: &Path, n: u64) -> Result<(Entry, bool), String> {
+    let s = stem(n);
+    let read = |ext: &str| {
+        let p = dir.join(format!("{s}.{ext}"));
+        std::fs::read_to_string(&p).map_err(|e| format!("{s}.{ext}: {e}"))
+    };
+    let meta: Meta = serde_json::from_str(&read("json")?).map_err(|e| format!("{s}.json: {e}"))?;
+    if meta.format != FORMAT || meta.number != n {
+        return Err(format!("{s}.json: not the metadata of run #{n}"));
+    }
+    let model = read("toml")?;
+    let mut data =
+        read_series(&read("csv")?, n, meta.t_end).map_err(|e| format!("{s}.csv: {e}"))?;
+    data.t_sim = meta.results.t_sim;
+    // how it ended is the entry's `ended` (with a failure's reason); the series only says
+    // whether they run to the end
+    data.status = match &meta.ended {
+        Ended::Finished => RunStatus::Finished,
+        _ => RunStatus::Cancelled,
+    };
+    let e = Entry {
+        number: n,
+        name: meta.name,
+        named: meta.named,
+        model,
+        ended: meta.ended,
+        results: meta.results,
+        data,
+        overlay: false,
+        changes: Vec::new(),
+    };
+    Ok((e, meta.baseline))
+}
+
+/// Reads the runs stored in `dir` (none when it does not exist).
+pub fn load(dir: &Path) -> Loaded {
+    let mut skipped = Vec::new();
+    let mut numbers: BTreeMap<u64, Vec<String>> = BTreeMap::new();
+    if let Ok(entries) = std::fs::read_dir(dir) {
+        for f in entries.flatten() {
+            let name = f.file_name().to_string_lossy().into_owned();
+            if name.starts_with('.') {
+                continue;
+            }
+            let parsed = name.rsplit_once('.').and_then(|(n, ext)| {
+                let ok = ["json", "toml", "csv"].contains(&ext) && !n.is_empty();
+                n.parse::<u64>().ok().filter(|_| ok).map(|n| (n, ext))
+            });
+            match parsed {
+                Some((n, ext)) => numbers.entry(n).or_default().push(ext.to_string()),
+                None => skipped.push(format!("{name}: not a run's file")),
+            }
+        }
+    }
+    let mut list = Vec::new();
+    let mut baseline = None;
+    for (&n, exts) in &numbers {
+        if !exts.iter().any(|e| e == "json") {
+            skipped.push(format!("{}.{}: no {}.json", stem(n), exts[0], stem(n)));
+            continue;
+        }
+        match read_run(dir, n) {
+            Ok((e, b)) => {
+                if b {
+                    baseline = Some(n);
+                }
+                list.push(e);
+            }
+            Err(e) => skipped.push(e),
+        }
+    }
+    let mut runs = Runs {
+        list,
+        dir: Some(dir.to_path_buf()),
+        ..Runs::default()
+    };
+    if let Some(b) = baseline {
+        runs.pin(b);
+    }
+    let older = runs.bound();
+    debug_assert!(runs.list.len() <= KEEP + 1);
+    runs.selected = runs.list.len().saturating_sub(1);
+    Loaded {
+        runs,
+        older,
+        skipped,
+    }
+}

@@ -1,0 +1,194 @@
+//! The run list: a run kept when it ends, the baseline pinned, runs overlaid, named; their
+//! files written beside the model.
+
+use crate::tui::app::{App, Mode, StatusKind, View};
+use crate::tui::keymap::Action;
+use crate::tui::msg::Effect;
+use crate::tui::run_data::RunData;
+use crate::tui::run_list::{Ended, Entry, derived_name};
+use crate::tui::run_store::Job;
+
+/// Longest name of a run, in characters.
+const NAME_MAX: usize = 48;
+
+/// The model text run `id` ran (the draft when it was started).
+fn model_of(app: &mut App, id: u64) -> String {
+    match app.runs.started.take() {
+        Some((n, text)) if n == id => text,
+        other => {
+            app.runs.started = other;
+            app.draft.clone()
+        }
+    }
+}
+
+/// Keeps run `r`, which ended (finished, cancelled or failed, or superseded by a new run):
+/// into the list, pinned as the baseline when there is none and it finished; its files
+/// written. Returns the effects and, when it became the baseline, a note for the status line.
+pub(super) fn keep(app: &mut App, r: &RunData) -> (Vec<Effect>, Option<String>) {
+    let model = model_of(app, r.id);
+    let entry = Entry::of_run(r, model);
+    let n = entry.number;
+    let finished = entry.ended == Ended::Finished;
+    let mut dropped = app.runs.add(entry, &app.text);
+    let mut note = None;
+    if app.runs.baseline.is_none() && finished {
+        app.runs.pin(n);
+        note = Some(format!("#{n} is the baseline (# lists the runs)"));
+    }
+    app.runs.selected = app.runs.list.len().saturating_sub(1);
+    dropped.append(&mut app.runs_older);
+    (store(app, &[n], true, dropped), note)
+}
+
+/// The effect writing runs `numbers` (with `full`, their model and series too).
+fn store(app: &App, numbers: &[u64], full: bool, remove: Vec<u64>) -> Vec<Effect> {
+    let Some(dir) = app.runs.dir.clone() else {
+        return Vec::new();
+    };
+    let jobs: Vec<Job> = numbers
+        .iter()
+        .filter_map(|&n| app.runs.get(n))
+        .map(|e| Job {
+            entry: Box::new(e.clone()),
+            baseline: app.runs.baseline == Some(e.number),
+            full,
+        })
+        .collect();
+    if jobs.is_empty() && remove.is_empty() {
+        return Vec::new();
+    }
+    vec![Effect::StoreRuns { dir, jobs, remove }]
+}
+
+/// The files were written, or not.
+pub(super) fn on_stored(app: &mut App, r: Result<(), String>) -> Vec<Effect> {
+    if let Err(e) = r {
+        app.set_status(StatusKind::Warn, format!("the run list is not stored: {e}"));
+    }
+    Vec::new()
+}
+
+/// The keys of the run list and of naming a run.
+pub(super) fn runs_action(app: &mut App, a: Action) -> Vec<Effect> {
+    use Action as A;
+    let len = app.runs.list.len();
+    let sel = app.runs.selected_entry().map(|e| e.number);
+    match a {
+        A::RunsView => {
+            app.view = if app.view == View::Runs {
+                View::Charts
+            } else {
+                View::Runs
+            };
+            if len == 0 && app.view == View::Runs {
+                app.set_status(StatusKind::Info, "no run kept yet: r runs the model");
+            }
+        }
+        A::RunsToCharts => app.view = View::Charts,
+        A::RunUp => app.runs.selected = app.runs.selected.saturating_sub(1),
+        A::RunDown => app.runs.selected = (app.runs.selected + 1).min(len.saturating_sub(1)),
+        A::RunOverlay => {
+            let Some(n) = sel else {
+                return nothing(app);
+            };
+            match app.runs.toggle_overlay(n) {
+                Ok(on) => {
+                    app.generation += 1;
+                    let s = if on {
+                        format!("#{n} overlaid on the charts and compared")
+                    } else {
+                        format!("#{n} taken off the overlay")
+                    };
+                    app.set_status(StatusKind::Info, s);
+                }
+                Err(e) => app.set_status(StatusKind::Warn, e),
+            }
+        }
+        A::RunBaseline => {
+            let Some(n) = sel else {
+                return nothing(app);
+            };
+            let old = app.runs.baseline;
+            if old == Some(n) {
+                app.set_status(StatusKind::Info, format!("#{n} is the baseline already"));
+                return Vec::new();
+            }
+            app.runs.pin(n);
+            app.generation += 1;
+            app.set_status(
+                StatusKind::Ok,
+                format!("#{n} is the baseline: diffs, overlay and comparison are against it"),
+            );
+            let changed: Vec<u64> = old.into_iter().chain([n]).collect();
+            return store(app, &changed, false, Vec::new());
+        }
+        A::RunRename => {
+            let Some(e) = app.runs.selected_entry() else {
+                return nothing(app);
+            };
+            let number = e.number;
+            app.mode = Mode::Naming {
+                number,
+                buffer: e.name.clone(),
+            };
+            app.set_status(
+                StatusKind::Info,
+                format!("name #{number}: Enter keeps it (empty: the derived name), Esc leaves it"),
+            );
+        }
+        A::NameCommit => return name_commit(app),
+        A::NameCancel => {
+            app.mode = Mode::Normal;
+            app.set_status(StatusKind::Info, "name unchanged");
+        }
+        A::NameBackspace | A::NameClear => {
+            if let Mode::Naming { buffer, .. } = &mut app.mode {
+                if a == A::NameClear {
+                    buffer.clear();
+                } else {
+                    buffer.pop();
+                }
+            }
+        }
+        _ => {}
+    }
+    Vec::new()
+}
+
+fn nothing(app: &mut App) -> Vec<Effect> {
+    app.set_status(StatusKind::Info, "no run kept yet: r runs the model");
+    Vec::new()
+}
+
+/// A character typed into a run's name.
+pub(super) fn name_type(app: &mut App, c: char) {
+    if let Mode::Naming { buffer, .. } = &mut app.mode
+        && !c.is_control()
+        && buffer.chars().count() < NAME_MAX
+    {
+        buffer.push(c);
+    }
+}
+
+/// `Enter` while naming: the name kept (an empty one gives back the derived name).
+fn name_commit(app: &mut App) -> Vec<Effect> {
+    let Mode::Naming { number, buffer } = std::mem::replace(&mut app.mode, Mode::Normal) else {
+        return Vec::new();
+    };
+    let base = app.runs.baseline;
+    let Some(e) = app.runs.get_mut(number) else {
+        return Vec::new();
+    };
+    let name = buffer.trim();
+    if name.is_empty() {
+        e.named = false;
+        e.name = derived_name(&e.changes, base.filter(|b| *b != number));
+    } else {
+        e.named = true;
+        e.name = name.to_string();
+    }
+    let s = format!("#{number} named {}", e.name);
+    app.set_status(StatusKind::Ok, s);
+    store(app, &[number], false, Vec::new())
+}

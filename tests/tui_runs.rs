@@ -1,0 +1,566 @@
+//! The workbench's run list: every run kept as `#N`, a pinned baseline, the model diff of each
+//! run against it, runs overlaid and compared, the list stored beside the model and reopened,
+//! bounded; drawn at 80×24 and 120×40 (insta snapshots in tests/snapshots/).
+
+#![cfg(feature = "workbench")]
+
+use crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
+use deckspin::tui::app::{Mode, StatusKind, View};
+use deckspin::tui::keymap::Action;
+use deckspin::tui::run_data::{RunData, RunStatus};
+use deckspin::tui::run_list::{self, Ended, Entry, KEEP, MAX_SAMPLES, Runs};
+use deckspin::tui::{self, App, Effect, Msg, Options, form, run_store, update};
+use ratatui::Terminal;
+use ratatui::backend::TestBackend;
+use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
+
+// ---------------------------------------------------------------------------------------------
+// fixtures
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn read(p: &Path) -> String {
+    std::fs::read_to_string(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
+}
+
+/// Sets a value in model text the way the form does.
+fn set(text: &str, path: &str, value: &str) -> String {
+    form::set_value(text, path, form::Kind::Float, value, "")
+        .unwrap_or_else(|e| panic!("{path}={value}: {e}"))
+}
+
+/// The four-span bridge shortened to 2 s with all four gaps `gap`.
+fn short_bridge(gap: &str) -> String {
+    let mut t = set(
+        &read(&root().join("models/four-span.toml")),
+        "solver.t_end",
+        "2.0",
+    );
+    for i in 0..4 {
+        t = set(&t, &format!("contacts.gaps.{i}"), gap);
+    }
+    t
+}
+
+fn run_of(text: &str, id: u64) -> RunData {
+    let mut app = App::new_from_text(text, &root().join("models/four-span.toml"));
+    app.next_run = id;
+    let fx = app.start();
+    tui::execute_blocking(&mut app, fx);
+    let run = app.current.expect("a run");
+    assert_eq!(run.status, RunStatus::Finished, "{}", app.status);
+    run
+}
+
+/// #1 (6 mm gaps), #2 (4 mm), #3 (5 mm) of the short bridge, computed once.
+fn bridge_runs() -> &'static [(RunData, String); 3] {
+    static R: OnceLock<[(RunData, String); 3]> = OnceLock::new();
+    R.get_or_init(|| {
+        [("0.006", 1), ("0.004", 2), ("0.005", 3)].map(|(g, n)| {
+            let text = short_bridge(g);
+            (run_of(&text, n), text)
+        })
+    })
+}
+
+/// The short bridge with #1 the baseline, #2 shown, #3 overlaid; the path relative so that
+/// snapshots do not hold the checkout's location.
+fn runs_app(opts: Options) -> App {
+    let path = Path::new("models/four-span.toml");
+    let mut app = App::with_options(&short_bridge("0.004"), path, opts);
+    let saved = app.text.clone();
+    for (r, text) in bridge_runs() {
+        app.runs.add(Entry::of_run(r, text.clone()), &saved);
+        if r.id == 1 {
+            app.runs.pin(1);
+        }
+    }
+    app.current = Some(bridge_runs()[1].0.clone());
+    app.runs.toggle_overlay(3).unwrap();
+    app.runs.selected = 2;
+    app.next_run = 4;
+    app.view = View::Runs;
+    app.set_status(StatusKind::Ok, "#3 overlaid on the charts and compared");
+    app
+}
+
+fn key(c: char) -> Msg {
+    Msg::Key(KeyEvent::new(KeyCode::Char(c), KeyModifiers::NONE))
+}
+
+fn code(c: KeyCode) -> Msg {
+    Msg::Key(KeyEvent::new(c, KeyModifiers::NONE))
+}
+
+fn act(app: &mut App, a: Action) -> Vec<Effect> {
+    update(app, Msg::Action(a))
+}
+
+/// Edits a field of the form: select it, Enter, clear, type, Enter.
+fn edit(app: &mut App, path: &str, value: &str) {
+    app.view = View::Form;
+    app.form.selected = app
+        .form
+        .index_of(path)
+        .unwrap_or_else(|| panic!("no {path}"));
+    update(app, code(KeyCode::Enter));
+    update(
+        app,
+        Msg::Key(KeyEvent::new(KeyCode::Char('u'), KeyModifiers::CONTROL)),
+    );
+    for c in value.chars() {
+        update(app, key(c));
+    }
+    update(app, code(KeyCode::Enter));
+    assert_eq!(app.mode, Mode::Normal, "{path}={value}: {}", app.status);
+}
+
+fn run(app: &mut App, fx: Vec<Effect>) {
+    tui::execute_blocking(app, fx);
+    let cur = app.current.as_ref().expect("a run");
+    assert_eq!(cur.status, RunStatus::Finished, "{}", app.status);
+}
+
+fn render(app: &mut App, w: u16, h: u16) -> Terminal<TestBackend> {
+    update(app, Msg::Resize(w, h));
+    let mut t = Terminal::new(TestBackend::new(w, h)).unwrap();
+    let mut cache = tui::ui::Cache::default();
+    t.draw(|f| tui::ui::draw(f, app, &mut cache)).unwrap();
+    t
+}
+
+fn screen(t: &Terminal<TestBackend>) -> String {
+    let b = t.backend().buffer();
+    let mut s = String::new();
+    for y in 0..b.area.height {
+        for x in 0..b.area.width {
+            s.push_str(b[(x, y)].symbol());
+        }
+        s.push('\n');
+    }
+    s
+}
+
+/// A scratch folder with models/ (the short bridge) and excitations/; the model's path.
+fn scratch(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("deckspin-runs-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(d.join("models")).unwrap();
+    std::fs::create_dir_all(d.join("excitations")).unwrap();
+    for e in std::fs::read_dir(root().join("excitations")).unwrap() {
+        let e = e.unwrap();
+        if e.path().is_file() {
+            std::fs::copy(e.path(), d.join("excitations").join(e.file_name())).unwrap();
+        }
+    }
+    let model = d.join("models/four-span.toml");
+    std::fs::write(&model, short_bridge("0.004")).unwrap();
+    model
+}
+
+/// The cells of the comparison's row `label` (the text between the table's borders).
+fn compare_row(s: &str, label: &str) -> Vec<String> {
+    let line = s
+        .lines()
+        .find(|l| l.contains(&format!("│{label} ")))
+        .unwrap_or_else(|| panic!("no row {label}:\n{s}"));
+    let inner = line.rsplit('│').nth(1).unwrap();
+    inner[label.len()..]
+        .split_whitespace()
+        .map(str::to_string)
+        .collect()
+}
+
+/// The run numbers heading the comparison (the baseline's `base` left out).
+fn compare_head(s: &str) -> Vec<String> {
+    let line = s
+        .lines()
+        .find(|l| l.contains(" base "))
+        .unwrap_or_else(|| panic!("no comparison:\n{s}"));
+    line.rsplit('│')
+        .nth(1)
+        .unwrap()
+        .split_whitespace()
+        .filter(|w| *w != "base")
+        .map(str::to_string)
+        .collect()
+}
+
+// ---------------------------------------------------------------------------------------------
+// the session
+
+#[test]
+fn edit_run_pin_edit_run_compare_save_and_reopen() {
+    let model = scratch("session");
+    let dir = model.parent().unwrap().join("four-span.runs");
+    let mut app = App::new_from_path(&model, Options::default()).unwrap();
+    assert!(app.runs.list.is_empty());
+    assert_eq!(app.runs.dir.as_deref(), Some(dir.as_path()));
+    let fx = app.start();
+    run(&mut app, fx);
+    assert_eq!(app.runs.baseline, Some(1), "the first finished run");
+    assert_eq!(app.runs.get(1).unwrap().name, "as saved");
+    // edit a gap, run: #2
+    edit(&mut app, "contacts.gaps.2", "0.006");
+    let fx = act(&mut app, Action::Rerun);
+    run(&mut app, fx);
+    assert_eq!(app.runs.get(2).unwrap().name, "contacts.gaps.2=0.006");
+    // pin #2 in the run list
+    update(&mut app, key('#'));
+    assert_eq!(app.view, View::Runs);
+    assert_eq!(app.runs.selected_entry().unwrap().number, 2);
+    let fx = update(&mut app, key('b'));
+    assert!(
+        matches!(fx.as_slice(), [Effect::StoreRuns { .. }]),
+        "{fx:?}"
+    );
+    tui::execute_blocking(&mut app, fx);
+    assert_eq!(app.runs.baseline, Some(2));
+    let one = app.runs.get(1).unwrap();
+    assert_eq!(one.changes.len(), 1);
+    assert_eq!(one.changes[0].line(), "contacts.gaps.2: 0.006 → 0.004");
+    // edit μ, run: #3, compared with #2 (the baseline), never implicitly with the run before
+    edit(&mut app, "contacts.mu", "0.2");
+    let fx = act(&mut app, Action::Rerun);
+    run(&mut app, fx);
+    let three = app.runs.get(3).unwrap().clone();
+    assert_eq!(three.name, "contacts.mu=0.2");
+    let lines: Vec<String> = three.changes.iter().map(|c| c.line()).collect();
+    assert_eq!(lines, ["contacts.mu: 0.5 → 0.2"]);
+    // overlay #1 too: the table has the baseline, the shown run and #1
+    app.view = View::Runs;
+    app.runs.selected = 0;
+    update(&mut app, key(' '));
+    assert!(app.runs.get(1).unwrap().overlay);
+    app.runs.selected = 2;
+    let s = screen(&render(&mut app, 120, 40));
+    assert!(s.contains("#3 against #2: 1 changed"), "{s}");
+    assert!(s.contains("contacts.mu: 0.5 → 0.2"), "{s}");
+    assert_eq!(compare_head(&s), ["#2", "#3", "#1"], "{s}");
+    let want: Vec<String> = [2, 3, 1]
+        .iter()
+        .map(|&n| app.runs.get(n).unwrap().results.impacts.to_string())
+        .collect();
+    assert_eq!(compare_row(&s, "impacts"), want, "{s}");
+    let peaks: Vec<String> = [2, 3, 1]
+        .iter()
+        .map(|&n| run_list::cell(app.runs.get(n).unwrap().results.peak_rot))
+        .collect();
+    assert_eq!(compare_row(&s, "peak |θ|"), peaks, "{s}");
+    assert_ne!(peaks[0], peaks[1], "μ changes the peak rotation");
+    // every overlaid run on the charts, with its number in the legend
+    app.view = View::Charts;
+    let s = screen(&render(&mut app, 120, 40));
+    assert!(s.contains("deck.theta [rad] ┈#2 ┈#1"), "{s}");
+    // save: the list and the baseline stay
+    let fx = act(&mut app, Action::Save);
+    run(&mut app, fx);
+    let numbers: Vec<u64> = app.runs.list.iter().map(|e| e.number).collect();
+    assert_eq!(numbers, [1, 2, 3, 4]);
+    assert_eq!(app.runs.baseline, Some(2));
+    assert_eq!(app.runs.get(4).unwrap().name, "contacts.mu=0.2");
+    // a later session on the same file: the list, the names, the baseline, the overlay
+    let before = app.runs.clone();
+    let mut again = App::new_from_path(&model, Options::default()).unwrap();
+    assert!(
+        again.status.contains(&format!(
+            "4 runs reopened from {}, baseline #2",
+            dir.display()
+        )),
+        "{}",
+        again.status
+    );
+    assert_eq!(again.runs.baseline, Some(2));
+    assert_eq!(again.next_run, 5);
+    for (a, b) in before.list.iter().zip(&again.runs.list) {
+        assert_eq!((a.number, &a.name, &a.model), (b.number, &b.name, &b.model));
+        assert_eq!(a.results, b.results, "#{}", a.number);
+        assert_eq!(a.changes, b.changes, "#{}", a.number);
+        assert_eq!(a.data.t, b.data.t, "#{}: times exact", a.number);
+        let (qa, qb) = (&a.data.q[0], &b.data.q[0]);
+        assert_eq!(qa.len(), qb.len());
+        for (x, y) in qa.iter().zip(qb) {
+            assert!((x - y).abs() <= 1e-6 * x.abs().max(1e-12), "{x} {y}");
+        }
+    }
+    let fx = again.start();
+    run(&mut again, fx);
+    assert_eq!(again.current.as_ref().unwrap().id, 5);
+    let s = screen(&render(&mut again, 120, 40));
+    assert!(
+        s.contains("deck.theta [rad] ┈#2 "),
+        "the baseline overlaid: {s}"
+    );
+    assert!(s.contains("#2 base"), "{s}");
+    let _ = std::fs::remove_dir_all(model.parent().unwrap().parent().unwrap());
+}
+
+#[test]
+fn a_run_is_named_by_key_and_the_name_is_stored() {
+    let model = scratch("name");
+    let mut app = App::new_from_path(&model, Options::default()).unwrap();
+    let fx = app.start();
+    run(&mut app, fx);
+    update(&mut app, key('#'));
+    update(&mut app, key('n'));
+    assert!(matches!(app.mode, Mode::Naming { number: 1, .. }));
+    update(
+        &mut app,
+        Msg::Key(KeyEvent::new(KeyCode::Char('u'), KeyModifiers::CONTROL)),
+    );
+    for c in "design gap".chars() {
+        update(&mut app, key(c));
+    }
+    // the keys of the list are letters of the name while naming
+    update(&mut app, key('b'));
+    update(&mut app, code(KeyCode::Backspace));
+    let fx = update(&mut app, code(KeyCode::Enter));
+    tui::execute_blocking(&mut app, fx);
+    assert_eq!(app.mode, Mode::Normal);
+    assert_eq!(app.runs.get(1).unwrap().name, "design gap");
+    let s = screen(&render(&mut app, 80, 24));
+    assert!(s.contains("design gap"), "{s}");
+    let again = App::new_from_path(&model, Options::default()).unwrap();
+    assert_eq!(again.runs.get(1).unwrap().name, "design gap");
+    assert!(again.runs.get(1).unwrap().named);
+    // an empty name gives the derived one back
+    update(&mut app, key('n'));
+    update(
+        &mut app,
+        Msg::Key(KeyEvent::new(KeyCode::Char('u'), KeyModifiers::CONTROL)),
+    );
+    update(&mut app, code(KeyCode::Enter));
+    assert_eq!(app.runs.get(1).unwrap().name, "as saved");
+    let _ = std::fs::remove_dir_all(model.parent().unwrap().parent().unwrap());
+}
+
+#[test]
+fn corrupt_and_foreign_files_are_reported_and_skipped() {
+    let model = scratch("corrupt");
+    let dir = model.parent().unwrap().join("four-span.runs");
+    let mut app = App::new_from_path(&model, Options::default()).unwrap();
+    let fx = app.start();
+    run(&mut app, fx);
+    std::fs::write(dir.join("notes.txt"), "mine").unwrap();
+    std::fs::write(dir.join("0007.json"), "{ not json").unwrap();
+    std::fs::write(dir.join("0008.csv"), "t\n0\n").unwrap();
+    // a run whose series file is broken
+    for ext in ["json", "toml"] {
+        std::fs::copy(
+            dir.join(format!("0001.{ext}")),
+            dir.join(format!("0009.{ext}")),
+        )
+        .unwrap();
+    }
+    std::fs::write(dir.join("0009.csv"), "t,q:deck.theta\n0,abc\n").unwrap();
+    let again = App::new_from_path(&model, Options::default()).unwrap();
+    assert_eq!(again.status_kind, StatusKind::Warn);
+    let s = &again.status;
+    assert!(s.contains("1 runs reopened"), "{s}");
+    assert!(s.contains("notes.txt: not a run's file"), "{s}");
+    assert!(s.contains("0007.json: "), "{s}");
+    assert!(s.contains("0008.csv: no 0008.json"), "{s}");
+    assert!(s.contains("0009.json: not the metadata of run #9"), "{s}");
+    let numbers: Vec<u64> = again.runs.list.iter().map(|e| e.number).collect();
+    assert_eq!(numbers, [1]);
+    // nothing of them is touched
+    assert_eq!(read(&dir.join("notes.txt")), "mine");
+    let _ = std::fs::remove_dir_all(model.parent().unwrap().parent().unwrap());
+}
+
+#[test]
+fn the_list_keeps_the_newest_runs_and_the_baseline() {
+    let mut runs = Runs::default();
+    let blank = |n: u64| {
+        let mut r = RunData::new(
+            n,
+            format!("#{n}"),
+            vec!["deck.theta".into()],
+            vec![],
+            vec![],
+            1.0,
+        );
+        r.status = RunStatus::Finished;
+        Entry::of_run(&r, format!("# run {n}\n"))
+    };
+    runs.add(blank(1), "");
+    runs.pin(1);
+    let mut dropped = Vec::new();
+    for n in 2..=(KEEP as u64 + 11) {
+        dropped.extend(runs.add(blank(n), ""));
+    }
+    assert_eq!(runs.list.len(), KEEP + 1);
+    assert_eq!(runs.list[0].number, 1, "the baseline stays");
+    assert_eq!(runs.list[1].number, 12);
+    assert_eq!(dropped, (2..=11).collect::<Vec<u64>>());
+    // the files of dropped runs are removed, the others kept
+    let dir = std::env::temp_dir().join(format!("deckspin-runs-{}-bound", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let job = |n: u64| run_store::Job {
+        entry: Box::new(blank(n)),
+        baseline: false,
+        full: true,
+    };
+    run_store::store(&dir, &[job(2), job(3)], &[]).unwrap();
+    run_store::store(&dir, &[], &[2]).unwrap();
+    let mut names: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(names, ["0003.csv", "0003.json", "0003.toml"]);
+    let _ = std::fs::remove_dir_all(&dir);
+    // at most four runs overlaid besides the baseline
+    for n in 12..16 {
+        assert_eq!(runs.toggle_overlay(n), Ok(true));
+    }
+    assert!(runs.toggle_overlay(16).is_err());
+    assert!(
+        runs.toggle_overlay(1).is_err(),
+        "the baseline is always overlaid"
+    );
+    assert_eq!(runs.overlays().len(), 5);
+}
+
+#[test]
+fn the_model_diff_goes_by_dotted_path_into_arrays() {
+    let a = short_bridge("0.004");
+    let b = set(&set(&a, "contacts.gaps.2", "0.006"), "contacts.mu", "0.3");
+    let lines: Vec<String> = run_list::model_diff(&a, &b)
+        .iter()
+        .map(|c| c.line())
+        .collect();
+    assert_eq!(
+        lines,
+        ["contacts.mu: 0.5 → 0.3", "contacts.gaps.2: 0.004 → 0.006"]
+    );
+    assert!(run_list::model_diff(&a, &a).is_empty());
+    // a value only on one side
+    let c = form::remove_value(&b, "contacts.restitution").unwrap();
+    let d = run_list::model_diff(&b, &c);
+    assert_eq!(d.len(), 1);
+    assert_eq!(d[0].line(), "contacts.restitution: 0.0 → (none)");
+    assert_eq!(
+        run_list::derived_name(&run_list::model_diff(&a, &b), Some(1)),
+        "contacts.mu=0.3 +1"
+    );
+}
+
+#[test]
+fn a_kept_run_holds_at_most_max_samples_and_its_extremes() {
+    let n = 100_000;
+    let t: Vec<f64> = (0..n).map(|i| i as f64 * 1e-4).collect();
+    let mut y: Vec<f64> = t.iter().map(|t| (7.0 * t).sin() * 1e-3).collect();
+    y[54_321] = 0.05;
+    y[7_777] = -0.04;
+    let mut r = RunData::new(
+        9,
+        "#9".into(),
+        vec!["deck.theta".into()],
+        vec![],
+        vec![],
+        10.0,
+    );
+    r.push(&[], &[], 0.0);
+    r.t = t.clone();
+    r.q[0] = y.clone();
+    let thin = run_list::thin(&r);
+    assert!(thin.t.len() <= MAX_SAMPLES, "{}", thin.t.len());
+    assert!(thin.t.len() > MAX_SAMPLES - 10);
+    assert_eq!(thin.t[0], 0.0);
+    assert_eq!(*thin.t.last().unwrap(), t[n - 1]);
+    assert!(thin.t.windows(2).all(|w| w[0] < w[1]), "in order");
+    assert!(thin.q[0].contains(&0.05) && thin.q[0].contains(&-0.04));
+    let text = run_store::series_text(&thin);
+    assert!(text.len() < 60_000, "{} bytes", text.len());
+}
+
+#[test]
+fn while_running_the_last_value_is_not_called_residual() {
+    let mut app = App::new_from_text(
+        &short_bridge("0.004"),
+        &root().join("models/four-span.toml"),
+    );
+    let fx = app.start();
+    run(&mut app, fx);
+    let fx = act(&mut app, Action::Rerun);
+    let Some(Effect::StartRun { id, scene }) = fx
+        .into_iter()
+        .find(|e| matches!(e, Effect::StartRun { .. }))
+    else {
+        panic!("no run started")
+    };
+    let msgs = tui::worker::run_blocking(id, &scene);
+    let n = msgs.len();
+    for m in msgs.into_iter().take(n / 2) {
+        update(&mut app, m);
+    }
+    assert!(app.running());
+    app.view = View::Runs;
+    let s = screen(&render(&mut app, 120, 40));
+    let cells = compare_row(&s, "residual θ");
+    assert_eq!(cells.len(), 2, "{s}");
+    assert_eq!(cells[1], "…", "{s}");
+    assert_eq!(compare_row(&s, "status"), ["done", "running"], "{s}");
+    assert_eq!(app.runs.list.len(), 1, "a run going is not kept yet");
+    assert_eq!(app.runs.list[0].ended, Ended::Finished);
+}
+
+// ---------------------------------------------------------------------------------------------
+// snapshots
+
+fn snapshot_settings() -> insta::Settings {
+    let mut s = insta::Settings::clone_current();
+    s.set_snapshot_path(root().join("tests/snapshots"));
+    s.set_prepend_module_to_snapshot(false);
+    s
+}
+
+#[test]
+fn snapshot_runs_80x24() {
+    let mut app = runs_app(Options::default());
+    let t = render(&mut app, 80, 24);
+    snapshot_settings().bind(|| insta::assert_snapshot!("runs_80x24", t.backend()));
+}
+
+#[test]
+fn snapshot_runs_120x40() {
+    let mut app = runs_app(Options::default());
+    let t = render(&mut app, 120, 40);
+    snapshot_settings().bind(|| insta::assert_snapshot!("runs_120x40", t.backend()));
+}
+
+#[test]
+fn snapshot_runs_80x24_ascii_no_color() {
+    let mut app = runs_app(Options {
+        color: false,
+        ascii: true,
+    });
+    let t = render(&mut app, 80, 24);
+    let buf = t.backend().buffer();
+    for c in buf.content() {
+        assert_eq!(c.fg, ratatui::style::Color::Reset);
+    }
+    // the runs view's own lines (the header and the hint bar are drawn for every view)
+    for y in 1..22 {
+        for x in 0..80 {
+            let sym = buf[(x, y)].symbol();
+            assert!(sym.bytes().all(|b| b <= 0x7e), "{sym:?} at {x},{y}");
+        }
+    }
+    snapshot_settings().bind(|| insta::assert_snapshot!("runs_80x24_ascii", t.backend()));
+}
+
+#[test]
+fn snapshot_charts_with_two_runs_overlaid_120x40() {
+    let mut app = runs_app(Options::default());
+    app.view = View::Charts;
+    let t = render(&mut app, 120, 40);
+    let s = screen(&t);
+    assert!(s.contains("deck.theta [rad] ┈#1 ┈#3"), "{s}");
+    assert_eq!(compare_row(&s, "impacts").len(), 3, "{s}");
+    snapshot_settings().bind(|| insta::assert_snapshot!("charts_overlay_120x40", t.backend()));
+}
