@@ -163,6 +163,11 @@ pub struct App {
     pub generation: u64,
     /// The studies view: the last study of each kind, running or done.
     pub studies: Studies,
+    // navigation: the event list
+    /// The event list is shown (charts view, in place of the side panels).
+    pub events_open: bool,
+    /// The event list's selected row, in time order (None: the row at the cursor).
+    pub event_sel: Option<usize>,
 }
 
 impl App {
@@ -200,6 +205,8 @@ impl App {
             watch_mode: String::new(),
             generation: 0,
             studies: Studies::default(),
+            events_open: false,
+            event_sel: None,
         };
         match form::validate(text, path) {
             Ok(scene) => {
@@ -294,7 +301,11 @@ impl App {
             Mode::Help => Some(Ctx::Help),
             Mode::Pick { .. } => Some(Ctx::Pick),
         };
-        keymap::active(mode, self.view_ctx())
+        let mut ctxs = keymap::active(mode, self.view_ctx());
+        if mode.is_none() && self.view == View::Charts && self.events_open {
+            ctxs.insert(0, Ctx::Events);
+        }
+        ctxs
     }
 
     /// The keymap context of the view shown.
