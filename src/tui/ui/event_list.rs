@@ -17,8 +17,13 @@ const TIME_W: usize = 8;
 
 /// Column widths of the list in `width` columns: contact, kind, impulse (0: left out).
 fn columns(run: &RunData, width: usize) -> (usize, usize, usize) {
-    let names = run.contact_names.iter().chain(&run.element_names);
-    let contact = names.map(|n| n.chars().count()).max().unwrap_or(0).max(7);
+    let contact = run
+        .events
+        .iter()
+        .map(|e| nav::subject(run, e).chars().count())
+        .max()
+        .unwrap_or(0)
+        .max(7);
     let kind = run
         .events
         .iter()

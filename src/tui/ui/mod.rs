@@ -19,6 +19,7 @@ mod timeline;
 mod xy_plot;
 
 pub use cache::Cache;
+pub use event_list::scroll;
 pub use timeline::{Cell, event_strip, key_failure_mark, key_strip, priority, strip_cells};
 
 use crate::tui::app::{App, MIN_HEIGHT, MIN_WIDTH, Mode, View};

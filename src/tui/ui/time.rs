@@ -314,7 +314,9 @@ fn zero_label(frame: &mut Frame, body: Rect, yb: [f64; 2], th: &Theme) {
         _ => 1.0,
     };
     let res = f64::from(body.height) * dots;
-    let row = ((yb[1] * (res - 1.0) / (yb[1] - yb[0])) / dots) as u16;
+    // the canvas rounds to its dots, as it drew the line
+    let dot = (yb[1] * (res - 1.0) / (yb[1] - yb[0])).round();
+    let row = (dot / dots).floor() as u16;
     if row == 0 || row + 1 >= body.height || body.width <= LABEL_W {
         return;
     }
@@ -336,11 +338,8 @@ fn chart_header(
     th: &Theme,
 ) -> Line<'static> {
     let head = Span::styled(format!("{title} [{}]", scale.unit), th.bold());
-    let (glyph, dotted) = if th.ascii {
-        ("-", "..")
-    } else {
-        ("━", "┈")
-    };
+    // in ASCII a dash would read as a minus sign: the values alone, in the legend's order
+    let (glyph, dotted) = if th.ascii { ("", "") } else { ("━", "┈") };
     let current: Vec<&Series> = series.iter().filter(|s| !s.prev).collect();
     let value = |s: &Series| s.now.map_or("—".to_string(), |v| scale.fmt(v));
     let named = current.len() > 1;
