@@ -714,3 +714,23 @@ fn snapshot_event_list_80x24_and_120x40() {
     app.view = View::Form;
     assert!(!app.contexts().contains(&Ctx::Events));
 }
+
+#[test]
+fn at_60x18_with_the_event_list_the_labels_are_whole() {
+    let mut app = at_event(bridge_app());
+    app.overlay = false;
+    update(&mut app, key('E'));
+    let run = short_run();
+    let r = run.rot.unwrap();
+    let (lo, hi) = range_in(run, &run.q[r], 0.0, 2.0);
+    let lines = screen(&render(&mut app, 60, 18));
+    let (top, bottom) = chart_labels(&lines, "deck.theta");
+    assert!(is_label_of(&top, hi, "rad"), "{top} vs {hi}");
+    assert!(is_label_of(&bottom, lo, "rad"), "{bottom} vs {lo}");
+    // the list names contacts as the strip does, and marks the kind as the strip does
+    assert!(
+        lines.iter().any(|l| l.contains(" r_bottom ")),
+        "{}",
+        lines.join("\n")
+    );
+}

@@ -3,7 +3,7 @@
 //! following the cursor until moved, kept in view.
 
 use super::common::{Theme, shown_run};
-use super::timeline::row_name;
+use super::timeline::{kind_mark, row_name};
 use crate::tui::app::App;
 use crate::tui::nav;
 use crate::tui::run_data::RunData;
@@ -15,7 +15,9 @@ use ratatui::widgets::Paragraph;
 /// Width of the time column (`0.952341`, `12.3456`).
 const TIME_W: usize = 8;
 
-/// Column widths of the list in `width` columns: contact, kind, impulse (0: left out).
+/// Column widths of the list in `width` columns: contact, kind, impulse (0: left out). When a
+/// contact's name (shortened as in the strip) and the kind's word do not fit, the kind is its
+/// strip mark (width 1).
 fn columns(run: &RunData, width: usize) -> (usize, usize, usize) {
     let contact = run
         .events
@@ -35,8 +37,10 @@ fn columns(run: &RunData, width: usize) -> (usize, usize, usize) {
     let base = TIME_W + 1 + kind + 1;
     if base + contact + 1 + impulse <= width {
         (contact, kind, impulse)
-    } else {
+    } else if base + contact.min(8) <= width {
         (width.saturating_sub(base).min(contact), kind, 0)
+    } else {
+        (width.saturating_sub(TIME_W + 3).min(contact), 1, 0)
     }
 }
 
@@ -81,7 +85,7 @@ pub(super) fn draw_event_list(frame: &mut Frame, area: Rect, app: &App, th: &The
             "{:>TIME_W$} {:<cw$} {:<kw$}{}",
             "t [s]",
             "contact",
-            "kind",
+            if kw > 1 { "kind" } else { "" },
             if iw > 0 {
                 format!(" {:>iw$}", "impulse")
             } else {
@@ -103,11 +107,15 @@ pub(super) fn draw_event_list(frame: &mut Frame, area: Rect, app: &App, th: &The
         } else {
             String::new()
         };
+        let kind = if kw > 1 {
+            e.kind.label().to_string()
+        } else {
+            kind_mark(e.kind, th.ascii).to_string()
+        };
         let text = format!(
-            "{:>TIME_W$} {:<cw$} {:<kw$}{imp}",
+            "{:>TIME_W$} {:<cw$} {kind:<kw$}{imp}",
             nav::fmt_time(e.t),
             row_name(&nav::subject(run, e), cw),
-            e.kind.label(),
         );
         let style = if Some(r) == sel {
             th.selected()

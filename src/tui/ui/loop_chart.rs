@@ -174,9 +174,12 @@ fn plot(
         ];
     }
     let ext = |a: f64, b: f64| (a <= b).then_some([a, b]);
-    // ratatui gives the y labels at most a third of the width
-    let (xb, xl) = value_axis(ext(r[0], r[1]), &du, inner.width as usize / 2, th.ascii);
-    let (yb, yl) = value_axis(ext(r[2], r[3]), &fu, inner.width as usize / 3, th.ascii);
+    // ratatui gives the y labels (and the first x label) at most a third of the width, and
+    // the last x label half of the plot
+    let third = inner.width as usize / 3;
+    let xw = third.min((inner.width as usize).saturating_sub(third + 1) / 2);
+    let (xb, xl) = value_axis(ext(r[0], r[1]), &du, xw, th.ascii);
+    let (yb, yl) = value_axis(ext(r[2], r[3]), &fu, third, th.ascii);
     Plot {
         xb,
         yb,

@@ -72,8 +72,9 @@ fn draw_charts(frame: &mut Frame, area: Rect, app: &App, cache: &mut Cache, th: 
         (area.width * 35 / 100).max(24)
     };
     if app.events_open {
-        // time, a contact's name and the kind in a row
-        right_w = right_w.max(36).min(area.width / 2);
+        // time, a contact's name and the kind in a row; the charts keep room for their labels
+        let charts_min = 3 * common::LABEL_W;
+        right_w = right_w.max(36).min(area.width.saturating_sub(charts_min));
     }
     let [left, right] =
         Layout::horizontal([Constraint::Min(0), Constraint::Length(right_w)]).areas(area);

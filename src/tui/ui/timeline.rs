@@ -37,6 +37,18 @@ pub fn priority(kind: EventKind) -> u8 {
     }
 }
 
+/// The strip's mark of one event of a kind.
+pub(super) fn kind_mark(kind: EventKind, ascii: bool) -> char {
+    match kind {
+        EventKind::Impact => '*',
+        EventKind::Accumulation => '!',
+        EventKind::Release => '^',
+        EventKind::Slip => '~',
+        EventKind::Stick => 'S',
+        EventKind::KeyFailure => key_failure_mark(ascii),
+    }
+}
+
 /// The mark of `n` events: its symbol for one, the count 2–9, `+` for ten or more.
 fn count_mark(symbol: char, n: usize) -> char {
     match n {
@@ -133,11 +145,8 @@ pub fn strip_cells(
     for cell in &mut out {
         cell.mark = match cell.kind {
             Some(EventKind::Impact) => count_mark('*', cell.impacts),
-            Some(EventKind::Accumulation) => '!',
-            Some(EventKind::Release) => '^',
-            Some(EventKind::Slip) => '~',
-            Some(EventKind::Stick) => 'S',
-            Some(EventKind::KeyFailure) | None => cell.mark,
+            Some(k) if k.of_contact() => kind_mark(k, ascii),
+            _ => cell.mark,
         };
     }
     out
