@@ -349,7 +349,7 @@ fn signal_round(d: &Path, sig: &str, status: i32, edit: bool) -> String {
         socket: format!("deckspin-e2e-{sig}-{}", std::process::id()),
     };
     start(&tmux, d, "");
-    tmux.wait("the workbench", 30, |s| s.contains("deck.theta [rad]"));
+    tmux.wait("the workbench", 30, |s| s.contains("deck.theta ["));
     assert_eq!(tmux.alternate_on(), "1");
     assert_eq!(tmux.cursor_flag(), "0", "the workbench hides the cursor");
     if edit {
