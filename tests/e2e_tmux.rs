@@ -187,14 +187,30 @@ fn workbench_in_tmux() {
         "1",
         "the workbench uses the alternate screen"
     );
-    assert!(s.contains("deck.theta [rad]"), "{s}");
-    assert!(s.contains("gaps g_N [m]"), "{s}");
+    assert!(s.contains("deck.theta [µrad]"), "{s}");
+    assert!(s.contains("gaps g_N [mm]"), "{s}");
     assert!(s.contains("events "), "{s}");
     assert!(s.contains("plan ×"), "{s}");
     assert!(
         s.contains("watch: notify") || s.contains("watch: polling"),
         "{s}"
     );
+
+    // jump from event to event, open the event list, go to an event in it, close it
+    tmux.keys(&["Home"]);
+    tmux.text("]");
+    tmux.wait("the first event", 5, |s| s.contains("event 1/"));
+    tmux.text("]");
+    tmux.wait("the second event", 5, |s| s.contains("event 2/"));
+    tmux.text("E");
+    tmux.wait("the event list", 5, |s| s.contains("t [s] contact"));
+    tmux.keys(&["Down", "Enter"]);
+    tmux.wait("the cursor on the selected event", 5, |s| {
+        s.contains("event 3/") || s.contains("event 2/")
+    });
+    tmux.text("E");
+    tmux.wait("the side panels back", 5, |s| s.contains("plan ×"));
+    tmux.keys(&["End"]);
 
     // edit the left_top gap in the form
     tmux.keys(&["Tab"]);
@@ -262,7 +278,7 @@ fn workbench_in_tmux() {
     let s = tmux.wait("the shell", 10, |s| s.contains("deckspin-exited-0"));
     assert_eq!(tmux.alternate_on(), "0", "alternate screen left");
     assert!(
-        !s.contains("deck.theta [rad]"),
+        !s.contains("deck.theta ["),
         "workbench still on screen:\n{s}"
     );
 
@@ -343,7 +359,7 @@ fn signal_round(d: &Path, sig: &str, status: i32, edit: bool) -> String {
         socket: format!("deckspin-e2e-{sig}-{}", std::process::id()),
     };
     start(&tmux, d, "");
-    tmux.wait("the workbench", 30, |s| s.contains("deck.theta [rad]"));
+    tmux.wait("the workbench", 30, |s| s.contains("deck.theta ["));
     assert_eq!(tmux.alternate_on(), "1");
     assert_eq!(tmux.cursor_flag(), "0", "the workbench hides the cursor");
     if edit {
@@ -373,7 +389,7 @@ fn signal_round(d: &Path, sig: &str, status: i32, edit: bool) -> String {
         "raw mode left on after {sig}:\n{s}"
     );
     assert!(
-        !s.contains("deck.theta [rad]"),
+        !s.contains("deck.theta ["),
         "workbench still on screen:\n{s}"
     );
     assert!(s.contains(&format!("deckspin: SIG{sig} received")), "{s}");

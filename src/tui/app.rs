@@ -174,6 +174,11 @@ pub struct App {
     pub studies: Studies,
     /// Runs found on disk beyond the bound, removed with the next store.
     pub runs_older: Vec<u64>,
+    // navigation: the event list
+    /// The event list is shown (charts view, in place of the side panels).
+    pub events_open: bool,
+    /// The event list's selected row, in time order (None: the row at the cursor).
+    pub event_sel: Option<usize>,
 }
 
 impl App {
@@ -212,6 +217,8 @@ impl App {
             generation: 0,
             studies: Studies::default(),
             runs_older: Vec::new(),
+            events_open: false,
+            event_sel: None,
         };
         match form::validate(text, path) {
             Ok(scene) => {
@@ -345,7 +352,11 @@ impl App {
             Mode::Pick { .. } => Some(Ctx::Pick),
             Mode::Naming { .. } => Some(Ctx::Naming),
         };
-        keymap::active(mode, self.view_ctx())
+        let mut ctxs = keymap::active(mode, self.view_ctx());
+        if mode.is_none() && self.view == View::Charts && self.events_open {
+            ctxs.insert(0, Ctx::Events);
+        }
+        ctxs
     }
 
     /// The keymap context of the view shown.

@@ -73,6 +73,15 @@ pub enum Action {
     NameCancel,
     NameBackspace,
     NameClear,
+    // navigation: events and the event list
+    NextEvent,
+    PrevEvent,
+    ToggleEvents,
+    EventUp,
+    EventDown,
+    EventPageUp,
+    EventPageDown,
+    EventGo,
 }
 
 /// Where a binding applies. Lookup order: the mode's own context first, then the view, then
@@ -90,6 +99,8 @@ pub enum Ctx {
     Help,
     Runs,
     Naming,
+    /// The event list is open in the charts view.
+    Events,
 }
 
 impl Ctx {
@@ -106,6 +117,7 @@ impl Ctx {
             Ctx::Help => "this help",
             Ctx::Runs => "run list",
             Ctx::Naming => "naming a run",
+            Ctx::Events => "the event list",
         }
     }
 }
@@ -210,6 +222,16 @@ pub const KEYMAP: &[Binding] = &[
     b(Ctx::Charts, &[K::Ch('0')], "0", A::ZoomReset, "show the whole run", None),
     b(Ctx::Charts, &[K::Ch('n')], "n", A::NextElement, "next column (force–def.)", Some(("n", "column"))),
     b(Ctx::Charts, &[K::Ch('N')], "N", A::PrevElement, "previous column", None),
+    // charts view: events
+    b(Ctx::Charts, &[K::Ch(']')], "]", A::NextEvent, "cursor to the next event", None),
+    b(Ctx::Charts, &[K::Ch('[')], "[", A::PrevEvent, "cursor to the previous event", None),
+    b(Ctx::Charts, &[K::Ch('E')], "E", A::ToggleEvents, "event list: open/close", None),
+    // the event list
+    b(Ctx::Events, &[K::Code(KC::Up), K::Ch('k')], "↑/k", A::EventUp, "previous event in the list", None),
+    b(Ctx::Events, &[K::Code(KC::Down), K::Ch('j')], "↓/j", A::EventDown, "next event in the list", Some(("↑↓", "event"))),
+    b(Ctx::Events, &[K::Code(KC::PageUp)], "PgUp", A::EventPageUp, "a page of events up", None),
+    b(Ctx::Events, &[K::Code(KC::PageDown)], "PgDn", A::EventPageDown, "a page of events down", None),
+    b(Ctx::Events, &[K::Code(KC::Enter)], "Enter", A::EventGo, "cursor to the selected event", Some(("Enter", "go"))),
     // form view
     b(Ctx::Form, &[K::Code(KC::Up), K::Ch('k')], "↑/k", A::FieldUp, "previous field", None),
     b(Ctx::Form, &[K::Code(KC::Down), K::Ch('j')], "↓/j", A::FieldDown, "next field", Some(("↑↓", "field"))),
@@ -308,6 +330,7 @@ pub fn help() -> Vec<(&'static str, Vec<(&'static str, &'static str)>)> {
         Ctx::Confirm,
         Ctx::Merge,
         Ctx::Help,
+        Ctx::Events,
     ]
     .iter()
     .map(|c| {

@@ -8,12 +8,14 @@
 pub mod app;
 pub mod chart;
 pub mod effects;
+pub mod eng;
 pub mod export;
 pub mod form;
 pub mod keymap;
 pub mod list_edit;
 pub mod merge;
 pub mod msg;
+pub mod nav;
 pub mod run_data;
 pub mod run_list;
 pub mod run_store;

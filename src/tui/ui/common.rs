@@ -8,8 +8,9 @@ use ratatui::symbols::{Marker, border};
 use ratatui::text::Line;
 use ratatui::widgets::Block;
 
-/// Width of the y-axis labels of the time charts (the event strip uses the same offset).
-pub(super) const LABEL_W: u16 = 9;
+/// Width of the y-axis labels of the time charts (the event strip uses the same offset): a
+/// label of 4 significant digits with its unit and sign (`-189.0 µrad`) and a space.
+pub(super) const LABEL_W: u16 = 12;
 
 /// Colours: the 16 named ANSI colours, or none at all (NO_COLOR).
 pub(super) struct Theme {

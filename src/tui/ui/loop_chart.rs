@@ -3,8 +3,11 @@
 
 use super::cache::{Cache, Points};
 use super::common::{Theme, overlay_run, shown_run};
+use super::time::value_axis;
 use crate::tui::app::App;
-use crate::tui::chart::{self, bounds, fmt_num};
+use crate::tui::chart;
+use crate::tui::eng;
+use crate::tui::nav;
 use crate::tui::run_data::RunData;
 use ratatui::Frame;
 use ratatui::layout::Rect;
@@ -16,6 +19,9 @@ use ratatui::widgets::{Axis, Chart, Dataset, GraphType, Paragraph};
 struct Plot {
     xb: [f64; 2],
     yb: [f64; 2],
+    /// Axis labels: the extremes of deformation and force.
+    xl: Vec<String>,
+    yl: Vec<String>,
     res_x: usize,
     res_y: usize,
 }
@@ -61,9 +67,11 @@ pub(super) fn draw_loop(frame: &mut Frame, area: Rect, app: &App, cache: &mut Ca
         j + 1,
         run.element_names.len()
     );
-    let block = th.block(title);
+    let block = th
+        .block(title)
+        .title_bottom(Line::styled(loop_readout(app, run, j, tc), th.cursor()));
     let inner = block.inner(area);
-    let plot = plot(run, j, prev, inner, th);
+    let plot = plot(run, j, prev, inner, loop_units(app, run, j), th);
     let mut key = vec![run.t.len() as u64, t0.to_bits(), tc.to_bits()];
     key.extend(plot.key());
     let (dx, fx) = (&run.el[j].0, &run.el[j].1);
@@ -92,49 +100,69 @@ pub(super) fn draw_loop(frame: &mut Frame, area: Rect, app: &App, cache: &mut Ca
     });
     let here = cur.last().map(|p| [*p]);
     let ds = datasets(&cur, prev_pts.as_ref(), here.as_ref(), th);
-    let chart = with_axes(Chart::new(ds).block(block), &plot, force_unit(app), th);
+    let chart = with_axes(Chart::new(ds).block(block), &plot, th);
     frame.render_widget(chart, area);
 }
 
-/// Force unit of the y labels: kN for bridge models (a `deck` body).
-fn force_unit(app: &App) -> &'static str {
-    if app
-        .scene
-        .as_ref()
-        .is_some_and(|s| s.bodies.iter().any(|b| b.name == "deck"))
-    {
-        " kN"
+/// The units of element `j`'s deformation and force: m and kN (rad and kN·m for a rotation)
+/// in a bridge model; a scene file's force unit is its author's (none printed).
+fn loop_units(app: &App, run: &RunData, j: usize) -> (String, String) {
+    let kn = nav::force_unit(nav::kilonewton(app));
+    if run.element_names[j].ends_with(".theta") {
+        let dot = if app.ascii { "*" } else { "·" };
+        let fu = if kn.is_empty() {
+            String::new()
+        } else {
+            format!("{kn}{dot}m")
+        };
+        ("rad".to_string(), fu)
     } else {
-        ""
+        ("m".to_string(), kn.to_string())
     }
 }
 
-/// Deformation and force axes with their end labels.
-fn with_axes<'a>(chart: Chart<'a>, plot: &Plot, unit_f: &str, th: &Theme) -> Chart<'a> {
+/// The element's deformation and force at the cursor (` 1.234 mm, 45.67 kN `), "" before its
+/// first sample.
+fn loop_readout(app: &App, run: &RunData, j: usize, tc: f64) -> String {
+    let Some(k) = chart::at_or_before(&run.t, tc) else {
+        return String::new();
+    };
+    let (Some(&d), Some(&f)) = (run.el[j].0.get(k), run.el[j].1.get(k)) else {
+        return String::new();
+    };
+    let (du, fu) = loop_units(app, run, j);
+    let e = |v: f64, u: &str| eng::eng(v, u, app.ascii);
+    format!(" {}, {} ", e(d, &du), e(f, &fu))
+}
+
+/// Deformation and force axes labelled with the extremes they span.
+fn with_axes<'a>(chart: Chart<'a>, plot: &Plot, th: &Theme) -> Chart<'a> {
+    let lines = |l: &[String]| l.iter().map(|s| Line::from(s.clone())).collect::<Vec<_>>();
     chart
         .x_axis(
             Axis::default()
                 .bounds(plot.xb)
-                .labels(vec![
-                    Line::from(fmt_num(plot.xb[0], 7)),
-                    Line::from(fmt_num(plot.xb[1], 7)),
-                ])
+                .labels(lines(&plot.xl))
                 .style(th.dim()),
         )
         .y_axis(
             Axis::default()
                 .bounds(plot.yb)
-                .labels(vec![
-                    Line::from(format!("{}{unit_f}", fmt_num(plot.yb[0], 7))),
-                    Line::from(format!("{}{unit_f}", fmt_num(plot.yb[1], 7))),
-                ])
+                .labels(lines(&plot.yl))
                 .style(th.dim()),
         )
         .legend_position(None)
 }
 
 /// Bounds over both runs' ranges of element `j` (`k` in the previous run) and resolution.
-fn plot(run: &RunData, j: usize, prev: Option<(&RunData, usize)>, inner: Rect, th: &Theme) -> Plot {
+fn plot(
+    run: &RunData,
+    j: usize,
+    prev: Option<(&RunData, usize)>,
+    inner: Rect,
+    (du, fu): (String, String),
+    th: &Theme,
+) -> Plot {
     let mut r = run.el_range[j];
     if let Some((p, k)) = prev {
         let q = p.el_range[k];
@@ -145,9 +173,18 @@ fn plot(run: &RunData, j: usize, prev: Option<(&RunData, usize)>, inner: Rect, t
             r[3].max(q[3]),
         ];
     }
+    let ext = |a: f64, b: f64| (a <= b).then_some([a, b]);
+    // ratatui gives the y labels (and the first x label) at most a third of the width, and
+    // the last x label half of the plot
+    let third = inner.width as usize / 3;
+    let xw = third.min((inner.width as usize).saturating_sub(third + 1) / 2);
+    let (xb, xl) = value_axis(ext(r[0], r[1]), &du, xw, th.ascii);
+    let (yb, yl) = value_axis(ext(r[2], r[3]), &fu, third, th.ascii);
     Plot {
-        xb: bounds(&[r[0], r[1]]),
-        yb: bounds(&[r[2], r[3]]),
+        xb,
+        yb,
+        xl,
+        yl,
         res_x: inner.width as usize * th.per_cell(),
         res_y: inner.height as usize * if th.ascii { 1 } else { 4 },
     }

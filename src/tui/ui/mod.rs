@@ -6,6 +6,7 @@
 mod cache;
 mod common;
 mod compare;
+mod event_list;
 mod form;
 mod header;
 mod loop_chart;
@@ -20,7 +21,8 @@ mod timeline;
 mod xy_plot;
 
 pub use cache::Cache;
-pub use timeline::{event_strip, key_failure_mark, key_strip};
+pub use event_list::scroll;
+pub use timeline::{Cell, event_strip, key_failure_mark, key_strip, priority, strip_cells};
 
 use crate::tui::app::{App, MIN_HEIGHT, MIN_WIDTH, Mode, View};
 use ratatui::Frame;
@@ -67,13 +69,22 @@ pub fn draw(frame: &mut Frame, app: &App, cache: &mut Cache) {
 
 /// The charts view: time charts and event strip on the left, side panels on the right.
 fn draw_charts(frame: &mut Frame, area: Rect, app: &App, cache: &mut Cache, th: &common::Theme) {
-    let right_w = if area.width >= 100 {
+    let mut right_w = if area.width >= 100 {
         (area.width * 36 / 100).clamp(30, 60)
     } else {
         (area.width * 35 / 100).max(24)
     };
+    if app.events_open {
+        // time, a contact's name and the kind in a row; the charts keep room for their labels
+        let charts_min = 3 * common::LABEL_W;
+        right_w = right_w.max(36).min(area.width.saturating_sub(charts_min));
+    }
     let [left, right] =
         Layout::horizontal([Constraint::Min(0), Constraint::Length(right_w)]).areas(area);
     time::draw_time_panel(frame, left, app, cache, th);
-    side::draw_side_panel(frame, right, app, cache, th);
+    if app.events_open {
+        event_list::draw_event_list(frame, right, app, th);
+    } else {
+        side::draw_side_panel(frame, right, app, cache, th);
+    }
 }

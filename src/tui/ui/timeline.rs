@@ -1,39 +1,83 @@
-//! The event strip: one row per contact on the charts' time axis (events over the contact
-//! state), a row of shear-key failures when there are any, the cursor column, the time axis.
+//! The event strip: the legend, the readout at the cursor (contact states, last impact), one
+//! row per contact on the charts' time axis (events over the contact state, a column of
+//! several impacts counted), a row of shear-key failures when there are any, the cursor
+//! column, the time axis.
 
 use super::cache::{Cache, Key, time_key};
-use super::common::{LABEL_W, Theme};
+use super::common::{LABEL_W, Theme, fit};
 use crate::output::{ContactState, EventKind, EventRecord};
 use crate::tui::chart::{self, column_of, fmt_num};
+use crate::tui::nav;
 use crate::tui::run_data::RunData;
 use ratatui::Frame;
-use ratatui::layout::{Alignment, Rect};
+use ratatui::layout::Rect;
 use ratatui::style::Style;
 use ratatui::text::{Line, Span};
 use ratatui::widgets::Paragraph;
 
-/// Per-contact event strip: events (impact `*`, stick `S`, slip `~`, release `^`,
-/// accumulation `!`) over the contact state (stuck `█`/`#`, sliding `▒`/`=`, open ` `); key
-/// failures have their own row ([`key_strip`]).
-pub fn event_strip(
+/// One column of an event strip: the mark drawn, the event kind it shows (None: the contact
+/// state only) and the number of impacts it stands for.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Cell {
+    pub mark: char,
+    pub kind: Option<EventKind>,
+    pub impacts: usize,
+}
+
+/// Which event a column shows when it holds several, whatever the markers: an impact, then an
+/// accumulation, a release, a slip, a stick (0: not drawn in a contact's row).
+pub fn priority(kind: EventKind) -> u8 {
+    match kind {
+        EventKind::Impact => 5,
+        EventKind::Accumulation => 4,
+        EventKind::Release => 3,
+        EventKind::Slip => 2,
+        EventKind::Stick => 1,
+        EventKind::KeyFailure => 0,
+    }
+}
+
+/// The strip's mark of one event of a kind.
+pub(super) fn kind_mark(kind: EventKind, ascii: bool) -> char {
+    match kind {
+        EventKind::Impact => '*',
+        EventKind::Accumulation => '!',
+        EventKind::Release => '^',
+        EventKind::Slip => '~',
+        EventKind::Stick => 'S',
+        EventKind::KeyFailure => key_failure_mark(ascii),
+    }
+}
+
+/// The mark of `n` events: its symbol for one, the count 2–9, `+` for ten or more.
+fn count_mark(symbol: char, n: usize) -> char {
+    match n {
+        0 | 1 => symbol,
+        2..=9 => char::from(b'0' + n as u8),
+        _ => '+',
+    }
+}
+
+/// The contact-state rank of each column (2 stuck, 1 sliding, 0 open; None before the first
+/// sample and after the last): the highest state of its samples, else the state before.
+fn state_ranks(
     run: &RunData,
     contact: usize,
-    t0: f64,
-    t1: f64,
+    (t0, t1): (f64, f64),
     width: usize,
     per_cell: usize,
-    ascii: bool,
-) -> Vec<char> {
+) -> Vec<Option<u8>> {
+    let rank_of = |s: &ContactState| match s {
+        ContactState::Stick => 2,
+        ContactState::Slide(_) => 1,
+        ContactState::Open => 0,
+    };
     let mut rank: Vec<Option<u8>> = vec![None; width];
     let range = chart::window(&run.t, t0, t1);
     let states = &run.state[contact];
     for i in range.clone() {
         if let Some(c) = column_of(run.t[i], t0, t1, width, per_cell) {
-            let r = match states[i] {
-                ContactState::Stick => 2,
-                ContactState::Slide(_) => 1,
-                ContactState::Open => 0,
-            };
+            let r = rank_of(&states[i]);
             rank[c] = Some(rank[c].map_or(r, |x| x.max(r)));
         }
     }
@@ -47,11 +91,7 @@ pub fn event_strip(
         .start
         .checked_sub(1)
         .and_then(|i| states.get(i))
-        .map(|s| match s {
-            ContactState::Stick => 2,
-            ContactState::Slide(_) => 1,
-            ContactState::Open => 0,
-        });
+        .map(rank_of);
     for (c, r) in rank.iter_mut().enumerate() {
         if last_col.is_none_or(|l| c > l) {
             break;
@@ -61,34 +101,71 @@ pub fn event_strip(
             None => *r = prev,
         }
     }
+    rank
+}
+
+/// Per-contact event strip: events (impact `*`, or the number of impacts `2`–`9`, `+` for ten
+/// or more; accumulation `!`, release `^`, slip `~`, stick `S`) over the contact state (stuck
+/// `█`/`#`, sliding `▒`/`=`, open ` `); a column holding several events shows the first of
+/// [`priority`], the same with either marker. Key failures have their own row ([`key_strip`]).
+pub fn strip_cells(
+    run: &RunData,
+    contact: usize,
+    t0: f64,
+    t1: f64,
+    width: usize,
+    per_cell: usize,
+    ascii: bool,
+) -> Vec<Cell> {
     let (stuck, sliding) = if ascii { ('#', '=') } else { ('█', '▒') };
-    let mut out: Vec<char> = rank
+    let mut out: Vec<Cell> = state_ranks(run, contact, (t0, t1), width, per_cell)
         .iter()
-        .map(|r| match r {
-            Some(2) => stuck,
-            Some(1) => sliding,
-            _ => ' ',
+        .map(|r| Cell {
+            mark: match r {
+                Some(2) => stuck,
+                Some(1) => sliding,
+                _ => ' ',
+            },
+            kind: None,
+            impacts: 0,
         })
         .collect();
-    let mut prio = vec![0u8; width];
     let of_contact = |e: &&EventRecord| e.contact == contact && e.kind.of_contact();
     for e in run.events.iter().filter(of_contact) {
-        if let Some(c) = column_of(e.t, t0, t1, width, per_cell) {
-            let (p, ch) = match e.kind {
-                EventKind::Impact => (5, '*'),
-                EventKind::Accumulation => (4, '!'),
-                EventKind::Stick => (3, 'S'),
-                EventKind::Slip => (2, '~'),
-                EventKind::Release => (1, '^'),
-                EventKind::KeyFailure => continue,
-            };
-            if p > prio[c] {
-                prio[c] = p;
-                out[c] = ch;
-            }
+        let Some(cell) = column_of(e.t, t0, t1, width, per_cell).map(|c| &mut out[c]) else {
+            continue;
+        };
+        if e.kind == EventKind::Impact {
+            cell.impacts += 1;
+        }
+        if cell.kind.is_none_or(|k| priority(e.kind) > priority(k)) {
+            cell.kind = Some(e.kind);
         }
     }
+    for cell in &mut out {
+        cell.mark = match cell.kind {
+            Some(EventKind::Impact) => count_mark('*', cell.impacts),
+            Some(k) if k.of_contact() => kind_mark(k, ascii),
+            _ => cell.mark,
+        };
+    }
     out
+}
+
+/// The marks of [`strip_cells`].
+pub fn event_strip(
+    run: &RunData,
+    contact: usize,
+    t0: f64,
+    t1: f64,
+    width: usize,
+    per_cell: usize,
+    ascii: bool,
+) -> Vec<char> {
+    strip_cells(run, contact, t0, t1, width, per_cell, ascii)
+        .into_iter()
+        .map(|c| c.mark)
+        .collect()
 }
 
 /// The mark of a key failure: `╳`, ASCII `X`.
@@ -96,7 +173,8 @@ pub fn key_failure_mark(ascii: bool) -> char {
     if ascii { 'X' } else { '╳' }
 }
 
-/// The shear-key row: a mark ([`key_failure_mark`]) at each key failure, blank elsewhere.
+/// The shear-key row: a mark ([`key_failure_mark`]) at each key failure (the count 2–9, `+`
+/// for ten or more, in a column of several), blank elsewhere.
 pub fn key_strip(
     run: &RunData,
     t0: f64,
@@ -105,28 +183,34 @@ pub fn key_strip(
     per_cell: usize,
     ascii: bool,
 ) -> Vec<char> {
-    let mut out = vec![' '; width];
+    let mut n = vec![0usize; width];
     let failures = run
         .events
         .iter()
         .filter(|e| e.kind == EventKind::KeyFailure);
     for e in failures {
         if let Some(c) = column_of(e.t, t0, t1, width, per_cell) {
-            out[c] = key_failure_mark(ascii);
+            n[c] += 1;
         }
     }
-    out
+    let mark = key_failure_mark(ascii);
+    n.iter()
+        .map(|&k| if k == 0 { ' ' } else { count_mark(mark, k) })
+        .collect()
 }
 
 /// Label of the shear-key row.
 const KEYS_LABEL: &str = "keys";
 
-/// Draws the event strip of `run` over the window `t0..t1` with the cursor at `tc`.
+/// Draws the event strip of `run` over the window `t0..t1` with the cursor at `tc`: the
+/// legend, the readout at the cursor (when `area` has a line for it), one row per contact, the
+/// key failures, the time axis. `kn`: the model's forces are in kN.
 pub(super) fn draw_timeline(
     frame: &mut Frame,
     area: Rect,
     run: &RunData,
     (t0, t1, tc): (f64, f64, f64),
+    kn: bool,
     cache: &mut Cache,
     th: &Theme,
 ) {
@@ -137,9 +221,13 @@ pub(super) fn draw_timeline(
     let per_cell = th.per_cell();
     let nc = run.contact_names.len();
     let keys = run.count(EventKind::KeyFailure) > 0;
-    let room = (area.height as usize).saturating_sub(2);
+    let with_readout = area.height >= 4;
+    let room = (area.height as usize).saturating_sub(2 + usize::from(with_readout));
     let rows = room.saturating_sub(usize::from(keys)).min(nc);
-    let mut lines = vec![legend(frame, area, tc, keys, th)];
+    let mut lines = vec![legend(area.width as usize, keys, th)];
+    if with_readout {
+        lines.push(readout(run, tc, kn, area.width as usize, th));
+    }
     let key = Key {
         extra: u64::from(th.ascii),
         ..time_key(run, t0, t1, w as u16)
@@ -165,37 +253,105 @@ pub(super) fn draw_timeline(
     frame.render_widget(Paragraph::new(lines), area);
 }
 
-/// The legend line (with the key-failure mark if `keys`); draws the cursor time at its right.
-fn legend(frame: &mut Frame, area: Rect, tc: f64, keys: bool, th: &Theme) -> Line<'static> {
+/// The legend line: as many of its items as fit whole in `width` (the key-failure mark if
+/// `keys`).
+fn legend(width: usize, keys: bool, th: &Theme) -> Line<'static> {
     let stuck = if th.ascii { "#" } else { "█" };
     let slide = if th.ascii { "=" } else { "▒" };
-    let tnow = format!(" t = {} s", fmt_num(tc, 9));
     let mark = key_failure_mark(th.ascii);
-    let (long_keys, short_keys) = if keys {
-        (format!("  {mark} key failure"), format!(" {mark}key"))
-    } else {
-        (String::new(), String::new())
+    let long = [
+        "* impact".to_string(),
+        "2-9 impacts".into(),
+        "S stick".into(),
+        "~ slip".into(),
+        "^ release".into(),
+        format!("{stuck} stuck"),
+        format!("{slide} sliding"),
+        if keys {
+            format!("{mark} key failure")
+        } else {
+            String::new()
+        },
+    ];
+    let short = [
+        "*impact".to_string(),
+        "2-9 impacts".into(),
+        "S stick".into(),
+        "~slip".into(),
+        "^release".into(),
+        format!("{stuck}stuck"),
+        format!("{slide}sliding"),
+        if keys {
+            format!("{mark}key")
+        } else {
+            String::new()
+        },
+    ];
+    let room = width.saturating_sub("events ".len());
+    let whole = |items: &[String], sep: &str| {
+        let s = fit(items, sep, room);
+        (s.chars().count() == fit(items, sep, usize::MAX).chars().count()).then_some(s)
     };
-    let legend = if area.width as usize >= 60 + long_keys.chars().count() + tnow.len() {
-        format!("* impact  S stick  ~ slip  ^ release  {stuck} stuck  {slide} sliding{long_keys}")
-    } else {
-        format!("*impact S stick ~slip ^release {stuck}stuck {slide}slide{short_keys}")
-    };
-    let head = Line::from(vec![
+    let text = whole(&long, "  ")
+        .or_else(|| whole(&short, " "))
+        .unwrap_or_else(|| fit(&short, " ", room));
+    Line::from(vec![
         Span::styled("events ", th.bold()),
-        Span::styled(legend, th.dim()),
-    ]);
-    let tw = tnow.len() as u16;
-    frame.render_widget(
-        Paragraph::new(Line::styled(tnow, th.cursor())).alignment(Alignment::Right),
-        Rect::new(
-            area.right().saturating_sub(tw),
-            area.y,
-            tw.min(area.width),
-            1,
-        ),
-    );
-    head
+        Span::styled(text, th.dim()),
+    ])
+}
+
+/// The readout line at the cursor: its time, the state of each contact, the last impact
+/// before it with its normal impulse; whole items only, every contact named when they fit.
+fn readout(run: &RunData, tc: f64, kn: bool, width: usize, th: &Theme) -> Line<'static> {
+    let time = format!("t = {} s ", nav::fmt_time(tc));
+    let room = width.saturating_sub(time.chars().count());
+    let last = nav::last_impact(run, tc).map(|e| {
+        let imp = nav::impulse(e, kn, th.ascii).unwrap_or_default();
+        let name = nav::subject(run, e);
+        let mid = format!("last impact {name} {imp}");
+        let long = format!("{mid} at {} s", chart::fmt_sig(e.t, 4));
+        let short = format!("last impact {} {imp}", row_name(&name, 8));
+        [long, mid, short]
+    });
+    let all = nav::contact_items(run, tc, true);
+    let all_fit = fit(&all, th.sep(), room).chars().count() == all.join(th.sep()).chars().count();
+    let items = if all_fit {
+        all
+    } else {
+        nav::contact_items(run, tc, false)
+    };
+    let mut text = fit(&items, th.sep(), room);
+    if let Some(variants) = last {
+        let sep = if text.is_empty() { "" } else { th.sep() };
+        let left = room.saturating_sub(text.chars().count() + sep.chars().count());
+        if let Some(l) = variants.into_iter().find(|l| l.chars().count() <= left) {
+            text.push_str(sep);
+            text.push_str(&l);
+        }
+    }
+    Line::from(vec![Span::styled(time, th.cursor()), Span::raw(text)])
+}
+
+/// A contact's name in `w` columns: whole, else each word but the last cut to its first letter
+/// (`right_bottom` → `r_bottom`), else its first `w` characters.
+pub(super) fn row_name(name: &str, w: usize) -> String {
+    if name.chars().count() <= w {
+        return name.to_string();
+    }
+    let parts: Vec<&str> = name.split('_').collect();
+    if let Some((last, first)) = parts.split_last() {
+        let mut short: String = first
+            .iter()
+            .filter_map(|p| p.chars().next())
+            .flat_map(|c| [c, '_'])
+            .collect();
+        short.push_str(last);
+        if short.chars().count() <= w {
+            return short;
+        }
+    }
+    name.chars().take(w).collect()
 }
 
 /// One row: its name (in `style`), the strip, the cursor column in reverse video.
@@ -206,14 +362,11 @@ fn strip_line(
     cur_col: Option<usize>,
     th: &Theme,
 ) -> Line<'static> {
-    let name: String = name.chars().take(LABEL_W as usize - 1).collect();
-    let mut spans = vec![Span::styled(
-        format!("{name:>lw$} ", lw = LABEL_W as usize - 1),
-        style,
-    )];
+    let lw = LABEL_W as usize - 1;
+    let mut spans = vec![Span::styled(format!("{:>lw$} ", row_name(name, lw)), style)];
     spans.push(Span::styled("│", th.dim()));
     let s: String = strip.iter().collect();
-    match cur_col {
+    match cur_col.filter(|&c| c < strip.len()) {
         Some(c) => {
             let a: String = strip[..c].iter().collect();
             let b: String = strip[c..=c].iter().collect();

@@ -171,6 +171,17 @@ fn on_action(app: &mut App, a: Action) -> Vec<Effect> {
         | A::NameCancel
         | A::NameBackspace
         | A::NameClear => runs::runs_action(app, a),
+        A::NextEvent
+        | A::PrevEvent
+        | A::ToggleEvents
+        | A::EventUp
+        | A::EventDown
+        | A::EventPageUp
+        | A::EventPageDown
+        | A::EventGo => {
+            view::event_action(app, a);
+            Vec::new()
+        }
     }
 }
 

@@ -64,6 +64,7 @@ pub(super) fn start_run(app: &mut App) -> Vec<Effect> {
         return Vec::new();
     };
     let mut fx = Vec::new();
+    let cursor = app.cursor_time();
     if let Some(mut cur) = app.current.take()
         && cur.running()
     {
@@ -83,13 +84,13 @@ pub(super) fn start_run(app: &mut App) -> Vec<Effect> {
     };
     app.set_status(StatusKind::Info, format!("{label} started"));
     app.current = Some(RunData::for_scene(id, label, &scene));
-    app.follow = true;
     let end = app.t_end();
     if let Some((a, b)) = app.zoom
         && (b > end || a >= end)
     {
         app.zoom = None;
     }
+    super::view::keep_cursor_on_rerun(app, cursor);
     app.generation += 1;
     fx.push(Effect::StartRun {
         id,

@@ -1,7 +1,10 @@
-//! View actions: switch view, markers, overlay; time cursor, zoom, charted element.
+//! View actions: switch view, markers, overlay; time cursor, zoom, charted element; the jumps
+//! from event to event and the event list.
 
 use crate::tui::app::{App, StatusKind, View};
 use crate::tui::keymap::Action;
+use crate::tui::nav;
+use crate::tui::run_data::RunData;
 
 /// `Tab`, `S-Tab`, `m`, `o`.
 pub(super) fn toggle(app: &mut App, a: Action) {
@@ -47,6 +50,7 @@ pub(super) fn chart_action(app: &mut App, a: Action) {
         A::CursorHome => {
             app.follow = false;
             app.cursor = 0.0;
+            app.event_sel = None;
             pan_to_cursor(app);
         }
         A::CursorEnd => cursor_end(app),
@@ -64,11 +68,13 @@ fn move_cursor(app: &mut App, frac: f64) {
     let now = app.cursor_time();
     app.follow = false;
     app.cursor = (now + frac * (b - a)).clamp(0.0, app.t_end());
+    app.event_sel = None;
     pan_to_cursor(app);
 }
 
 fn cursor_end(app: &mut App) {
     app.follow = true;
+    app.event_sel = None;
     if let Some((a, b)) = app.zoom {
         let end = app.t_end();
         app.zoom = Some((end - (b - a), end));
@@ -122,4 +128,133 @@ fn cycle_element(app: &mut App, next: bool) {
         StatusKind::Info,
         format!("column element: {}", name.unwrap_or_default()),
     );
+}
+
+/// A new run starts; `cursor` is where the cursor was. Without a zoom the cursor follows the
+/// new run; with one, the window stays and the cursor stays in it (where it was, or at the
+/// window's nearer edge), showing the same instant of the new run.
+pub(super) fn keep_cursor_on_rerun(app: &mut App, cursor: f64) {
+    match app.zoom {
+        None => app.follow = true,
+        Some((a, b)) => {
+            app.follow = false;
+            app.cursor = cursor.clamp(a, b);
+        }
+    }
+}
+
+/// The run whose events the cursor steps through: the one the charts are drawn from.
+fn event_run(app: &App) -> Option<&RunData> {
+    app.current.as_ref()
+}
+
+/// `]`, `[`, `E` and the event list's keys.
+pub(super) fn event_action(app: &mut App, a: Action) {
+    use Action as A;
+    match a {
+        A::NextEvent => jump(app, true),
+        A::PrevEvent => jump(app, false),
+        A::ToggleEvents => {
+            app.events_open = !app.events_open;
+            app.event_sel = None;
+            let m = if app.events_open {
+                "event list open: ↑↓ select, Enter moves the cursor there, E closes"
+            } else {
+                "event list closed"
+            };
+            app.set_status(StatusKind::Info, m);
+        }
+        A::EventUp => select(app, -1),
+        A::EventDown => select(app, 1),
+        A::EventPageUp => select(app, -10),
+        A::EventPageDown => select(app, 10),
+        A::EventGo => go_to_selected(app),
+        _ => {}
+    }
+}
+
+/// `]`/`[`: the cursor to the next / previous instant with events, the window moved to show
+/// it; the status line says what happened there.
+fn jump(app: &mut App, forward: bool) {
+    let tc = app.cursor_time();
+    let kn = nav::kilonewton(app);
+    let ascii = app.ascii;
+    let Some(run) = event_run(app) else {
+        app.set_status(StatusKind::Info, "no run yet: r runs the model");
+        return;
+    };
+    let t = if forward {
+        nav::next_time(run, tc)
+    } else {
+        nav::prev_time(run, tc)
+    };
+    let Some(t) = t else {
+        let m = if forward {
+            "no event after the cursor"
+        } else {
+            "no event before the cursor"
+        };
+        app.set_status(StatusKind::Info, m);
+        return;
+    };
+    let status = nav::jump_status(run, t, kn, ascii);
+    let row = nav::first_row_at(&nav::in_time_order(run), run, t);
+    set_cursor(app, t);
+    app.event_sel = row;
+    app.set_status(StatusKind::Info, status);
+}
+
+/// The cursor at `t`, not following; a window that does not hold it is centred on it.
+fn set_cursor(app: &mut App, t: f64) {
+    app.follow = false;
+    app.cursor = t;
+    if let Some((a, b)) = app.zoom
+        && (t < a || t > b)
+    {
+        let w = b - a;
+        let lo = (t - 0.5 * w).clamp(0.0, (app.t_end() - w).max(0.0));
+        app.zoom = Some((lo, lo + w));
+    }
+}
+
+/// Moves the event list's selection by `by` rows (from the row at the cursor).
+fn select(app: &mut App, by: i64) {
+    let tc = app.cursor_time();
+    let Some(run) = event_run(app) else {
+        return;
+    };
+    let n = run.events.len();
+    if n == 0 {
+        app.set_status(StatusKind::Info, "no events in this run");
+        return;
+    }
+    let order = nav::in_time_order(run);
+    let now = app
+        .event_sel
+        .or_else(|| nav::row_at(&order, run, tc))
+        .map_or(-1, |i| i as i64);
+    app.event_sel = Some((now + by).clamp(0, n as i64 - 1) as usize);
+}
+
+/// `Enter` in the event list: the cursor to the selected event.
+fn go_to_selected(app: &mut App) {
+    let tc = app.cursor_time();
+    let kn = nav::kilonewton(app);
+    let ascii = app.ascii;
+    let Some(run) = event_run(app) else {
+        return;
+    };
+    let order = nav::in_time_order(run);
+    let Some(row) = app.event_sel.or_else(|| nav::row_at(&order, run, tc)) else {
+        app.set_status(StatusKind::Info, "no event selected");
+        return;
+    };
+    let Some(&i) = order.get(row) else {
+        return;
+    };
+    let t = run.events[i].t;
+    let status = nav::jump_status(run, t, kn, ascii);
+    set_cursor(app, t);
+    app.event_sel = Some(row);
+    app.set_status(StatusKind::Info, status);
 }

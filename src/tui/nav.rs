@@ -1,0 +1,175 @@
+//! Events of a run as the cursor meets them: in time order, the next and previous event
+//! instant, what happened at an instant, the state of each contact at the cursor and the last
+//! impact before it. Used by `]`/`[`, the event list and the readouts.
+
+use super::app::App;
+use super::chart;
+use super::eng;
+use super::run_data::RunData;
+use crate::output::{ContactState, EventKind, EventRecord};
+
+/// The events' indices in time order (events of one instant keep their order).
+pub fn in_time_order(run: &RunData) -> Vec<usize> {
+    let mut idx: Vec<usize> = (0..run.events.len()).collect();
+    if !run.events.windows(2).all(|w| w[0].t <= w[1].t) {
+        idx.sort_by(|&a, &b| run.events[a].t.total_cmp(&run.events[b].t));
+    }
+    idx
+}
+
+/// The distinct instants of the run's events, increasing.
+pub fn event_times(run: &RunData) -> Vec<f64> {
+    let mut t: Vec<f64> = run
+        .events
+        .iter()
+        .map(|e| e.t)
+        .filter(|t| t.is_finite())
+        .collect();
+    t.sort_by(f64::total_cmp);
+    t.dedup();
+    t
+}
+
+/// The first event instant after `t`.
+pub fn next_time(run: &RunData, t: f64) -> Option<f64> {
+    let times = event_times(run);
+    times.get(times.partition_point(|&x| x <= t)).copied()
+}
+
+/// The last event instant before `t`.
+pub fn prev_time(run: &RunData, t: f64) -> Option<f64> {
+    let times = event_times(run);
+    times
+        .partition_point(|&x| x < t)
+        .checked_sub(1)
+        .map(|i| times[i])
+}
+
+/// The model's forces are in kN: a bridge model (a `deck` body; its units are t, kN, m, s).
+pub fn kilonewton(app: &App) -> bool {
+    app.scene
+        .as_ref()
+        .is_some_and(|s| s.bodies.iter().any(|b| b.name == "deck"))
+}
+
+/// Force unit of the model's numbers: kN for bridge models (t, kN, m, s); none for a scene
+/// file, whose units are its author's.
+pub fn force_unit(kilonewton: bool) -> &'static str {
+    if kilonewton { "kN" } else { "" }
+}
+
+/// Who an event is about: its contact, or for a key failure its element.
+pub fn subject(run: &RunData, e: &EventRecord) -> String {
+    let names = if e.kind == EventKind::KeyFailure {
+        &run.element_names
+    } else {
+        &run.contact_names
+    };
+    names
+        .get(e.contact)
+        .cloned()
+        .unwrap_or_else(|| format!("#{}", e.contact + 1))
+}
+
+/// The normal impulse of an impact with its unit (`1.234 kN·s`); None for other events.
+pub fn impulse(e: &EventRecord, kilonewton: bool, ascii: bool) -> Option<String> {
+    (e.kind == EventKind::Impact && e.normal.is_finite()).then(|| {
+        let dot = if ascii { "*" } else { "·" };
+        let unit = if kilonewton {
+            format!("kN{dot}s")
+        } else {
+            String::new()
+        };
+        eng::eng(e.normal, &unit, ascii)
+    })
+}
+
+/// One event in words: `left_top impact 1.234 kN·s`.
+pub fn describe(run: &RunData, e: &EventRecord, kilonewton: bool, ascii: bool) -> String {
+    let mut s = format!("{} {}", subject(run, e), e.kind.label());
+    if let Some(i) = impulse(e, kilonewton, ascii) {
+        s.push(' ');
+        s.push_str(&i);
+    }
+    s
+}
+
+/// A time as the event readouts print it (6 significant digits: events are exact instants).
+pub fn fmt_time(t: f64) -> String {
+    chart::fmt_sig(t, 6)
+}
+
+/// The status line after a jump to the events at `t`: their number among the instants, the
+/// time, and each event in words.
+pub fn jump_status(run: &RunData, t: f64, kilonewton: bool, ascii: bool) -> String {
+    let times = event_times(run);
+    let k = times.partition_point(|&x| x < t) + 1;
+    let what: Vec<String> = run
+        .events
+        .iter()
+        .filter(|e| e.t == t)
+        .map(|e| describe(run, e, kilonewton, ascii))
+        .collect();
+    format!(
+        "event {k}/{} at t = {} s: {}",
+        times.len(),
+        fmt_time(t),
+        what.join(", ")
+    )
+}
+
+/// The row of the event list at time `tc`: the last event at or before it (in time order).
+pub fn row_at(order: &[usize], run: &RunData, tc: f64) -> Option<usize> {
+    order
+        .partition_point(|&i| run.events[i].t <= tc)
+        .checked_sub(1)
+}
+
+/// The first row of the event list at time `t` exactly (or the row at `t`).
+pub fn first_row_at(order: &[usize], run: &RunData, t: f64) -> Option<usize> {
+    let i = order.partition_point(|&i| run.events[i].t < t);
+    if i < order.len() && run.events[order[i]].t == t {
+        Some(i)
+    } else {
+        row_at(order, run, t)
+    }
+}
+
+/// The state of contact `i` at time `tc` (the last sample at or before it).
+pub fn state_at(run: &RunData, i: usize, tc: f64) -> Option<ContactState> {
+    let k = chart::at_or_before(&run.t, tc)?;
+    run.state.get(i)?.get(k).copied()
+}
+
+/// The last impact at or before `tc`.
+pub fn last_impact(run: &RunData, tc: f64) -> Option<&EventRecord> {
+    run.events
+        .iter()
+        .filter(|e| e.kind == EventKind::Impact && e.t <= tc)
+        .max_by(|a, b| a.t.total_cmp(&b.t))
+}
+
+/// The state of every contact at `tc` in words, each as one item: all of them
+/// (`left_top stick`, `left_bottom open`, …) when `all`, else the closed ones and `others open`
+/// (or `all open`).
+pub fn contact_items(run: &RunData, tc: f64, all: bool) -> Vec<String> {
+    let states: Vec<(usize, ContactState)> = (0..run.contact_names.len())
+        .filter_map(|i| state_at(run, i, tc).map(|s| (i, s)))
+        .collect();
+    let item = |&(i, s): &(usize, ContactState)| format!("{} {}", run.contact_names[i], s.label());
+    if all {
+        return states.iter().map(item).collect();
+    }
+    let closed: Vec<String> = states
+        .iter()
+        .filter(|(_, s)| *s != ContactState::Open)
+        .map(item)
+        .collect();
+    let mut out = closed.clone();
+    if closed.is_empty() && !states.is_empty() {
+        out.push("all open".into());
+    } else if closed.len() < states.len() {
+        out.push("others open".into());
+    }
+    out
+}
