@@ -67,6 +67,9 @@ pub trait Host {
     fn background(&mut self, job: Job) -> Vec<Msg>;
     /// A timing milestone.
     fn log(&mut self, _label: &str) {}
+    /// Suspend the workbench to the shell (Ctrl-Z) once the messages at hand are handled;
+    /// nothing without a terminal.
+    fn suspend(&mut self) {}
 }
 
 /// Executes effects; the messages they produce at once are fed back to [`update`] and their
@@ -134,6 +137,10 @@ fn execute(app: &mut App, host: &mut impl Host, e: Effect) -> Vec<Msg> {
         })),
         Effect::Quit => {
             app.quit = true;
+            Vec::new()
+        }
+        Effect::Suspend => {
+            host.suspend();
             Vec::new()
         }
     }

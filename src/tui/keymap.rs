@@ -58,6 +58,15 @@ pub enum Action {
     PickDown,
     PickLoad,
     PickClose,
+    // any terminal: help scrolling, suspend
+    HelpDown,
+    HelpUp,
+    HelpPageDown,
+    HelpPageUp,
+    HelpTop,
+    HelpBottom,
+    /// Ctrl-Z: give the terminal back to the shell until `fg`.
+    Suspend,
 }
 
 /// Where a binding applies. Lookup order: the mode's own context first, then the view, then
@@ -218,7 +227,15 @@ pub const KEYMAP: &[Binding] = &[
     b(Ctx::Global, &[K::Code(KC::Esc), K::Ch('c')], "Esc/c", A::Cancel, "cancel the simulation", Some(("Esc", "cancel"))),
     b(Ctx::Global, &[K::Ch('e')], "e", A::Export, "export chart + events CSV", Some(("e", "export"))),
     b(Ctx::Global, &[K::Ch('o')], "o", A::ToggleOverlay, "show/hide the previous run", Some(("o", "overlay"))),
-    b(Ctx::Global, &[K::Ch('m')], "m", A::ToggleMarker, "markers Braille ⇄ ASCII", Some(("m", "markers"))),
+    b(Ctx::Global, &[K::Ch('m')], "m", A::ToggleMarker, "ASCII mode on/off", Some(("m", "ASCII"))),
+    // any terminal: help scrolling, suspend
+    b(Ctx::Help, &[K::Code(KC::Down), K::Ch('j')], "↓/j", A::HelpDown, "scroll down", Some(("j/k", "scroll"))),
+    b(Ctx::Help, &[K::Code(KC::Up), K::Ch('k')], "↑/k", A::HelpUp, "scroll up", None),
+    b(Ctx::Help, &[K::Code(KC::PageDown)], "PgDn", A::HelpPageDown, "page down", Some(("PgDn", "page"))),
+    b(Ctx::Help, &[K::Code(KC::PageUp)], "PgUp", A::HelpPageUp, "page up", None),
+    b(Ctx::Help, &[K::Code(KC::Home)], "Home", A::HelpTop, "to the top", None),
+    b(Ctx::Help, &[K::Code(KC::End)], "End", A::HelpBottom, "to the end", None),
+    b(Ctx::Global, &[K::Ctrl('z')], "^Z", A::Suspend, "suspend (fg resumes)", Some(("^Z", "suspend"))),
 ];
 
 /// The contexts that are active, most specific first.
@@ -244,6 +261,11 @@ pub fn lookup(ctxs: &[Ctx], ev: &KeyEvent) -> Option<Action> {
 /// table order; a binding whose first key a more specific context takes (`Esc` in the studies
 /// view) has no hint there.
 pub fn hints(ctxs: &[Ctx]) -> Vec<(&'static str, &'static str)> {
+    hint_items(ctxs).into_iter().map(|(_, _, h)| h).collect()
+}
+
+/// [`hints`] with the action and context of each.
+pub fn hint_items(ctxs: &[Ctx]) -> Vec<(Action, Ctx, (&'static str, &'static str))> {
     let shadowed = |bd: &Binding| {
         let i = ctxs.iter().position(|c| *c == bd.ctx).unwrap_or(0);
         bd.keys
@@ -259,7 +281,9 @@ pub fn hints(ctxs: &[Ctx]) -> Vec<(&'static str, &'static str)> {
     let mut out: Vec<&Binding> = all.iter().copied().filter(pinned).collect();
     out.sort_by_key(|bd| bd.action != Action::Help);
     out.extend(all.iter().copied().filter(|bd| !pinned(bd)));
-    out.into_iter().filter_map(|bd| bd.hint).collect()
+    out.into_iter()
+        .filter_map(|bd| bd.hint.map(|h| (bd.action, bd.ctx, h)))
+        .collect()
 }
 
 /// Help screen lines: (context title, [(key label, description)]).

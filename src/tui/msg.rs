@@ -136,4 +136,7 @@ pub enum Effect {
         path: PathBuf,
     },
     Quit,
+    /// Ctrl-Z: restore the terminal, stop the process (SIGTSTP) and, once continued, take
+    /// the terminal back and redraw it whole.
+    Suspend,
 }
