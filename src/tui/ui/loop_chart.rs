@@ -8,7 +8,6 @@ use crate::tui::chart::{self, bounds, fmt_num};
 use crate::tui::run_data::RunData;
 use ratatui::Frame;
 use ratatui::layout::Rect;
-use ratatui::symbols::Marker;
 use ratatui::text::Line;
 use ratatui::widgets::{Axis, Chart, Dataset, GraphType, Paragraph};
 
@@ -56,14 +55,19 @@ pub(super) fn draw_loop(frame: &mut Frame, area: Rect, app: &App, cache: &mut Ca
     });
     let tc = app.cursor_time();
     let (t0, _) = app.window();
-    let title = format!(
-        " {name} force–deformation ({}/{}, n: next) ",
-        j + 1,
-        run.element_names.len()
-    );
-    let block = th.block(title);
-    let inner = block.inner(area);
+    let inner = th.block("").inner(area);
     let plot = plot(run, j, prev, inner, th);
+    // the force unit on the y labels when it fits whole there, else in the title
+    let (labels, unit_in_labels) = y_labels(&plot, force_unit(app), inner.width / 3);
+    let unit = if unit_in_labels { "" } else { force_unit(app) };
+    let block = th.block(loop_title(
+        name,
+        j,
+        run.element_names.len(),
+        unit,
+        area.width,
+        th,
+    ));
     let mut key = vec![run.t.len() as u64, t0.to_bits(), tc.to_bits()];
     key.extend(plot.key());
     let (dx, fx) = (&run.el[j].0, &run.el[j].1);
@@ -92,7 +96,7 @@ pub(super) fn draw_loop(frame: &mut Frame, area: Rect, app: &App, cache: &mut Ca
     });
     let here = cur.last().map(|p| [*p]);
     let ds = datasets(&cur, prev_pts.as_ref(), here.as_ref(), th);
-    let chart = with_axes(Chart::new(ds).block(block), &plot, force_unit(app), th);
+    let chart = with_axes(Chart::new(ds).block(block), &plot, labels, th);
     frame.render_widget(chart, area);
 }
 
@@ -109,8 +113,46 @@ fn force_unit(app: &App) -> &'static str {
     }
 }
 
+/// The title that fits in `width` columns: the longest of the element's name with
+/// `force–deformation`, its number and the key, down to the name alone (never cut).
+fn loop_title(name: &str, j: usize, n: usize, unit: &str, width: u16, th: &Theme) -> String {
+    let unit = if unit.is_empty() {
+        String::new()
+    } else {
+        format!(" [{}]", unit.trim())
+    };
+    let long = [
+        format!(" {name} force–deformation{unit} ({}/{n}, n: next) ", j + 1),
+        format!(" {name} force–def.{unit} ({}/{n}) ", j + 1),
+        format!(" {name}{unit} ({}/{n}) ", j + 1),
+        format!(" {name}{unit} "),
+    ];
+    let room = width.saturating_sub(2) as usize;
+    long.into_iter()
+        .map(|t| th.text(&t))
+        .find(|t| t.chars().count() <= room)
+        .unwrap_or_default()
+}
+
+/// The y labels (lower, upper) in at most `budget` columns (ratatui gives the y labels a
+/// third of the chart's width) and whether they carry the unit: the number with its unit
+/// when both fit whole, else the number alone (the unit then goes in the title).
+fn y_labels(plot: &Plot, unit: &str, budget: u16) -> ([String; 2], bool) {
+    let budget = budget as usize;
+    let nums = |w: usize| plot.yb.map(|v| fmt_num(v, w));
+    let fits = |l: &[String; 2], extra: usize| l.iter().all(|s| s.len() + extra <= budget);
+    if !unit.is_empty() {
+        let with = nums(budget.saturating_sub(unit.len()).min(7));
+        if fits(&with, unit.len()) {
+            return (with.map(|s| format!("{s}{unit}")), true);
+        }
+    }
+    (nums(budget.clamp(1, 7)), unit.is_empty())
+}
+
 /// Deformation and force axes with their end labels.
-fn with_axes<'a>(chart: Chart<'a>, plot: &Plot, unit_f: &str, th: &Theme) -> Chart<'a> {
+fn with_axes<'a>(chart: Chart<'a>, plot: &Plot, y: [String; 2], th: &Theme) -> Chart<'a> {
+    let [y0, y1] = y;
     chart
         .x_axis(
             Axis::default()
@@ -124,10 +166,7 @@ fn with_axes<'a>(chart: Chart<'a>, plot: &Plot, unit_f: &str, th: &Theme) -> Cha
         .y_axis(
             Axis::default()
                 .bounds(plot.yb)
-                .labels(vec![
-                    Line::from(format!("{}{unit_f}", fmt_num(plot.yb[0], 7))),
-                    Line::from(format!("{}{unit_f}", fmt_num(plot.yb[1], 7))),
-                ])
+                .labels(vec![Line::from(y0), Line::from(y1)])
                 .style(th.dim()),
         )
         .legend_position(None)
@@ -149,7 +188,7 @@ fn plot(run: &RunData, j: usize, prev: Option<(&RunData, usize)>, inner: Rect, t
         xb: bounds(&[r[0], r[1]]),
         yb: bounds(&[r[2], r[3]]),
         res_x: inner.width as usize * th.per_cell(),
-        res_y: inner.height as usize * if th.ascii { 1 } else { 4 },
+        res_y: inner.height as usize * if th.marks() { 1 } else { 4 },
     }
 }
 
@@ -160,12 +199,11 @@ fn datasets<'a>(
     here: Option<&'a [(f64, f64); 1]>,
     th: &Theme,
 ) -> Vec<Dataset<'a>> {
-    let marker = th.marker();
     let mut ds = Vec::new();
     if let Some(p) = prev {
         ds.push(
             Dataset::default()
-                .marker(marker)
+                .marker(th.previous_marker())
                 .graph_type(GraphType::Line)
                 .style(th.previous())
                 .data(p),
@@ -173,7 +211,7 @@ fn datasets<'a>(
     }
     ds.push(
         Dataset::default()
-            .marker(marker)
+            .marker(th.series_marker(0))
             .graph_type(GraphType::Line)
             .style(th.series(2))
             .data(cur),
@@ -181,7 +219,7 @@ fn datasets<'a>(
     if let Some(h) = here {
         ds.push(
             Dataset::default()
-                .marker(Marker::Block)
+                .marker(th.point_marker())
                 .graph_type(GraphType::Scatter)
                 .style(th.cursor())
                 .data(h),

@@ -92,7 +92,9 @@ fn compare_rows(cur: Option<&RunData>, prev: Option<&RunData>) -> Vec<[String; 3
 pub(super) fn draw_summary(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
     let cur = app.current.as_ref();
     let prev = app.previous.as_ref();
-    let rows = compare_rows(cur, prev);
+    let rows: Vec<[String; 3]> = (compare_rows(cur, prev).into_iter())
+        .map(|r| r.map(|c| th.text(&c)))
+        .collect();
     let longest = rows.iter().map(|r| r[0].chars().count()).max().unwrap_or(0) as u16;
     let label_w = longest.clamp(12, (area.width / 3).max(12));
     let value_w = (area.width.saturating_sub(2 + label_w + 2) / 2).clamp(4, 12);

@@ -2,7 +2,7 @@
 //! cursor, above the event strip.
 
 use super::cache::Cache;
-use super::common::{LABEL_W, Theme, overlay_run, shown_run};
+use super::common::{LABEL_W, Theme, fit_spans, overlay_run, shown_run};
 use super::timeline::draw_timeline;
 use crate::output::EventKind;
 use crate::tui::app::App;
@@ -168,6 +168,13 @@ fn xy_chart(sp: &Window, cache: &mut Cache, th: &Theme) -> Option<TimeChart> {
     Some((names.join(" / "), "m".into(), s))
 }
 
+/// The initials of a name's words (`left_top` lt, `deck.x` dx).
+fn initials(name: &str) -> String {
+    name.split(['_', '.', ' ', '-'])
+        .filter_map(|w| w.chars().next())
+        .collect()
+}
+
 fn unit_of(dof: &str) -> &'static str {
     if dof.ends_with(".theta") { "rad" } else { "m" }
 }
@@ -196,7 +203,7 @@ fn draw_time_chart(
     let (t0, t1) = app.window();
     let [head, body] = Layout::vertical([Constraint::Length(1), Constraint::Min(0)]).areas(area);
     frame.render_widget(
-        Paragraph::new(chart_header(run, title, unit, &series, tc, th)),
+        Paragraph::new(chart_header(run, title, unit, &series, tc, th, head.width)),
         head,
     );
     if body.height == 0 {
@@ -204,10 +211,17 @@ fn draw_time_chart(
     }
     let yb = bounds(series.iter().flat_map(|s| s.data.iter().map(|p| &p.1)));
     let cursor = [(tc, yb[0]), (tc, yb[1])];
-    let marker = th.marker();
+    // without colour, each series by its own mark (the previous run's, the k-th current one's)
+    let mut k = 0;
     let mut ds: Vec<Dataset> = series
         .iter()
         .map(|s| {
+            let marker = if s.name.ends_with("(previous)") {
+                th.previous_marker()
+            } else {
+                k += 1;
+                th.series_marker(k - 1)
+            };
             Dataset::default()
                 .marker(marker)
                 .graph_type(GraphType::Line)
@@ -218,7 +232,7 @@ fn draw_time_chart(
     if tc >= t0 && tc <= t1 {
         ds.push(
             Dataset::default()
-                .marker(marker)
+                .marker(th.cursor_marker())
                 .graph_type(GraphType::Line)
                 .style(th.cursor())
                 .data(&cursor),
@@ -243,7 +257,8 @@ fn draw_time_chart(
     frame.render_widget(chart, body);
 }
 
-/// The chart's header line: title [unit], legend, value at the cursor.
+/// The chart's header line in `width` columns: title [unit], legend, value at the cursor
+/// (whole items only: one that does not fit is left out).
 fn chart_header(
     run: &RunData,
     title: &str,
@@ -251,20 +266,58 @@ fn chart_header(
     series: &[Series],
     tc: f64,
     th: &Theme,
+    width: u16,
 ) -> Line<'static> {
-    let mut spans = vec![Span::styled(format!("{title} [{unit}]"), th.bold())];
+    let mut items = vec![vec![Span::styled(
+        th.text(&format!("{title} [{unit}]")),
+        th.bold(),
+    )]];
     let current: Vec<&Series> = series
         .iter()
         .filter(|s| !s.name.ends_with("(previous)"))
         .collect();
-    if current.len() > 1 {
-        for s in &current {
-            spans.push(Span::styled(" ━", s.style));
-            spans.push(Span::raw(s.name.clone()));
+    let has_prev = series.iter().any(|s| s.name.ends_with("(previous)"));
+    let sample = |m: String| {
+        if th.marks() {
+            format!(" [{m}]")
+        } else {
+            format!(" {m}")
         }
+    };
+    if current.len() == 1 && th.marks() {
+        // one series, named by the title: its mark alone
+        items.push(vec![Span::styled(
+            th.text(&sample(th.legend_mark(0))),
+            current[0].style,
+        )]);
     }
-    if series.iter().any(|s| s.name.ends_with("(previous)")) {
-        spans.push(Span::styled(" ┈prev", th.previous()));
+    if current.len() == 1 && has_prev {
+        let prev = format!("{}prev", sample(th.previous_mark()));
+        items.push(vec![Span::styled(th.text(&prev), th.previous())]);
+    } else if current.len() > 1 {
+        let legend = |name: &dyn Fn(&str) -> String| -> Vec<Vec<Span<'static>>> {
+            let mut l: Vec<Vec<Span>> = (current.iter().enumerate())
+                .map(|(k, s)| {
+                    vec![
+                        Span::styled(th.text(&sample(th.legend_mark(k))), s.style),
+                        Span::raw(th.text(&name(&s.name))),
+                    ]
+                })
+                .collect();
+            if has_prev {
+                let prev = format!("{}prev", sample(th.previous_mark()));
+                l.push(vec![Span::styled(th.text(&prev), th.previous())]);
+            }
+            l
+        };
+        let full = legend(&|n| n.to_string());
+        let w = |l: &[Vec<Span>]| l.iter().flatten().map(Span::width).sum::<usize>();
+        // names too long for the line: their initials (left_top: lt), never a cut name
+        if w(&items) + w(&full) <= width as usize {
+            items.extend(full);
+        } else {
+            items.extend(legend(&initials));
+        }
     }
     if current.len() == 1 {
         let name = &current[0].name;
@@ -275,11 +328,11 @@ fn chart_header(
                 .map(|i| &run.gap[i])
         });
         if let Some(v) = col.and_then(|c| value_at(run, c, tc)) {
-            spans.push(Span::styled(
+            items.push(vec![Span::styled(
                 format!("  @cursor {}", fmt_num(v, 9)),
                 th.cursor(),
-            ));
+            )]);
         }
     }
-    Line::from(spans)
+    fit_spans(items, width as usize)
 }

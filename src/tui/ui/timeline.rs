@@ -141,7 +141,7 @@ pub(super) fn draw_timeline(
     let rows = room.saturating_sub(usize::from(keys)).min(nc);
     let mut lines = vec![legend(frame, area, tc, keys, th)];
     let key = Key {
-        extra: u64::from(th.ascii),
+        extra: u64::from(th.ascii) + 2 * per_cell as u64,
         ..time_key(run, t0, t1, w as u16)
     };
     let strips = cache.strips(run.id, key, || {
@@ -176,11 +176,17 @@ fn legend(frame: &mut Frame, area: Rect, tc: f64, keys: bool, th: &Theme) -> Lin
     } else {
         (String::new(), String::new())
     };
-    let legend = if area.width as usize >= 60 + long_keys.chars().count() + tnow.len() {
-        format!("* impact  S stick  ~ slip  ^ release  {stuck} stuck  {slide} sliding{long_keys}")
-    } else {
-        format!("*impact S stick ~slip ^release {stuck}stuck {slide}slide{short_keys}")
-    };
+    // the longest legend that leaves the cursor time whole (the time before the legend)
+    let room = (area.width as usize).saturating_sub("events ".len() + tnow.len());
+    let legend = [
+        format!("* impact  S stick  ~ slip  ^ release  {stuck} stuck  {slide} sliding{long_keys}"),
+        format!("*impact S stick ~slip ^release {stuck}stuck {slide}slide{short_keys}"),
+        format!("*impact S stick ~slip ^release{short_keys}"),
+        String::new(),
+    ]
+    .into_iter()
+    .find(|l| l.chars().count() <= room)
+    .unwrap_or_default();
     let head = Line::from(vec![
         Span::styled("events ", th.bold()),
         Span::styled(legend, th.dim()),
