@@ -67,8 +67,10 @@ fn suspend(terminal: &mut Term, app: &mut App) -> io::Result<()> {
     signal_hook::low_level::raise(signal_hook::consts::SIGTSTP)?;
     // continued (SIGCONT): the screen may have changed size meanwhile
     take_terminal()?;
-    terminal.clear()?;
+    // cleared and drawn whole at the size of now (not `Terminal::clear`, which asks the
+    // terminal for the cursor position: the input thread would take the answer)
     let size = terminal.size()?;
+    terminal.resize(ratatui::layout::Rect::new(0, 0, size.width, size.height))?;
     update(app, Msg::Resize(size.width, size.height));
     Ok(())
 }
