@@ -427,3 +427,75 @@ fn signals_restore_the_terminal_and_keep_unsaved_edits() {
     assert!(!d.join("models/four-span.toml.recovered.2").exists());
     let _ = std::fs::remove_dir_all(&d);
 }
+
+/// Ctrl-Z in the workbench started from an interactive shell: the shell's screen comes back
+/// with the job stopped, `fg` brings the workbench back redrawn whole, `q` quits to the shell.
+#[test]
+fn ctrl_z_suspends_to_the_shell_and_fg_resumes() {
+    if !have_tmux() || Command::new("bash").arg("--version").output().is_err() {
+        println!("tmux or bash is not on PATH: skipping the suspend test");
+        return;
+    }
+    let d = workspace();
+    let tmux = Tmux {
+        socket: format!("deckspin-e2e-z-{}", std::process::id()),
+    };
+    let out = tmux.cmd(&[
+        "new-session",
+        "-d",
+        "-s",
+        "e2e",
+        "-x",
+        "80",
+        "-y",
+        "24",
+        "env",
+        "PS1=shell$ ",
+        "bash",
+        "--norc",
+        "--noprofile",
+        "-i",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    tmux.wait("the shell", 10, |s| s.contains("shell$"));
+    tmux.text(&format!(
+        "cd '{}' && '{}' models/four-span.toml",
+        d.display(),
+        env!("CARGO_BIN_EXE_deckspin")
+    ));
+    tmux.keys(&["Enter"]);
+    tmux.wait("run 1 to finish", 30, |s| s.contains("#1 done"));
+    assert_eq!(tmux.alternate_on(), "1");
+
+    tmux.keys(&["C-z"]);
+    let s = tmux.wait("the stopped job", 10, |s| s.contains("Stopped"));
+    assert_eq!(tmux.alternate_on(), "0", "the main screen is back:\n{s}");
+    assert_eq!(tmux.cursor_flag(), "1", "the cursor is shown:\n{s}");
+    assert!(!s.contains("deck.theta [rad]"), "{s}");
+
+    tmux.text("fg");
+    tmux.keys(&["Enter"]);
+    let s = tmux.wait("the workbench again", 10, |s| {
+        s.contains("deck.theta [") && s.contains("#1 done") && s.contains("q quit")
+    });
+    assert_eq!(tmux.alternate_on(), "1", "{s}");
+    // redrawn whole: the header, the charts, the status and hint lines are all there
+    assert!(
+        s.lines().next().unwrap_or("").starts_with("deckspin"),
+        "{s}"
+    );
+    assert!(s.contains("gaps g_N [") && s.contains("events "), "{s}");
+    // and it still takes keys
+    tmux.keys(&["Tab"]);
+    tmux.wait("the form", 5, |s| s.contains("parameters"));
+    tmux.keys(&["q"]);
+    tmux.wait("the workbench to end", 10, |_| tmux.alternate_on() == "0");
+    tmux.text("echo deckspin-exited-$?");
+    tmux.keys(&["Enter"]);
+    tmux.wait("the shell", 10, |s| s.contains("deckspin-exited-0"));
+    let _ = std::fs::remove_dir_all(&d);
+}

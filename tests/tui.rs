@@ -1208,6 +1208,514 @@ fn event_strip_marks_impacts_and_stick() {
 }
 
 // ---------------------------------------------------------------------------------------------
+// any terminal: ASCII mode, colour depth, NO_COLOR marks, Esc, Ctrl-Z, help scrolling, whole
+// items only
+
+fn alt(c: char) -> Msg {
+    Msg::Key(KeyEvent::new(KeyCode::Char(c), KeyModifiers::ALT))
+}
+
+/// The bridge app in ASCII mode (as `DECKSPIN_ASCII=1` starts it), with or without colour.
+fn ascii_app(color: bool) -> App {
+    let opts = Options { color, ascii: true };
+    let mut app = App::with_options(
+        &short_bridge("0.004"),
+        Path::new("models/four-span.toml"),
+        opts,
+    );
+    app.current = Some(bridge_run().clone());
+    keep_bridge_runs(&mut app);
+    app.next_run = 3;
+    app.set_status(StatusKind::Ok, "run 2 finished");
+    app
+}
+
+/// The cells of a screen holding a byte above 0x7E, with their positions.
+fn non_ascii(t: &Terminal<TestBackend>) -> Vec<(u16, u16, String)> {
+    let b = t.backend().buffer();
+    let mut bad = Vec::new();
+    for y in 0..b.area.height {
+        for x in 0..b.area.width {
+            let s = b[(x, y)].symbol();
+            if s.bytes().any(|c| c > 0x7e) {
+                bad.push((x, y, s.to_string()));
+            }
+        }
+    }
+    bad
+}
+
+/// Puts an app in the state a test draws.
+type Setup = Box<dyn Fn(&mut App)>;
+
+#[test]
+fn ascii_mode_draws_nothing_above_0x7e_in_any_view_or_mode() {
+    let running = {
+        let mut r = bridge_run().clone();
+        r.status = RunStatus::Running;
+        r.t_sim = 1.2;
+        r
+    };
+    let bad_text = short_bridge("0.004").replace("mu = 0.5", "mu = 0.5.1");
+    let states: Vec<(&str, Setup)> = vec![
+        ("charts", Box::new(|_| {})),
+        ("form", Box::new(|a| a.view = View::Form)),
+        ("studies", Box::new(|a| a.view = View::Studies)),
+        (
+            "editing",
+            Box::new(|a| {
+                select_field(a, "contacts.mu");
+                update(a, code(KeyCode::Enter));
+                type_str(a, "x");
+            }),
+        ),
+        (
+            "running",
+            Box::new(move |a| a.current = Some(running.clone())),
+        ),
+        (
+            "error banner",
+            Box::new(move |a| {
+                update(a, Msg::FileChanged(bad_text.clone()));
+            }),
+        ),
+        ("help", Box::new(|a| a.mode = Mode::Help)),
+        (
+            "help at the end",
+            Box::new(|a| {
+                act(a, Action::Help);
+                act(a, Action::HelpBottom);
+            }),
+        ),
+        (
+            "quit question",
+            Box::new(|a| a.mode = Mode::Confirm(Confirm::Quit)),
+        ),
+        (
+            "picker",
+            Box::new(|a| {
+                a.view = View::Studies;
+                a.mode = Mode::Pick {
+                    files: vec![PathBuf::from("models/four-span.studies/pga-1.csv")],
+                    selected: 0,
+                };
+            }),
+        ),
+    ];
+    for color in [true, false] {
+        for (name, set) in &states {
+            for (w, h) in [(80, 24), (120, 40), (60, 18), (40, 10)] {
+                let mut app = ascii_app(color);
+                update(&mut app, Msg::Resize(w, h));
+                set(&mut app);
+                let t = render(&mut app, w, h);
+                let bad = non_ascii(&t);
+                assert!(bad.is_empty(), "{name} at {w}x{h}: {bad:?}\n{}", screen(&t));
+            }
+        }
+    }
+    // the panels spell their symbols out (θ, ×, ·, │) rather than leave them to the last pass
+    let mut app = ascii_app(true);
+    let s = screen(&render(&mut app, 120, 40));
+    assert!(s.contains("deck.theta [urad]"), "{s}");
+    assert!(s.contains("deckspin | four-span.toml |"), "{s}");
+    assert!(s.contains("peak |theta|"), "{s}");
+    assert!(s.contains(" plan x"), "{s}");
+    assert!(!s.contains('?') || !s.contains("|?|"), "{s}");
+    act(&mut app, Action::Help);
+    let s = screen(&render(&mut app, 120, 40));
+    assert!(s.contains("<-/h") && s.contains("help - keys"), "{s}");
+    // `m` turns ASCII mode on and off at run time
+    let mut app = bridge_app();
+    assert!(!non_ascii(&render(&mut app, 80, 24)).is_empty());
+    update(&mut app, key('m'));
+    assert!(non_ascii(&render(&mut app, 80, 24)).is_empty());
+}
+
+#[test]
+fn the_last_ascii_pass_gives_every_symbol_an_ascii_stand_in() {
+    use tui::ui::ascii_symbol;
+    for (sym, want) in [
+        ("│", '|'),
+        ("┃", '|'),
+        ("─", '-'),
+        ("━", '-'),
+        ("└", '+'),
+        ("┌", '+'),
+        ("┼", '+'),
+        ("╳", 'X'),
+        ("⣿", '.'),
+        ("⠁", '.'),
+        ("\u{2800}", ' '),
+        ("█", '#'),
+        ("▒", '#'),
+        ("▄", '#'),
+        ("•", '*'),
+        ("…", '.'),
+        ("θ", '?'),
+        ("", ' '),
+        ("a", 'a'),
+        ("~", '~'),
+    ] {
+        assert_eq!(ascii_symbol(sym), want, "{sym:?}");
+    }
+}
+
+#[test]
+fn snapshot_charts_ascii_80x24_and_120x40() {
+    let mut app = ascii_app(true);
+    let t = render(&mut app, 80, 24);
+    snapshot_settings().bind(|| insta::assert_snapshot!("charts_80x24_ascii", t.backend()));
+    let t = render(&mut app, 120, 40);
+    snapshot_settings().bind(|| insta::assert_snapshot!("charts_120x40_ascii", t.backend()));
+}
+
+/// The rows of the chart whose header line starts with `title`, down to the next header.
+fn chart_rows(s: &str, title: &str, width: usize) -> Vec<String> {
+    let lines: Vec<String> = s.lines().map(|l| l.chars().take(width).collect()).collect();
+    let i = lines
+        .iter()
+        .position(|l| l.starts_with(title))
+        .unwrap_or_else(|| panic!("no chart {title}:\n{s}"));
+    lines[i..]
+        .iter()
+        .take_while(|l| !l.starts_with("events"))
+        .cloned()
+        .collect()
+}
+
+#[test]
+fn without_colour_each_series_has_its_own_mark_and_legend() {
+    let mut app = bridge_app();
+    app.opts.color = false;
+    for (w, h) in [(80, 24), (120, 40)] {
+        let t = render(&mut app, w, h);
+        let s = screen(&t);
+        // the time charts are the left panel
+        let right = if w >= 100 {
+            (w * 36 / 100).clamp(30, 60)
+        } else {
+            (w * 35 / 100).max(24)
+        };
+        let left = (w - right) as usize;
+        let gaps = chart_rows(&s, "gaps g_N [", left);
+        let legend = &gaps[0];
+        let body: String = gaps[1..].concat();
+        // four gap series, each drawn with its mark and named with it; the previous run too
+        for (k, m) in ['.', '+', 'o', 'x'].iter().enumerate() {
+            let tag = format!("[{m}]");
+            assert!(legend.contains(&tag), "{tag} not in the legend: {legend}");
+            let name = &bridge_run().contact_names[k];
+            let short: String = name.split('_').filter_map(|p| p.chars().next()).collect();
+            let named = legend.contains(&format!("{tag}{name}"))
+                || legend.contains(&format!("{tag}{short} "));
+            assert!(named, "{tag} names neither {name} nor {short}: {legend}");
+        }
+        // (right_top's gap and right_bottom's nearly coincide: the one drawn last shows)
+        let drawn = ['.', '+', 'o', 'x']
+            .iter()
+            .filter(|m| body.contains(**m))
+            .count();
+        assert!(drawn >= 3, "{drawn} marks drawn in the gap chart:\n{s}");
+        assert!(legend.contains("[:]prev") && body.contains(':'), "{legend}");
+        let xy = chart_rows(&s, "deck.x / deck.y [m]", left);
+        assert!(
+            xy[0].contains("[.]deck.x") && xy[0].contains("[+]deck.y"),
+            "{}",
+            xy[0]
+        );
+        let xy_body: String = xy[1..].concat();
+        assert!(xy_body.contains('.') && xy_body.contains('+'), "{s}");
+        // and no colour at all
+        for c in t.backend().buffer().content() {
+            assert_eq!(c.fg, ratatui::style::Color::Reset, "coloured cell {c:?}");
+        }
+    }
+    let t = render(&mut app, 80, 24);
+    snapshot_settings().bind(|| insta::assert_snapshot!("charts_80x24_no_color", t.backend()));
+}
+
+/// One frame of `app` drawn through crossterm into bytes, with the colours rewritten for
+/// `depth`.
+fn frame_bytes(app: &App, depth: tui::term::ColorDepth) -> String {
+    use ratatui::backend::CrosstermBackend;
+    use ratatui::layout::Rect;
+    use ratatui::{TerminalOptions, Viewport};
+    let mut bytes: Vec<u8> = Vec::new();
+    {
+        let out = tui::term::SgrFilter::new(&mut bytes, depth);
+        let mut t = Terminal::with_options(
+            CrosstermBackend::new(out),
+            TerminalOptions {
+                viewport: Viewport::Fixed(Rect::new(0, 0, 80, 24)),
+            },
+        )
+        .unwrap();
+        let mut cache = tui::ui::Cache::default();
+        t.draw(|f| tui::ui::draw(f, app, &mut cache)).unwrap();
+    }
+    String::from_utf8_lossy(&bytes).into_owned()
+}
+
+/// The SGR parameter lists (`1;38;5;9`) of `bytes`.
+fn sgr_params(bytes: &str) -> Vec<String> {
+    bytes
+        .split('\u{1b}')
+        .filter_map(|s| s.strip_prefix('['))
+        .filter_map(|s| {
+            let end = s.find(|c: char| ('@'..='~').contains(&c))?;
+            (s.as_bytes()[end] == b'm').then(|| s[..end].to_string())
+        })
+        .collect()
+}
+
+#[test]
+fn colours_are_written_as_the_terminal_shows_them() {
+    use tui::term::ColorDepth;
+    let env = |vars: &'static [(&'static str, &'static str)]| {
+        move |k: &str| {
+            vars.iter()
+                .find(|(n, _)| *n == k)
+                .map(|(_, v)| v.to_string())
+        }
+    };
+    let depth = |vars| ColorDepth::from_vars(&env(vars));
+    let mut app = bridge_app();
+    update(&mut app, Msg::Resize(80, 24));
+    // vt100 (and linux, xterm …): the 16 colours' own codes, never 38;5 or 48;5
+    let vt100 = frame_bytes(&app, depth(&[("TERM", "vt100")]));
+    assert!(
+        !vt100.contains("38;5") && !vt100.contains("48;5"),
+        "{vt100:?}"
+    );
+    let params = sgr_params(&vt100).join(";");
+    let codes: Vec<u16> = params.split(';').filter_map(|p| p.parse().ok()).collect();
+    assert!(
+        codes
+            .iter()
+            .any(|c| (30..=37).contains(c) || (90..=97).contains(c)),
+        "{params}"
+    );
+    // the same frame as crossterm writes it, for a 256-colour terminal
+    let xterm = frame_bytes(&app, depth(&[("TERM", "xterm-256color")]));
+    assert!(xterm.contains("38;5;"), "{xterm:?}");
+    // dumb: no colour at all, and the app draws without colours itself
+    let dumb_vars: &[(&str, &str)] = &[("TERM", "dumb")];
+    assert_eq!(depth(dumb_vars), ColorDepth::None);
+    let opts = Options::from_vars(&env(dumb_vars));
+    assert!(!opts.color && !opts.ascii);
+    let dumb = frame_bytes(&app, ColorDepth::None);
+    for p in sgr_params(&dumb) {
+        for c in p.split(';').filter_map(|c| c.parse::<u16>().ok()) {
+            let colour = matches!(c, 30..=39 | 40..=49 | 58 | 59 | 90..=97 | 100..=107);
+            assert!(!colour, "colour {c} in ESC[{p}m");
+        }
+    }
+    let ascii = Options::from_vars(&env(&[("TERM", "xterm"), ("DECKSPIN_ASCII", "1")]));
+    assert!(ascii.color && ascii.ascii);
+    // ASCII mode: every byte written is ASCII
+    let mut app = ascii_app(true);
+    update(&mut app, Msg::Resize(80, 24));
+    let bytes = frame_bytes(&app, ColorDepth::Ansi16);
+    assert!(bytes.bytes().all(|b| b <= 0x7e), "{bytes:?}");
+}
+
+#[test]
+fn esc_and_a_key_in_one_read_are_both_taken() {
+    // Esc then y, read as Alt+y, during the quit question: Esc answers no, y does nothing
+    let mut app = corner_app();
+    app.mode = Mode::Confirm(Confirm::Quit);
+    update(&mut app, alt('y'));
+    assert_eq!(app.mode, Mode::Normal);
+    assert!(!app.quit);
+    // Esc then j while typing a value: the edit is abandoned, j selects the next field
+    let mut app = bridge_app();
+    select_field(&mut app, "contacts.mu");
+    let sel = app.form.selected;
+    update(&mut app, code(KeyCode::Enter));
+    type_str(&mut app, "9");
+    update(&mut app, alt('j'));
+    assert_eq!(app.mode, Mode::Normal);
+    assert_eq!(app.form.selected, sel + 1);
+    assert!(!app.dirty());
+    // Esc then q over the help: the help closed, then q quits
+    let mut app = corner_app();
+    act(&mut app, Action::Help);
+    act(&mut app, Action::HelpDown);
+    update(&mut app, alt('q'));
+    assert!(app.quit, "Esc closed the help, q quit");
+}
+
+#[test]
+fn ctrl_z_suspends_from_any_mode() {
+    let mut app = bridge_app();
+    for setup in [
+        Mode::Normal,
+        Mode::Help,
+        Mode::Confirm(Confirm::Quit),
+        Mode::Editing {
+            buffer: "0.3".into(),
+            check: Ok(()),
+        },
+    ] {
+        app.mode = setup.clone();
+        let fx = update(&mut app, ctrl('z'));
+        assert!(matches!(fx[..], [Effect::Suspend]), "{setup:?}: {fx:?}");
+        assert_eq!(app.mode, setup, "the mode is kept across the suspension");
+    }
+    let bd = KEYMAP.iter().find(|b| b.action == Action::Suspend).unwrap();
+    assert_eq!(bd.label, "^Z");
+    // without a terminal the effect does nothing
+    tui::execute_blocking(&mut app, vec![Effect::Suspend]);
+    assert!(!app.quit);
+}
+
+#[test]
+fn the_help_scrolls_when_taller_than_the_screen() {
+    let mut app = bridge_app();
+    update(&mut app, Msg::Resize(80, 24));
+    act(&mut app, Action::Help);
+    let max = tui::help::max_scroll(Ctx::Charts, 24);
+    assert!(max > 0, "the help is taller than 24 rows");
+    let s = screen(&render(&mut app, 80, 24));
+    assert!(s.contains("more below"), "{s}");
+    update(&mut app, key('j'));
+    assert_eq!(app.help_scroll, 1);
+    update(&mut app, code(KeyCode::Up));
+    update(&mut app, code(KeyCode::Up));
+    assert_eq!(app.help_scroll, 0);
+    update(&mut app, code(KeyCode::PageDown));
+    assert_eq!(app.help_scroll, 21.min(max));
+    update(&mut app, code(KeyCode::End));
+    assert_eq!(app.help_scroll, max);
+    update(&mut app, key('j'));
+    assert_eq!(app.help_scroll, max, "not past the end");
+    let s = screen(&render(&mut app, 80, 24));
+    assert!(s.contains("the end") && !s.contains("more below"), "{s}");
+    update(&mut app, code(KeyCode::Home));
+    assert_eq!(app.help_scroll, 0);
+    // every key's line is on screen at one scroll position or another
+    let mut seen = String::new();
+    for _ in 0..=max {
+        seen.push_str(&screen(&render(&mut app, 80, 24)));
+        act(&mut app, Action::HelpDown);
+    }
+    for bd in KEYMAP {
+        assert!(seen.contains(bd.desc), "{} never shown\n{seen}", bd.desc);
+    }
+    // opening the help again starts at the top; a tall screen needs no scrolling
+    act(&mut app, Action::CloseHelp);
+    act(&mut app, Action::Help);
+    assert_eq!(app.help_scroll, 0);
+    assert_eq!(tui::help::max_scroll(Ctx::Charts, 60), 0);
+    update(&mut app, code(KeyCode::PageDown));
+    let t = render(&mut app, 80, 24);
+    snapshot_settings().bind(|| insta::assert_snapshot!("help_80x24_scrolled", t.backend()));
+}
+
+#[test]
+fn nothing_is_cut_into_a_wrong_meaning_at_any_width() {
+    let run = bridge_run();
+    let names = &run.contact_names;
+    let initials: Vec<String> = names
+        .iter()
+        .map(|n| n.split('_').filter_map(|p| p.chars().next()).collect())
+        .collect();
+    let hint_texts: Vec<String> = tui::keymap::hints(&[Ctx::Charts, Ctx::Global])
+        .iter()
+        .map(|(k, h)| format!("{k} {h}"))
+        .collect();
+    for (w, h) in [(60, 18), (80, 24), (100, 30), (120, 40)] {
+        let mut app = bridge_app();
+        // a cursor on a small negative rotation (the readout that read "-0.0")
+        act(&mut app, Action::CursorHome);
+        for _ in 0..6 {
+            act(&mut app, Action::CursorRightFast);
+        }
+        let s = screen(&render(&mut app, w, h));
+        let lines: Vec<&str> = s.lines().collect();
+        // hint bar: whole hints only, in the keymap's order, ? first
+        let bar = lines[lines.len() - 1].trim_end();
+        let mut rest = bar;
+        for (i, ht) in hint_texts.iter().enumerate() {
+            let ht = if i == 0 && rest.starts_with("? all keys") {
+                "? all keys".to_string()
+            } else {
+                ht.clone()
+            };
+            if let Some(r) = rest.strip_prefix(ht.as_str()) {
+                rest = r.trim_start();
+            }
+        }
+        assert!(
+            rest.is_empty(),
+            "{w}x{h}: '{rest}' is not a whole hint: {bar}"
+        );
+        assert!(bar.starts_with("? "), "{bar}");
+        if w <= 80 {
+            assert!(bar.starts_with("? all keys"), "{bar}");
+        }
+        // header: the title whole or cut after a word, with …
+        let title = app.title();
+        let head = lines[0];
+        let parts: Vec<&str> = head.split(" │ ").collect();
+        let file = parts.iter().position(|p| *p == "four-span.toml");
+        assert!(file.is_some(), "{w}x{h}: {head}");
+        let shown = parts[file.unwrap() + 1];
+        assert!(
+            shown == title
+                || shown.starts_with("charts")
+                || (shown.ends_with('…')
+                    && title.starts_with(shown.trim_end_matches('…'))
+                    && title[shown.trim_end_matches('…').len()..].starts_with(' ')),
+            "{w}x{h}: title '{shown}' of '{title}'\n{s}"
+        );
+        // the value at the cursor, whole
+        let tc = app.cursor_time();
+        let k = run.rot.unwrap();
+        let i = chart::at_or_before(&run.t, tc).unwrap();
+        let want = format!("@cursor {}", chart::fmt_num(run.q[k][i], 9));
+        if let Some(l) = lines.iter().find(|l| l.contains("@cursor")) {
+            let at = l.find(&want);
+            let after = at.and_then(|j| l[j + want.len()..].chars().next());
+            let whole = after.is_none_or(|c| !c.is_ascii_alphanumeric() && c != '.');
+            assert!(at.is_some() && whole, "{w}x{h}: {l} (want {want})");
+        }
+        // the cursor time, whole, and the events legend not run into it
+        let tnow = format!(" t = {} s", chart::fmt_num(tc, 9));
+        let ev = lines.iter().find(|l| l.starts_with("events")).unwrap();
+        let at = lines.iter().find(|l| l.starts_with("t = ")).unwrap();
+        assert!(
+            at.starts_with(tnow.trim_start()),
+            "{w}x{h}: {at} (want {tnow})"
+        );
+        assert!(!ev.contains("slides") && !ev.contains("slidin "), "{ev}");
+        // gap legend: whole contact names or their initials
+        let gl = lines.iter().find(|l| l.starts_with("gaps g_N")).unwrap();
+        for part in gl.split('━').skip(1) {
+            let word = part.split_whitespace().next().unwrap_or("");
+            let word = word.split('│').next().unwrap();
+            let value = word.parse::<f64>().is_ok();
+            assert!(
+                names.iter().any(|n| n == word) || initials.iter().any(|n| n == word) || value,
+                "{w}x{h}: legend word '{word}': {gl}"
+            );
+        }
+        // the loop's force unit whole on its labels, or in its title
+        assert!(s.contains("kN"), "{w}x{h}:\n{s}");
+        for l in &lines {
+            let cut = l.match_indices(" k").any(|(j, _)| {
+                l[..j].ends_with(|c: char| c.is_ascii_digit()) && !l[j + 2..].starts_with('N')
+            });
+            assert!(!cut, "{w}x{h}: a cut unit in {l}");
+        }
+        // the loop's title is whole: an element name then force-deformation, or the name alone
+        let el = &run.element_names[0];
+        assert!(s.contains(&format!(" {el} ")), "{w}x{h}: loop title:\n{s}");
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
 // terminal sizes and snapshots
 
 #[test]
@@ -2331,7 +2839,9 @@ fn a_study_that_cannot_run_says_why() {
         s.contains(">μ (Fig. 8): failed") && s.contains("failed: the reason below"),
         "{s}"
     );
-    // the hint bar of the studies view: Esc cancels the study, not the run
+    // the hint bar of the studies view (wide enough for every hint): Esc cancels the study,
+    // not the run
+    let s = screen(&render(&mut app, 200, 24));
     let bar = s.lines().last().unwrap();
     assert!(bar.contains("Esc cancel study"), "{bar}");
     assert_eq!(bar.matches("Esc cancel").count(), 1, "{bar}");

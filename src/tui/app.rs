@@ -7,6 +7,7 @@ pub use super::merge::Conflict;
 use super::run_data::RunData;
 use super::run_list::Runs;
 use super::study::Studies;
+use super::term::ColorDepth;
 use crate::scene::Scene;
 use std::hash::{Hash, Hasher};
 use std::path::{Path, PathBuf};
@@ -90,10 +91,16 @@ impl Default for Options {
 
 impl Options {
     pub fn from_env() -> Self {
-        let set = |k: &str| std::env::var_os(k).is_some_and(|v| !v.is_empty());
+        Self::from_vars(&|k| std::env::var(k).ok())
+    }
+
+    /// The options told by environment variables read through `get`: no colour when the
+    /// terminal shows none ([`ColorDepth::None`]: `NO_COLOR`, `TERM=dumb`); ASCII with
+    /// `DECKSPIN_ASCII` set to anything but `0`.
+    pub fn from_vars(get: &dyn Fn(&str) -> Option<String>) -> Self {
         Self {
-            color: !set("NO_COLOR"),
-            ascii: std::env::var("DECKSPIN_ASCII").is_ok_and(|v| !v.is_empty() && v != "0"),
+            color: ColorDepth::from_vars(get) != ColorDepth::None,
+            ascii: get("DECKSPIN_ASCII").is_some_and(|v| !v.is_empty() && v != "0"),
         }
     }
 }
@@ -179,6 +186,9 @@ pub struct App {
     pub events_open: bool,
     /// The event list's selected row, in time order (None: the row at the cursor).
     pub event_sel: Option<usize>,
+    // any terminal
+    /// First line of the help shown (the help scrolls when taller than the screen).
+    pub help_scroll: usize,
 }
 
 impl App {
@@ -219,6 +229,7 @@ impl App {
             runs_older: Vec::new(),
             events_open: false,
             event_sel: None,
+            help_scroll: 0,
         };
         match form::validate(text, path) {
             Ok(scene) => {

@@ -72,6 +72,9 @@ pub trait Host {
     }
     /// A timing milestone.
     fn log(&mut self, _label: &str) {}
+    /// Suspend the workbench to the shell (Ctrl-Z) once the messages at hand are handled;
+    /// nothing without a terminal.
+    fn suspend(&mut self) {}
 }
 
 /// Executes effects; the messages they produce at once are fed back to [`update`] and their
@@ -142,6 +145,10 @@ fn execute(app: &mut App, host: &mut impl Host, e: Effect) -> Vec<Msg> {
         })),
         Effect::Quit => {
             app.quit = true;
+            Vec::new()
+        }
+        Effect::Suspend => {
+            host.suspend();
             Vec::new()
         }
     }

@@ -82,6 +82,15 @@ pub enum Action {
     EventPageUp,
     EventPageDown,
     EventGo,
+    // any terminal: help scrolling, suspend
+    HelpDown,
+    HelpUp,
+    HelpPageDown,
+    HelpPageUp,
+    HelpTop,
+    HelpBottom,
+    /// Ctrl-Z: give the terminal back to the shell until `fg`.
+    Suspend,
 }
 
 /// Where a binding applies. Lookup order: the mode's own context first, then the view, then
@@ -252,12 +261,12 @@ pub const KEYMAP: &[Binding] = &[
     // the run list
     b(Ctx::Runs, &[K::Code(KC::Up), K::Ch('k')], "Up/k", A::RunUp, "previous run", None),
     b(Ctx::Runs, &[K::Code(KC::Down), K::Ch('j')], "Down/j", A::RunDown, "next run", Some(("j/k", "run"))),
-    b(Ctx::Runs, &[K::Ch(' ')], "Space", A::RunOverlay, "overlay and compare the run, or not", Some(("Space", "overlay"))),
+    b(Ctx::Runs, &[K::Ch(' ')], "Space", A::RunOverlay, "overlay and compare, or not", Some(("Space", "overlay"))),
     b(Ctx::Runs, &[K::Ch('b')], "b", A::RunBaseline, "pin the run as the baseline", Some(("b", "baseline"))),
     b(Ctx::Runs, &[K::Ch('n')], "n", A::RunRename, "name the run", Some(("n", "name"))),
     b(Ctx::Runs, &[K::Code(KC::Enter)], "Enter", A::RunsToCharts, "back to the charts", Some(("Enter", "charts"))),
     // naming a run
-    b(Ctx::Naming, &[K::Code(KC::Enter)], "Enter", A::NameCommit, "keep the name (empty: the derived one)", Some(("Enter", "keep"))),
+    b(Ctx::Naming, &[K::Code(KC::Enter)], "Enter", A::NameCommit, "keep it (empty: derived)", Some(("Enter", "keep"))),
     b(Ctx::Naming, &[K::Code(KC::Esc)], "Esc", A::NameCancel, "leave the name as it was", Some(("Esc", "cancel"))),
     b(Ctx::Naming, &[K::Code(KC::Backspace)], "Bksp", A::NameBackspace, "delete a character", Some(("Bksp", "delete"))),
     b(Ctx::Naming, &[K::Ctrl('u')], "^U", A::NameClear, "clear the name", Some(("^U", "clear"))),
@@ -272,7 +281,15 @@ pub const KEYMAP: &[Binding] = &[
     b(Ctx::Global, &[K::Code(KC::Esc), K::Ch('c')], "Esc/c", A::Cancel, "cancel the simulation", Some(("Esc", "cancel"))),
     b(Ctx::Global, &[K::Ch('e')], "e", A::Export, "export chart + events CSV", Some(("e", "export"))),
     b(Ctx::Global, &[K::Ch('o')], "o", A::ToggleOverlay, "show/hide the overlaid runs", Some(("o", "overlay"))),
-    b(Ctx::Global, &[K::Ch('m')], "m", A::ToggleMarker, "markers Braille ⇄ ASCII", Some(("m", "markers"))),
+    b(Ctx::Global, &[K::Ch('m')], "m", A::ToggleMarker, "ASCII mode on/off", Some(("m", "ASCII"))),
+    // any terminal: help scrolling, suspend
+    b(Ctx::Help, &[K::Code(KC::Down), K::Ch('j')], "↓/j", A::HelpDown, "scroll down", Some(("j/k", "scroll"))),
+    b(Ctx::Help, &[K::Code(KC::Up), K::Ch('k')], "↑/k", A::HelpUp, "scroll up", None),
+    b(Ctx::Help, &[K::Code(KC::PageDown)], "PgDn", A::HelpPageDown, "page down", Some(("PgDn", "page"))),
+    b(Ctx::Help, &[K::Code(KC::PageUp)], "PgUp", A::HelpPageUp, "page up", None),
+    b(Ctx::Help, &[K::Code(KC::Home)], "Home", A::HelpTop, "to the top", None),
+    b(Ctx::Help, &[K::Code(KC::End)], "End", A::HelpBottom, "to the end", None),
+    b(Ctx::Global, &[K::Ctrl('z')], "^Z", A::Suspend, "suspend (fg resumes)", Some(("^Z", "suspend"))),
 ];
 
 /// The contexts that are active, most specific first.
@@ -298,6 +315,11 @@ pub fn lookup(ctxs: &[Ctx], ev: &KeyEvent) -> Option<Action> {
 /// table order; a binding whose first key a more specific context takes (`Esc` in the studies
 /// view) has no hint there.
 pub fn hints(ctxs: &[Ctx]) -> Vec<(&'static str, &'static str)> {
+    hint_items(ctxs).into_iter().map(|(_, _, h)| h).collect()
+}
+
+/// [`hints`] with the action and context of each.
+pub fn hint_items(ctxs: &[Ctx]) -> Vec<(Action, Ctx, (&'static str, &'static str))> {
     let shadowed = |bd: &Binding| {
         let i = ctxs.iter().position(|c| *c == bd.ctx).unwrap_or(0);
         bd.keys
@@ -313,7 +335,9 @@ pub fn hints(ctxs: &[Ctx]) -> Vec<(&'static str, &'static str)> {
     let mut out: Vec<&Binding> = all.iter().copied().filter(pinned).collect();
     out.sort_by_key(|bd| bd.action != Action::Help);
     out.extend(all.iter().copied().filter(|bd| !pinned(bd)));
-    out.into_iter().filter_map(|bd| bd.hint).collect()
+    out.into_iter()
+        .filter_map(|bd| bd.hint.map(|h| (bd.action, bd.ctx, h)))
+        .collect()
 }
 
 /// Help screen lines: (context title, [(key label, description)]).

@@ -146,4 +146,7 @@ pub enum Effect {
         remove: Vec<u64>,
     },
     Quit,
+    /// Ctrl-Z: restore the terminal, stop the process (SIGTSTP) and, once continued, take
+    /// the terminal back and redraw it whole.
+    Suspend,
 }

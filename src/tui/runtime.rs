@@ -1,5 +1,6 @@
 //! The terminal runtime: raw mode and alternate screen (restored on every exit, on panics and
-//! on SIGTERM, SIGHUP and SIGINT),
+//! on SIGTERM, SIGHUP and SIGINT, and for the time of a Ctrl-Z suspension), colours written
+//! to the terminal's depth ([`term::SgrFilter`]),
 //! the input thread, and the loop that drains the message channel, feeds [`update`], executes
 //! effects through [`Threads`] and draws once per drain.
 
@@ -7,6 +8,7 @@ use super::app::{App, Options};
 use super::effects::{Host, Job, perform};
 use super::msg::Msg;
 use super::study::StudySpec;
+use super::term::{ColorDepth, SgrFilter};
 use super::ui;
 use super::update::update;
 use super::{signals, study_worker, watch, worker};
@@ -39,14 +41,43 @@ fn restore_terminal() {
 /// Restores the terminal when dropped (normal return, `?` errors, unwinding).
 struct TerminalGuard;
 
+/// Raw mode, alternate screen, cursor hidden.
+fn take_terminal() -> io::Result<()> {
+    enable_raw_mode()?;
+    TERMINAL_TAKEN.store(true, std::sync::atomic::Ordering::SeqCst);
+    execute!(io::stdout(), EnterAlternateScreen, crossterm::cursor::Hide)
+}
+
 impl TerminalGuard {
     fn enter() -> io::Result<Self> {
-        enable_raw_mode()?;
-        TERMINAL_TAKEN.store(true, std::sync::atomic::Ordering::SeqCst);
         let guard = TerminalGuard;
-        execute!(io::stdout(), EnterAlternateScreen, crossterm::cursor::Hide)?;
+        take_terminal()?;
         Ok(guard)
     }
+}
+
+/// The terminal as the workbench draws on it: stdout through the colour filter.
+type Term = Terminal<CrosstermBackend<SgrFilter<io::Stdout>>>;
+
+/// Ctrl-Z: gives the terminal back, stops the process as Ctrl-Z does in a shell (SIGTSTP;
+/// the shell's `fg` continues it), then takes the terminal again and redraws it whole.
+#[cfg(unix)]
+fn suspend(terminal: &mut Term, app: &mut App) -> io::Result<()> {
+    restore_terminal();
+    signal_hook::low_level::raise(signal_hook::consts::SIGTSTP)?;
+    // continued (SIGCONT): the screen may have changed size meanwhile
+    take_terminal()?;
+    // cleared and drawn whole at the size of now (not `Terminal::clear`, which asks the
+    // terminal for the cursor position: the input thread would take the answer)
+    let size = terminal.size()?;
+    terminal.resize(ratatui::layout::Rect::new(0, 0, size.width, size.height))?;
+    update(app, Msg::Resize(size.width, size.height));
+    Ok(())
+}
+
+#[cfg(not(unix))]
+fn suspend(_terminal: &mut Term, _app: &mut App) -> io::Result<()> {
+    Ok(())
 }
 
 impl Drop for TerminalGuard {
@@ -115,6 +146,8 @@ struct Threads {
     timing: Timing,
     /// The thread that writes the run list's files, one job after the other.
     writer: Option<(Sender<Job>, std::thread::JoinHandle<()>)>,
+    /// Ctrl-Z asked for a suspension (done by the loop, which holds the terminal).
+    suspend: bool,
 }
 
 impl Host for Threads {
@@ -176,6 +209,9 @@ impl Host for Threads {
     }
     fn log(&mut self, label: &str) {
         self.timing.log(label);
+    }
+    fn suspend(&mut self) {
+        self.suspend = true;
     }
 }
 
@@ -240,7 +276,8 @@ pub fn run(model: &Path) -> Result<(), Box<dyn std::error::Error>> {
     // before the terminal is taken: from here on a signal restores it
     signals::spawn(tx.clone(), restore_terminal)?;
     let guard = TerminalGuard::enter()?;
-    let mut terminal = Terminal::new(CrosstermBackend::new(io::stdout()))?;
+    let out = SgrFilter::new(io::stdout(), ColorDepth::from_env());
+    let mut terminal = Terminal::new(CrosstermBackend::new(out))?;
     terminal.clear()?;
     let size = terminal.size()?;
     update(&mut app, Msg::Resize(size.width, size.height));
@@ -252,6 +289,7 @@ pub fn run(model: &Path) -> Result<(), Box<dyn std::error::Error>> {
         studies: HashMap::new(),
         timing,
         writer: None,
+        suspend: false,
     };
     let fx = app.start();
     perform(&mut app, &mut host, fx);
@@ -271,7 +309,7 @@ pub fn run(model: &Path) -> Result<(), Box<dyn std::error::Error>> {
 /// Draws, drains the channel into [`update`] and performs the effects until the app quits
 /// (None) or a signal arrives (Some).
 fn event_loop(
-    terminal: &mut Terminal<CrosstermBackend<io::Stdout>>,
+    terminal: &mut Term,
     app: &mut App,
     host: &mut Threads,
     rx: &Receiver<Msg>,
@@ -313,6 +351,9 @@ fn event_loop(
             }
             let fx = update(app, m);
             perform(app, host, fx);
+        }
+        if std::mem::take(&mut host.suspend) {
+            suspend(terminal, app)?;
         }
     }
 }

@@ -91,13 +91,13 @@ impl Theme {
     }
     pub(super) fn marker(&self) -> Marker {
         if self.ascii {
-            Marker::Dot
+            Marker::Custom('.')
         } else {
             Marker::Braille
         }
     }
     pub(super) fn per_cell(&self) -> usize {
-        if self.ascii { 1 } else { 2 }
+        if self.marks() { 1 } else { 2 }
     }
     pub(super) fn border(&self) -> border::Set<'static> {
         if self.ascii {
@@ -172,6 +172,67 @@ pub(super) fn overlay_run(app: &App) -> Option<&RunData> {
     overlay_runs(app, &th).first().map(|o| o.data)
 }
 
+/// The data marks of the series of one chart in ASCII mode or without colour (see
+/// [`Theme::marks`]), the previous run's and the cursor's.
+const MARKS: [char; 8] = ['.', '+', 'o', 'x', '%', '@', '&', '$'];
+const PREVIOUS_MARK: char = ':';
+const CURSOR_MARK: char = '|';
+
+impl Theme {
+    /// Series are told apart by their marks, not by colour: in ASCII mode and without colour
+    /// (each series of a chart drawn with its own character, named in the legend).
+    pub(super) fn marks(&self) -> bool {
+        self.ascii || !self.color
+    }
+    /// The marker of the `k`-th series of a chart (Braille, or its own mark).
+    pub(super) fn series_marker(&self, k: usize) -> Marker {
+        match self.series_mark(k) {
+            Some(c) => Marker::Custom(c),
+            None => Marker::Braille,
+        }
+    }
+    /// The mark of the `k`-th series of a chart, when series are told apart by marks.
+    pub(super) fn series_mark(&self, k: usize) -> Option<char> {
+        self.marks().then_some(MARKS[k % MARKS.len()])
+    }
+    /// The marker of the previous run's series.
+    pub(super) fn previous_marker(&self) -> Marker {
+        if self.marks() {
+            Marker::Custom(PREVIOUS_MARK)
+        } else {
+            Marker::Braille
+        }
+    }
+    /// The legend's sample of the `k`-th series (`━`, or its mark).
+    pub(super) fn legend_mark(&self, k: usize) -> String {
+        self.series_mark(k).map_or("━".into(), String::from)
+    }
+    /// The legend's sample of the previous run (`┈`, or its mark).
+    pub(super) fn previous_mark(&self) -> String {
+        if self.marks() {
+            PREVIOUS_MARK.to_string()
+        } else {
+            "┈".into()
+        }
+    }
+    /// The marker of the time cursor's line.
+    pub(super) fn cursor_marker(&self) -> Marker {
+        if self.marks() {
+            Marker::Custom(CURSOR_MARK)
+        } else {
+            Marker::Braille
+        }
+    }
+    /// The marker of one point shown alone (the loop's point at the cursor).
+    pub(super) fn point_marker(&self) -> Marker {
+        if self.ascii {
+            Marker::Custom('@')
+        } else {
+            Marker::Block
+        }
+    }
+}
+
 impl Theme {
     /// Text as drawn: in ASCII mode Greek letters and symbols are spelled out (`θ` theta,
     /// `μ` mu, `ε` eps, `…` ..., `×` x, `·` |, `→` ->, `≥` >=) and anything else above 0x7E
@@ -190,10 +251,26 @@ impl Theme {
                 '×' => out.push('x'),
                 '·' | '│' => out.push('|'),
                 '→' => out.push_str("->"),
+                '←' => out.push_str("<-"),
+                '↑' => out.push('^'),
+                '↓' => out.push('v'),
+                '⇄' => out.push_str("<->"),
                 '≥' => out.push_str(">="),
                 '≤' => out.push_str("<="),
-                '—' | '–' | '─' => out.push('-'),
+                '—' | '–' | '─' | '━' => out.push('-'),
+                '┈' => out.push(':'),
                 '°' => out.push_str(" deg"),
+                '²' => out.push('2'),
+                '³' => out.push('3'),
+                'ζ' => out.push_str("zeta"),
+                'λ' => out.push_str("lambda"),
+                'Δ' => out.push('d'),
+                '✓' => out.push_str("ok:"),
+                '✗' => out.push_str("error:"),
+                '█' | '■' => out.push('#'),
+                '▒' => out.push('='),
+                '●' | '•' => out.push('*'),
+                '╳' => out.push('X'),
                 c if (c as u32) < 0x7f => out.push(c),
                 _ => out.push('?'),
             }
@@ -204,6 +281,27 @@ impl Theme {
     /// The separator of items on one line.
     pub(super) fn sep(&self) -> &'static str {
         if self.ascii { " | " } else { " · " }
+    }
+}
+
+/// `s` in at most `width` columns: whole, or cut after its last whole word that fits with
+/// `ellipsis` after it (never inside a word or a unit); empty when not even one word fits.
+pub(super) fn cut_words(s: &str, width: usize, ellipsis: &str) -> String {
+    if s.chars().count() <= width {
+        return s.to_string();
+    }
+    let room = width.saturating_sub(ellipsis.chars().count());
+    let mut end = 0;
+    for (i, c) in s.char_indices() {
+        if c == ' ' && s[..i].chars().count() <= room {
+            end = i;
+        }
+    }
+    let head = s[..end].trim_end();
+    if head.is_empty() {
+        String::new()
+    } else {
+        format!("{head}{ellipsis}")
     }
 }
 

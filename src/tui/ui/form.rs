@@ -20,7 +20,7 @@ pub(super) fn draw_form(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
     } else {
         " parameters "
     };
-    let block = th.block(title);
+    let block = th.block(th.text(title));
     let inner = block.inner(left);
     frame.render_widget(block, left);
     let fields = &app.form.fields;
@@ -40,7 +40,7 @@ pub(super) fn draw_form(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
             (Mode::Editing { buffer, .. }, true) => format!("{buffer}_"),
             _ => f.value.clone().unwrap_or_else(|| "(default)".into()),
         };
-        let label: String = f.label.chars().take(label_w).collect();
+        let label: String = th.text(&f.label).chars().take(label_w).collect();
         let value: String = if value.chars().count() > value_w {
             value
                 .chars()
@@ -52,7 +52,7 @@ pub(super) fn draw_form(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
         let unit: String = if f.unit.contains('|') {
             String::new()
         } else {
-            f.unit.chars().take(unit_w).collect()
+            th.text(&f.unit).chars().take(unit_w).collect()
         };
         let text = format!("{mark}{label:<label_w$} {value:>value_w$} {unit:<unit_w$}");
         let mut style = if f.curated {
@@ -97,7 +97,7 @@ fn draw_field_detail(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
             if f.unit.is_empty() {
                 String::new()
             } else {
-                format!(", {}", f.unit)
+                format!(", {}", th.text(&f.unit))
             }
         )),
         Line::from(vec![
@@ -126,7 +126,7 @@ fn draw_field_detail(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
             ]));
             match check {
                 Ok(()) => lines.push(Line::styled(
-                    "✓ valid — Enter accepts",
+                    th.text("✓ valid — Enter accepts"),
                     th.status(StatusKind::Ok),
                 )),
                 Err(e) => {
@@ -135,14 +135,14 @@ fn draw_field_detail(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
                         .strip_prefix(&prefix)
                         .map_or(e.clone(), |r| format!("at {r}"));
                     lines.push(Line::styled(
-                        format!("✗ {short}"),
+                        th.text(&format!("✗ {short}")),
                         th.status(StatusKind::Error),
                     ));
                 }
             }
         }
         _ => lines.push(Line::styled(
-            "Enter edits · u reverts · s saves · r runs",
+            th.text("Enter edits · u reverts · s saves · r runs"),
             th.dim(),
         )),
     }

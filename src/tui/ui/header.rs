@@ -1,6 +1,6 @@
 //! The header line (file, title, view, run progress) and the model error banner.
 
-use super::common::Theme;
+use super::common::{Theme, cut_words};
 use crate::tui::app::{App, LoadError, StatusKind, View};
 use crate::tui::run_data::RunStatus;
 use crate::tui::study::short_title;
@@ -55,21 +55,24 @@ fn run_progress(app: &App, th: &Theme) -> Line<'static> {
                     gauge(r.t_sim / r.t_end.max(1e-300), 10, th.ascii),
                     th.fg(Color::Cyan),
                 ),
-                Span::raw(format!(
+                Span::raw(th.text(&format!(
                     " {}/{} s · {ev} events",
                     fmt_t(r.t_sim),
                     fmt_t(r.t_end)
-                )),
+                ))),
             ];
             if r.status == RunStatus::Cancelling {
-                spans.push(Span::styled(" · cancelling", th.status(StatusKind::Warn)));
+                spans.push(Span::styled(
+                    th.text(" · cancelling"),
+                    th.status(StatusKind::Warn),
+                ));
             }
             Line::from(spans)
         }
         RunStatus::Finished => Line::from(vec![
             Span::styled(label, th.bold()),
             Span::styled(" done", th.status(StatusKind::Ok)),
-            Span::raw(format!(" · {} s · {ev} events", fmt_t(r.t_sim))),
+            Span::raw(th.text(&format!(" · {} s · {ev} events", fmt_t(r.t_sim)))),
         ]),
         RunStatus::Cancelled => Line::from(vec![
             Span::styled(label, th.bold()),
@@ -129,24 +132,38 @@ pub(super) fn draw_header(frame: &mut Frame, area: Rect, app: &App, th: &Theme) 
         View::Studies => "studies",
         View::Runs => "runs",
     };
+    let bar = th.text(" │ ");
     let fixed = 8 + 3 + name.chars().count() + 3 + 3 + view.len();
     let room = (l.width as usize).saturating_sub(fixed);
-    let mut title = app.title();
-    if title.chars().count() > room {
-        title = title
-            .chars()
-            .take(room.saturating_sub(1))
-            .collect::<String>()
-            + "…";
-    }
-    let left = Line::from(vec![
-        Span::styled("deckspin", th.bold().patch(th.fg(Color::Cyan))),
-        Span::styled(" │ ", th.dim()),
-        Span::styled(name, th.bold()),
-        Span::styled(" │ ", th.dim()),
-        Span::raw(title),
-        Span::styled(format!(" │ {view}"), th.dim()),
-    ]);
+    // the title cut after a whole word, or left out; then the name of the program, the file
+    let title = cut_words(&th.text(&app.title()), room, &th.text("…"));
+    let brand = Span::styled("deckspin", th.bold().patch(th.fg(Color::Cyan)));
+    let file = Span::styled(name, th.bold());
+    let lines = [
+        vec![
+            brand.clone(),
+            Span::styled(bar.clone(), th.dim()),
+            file.clone(),
+        ],
+        vec![file],
+        vec![brand],
+        vec![],
+    ];
+    let mut left = lines
+        .into_iter()
+        .map(|mut spans| {
+            if !title.is_empty() && spans.len() == 3 {
+                spans.extend([
+                    Span::styled(bar.clone(), th.dim()),
+                    Span::raw(title.clone()),
+                ]);
+            }
+            let sep = if spans.is_empty() { "" } else { bar.as_str() };
+            spans.push(Span::styled(format!("{sep}{view}"), th.dim()));
+            Line::from(spans)
+        })
+        .skip_while(|line| line.width() > l.width as usize);
+    let left = left.next().unwrap_or_default();
     frame.render_widget(Paragraph::new(left), l);
     frame.render_widget(Paragraph::new(right).alignment(Alignment::Right), r);
 }
@@ -160,11 +177,13 @@ pub(super) fn draw_error(frame: &mut Frame, area: Rect, le: &LoadError, th: &The
         }
         _ => " model error — showing the last good model ".to_string(),
     };
-    let block = th.block(Line::styled(title, err)).border_style(err);
+    let block = th
+        .block(Line::styled(th.text(&title), err))
+        .border_style(err);
     let inner = block.inner(area);
     let mut lines = vec![Line::styled(le.detail.clone(), err)];
     if let (Some(l), Some(src)) = (le.line, &le.source_line) {
-        let prefix = format!("{l:>5} │ ");
+        let prefix = th.text(&format!("{l:>5} │ "));
         lines.push(Line::from(vec![
             Span::styled(prefix.clone(), th.dim()),
             Span::raw(src.clone()),

@@ -11,7 +11,6 @@ use crate::tui::nav;
 use crate::tui::run_data::RunData;
 use ratatui::Frame;
 use ratatui::layout::Rect;
-use ratatui::symbols::Marker;
 use ratatui::text::Line;
 use ratatui::widgets::{Axis, Chart, Dataset, GraphType, Paragraph};
 
@@ -197,12 +196,11 @@ fn datasets<'a>(
     here: Option<&'a [(f64, f64); 1]>,
     th: &Theme,
 ) -> Vec<Dataset<'a>> {
-    let marker = th.marker();
     let mut ds = Vec::new();
     if let Some(p) = prev {
         ds.push(
             Dataset::default()
-                .marker(marker)
+                .marker(th.previous_marker())
                 .graph_type(GraphType::Line)
                 .style(th.previous())
                 .data(p),
@@ -210,7 +208,7 @@ fn datasets<'a>(
     }
     ds.push(
         Dataset::default()
-            .marker(marker)
+            .marker(th.series_marker(0))
             .graph_type(GraphType::Line)
             .style(th.series(2))
             .data(cur),
@@ -218,7 +216,7 @@ fn datasets<'a>(
     if let Some(h) = here {
         ds.push(
             Dataset::default()
-                .marker(Marker::Block)
+                .marker(th.point_marker())
                 .graph_type(GraphType::Scatter)
                 .style(th.cursor())
                 .data(h),

@@ -3,6 +3,7 @@
 //! series and event strips are cached ([`Cache`]) per run length, time window and plot size,
 //! so a frame stays light with 10⁵-sample histories.
 
+mod ascii;
 mod cache;
 mod common;
 mod compare;
@@ -20,6 +21,7 @@ mod time;
 mod timeline;
 mod xy_plot;
 
+pub use ascii::{ascii_only, ascii_symbol};
 pub use cache::Cache;
 pub use event_list::scroll;
 pub use timeline::{Cell, event_strip, key_failure_mark, key_strip, priority, strip_cells};
@@ -28,8 +30,16 @@ use crate::tui::app::{App, MIN_HEIGHT, MIN_WIDTH, Mode, View};
 use ratatui::Frame;
 use ratatui::layout::{Constraint, Layout, Rect};
 
-/// Renders the workbench.
+/// Renders the workbench (in ASCII mode, nothing above 0x7E: [`ascii_only`] last).
 pub fn draw(frame: &mut Frame, app: &App, cache: &mut Cache) {
+    draw_screen(frame, app, cache);
+    if common::theme(app).ascii {
+        ascii_only(frame.buffer_mut());
+    }
+}
+
+/// Renders every panel and overlay.
+fn draw_screen(frame: &mut Frame, app: &App, cache: &mut Cache) {
     let area = frame.area();
     let th = common::theme(app);
     if area.width < MIN_WIDTH || area.height < MIN_HEIGHT {

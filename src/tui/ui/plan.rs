@@ -192,14 +192,21 @@ pub(super) fn draw_plan(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
     let face_color = if th.color { Color::Gray } else { Color::Reset };
     let face_len = 0.06 * hx.max(hy);
     let depth = 0.03 * hx;
+    let short = th.text(&format!(" plan ×{} t={} s ", fmt_num(s, 8), fmt_num(tc, 7)));
+    // the seat margin when it fits whole
     let title = match seat_margin(scene, run, idx) {
-        Some(m) => format!(
+        Some(m) => th.text(&format!(
             " plan ×{} t={} s seat margin {} m ",
             fmt_num(s, 8),
             fmt_num(tc, 7),
             fmt_num(m, 5)
-        ),
-        None => format!(" plan ×{} t={} s ", fmt_num(s, 8), fmt_num(tc, 7)),
+        )),
+        None => short.clone(),
+    };
+    let title = if title.chars().count() + 2 <= area.width as usize {
+        title
+    } else {
+        short
     };
     let canvas = Canvas::default()
         .block(th.block(title))

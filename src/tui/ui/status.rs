@@ -1,8 +1,9 @@
 //! The status line, the key hints, the help and question overlays, the too-small screen.
 
-use super::common::Theme;
+use super::common::{Theme, cut_words};
 use crate::tui::app::{App, Confirm, MIN_HEIGHT, MIN_WIDTH, StatusKind};
-use crate::tui::keymap;
+use crate::tui::help::{self, HelpLine};
+use crate::tui::keymap::{self, Action, Ctx};
 use ratatui::Frame;
 use ratatui::layout::{Alignment, Constraint, Layout, Rect};
 use ratatui::style::Color;
@@ -13,8 +14,8 @@ use ratatui::widgets::{Clear, Paragraph, Wrap};
 pub(super) fn draw_too_small(frame: &mut Frame, area: Rect, th: &Theme) {
     let lines = vec![
         Line::styled("terminal too small", th.status(StatusKind::Warn)),
-        Line::from(format!("{}×{}", area.width, area.height)),
-        Line::from(format!("deckspin needs {MIN_WIDTH}×{MIN_HEIGHT}")),
+        Line::from(th.text(&format!("{}×{}", area.width, area.height))),
+        Line::from(th.text(&format!("deckspin needs {MIN_WIDTH}×{MIN_HEIGHT}"))),
         Line::from("enlarge it, or q to quit"),
     ];
     let h = (lines.len() as u16).min(area.height);
@@ -34,7 +35,7 @@ pub(super) fn draw_status(frame: &mut Frame, area: Rect, app: &App, th: &Theme) 
     let [l, r] = Layout::horizontal([Constraint::Min(0), Constraint::Length(ww)]).areas(area);
     frame.render_widget(
         Paragraph::new(Line::styled(
-            th.text(&app.status),
+            cut_words(&th.text(&app.status), l.width as usize, &th.text("…")),
             th.status(app.status_kind),
         )),
         l,
@@ -45,21 +46,58 @@ pub(super) fn draw_status(frame: &mut Frame, area: Rect, app: &App, th: &Theme) 
     );
 }
 
-/// Draws the key hints that fit.
+/// How much a key hint is worth keeping when the bar is short (lower first): help and quit,
+/// the mode's own keys and cancelling a running job, the usual keys, the rest; cancel with
+/// nothing running last.
+fn hint_rank(a: Action, ctx: Ctx, app: &App) -> u8 {
+    use Action as A;
+    match a {
+        A::Help => 0,
+        A::Quit => 1,
+        A::Cancel | A::StudyCancel if app.running() || app.studies.running().is_some() => 2,
+        A::Cancel | A::StudyCancel => 9,
+        A::ToggleMarker | A::Suspend => 8,
+        A::NextElement | A::Export | A::ToggleOverlay | A::StudyReopen => 6,
+        _ if !matches!(ctx, Ctx::Global | Ctx::Charts | Ctx::Form | Ctx::Studies) => 3,
+        _ => 5,
+    }
+}
+
+/// Draws the key hints: whole items only, the most useful that fit, in the keymap's order;
+/// when some are left out, `?` says it lists them all.
 pub(super) fn draw_hints(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
-    let mut spans = Vec::new();
-    let mut used = 0usize;
-    for (k, h) in keymap::hints(&app.contexts()) {
-        let w = k.chars().count() + h.chars().count() + 3;
-        if used + w > area.width as usize {
-            break;
+    let items: Vec<(Action, String, &str, u8)> = keymap::hint_items(&app.contexts())
+        .into_iter()
+        .map(|(a, ctx, (k, h))| (a, th.text(k), h, hint_rank(a, ctx, app)))
+        .collect();
+    let width = |k: &str, h: &str| k.chars().count() + h.chars().count() + 2;
+    let mut order: Vec<usize> = (0..items.len()).collect();
+    order.sort_by_key(|&i| items[i].3);
+    let all_keys = "all keys";
+    let mut keep = vec![false; items.len()];
+    let mut used = 0;
+    for &i in &order {
+        let (a, k, h, _) = &items[i];
+        // room for the longer help text in case something is left out
+        let h = if *a == Action::Help { all_keys } else { h };
+        if used + width(k, h) <= area.width as usize {
+            used += width(k, h);
+            keep[i] = true;
         }
-        spans.push(Span::styled(
-            format!(" {k}"),
-            th.bold().patch(th.selected()),
-        ));
-        spans.push(Span::raw(format!(" {h} ")));
-        used += w;
+    }
+    let dropped = keep.iter().any(|k| !k);
+    let mut spans = Vec::new();
+    for (i, (a, k, h, _)) in items.iter().enumerate().filter(|(i, _)| keep[*i]) {
+        let h = if *a == Action::Help && dropped {
+            all_keys
+        } else {
+            h
+        };
+        if i > 0 || !spans.is_empty() {
+            spans.push(Span::raw(" "));
+        }
+        spans.push(Span::styled(k.clone(), th.bold().patch(th.selected())));
+        spans.push(Span::raw(format!(" {h}")));
     }
     frame.render_widget(Paragraph::new(Line::from(spans)), area);
 }
@@ -75,35 +113,39 @@ fn centered(area: Rect, w: u16, h: u16) -> Rect {
     )
 }
 
-/// Draws the help overlay: every key, from the keymap; the keys of the view shown come right
-/// after those that work everywhere.
+/// Draws the help overlay: every key, from the keymap ([`help`]); the keys of the view shown
+/// come right after those that work everywhere. Taller than the screen, it scrolls
+/// (`app.help_scroll`), and its bottom border says what is above and below.
 pub(super) fn draw_help(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
-    let view = app.view_ctx().title();
-    let mut help = keymap::help();
-    if let Some(i) = help.iter().position(|(t, _)| *t == view) {
-        let group = help.remove(i);
-        help.insert(1.min(help.len()), group);
-    }
-    let groups: Vec<Vec<Line>> = help
-        .into_iter()
-        .map(|(title, rows)| {
-            let mut g = vec![Line::styled(
-                title.to_string(),
-                th.bold().patch(th.fg(Color::Cyan)),
-            )];
-            for (k, d) in rows {
-                g.push(Line::from(vec![
-                    Span::styled(format!(" {k:<8}"), th.bold()),
-                    Span::raw(d.to_string()),
-                ]));
-            }
-            g
-        })
-        .collect();
+    let rows = help::rows(area.height);
+    let view = app.view_ctx();
+    let cols = help::columns(view, rows);
+    let max = help::max_scroll(view, area.height);
+    let scroll = app.help_scroll.min(max);
+    let line = |l: &HelpLine| match *l {
+        HelpLine::Title(t) => Line::styled(t.to_string(), th.bold().patch(th.fg(Color::Cyan))),
+        HelpLine::Key(k, d) => Line::from(vec![
+            Span::styled(format!(" {:<8}", th.text(k)), th.bold()),
+            Span::raw(th.text(d)),
+        ]),
+    };
+    let [c0, c1] = cols.map(|c| {
+        c.iter()
+            .skip(scroll)
+            .take(rows)
+            .map(line)
+            .collect::<Vec<_>>()
+    });
     let rect = centered(area, area.width.min(100), area.height);
-    let block = th.block(" help — keys (Esc closes) ");
+    let mut block = th.block(th.text(" help — keys (Esc closes) "));
+    if max > 0 {
+        let more = match (scroll > 0, scroll < max) {
+            (_, true) => format!(" ↓ more below: j, PgDn ({}/{}) ", scroll + 1, max + 1),
+            _ => format!(" ↑ the end: k, PgUp ({}/{}) ", scroll + 1, max + 1),
+        };
+        block = block.title_bottom(Line::styled(th.text(&more), th.bold()));
+    }
     let inner = block.inner(rect);
-    let (c0, c1) = help_columns(groups, inner.height as usize, th);
     frame.render_widget(Clear, rect);
     frame.render_widget(block, rect);
     let [a, b] = Layout::horizontal([Constraint::Percentage(50), Constraint::Percentage(50)])
@@ -111,39 +153,6 @@ pub(super) fn draw_help(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
         .areas(inner);
     frame.render_widget(Paragraph::new(c0), a);
     frame.render_widget(Paragraph::new(c1), b);
-}
-
-/// The help's two columns of `rows` lines: split in the middle when every line fits, else
-/// whole groups in order, each into the first column with room for it; the groups left out
-/// (keys of other modes, shown in the hint bar there) are counted on the last line.
-fn help_columns<'a>(
-    groups: Vec<Vec<Line<'a>>>,
-    rows: usize,
-    th: &Theme,
-) -> (Vec<Line<'a>>, Vec<Line<'a>>) {
-    let all: usize = groups.iter().map(Vec::len).sum();
-    if all <= 2 * rows {
-        let lines: Vec<Line> = groups.into_iter().flatten().collect();
-        let half = lines.len().div_ceil(2);
-        return (lines[..half].to_vec(), lines[half..].to_vec());
-    }
-    let mut cols: [Vec<Line>; 2] = [Vec::new(), Vec::new()];
-    let mut left = 0;
-    for g in groups {
-        // the second column keeps a line for the count of the groups left out
-        let room = |k: usize, c: &Vec<Line>| c.len() + g.len() + k <= rows;
-        match (room(0, &cols[0]), room(1, &cols[1])) {
-            (true, _) => cols[0].extend(g),
-            (_, true) => cols[1].extend(g),
-            _ => left += 1,
-        }
-    }
-    if left > 0 {
-        let note = format!("({left} more groups: a taller terminal)");
-        cols[1].push(Line::styled(note, th.dim()));
-    }
-    let [a, b] = cols;
-    (a, b)
 }
 
 /// The question's lines and its keys (key, meaning).
@@ -192,6 +201,7 @@ fn question(app: &App, c: &Confirm) -> (Vec<String>, Vec<(&'static str, &'static
 /// Draws the pending question.
 pub(super) fn draw_confirm(frame: &mut Frame, area: Rect, app: &App, c: &Confirm, th: &Theme) {
     let (q, keys) = question(app, c);
+    let q: Vec<String> = q.iter().map(|l| th.text(l)).collect();
     let w = (area.width.saturating_sub(8)).min(64);
     // each line, wrapped to the inside width, then a blank line, the keys and the borders
     let inside = w.saturating_sub(2).max(1) as usize;

@@ -295,9 +295,19 @@ fn draw_time_chart(
     if has_zero {
         ds.push(line(&zero).style(th.dim()));
     }
-    ds.extend(series.iter().map(|s| line(&s.data).style(s.style)));
+    // without colour, each series by its own mark (the overlaid runs', the k-th current one's)
+    let mut k = 0;
+    ds.extend(series.iter().map(|s| {
+        let marker = if s.overlay.is_some() {
+            th.previous_marker()
+        } else {
+            k += 1;
+            th.series_marker(k - 1)
+        };
+        line(&s.data).marker(marker).style(s.style)
+    }));
     if tc >= t0 && tc <= t1 {
-        ds.push(line(&cursor).style(th.cursor()));
+        ds.push(line(&cursor).marker(th.cursor_marker()).style(th.cursor()));
     }
     let w = LABEL_W as usize;
     let labels: Vec<Line> = labels
@@ -352,10 +362,21 @@ fn chart_header(
     let current: Vec<&Series> = series.iter().filter(|s| s.overlay.is_none()).collect();
     let value = |s: &Series| s.now.map_or("—".to_string(), |v| scale.fmt(v));
     let named = current.len() > 1;
-    let item = |s: &Series, with_name: bool| -> Vec<Span<'static>> {
-        let mut v = vec![Span::styled(format!(" {glyph}"), s.style)];
-        if with_name {
-            v.push(Span::raw(format!("{} ", s.name)));
+    // without colour, the series' own mark (as drawn) before its value
+    let sample = |k: usize| {
+        if th.marks() {
+            format!(" [{}]", th.legend_mark(k))
+        } else {
+            format!(" {glyph}")
+        }
+    };
+    // names: 2 whole, 1 their initials (left_top: lt), 0 none
+    let item = |(k, s): (usize, &&Series), names: u8| -> Vec<Span<'static>> {
+        let mut v = vec![Span::styled(sample(k), s.style)];
+        match names {
+            2 => v.push(Span::raw(format!("{} ", s.name))),
+            1 => v.push(Span::raw(format!("{} ", initials(&s.name)))),
+            _ => {}
         }
         v.push(Span::styled(value(s), th.cursor()));
         v
@@ -375,14 +396,23 @@ fn chart_header(
                 .filter(|s| s.overlay == Some(n))
                 .map(value)
                 .collect();
+            let dotted = if th.marks() {
+                format!("[{}]", th.previous_mark())
+            } else {
+                dotted.to_string()
+            };
             vec![Span::styled(
                 format!(" {dotted}#{n} {}", vals.join(" ")),
                 style,
             )]
         })
         .collect();
-    let items = |with_name: bool, with_prev: bool| -> Vec<Vec<Span<'static>>> {
-        let mut v: Vec<Vec<Span>> = current.iter().map(|s| item(s, with_name)).collect();
+    let items = |names: u8, with_prev: bool| -> Vec<Vec<Span<'static>>> {
+        let mut v: Vec<Vec<Span>> = current
+            .iter()
+            .enumerate()
+            .map(|ks| item(ks, names))
+            .collect();
         if with_prev {
             v.extend(prev_items.iter().cloned());
         }
@@ -393,16 +423,21 @@ fn chart_header(
     let total = |v: &Vec<Vec<Span>>| v.iter().map(|i| wide(i)).sum::<usize>();
     let mut variants = Vec::new();
     if named {
-        variants.extend([items(true, true), items(true, false)]);
+        variants.extend([
+            items(2, true),
+            items(2, false),
+            items(1, true),
+            items(1, false),
+        ]);
     }
-    variants.extend([items(false, true), items(false, false)]);
+    variants.extend([items(0, true), items(0, false)]);
     let chosen = variants.iter().find(|v| total(v) <= room).cloned();
     let mut spans = vec![head];
     match chosen {
         Some(v) => spans.extend(v.into_iter().flatten()),
         None => {
             let mut used = 0;
-            for it in items(false, false) {
+            for it in items(0, false) {
                 if used + wide(&it) > room {
                     break;
                 }
@@ -412,4 +447,11 @@ fn chart_header(
         }
     }
     Line::from(spans)
+}
+
+/// A series name by its initials: the first letter of each `_`-separated word of its last
+/// dotted part (`left_top` → `lt`, `deck.x` → `x`).
+fn initials(name: &str) -> String {
+    let last = name.rsplit('.').next().unwrap_or(name);
+    last.split('_').filter_map(|w| w.chars().next()).collect()
 }

@@ -8,6 +8,7 @@ mod reconcile;
 mod run;
 mod runs;
 mod study;
+mod term;
 mod view;
 
 use crate::tui::app::{App, Confirm, Mode, StatusKind};
@@ -78,6 +79,18 @@ fn on_key(app: &mut App, ev: KeyEvent) -> Vec<Effect> {
     if ev.kind == KeyEventKind::Release {
         return Vec::new();
     }
+    // Esc and a key in one read (Alt+key): Esc, then the key
+    if let Some((esc, key)) = term::split_alt(ev) {
+        let mut fx = on_key(app, esc);
+        if !app.quit {
+            fx.extend(on_key(app, key));
+        }
+        return fx;
+    }
+    // Ctrl-Z suspends from anywhere (raw mode turned the terminal's own Ctrl-Z off)
+    if ev.code == KeyCode::Char('z') && ev.modifiers.contains(KeyModifiers::CONTROL) {
+        return on_action(app, Action::Suspend);
+    }
     // Ctrl-C quits from anywhere (asking first when there are unsaved edits)
     if ev.code == KeyCode::Char('c') && ev.modifiers.contains(KeyModifiers::CONTROL) {
         return on_action(app, Action::Quit);
@@ -105,7 +118,10 @@ fn on_action(app: &mut App, a: Action) -> Vec<Effect> {
     use Action as A;
     match a {
         A::Quit => ask_quit(app),
-        A::Help => set_mode(app, Mode::Help),
+        A::Help => {
+            app.help_scroll = 0;
+            set_mode(app, Mode::Help)
+        }
         A::CloseHelp => set_mode(app, Mode::Normal),
         A::Rerun => run::rerun(app),
         A::Cancel => run::cancel(app),
@@ -182,6 +198,12 @@ fn on_action(app: &mut App, a: Action) -> Vec<Effect> {
             view::event_action(app, a);
             Vec::new()
         }
+        // any terminal
+        A::HelpDown | A::HelpUp | A::HelpPageDown | A::HelpPageUp | A::HelpTop | A::HelpBottom => {
+            term::scroll_help(app, a);
+            Vec::new()
+        }
+        A::Suspend => term::suspend(app),
     }
 }
 

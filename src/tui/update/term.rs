@@ -1,0 +1,51 @@
+//! Keys of any terminal: Esc told apart from a key sent right after it, Ctrl-Z, the help's
+//! scroll keys.
+
+use crate::tui::app::{App, StatusKind};
+use crate::tui::help;
+use crate::tui::keymap::Action;
+use crate::tui::msg::Effect;
+use crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
+
+/// Esc and the key typed right after it, when they came as one key with Alt.
+///
+/// crossterm tells a lone Esc from the start of an escape sequence by the read it arrives in:
+/// an Esc that ends a read is a key, one followed by more bytes in the same read starts a
+/// sequence, and Esc followed by a plain key (`ESC q`, as sent over SSH when both are typed
+/// quickly) is reported as Alt+`q`. No binding takes Alt, so such a key is taken as what was
+/// typed: Esc, then the key.
+pub(super) fn split_alt(ev: KeyEvent) -> Option<(KeyEvent, KeyEvent)> {
+    if !ev.modifiers.contains(KeyModifiers::ALT) {
+        return None;
+    }
+    let mut key = ev;
+    key.modifiers.remove(KeyModifiers::ALT);
+    let esc = KeyEvent::new_with_kind(KeyCode::Esc, KeyModifiers::NONE, ev.kind);
+    Some((esc, key))
+}
+
+/// Ctrl-Z: suspend (the runtime gives the terminal back and stops the process), on Unix.
+pub(super) fn suspend(app: &mut App) -> Vec<Effect> {
+    if cfg!(unix) {
+        vec![Effect::Suspend]
+    } else {
+        app.set_status(StatusKind::Info, "Ctrl-Z: suspending needs a Unix shell");
+        Vec::new()
+    }
+}
+
+/// The help's scroll keys: a line, a page, the top, the end.
+pub(super) fn scroll_help(app: &mut App, a: Action) {
+    let max = help::max_scroll(app.view_ctx(), app.size.1);
+    let page = help::rows(app.size.1).saturating_sub(1).max(1);
+    let s = app.help_scroll.min(max);
+    app.help_scroll = match a {
+        Action::HelpDown => s + 1,
+        Action::HelpUp => s.saturating_sub(1),
+        Action::HelpPageDown => s + page,
+        Action::HelpPageUp => s.saturating_sub(page),
+        Action::HelpTop => 0,
+        _ => max,
+    }
+    .min(max);
+}
