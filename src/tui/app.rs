@@ -4,6 +4,7 @@
 use super::form::{self, Form};
 use super::keymap::{self, Ctx};
 pub use super::merge::Conflict;
+use super::results::Results;
 use super::run_data::RunData;
 use super::study::Studies;
 use crate::scene::Scene;
@@ -163,6 +164,8 @@ pub struct App {
     pub generation: u64,
     /// The studies view: the last study of each kind, running or done.
     pub studies: Studies,
+    /// The results pages of the studies view (energy, contacts, modes, records).
+    pub results: Results,
 }
 
 impl App {
@@ -200,6 +203,7 @@ impl App {
             watch_mode: String::new(),
             generation: 0,
             studies: Studies::default(),
+            results: Results::default(),
         };
         match form::validate(text, path) {
             Ok(scene) => {

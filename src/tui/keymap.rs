@@ -58,6 +58,12 @@ pub enum Action {
     PickDown,
     PickLoad,
     PickClose,
+    // the results pages of the studies view
+    /// The previous / next contact, mode or record component.
+    ResultUp,
+    ResultDown,
+    /// Work-precision: the chart or the stability grid.
+    ResultGrid,
 }
 
 /// Where a binding applies. Lookup order: the mode's own context first, then the view, then
@@ -201,13 +207,17 @@ pub const KEYMAP: &[Binding] = &[
     b(Ctx::Form, &[K::Ch('+')], "+", A::ItemDuplicate, "copy frame/bent/run; add key", None),
     b(Ctx::Form, &[K::Ch('-')], "-", A::ItemRemove, "remove frame, bent, run, key", None),
     // studies view
-    b(Ctx::Studies, &[K::Code(KC::Left), K::Ch('h')], "Left/h", A::StudyPrev, "previous study", None),
-    b(Ctx::Studies, &[K::Code(KC::Right), K::Ch('l')], "Right/l", A::StudyNext, "next study", Some(("h/l", "study"))),
+    b(Ctx::Studies, &[K::Code(KC::Left), K::Ch('h')], "Left/h", A::StudyPrev, "previous study or results page", None),
+    b(Ctx::Studies, &[K::Code(KC::Right), K::Ch('l')], "Right/l", A::StudyNext, "next study or results page", Some(("h/l", "study"))),
     b(Ctx::Studies, &[K::Code(KC::Enter)], "Enter", A::StudyRun, "run the study (form's model)", Some(("Enter", "run study"))),
     b(Ctx::Studies, &[K::Code(KC::Esc)], "Esc", A::StudyCancel, "cancel the running study", Some(("Esc", "cancel study"))),
     b(Ctx::Studies, &[K::Ch('f')], "f", A::StudyReopen, "reopen a study from its CSV", Some(("f", "reopen CSV"))),
     b(Ctx::Studies, &[K::Ch('+'), K::Ch('=')], "+", A::StudyMore, "suite: one record pair more", None),
     b(Ctx::Studies, &[K::Ch('-')], "-", A::StudyFewer, "suite: one record pair fewer", None),
+    // the results pages of the studies view
+    b(Ctx::Studies, &[K::Code(KC::Down), K::Ch('j')], "Down/j", A::ResultDown, "next contact, mode or record", Some(("j/k", "select"))),
+    b(Ctx::Studies, &[K::Code(KC::Up), K::Ch('k')], "Up/k", A::ResultUp, "previous contact, mode or record", None),
+    b(Ctx::Studies, &[K::Ch('g')], "g", A::ResultGrid, "work-precision: chart / stability grid", None),
     // everywhere
     b(Ctx::Global, &[K::Ch('q'), K::Ctrl('c')], "q", A::Quit, "quit (asks if edits unsaved)", Some(("q", "quit"))),
     b(Ctx::Global, &[K::Ch('?')], "?", A::Help, "this help", Some(("?", "help"))),

@@ -1,9 +1,11 @@
 //! Messages into [`super::update`] and the effects it returns.
 
 use super::keymap::Action;
+use super::results::{ModesData, RecordsData, ResultSpec};
 use super::run_data::{RunData, RunFailure};
 use super::study::StudySpec;
 use crate::output::{EventRecord, RunOutput, Sample};
+use crate::precision::Point;
 use crate::scene::Scene;
 use crate::studies::Row;
 use crate::study_table::StudyTable;
@@ -24,6 +26,21 @@ pub enum RunOutcome {
 pub enum StudyOutcome {
     Finished(Box<StudyTable>),
     Cancelled(Box<StudyTable>),
+    Failed(String),
+}
+
+/// What a results computation gives ([`super::results_worker`]).
+#[derive(Debug)]
+pub enum ResultData {
+    Modes(Box<ModesData>),
+    Records(Box<RecordsData>),
+}
+
+/// How a results computation ended.
+#[derive(Debug)]
+pub enum ResultOutcome {
+    Done(ResultData),
+    Cancelled,
     Failed(String),
 }
 
@@ -82,6 +99,23 @@ pub enum Msg {
         path: PathBuf,
         result: Result<Box<StudyTable>, String>,
     },
+    // -- the results pages and the work-precision study
+    /// Point `index` of work-precision study `id` is final.
+    StudyPoint {
+        id: u64,
+        index: usize,
+        point: Box<Point>,
+    },
+    /// Results computation `id` has done `done` of `all` steps.
+    ResultProgress {
+        id: u64,
+        done: usize,
+        all: usize,
+    },
+    ResultDone {
+        id: u64,
+        outcome: ResultOutcome,
+    },
 }
 
 /// Output of [`super::update`], executed by [`super::effects::perform`].
@@ -134,6 +168,15 @@ pub enum Effect {
     /// Read a study's CSV.
     LoadStudy {
         path: PathBuf,
+    },
+    // -- the results pages
+    /// Compute a results page's data in a worker ([`super::results_worker`]).
+    StartResult {
+        id: u64,
+        spec: Box<ResultSpec>,
+    },
+    CancelResult {
+        id: u64,
     },
     Quit,
 }

@@ -9,7 +9,7 @@ use super::msg::Msg;
 use super::study::StudySpec;
 use super::ui;
 use super::update::update;
-use super::{signals, study_worker, watch, worker};
+use super::{results_worker, signals, study_worker, watch, worker};
 use crate::scene::Scene;
 use crossterm::event::{self, Event};
 use crossterm::execute;
@@ -113,6 +113,8 @@ struct Threads {
     runs: HashMap<u64, worker::RunHandle>,
     studies: HashMap<u64, study_worker::StudyHandle>,
     timing: Timing,
+    /// The results pages' computations.
+    results: HashMap<u64, results_worker::ResultHandle>,
 }
 
 impl Host for Threads {
@@ -151,6 +153,17 @@ impl Host for Threads {
     fn log(&mut self, label: &str) {
         self.timing.log(label);
     }
+    fn start_result(&mut self, id: u64, spec: super::results::ResultSpec) -> Vec<Msg> {
+        self.results.retain(|_, h| h.id + 8 > id);
+        let h = results_worker::spawn(id, spec, self.tx.clone());
+        self.results.insert(id, h);
+        Vec::new()
+    }
+    fn cancel_result(&mut self, id: u64) {
+        if let Some(h) = self.results.get(&id) {
+            h.cancel();
+        }
+    }
 }
 
 impl Threads {
@@ -159,6 +172,9 @@ impl Threads {
             h.cancel();
         }
         for h in self.studies.values() {
+            h.cancel();
+        }
+        for h in self.results.values() {
             h.cancel();
         }
     }
@@ -217,6 +233,7 @@ pub fn run(model: &Path) -> Result<(), Box<dyn std::error::Error>> {
         runs: HashMap::new(),
         studies: HashMap::new(),
         timing,
+        results: HashMap::new(),
     };
     let fx = app.start();
     perform(&mut app, &mut host, fx);

@@ -5,6 +5,7 @@
 mod edit;
 mod file;
 mod reconcile;
+mod results;
 mod run;
 mod study;
 mod view;
@@ -14,6 +15,12 @@ use crate::tui::keymap::{self, Action};
 use crate::tui::msg::{Effect, Msg};
 use crossterm::event::{KeyCode, KeyEvent, KeyEventKind, KeyModifiers};
 use std::path::PathBuf;
+
+/// The index of the entry shown in the studies view's list (the studies, then the results
+/// pages).
+pub fn list_index(app: &App) -> usize {
+    results::index(app)
+}
 
 /// Handles one message.
 pub fn update(app: &mut App, msg: Msg) -> Vec<Effect> {
@@ -54,6 +61,9 @@ pub fn update(app: &mut App, msg: Msg) -> Vec<Effect> {
         Msg::StudyWritten { id, result } => study::on_written(app, id, result),
         Msg::StudyFiles(r) => study::on_files(app, r),
         Msg::StudyLoaded { path, result } => study::on_loaded(app, path, result),
+        Msg::StudyPoint { id, index, point } => results::on_point(app, id, index, *point),
+        Msg::ResultProgress { id, done, all } => results::on_progress(app, id, done, all),
+        Msg::ResultDone { id, outcome } => results::on_done(app, id, outcome),
         // the runtime ends the loop on it (see `signals`)
         Msg::Signal(_) => Vec::new(),
     }
@@ -153,6 +163,7 @@ fn on_action(app: &mut App, a: Action) -> Vec<Effect> {
         | A::PickDown
         | A::PickLoad
         | A::PickClose => study::study_action(app, a),
+        A::ResultUp | A::ResultDown | A::ResultGrid => results::action(app, a),
     }
 }
 
@@ -183,6 +194,9 @@ fn quit(app: &mut App) -> Vec<Effect> {
     }
     if let Some((_, e)) = app.studies.running() {
         fx.push(Effect::CancelStudy { id: e.id });
+    }
+    if let Some(id) = app.results.running_id() {
+        fx.push(Effect::CancelResult { id });
     }
     fx.push(Effect::Quit);
     fx
