@@ -40,6 +40,7 @@ pub mod model;
 pub mod output;
 pub mod plot;
 pub mod precision;
+pub mod precision_study;
 pub mod progress;
 pub mod run;
 pub mod scene;

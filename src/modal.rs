@@ -102,6 +102,42 @@ pub fn modes(scene: &Scene) -> Vec<Mode> {
     out
 }
 
+/// The DOF name endings of the three directions of [`participation`].
+pub const DIRECTIONS: [&str; 3] = [".x", ".y", ".theta"];
+
+/// Participating mass ratios of each mode along x, y and θ: (φᵀMr)² / (φᵀMφ · rᵀMr), with r
+/// 1 on every DOF whose name ends as [`DIRECTIONS`] says (all bodies translating together;
+/// for θ each body turning about its own centre) and 0 elsewhere. Over all modes each
+/// direction sums to 1; 0 for a direction without DOFs.
+pub fn participation(scene: &Scene, modes: &[Mode]) -> Vec<[f64; 3]> {
+    let r: Vec<Vec<bool>> = (DIRECTIONS.iter())
+        .map(|d| scene.dof_names.iter().map(|n| n.ends_with(d)).collect())
+        .collect();
+    modes
+        .iter()
+        .map(|m| {
+            let mut out = [0.0; 3];
+            for (k, rk) in r.iter().enumerate() {
+                let (mut l, mut mr, mut mm) = (0.0, 0.0, 0.0);
+                for (i, &on) in rk.iter().enumerate() {
+                    let (mi, phi) = (scene.mass[i], m.shape[i]);
+                    mm += mi * phi * phi;
+                    if on {
+                        l += mi * phi;
+                        mr += mi;
+                    }
+                }
+                out[k] = if mr > 0.0 && mm > 0.0 {
+                    l * l / (mm * mr)
+                } else {
+                    0.0
+                };
+            }
+            out
+        })
+        .collect()
+}
+
 /// Rayleigh damping C = a₀M + a₁K₀ with ζ at modes i, j (Chopra, *Dynamics of Structures*
 /// §11.4): a₀ = 2ζωᵢωⱼ/(ωᵢ+ωⱼ), a₁ = 2ζ/(ωᵢ+ωⱼ). The a₁K₀ part acts on element deformation
 /// rates, the a₀M part on velocities relative to the quasi-static motion of the supports, so

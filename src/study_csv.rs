@@ -9,6 +9,8 @@
 //! μ study's runs without contact), `status` is `ok`, `not run` (the study was cancelled
 //! first) or the reason the run failed.
 //!
+//! Work–precision, one line per planned point: see [`crate::precision_study`].
+//!
 //! The screening, one line per item:
 //! `item,name,l_over_b,skew_deg,mu,restitution,outcome,acute_sticks,obtuse_sticks,stick_mu,spin,note`
 //! — `item` is `cell` (a map cell: its flush outcome, which corners stick alone, `spin` the
@@ -18,6 +20,7 @@
 
 use crate::design::screen::{CornerAlone, Flush, MapCell, ModelEnd, ScreenStudy};
 use crate::output::number::Numbers;
+use crate::precision_study;
 use crate::study_table::{PointStatus, RunTable, StudyKind, StudyRun, StudyTable};
 use std::path::{Path, PathBuf};
 
@@ -74,6 +77,7 @@ pub fn to_csv(table: &StudyTable) -> String {
     let result = match table {
         StudyTable::Runs(t) => write_runs(&mut w, t, &mut num),
         StudyTable::Screen(s) => write_screen(&mut w, s, &mut num),
+        StudyTable::Precision(t) => precision_study::write_rows(&mut w, t, &mut num),
     };
     // writing to memory fails only on a bug of the csv crate: keep what was written
     let _ = result;
@@ -248,13 +252,20 @@ pub fn read_csv(text: &str, path: &Path) -> Result<StudyTable, StudyCsvError> {
         widths(SCREEN_HEADER.len())?;
         return screen_rows(body).map_err(|(line, e)| bad(line, e));
     }
+    if head == precision_study::HEADER {
+        widths(precision_study::HEADER.len())?;
+        return (precision_study::read_rows(body))
+            .map(StudyTable::Precision)
+            .map_err(|(line, e)| bad(line, e));
+    }
     Err(bad(
         1,
         format!(
-            "not a study's CSV: the header is `{}`, expected `{}` or `{}`",
+            "not a study's CSV: the header is `{}`, expected `{}`, `{}` or `{}`",
             head.join(","),
             RUN_HEADER.join(","),
-            SCREEN_HEADER.join(",")
+            SCREEN_HEADER.join(","),
+            precision_study::HEADER.join(",")
         ),
     ))
 }

@@ -5,6 +5,7 @@
 //! ([`ScreenStudy`]). [`run_study`] runs one, watched by a [`Watch`].
 
 use crate::design::screen::{ScreenStudy, screen_study};
+use crate::precision_study::{PrecisionTable, run_precision};
 use crate::studies::{Row, RunFailure, Study, Watch, increase_vs_mu, rotation_vs_pga, run_pgas};
 use crate::suite::intensity::MeasureSpec;
 use crate::suite::records::{SuitePair, suite_pairs};
@@ -25,15 +26,19 @@ pub enum StudyKind {
     Suite,
     /// The screening by the impact law: the L/B × skew maps, the model's ends and corners.
     Screen,
+    /// Work–precision and stability: every method over its quick knobs against the
+    /// event-driven reference ([`crate::precision_study`]).
+    Precision,
 }
 
 impl StudyKind {
     /// Every study, in the order the workbench lists them.
-    pub const ALL: [StudyKind; 4] = [
+    pub const ALL: [StudyKind; 5] = [
         StudyKind::Pga,
         StudyKind::Mu,
         StudyKind::Screen,
         StudyKind::Suite,
+        StudyKind::Precision,
     ];
 
     /// The name of its CSV files (`pga-3.csv`) and the value of their `study` column.
@@ -43,6 +48,7 @@ impl StudyKind {
             StudyKind::Mu => "mu",
             StudyKind::Suite => "suite",
             StudyKind::Screen => "screen",
+            StudyKind::Precision => "precision",
         }
     }
 }
@@ -314,6 +320,7 @@ impl RunTable {
 pub enum StudyTable {
     Runs(RunTable),
     Screen(Box<ScreenStudy>),
+    Precision(PrecisionTable),
 }
 
 impl StudyTable {
@@ -321,6 +328,7 @@ impl StudyTable {
         match self {
             StudyTable::Runs(t) => t.kind,
             StudyTable::Screen(_) => StudyKind::Screen,
+            StudyTable::Precision(_) => StudyKind::Precision,
         }
     }
 
@@ -329,6 +337,7 @@ impl StudyTable {
         match self {
             StudyTable::Runs(t) => (t.done(), t.runs.len()),
             StudyTable::Screen(_) => (1, 1),
+            StudyTable::Precision(t) => t.progress(),
         }
     }
 }
@@ -368,6 +377,7 @@ pub fn run_study(
             let scene = study.scene(&[]).map_err(|e| e.to_string())?;
             StudyTable::Screen(Box::new(screen_study(&scene)))
         }
+        StudyKind::Precision => StudyTable::Precision(run_precision(study, progress, &|_, _| {})?),
     })
 }
 

@@ -1408,7 +1408,8 @@ fn without_colour_each_series_has_its_own_mark_and_legend() {
             let name = &bridge_run().contact_names[k];
             let short: String = name.split('_').filter_map(|p| p.chars().next()).collect();
             let named = legend.contains(&format!("{tag}{name}"))
-                || legend.contains(&format!("{tag}{short} "));
+                || legend.contains(&format!("{tag}{short} "))
+                || legend.contains(&format!("{tag}{short}"));
             assert!(named, "{tag} names neither {name} nor {short}: {legend}");
         }
         // (right_top's gap and right_bottom's nearly coincide: the one drawn last shows)
@@ -1417,8 +1418,9 @@ fn without_colour_each_series_has_its_own_mark_and_legend() {
             .filter(|m| body.contains(**m))
             .count();
         assert!(drawn >= 3, "{drawn} marks drawn in the gap chart:\n{s}");
-        assert!(legend.contains("[:]prev") && body.contains(':'), "{legend}");
-        let xy = chart_rows(&s, "deck.x / deck.y [m]", left);
+        // the overlaid baseline #1 by its mark, named where its values fit (the θ chart)
+        assert!(s.contains("[:]#1") && body.contains(':'), "{legend}\n{s}");
+        let xy = chart_rows(&s, "deck.x / deck.y [", left);
         assert!(
             xy[0].contains("[.]deck.x") && xy[0].contains("[+]deck.y"),
             "{}",
@@ -2409,8 +2411,8 @@ fn final_table(msgs: Vec<Msg>) -> StudyTable {
 
 /// The PGA, μ (μ 0, 0.3, 0.6), screening and suite (2 pairs at 0.2 and 0.4 g) studies of
 /// the short bridge, computed once.
-fn study_tables() -> &'static [StudyTable; 4] {
-    static T: OnceLock<[StudyTable; 4]> = OnceLock::new();
+fn study_tables() -> &'static [StudyTable; 5] {
+    static T: OnceLock<[StudyTable; 5]> = OnceLock::new();
     T.get_or_init(|| {
         StudyKind::ALL.map(|k| {
             let mut app = bridge_app();
@@ -2474,12 +2476,20 @@ fn the_studies_view_is_the_third_view() {
         s.contains("Fig. 7: peak |θ| vs PGA · model: four-span.toml as saved"),
         "{s}"
     );
-    // h/l move through the list, round
-    for (k, want) in [('l', 1), ('l', 2), ('l', 3), ('l', 0), ('h', 3), ('h', 2)] {
+    // h/l move through the list of studies, then on to the results pages and round
+    for (k, want) in [('l', 1), ('l', 2), ('l', 3), ('l', 4), ('h', 3), ('h', 2)] {
         update(&mut app, key(k));
         assert_eq!(app.studies.selected, want);
+        assert_eq!(app.results.page, None);
     }
     assert_eq!(app.studies.kind(), StudyKind::Screen);
+    app.studies.selected = 0;
+    update(&mut app, key('h'));
+    assert_eq!(app.results.page, Some(tui::results::Page::Records));
+    update(&mut app, key('l'));
+    assert_eq!((app.results.page, app.studies.selected), (None, 0));
+    update(&mut app, key('l'));
+    update(&mut app, key('l'));
     // the help puts the studies keys after those of everywhere
     act(&mut app, Action::Help);
     let s = screen(&render(&mut app, 80, 24));

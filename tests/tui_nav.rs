@@ -556,7 +556,7 @@ fn the_readouts_give_every_series_and_contact_at_the_cursor() {
         head.contains(&format!("━deck.theta {now}")) || head.contains(&format!("━{now}")),
         "{head}"
     );
-    assert!(head.contains(&format!("┈prev {before}")), "{head}");
+    assert!(head.contains(&format!("┈#1 {before}")), "{head}");
     // every gap, by name
     let head = lines.iter().find(|l| l.starts_with("gaps g_N")).unwrap();
     for n in &run.contact_names {

@@ -4,6 +4,7 @@
 use super::form::{self, Form};
 use super::keymap::{self, Ctx};
 pub use super::merge::Conflict;
+use super::results::Results;
 use super::run_data::RunData;
 use super::run_list::Runs;
 use super::study::Studies;
@@ -189,6 +190,8 @@ pub struct App {
     // any terminal
     /// First line of the help shown (the help scrolls when taller than the screen).
     pub help_scroll: usize,
+    /// The results pages of the studies view (energy, contacts, modes, records).
+    pub results: Results,
 }
 
 impl App {
@@ -230,6 +233,7 @@ impl App {
             events_open: false,
             event_sel: None,
             help_scroll: 0,
+            results: Results::default(),
         };
         match form::validate(text, path) {
             Ok(scene) => {

@@ -4,6 +4,8 @@
 use super::app::App;
 use super::export;
 use super::msg::{Effect, Msg};
+use super::results::ResultSpec;
+use super::results_worker;
 use super::study::StudySpec;
 use super::update::update;
 use super::{run_store, study_files, study_worker, worker};
@@ -63,6 +65,12 @@ pub trait Host {
     /// Starts study `id`; returns the messages available now (as [`Host::start_run`]).
     fn start_study(&mut self, id: u64, spec: StudySpec) -> Vec<Msg>;
     fn cancel_study(&mut self, id: u64);
+    /// Starts results computation `id`; returns the messages available now (by default it
+    /// runs to its end here).
+    fn start_result(&mut self, id: u64, spec: ResultSpec) -> Vec<Msg> {
+        results_worker::run_blocking(id, &spec)
+    }
+    fn cancel_result(&mut self, _id: u64) {}
     /// Runs a slow job (export formatting); returns its message now or sends it later.
     fn background(&mut self, job: Job) -> Vec<Msg>;
     /// Runs a job after the jobs given to it before (the run list's files); by default at
@@ -143,6 +151,11 @@ fn execute(app: &mut App, host: &mut impl Host, e: Effect) -> Vec<Msg> {
         Effect::StoreRuns { dir, jobs, remove } => host.in_order(Box::new(move || {
             Msg::RunsStored(run_store::store(&dir, &jobs, &remove))
         })),
+        Effect::StartResult { id, spec } => host.start_result(id, *spec),
+        Effect::CancelResult { id } => {
+            host.cancel_result(id);
+            Vec::new()
+        }
         Effect::Quit => {
             app.quit = true;
             Vec::new()

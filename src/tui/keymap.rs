@@ -91,6 +91,12 @@ pub enum Action {
     HelpBottom,
     /// Ctrl-Z: give the terminal back to the shell until `fg`.
     Suspend,
+    // the results pages of the studies view
+    /// The previous / next contact, mode or record component.
+    ResultUp,
+    ResultDown,
+    /// Work-precision: the chart or the stability grid.
+    ResultGrid,
 }
 
 /// Where a binding applies. Lookup order: the mode's own context first, then the view, then
@@ -251,8 +257,8 @@ pub const KEYMAP: &[Binding] = &[
     b(Ctx::Form, &[K::Ch('+')], "+", A::ItemDuplicate, "copy frame/bent/run; add key", None),
     b(Ctx::Form, &[K::Ch('-')], "-", A::ItemRemove, "remove frame, bent, run, key", None),
     // studies view
-    b(Ctx::Studies, &[K::Code(KC::Left), K::Ch('h')], "Left/h", A::StudyPrev, "previous study", None),
-    b(Ctx::Studies, &[K::Code(KC::Right), K::Ch('l')], "Right/l", A::StudyNext, "next study", Some(("h/l", "study"))),
+    b(Ctx::Studies, &[K::Code(KC::Left), K::Ch('h')], "Left/h", A::StudyPrev, "previous study or results page", None),
+    b(Ctx::Studies, &[K::Code(KC::Right), K::Ch('l')], "Right/l", A::StudyNext, "next study or results page", Some(("h/l", "study"))),
     b(Ctx::Studies, &[K::Code(KC::Enter)], "Enter", A::StudyRun, "run the study (form's model)", Some(("Enter", "run study"))),
     b(Ctx::Studies, &[K::Code(KC::Esc)], "Esc", A::StudyCancel, "cancel the running study", Some(("Esc", "cancel study"))),
     b(Ctx::Studies, &[K::Ch('f')], "f", A::StudyReopen, "reopen a study from its CSV", Some(("f", "reopen CSV"))),
@@ -270,6 +276,10 @@ pub const KEYMAP: &[Binding] = &[
     b(Ctx::Naming, &[K::Code(KC::Esc)], "Esc", A::NameCancel, "leave the name as it was", Some(("Esc", "cancel"))),
     b(Ctx::Naming, &[K::Code(KC::Backspace)], "Bksp", A::NameBackspace, "delete a character", Some(("Bksp", "delete"))),
     b(Ctx::Naming, &[K::Ctrl('u')], "^U", A::NameClear, "clear the name", Some(("^U", "clear"))),
+    // the results pages of the studies view
+    b(Ctx::Studies, &[K::Code(KC::Down), K::Ch('j')], "Down/j", A::ResultDown, "next contact, mode, record", Some(("j/k", "select"))),
+    b(Ctx::Studies, &[K::Code(KC::Up), K::Ch('k')], "Up/k", A::ResultUp, "previous one", None),
+    b(Ctx::Studies, &[K::Ch('g')], "g", A::ResultGrid, "precision: chart or grid", None),
     // everywhere
     b(Ctx::Global, &[K::Ch('q'), K::Ctrl('c')], "q", A::Quit, "quit (asks if edits unsaved)", Some(("q", "quit"))),
     b(Ctx::Global, &[K::Ch('?')], "?", A::Help, "this help", Some(("?", "help"))),

@@ -1,10 +1,12 @@
 //! Messages into [`super::update`] and the effects it returns.
 
 use super::keymap::Action;
+use super::results::{ModesData, RecordsData, ResultSpec};
 use super::run_data::{RunData, RunFailure};
 use super::run_store;
 use super::study::StudySpec;
 use crate::output::{EventRecord, RunOutput, Sample};
+use crate::precision::Point;
 use crate::scene::Scene;
 use crate::studies::Row;
 use crate::study_table::StudyTable;
@@ -25,6 +27,21 @@ pub enum RunOutcome {
 pub enum StudyOutcome {
     Finished(Box<StudyTable>),
     Cancelled(Box<StudyTable>),
+    Failed(String),
+}
+
+/// What a results computation gives ([`super::results_worker`]).
+#[derive(Debug)]
+pub enum ResultData {
+    Modes(Box<ModesData>),
+    Records(Box<RecordsData>),
+}
+
+/// How a results computation ended.
+#[derive(Debug)]
+pub enum ResultOutcome {
+    Done(ResultData),
+    Cancelled,
     Failed(String),
 }
 
@@ -85,6 +102,23 @@ pub enum Msg {
     },
     /// Result of [`Effect::StoreRuns`].
     RunsStored(Result<(), String>),
+    // -- the results pages and the work-precision study
+    /// Point `index` of work-precision study `id` is final.
+    StudyPoint {
+        id: u64,
+        index: usize,
+        point: Box<Point>,
+    },
+    /// Results computation `id` has done `done` of `all` steps.
+    ResultProgress {
+        id: u64,
+        done: usize,
+        all: usize,
+    },
+    ResultDone {
+        id: u64,
+        outcome: ResultOutcome,
+    },
 }
 
 /// Output of [`super::update`], executed by [`super::effects::perform`].
@@ -144,6 +178,15 @@ pub enum Effect {
         dir: PathBuf,
         jobs: Vec<run_store::Job>,
         remove: Vec<u64>,
+    },
+    // -- the results pages
+    /// Compute a results page's data in a worker ([`super::results_worker`]).
+    StartResult {
+        id: u64,
+        spec: Box<ResultSpec>,
+    },
+    CancelResult {
+        id: u64,
     },
     Quit,
     /// Ctrl-Z: restore the terminal, stop the process (SIGTSTP) and, once continued, take

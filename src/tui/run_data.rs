@@ -1,6 +1,7 @@
 //! The charted history of one run, in columns, with the engine's running summary
 //! ([`Tally`]) of its samples.
 
+use super::run_results::RunResults;
 use crate::output::{ContactState, EventKind, EventRecord, RunOutput, Sample, Summary, Tally};
 use crate::run::SolverError;
 use crate::scene::Scene;
@@ -67,6 +68,8 @@ pub struct RunData {
     /// Index of the charted rotation DOF and of the x/y DOFs.
     pub rot: Option<usize>,
     pub xy: Vec<usize>,
+    /// The energy ledger and the contact forces (the results pages).
+    pub results: RunResults,
 }
 
 /// The rotation to chart: `deck.theta`, else that of the first body free in x, y and θ (a
@@ -142,6 +145,7 @@ impl RunData {
             steps: None,
             rot,
             xy,
+            results: RunResults::new(nc),
         }
     }
 
@@ -160,6 +164,7 @@ impl RunData {
     pub fn push(&mut self, samples: &[Sample], events: &[EventRecord], t: f64) {
         for s in samples {
             self.tally.add(&s.view());
+            self.results.push(s);
             self.t.push(s.t);
             for (k, col) in self.q.iter_mut().enumerate() {
                 col.push(s.q.get(k).copied().unwrap_or(f64::NAN));

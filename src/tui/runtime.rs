@@ -11,7 +11,7 @@ use super::study::StudySpec;
 use super::term::{ColorDepth, SgrFilter};
 use super::ui;
 use super::update::update;
-use super::{signals, study_worker, watch, worker};
+use super::{results_worker, signals, study_worker, watch, worker};
 use crate::scene::Scene;
 use crossterm::event::{self, Event};
 use crossterm::execute;
@@ -148,6 +148,8 @@ struct Threads {
     writer: Option<(Sender<Job>, std::thread::JoinHandle<()>)>,
     /// Ctrl-Z asked for a suspension (done by the loop, which holds the terminal).
     suspend: bool,
+    /// The results pages' computations.
+    results: HashMap<u64, results_worker::ResultHandle>,
 }
 
 impl Host for Threads {
@@ -213,6 +215,17 @@ impl Host for Threads {
     fn suspend(&mut self) {
         self.suspend = true;
     }
+    fn start_result(&mut self, id: u64, spec: super::results::ResultSpec) -> Vec<Msg> {
+        self.results.retain(|_, h| h.id + 8 > id);
+        let h = results_worker::spawn(id, spec, self.tx.clone());
+        self.results.insert(id, h);
+        Vec::new()
+    }
+    fn cancel_result(&mut self, id: u64) {
+        if let Some(h) = self.results.get(&id) {
+            h.cancel();
+        }
+    }
 }
 
 impl Threads {
@@ -229,6 +242,9 @@ impl Threads {
             h.cancel();
         }
         for h in self.studies.values() {
+            h.cancel();
+        }
+        for h in self.results.values() {
             h.cancel();
         }
     }
@@ -290,6 +306,7 @@ pub fn run(model: &Path) -> Result<(), Box<dyn std::error::Error>> {
         timing,
         writer: None,
         suspend: false,
+        results: HashMap::new(),
     };
     let fx = app.start();
     perform(&mut app, &mut host, fx);

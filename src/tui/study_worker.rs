@@ -7,9 +7,10 @@
 use super::msg::{Msg, StudyOutcome};
 use super::study::StudySpec;
 use super::worker::{THREAD_PREFIX, panic_text};
+use crate::precision_study::run_precision;
 use crate::progress::Progress;
 use crate::studies::{Row, Study, Watch};
-use crate::study_table::run_study;
+use crate::study_table::{StudyKind, StudyTable, run_study};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::Sender;
 use std::sync::{Arc, Mutex};
@@ -58,7 +59,17 @@ pub fn run(id: u64, spec: &StudySpec, cancel: &AtomicBool, send: &(dyn Fn(Msg) +
         let study =
             Study::from_text(&spec.text, &spec.path, &spec.overrides).map_err(|e| e.to_string())?;
         let watch = Watcher { id, cancel, send };
-        let go = || run_study(spec.kind, &study, &spec.mus, &spec.suite, &watch);
+        let point = |index: usize, p: &crate::precision::Point| {
+            let point = Box::new(p.clone());
+            send(Msg::StudyPoint { id, index, point })
+        };
+        let go = || match spec.kind {
+            // one point at a time, each to the view as it is final (its CPU time alone)
+            StudyKind::Precision => {
+                run_precision(&study, &watch, &point).map(StudyTable::Precision)
+            }
+            _ => run_study(spec.kind, &study, &spec.mus, &spec.suite, &watch),
+        };
         let pool = rayon::ThreadPoolBuilder::new()
             .thread_name(move |i| format!("{THREAD_PREFIX}-study{id}-{i}"))
             .build();

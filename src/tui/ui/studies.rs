@@ -9,6 +9,7 @@ use super::xy_plot::{Plot, Series, draw_plot};
 use crate::study_table::{RunTable, StudyKind, StudyTable};
 use crate::tui::app::{App, StatusKind};
 use crate::tui::chart::bounds;
+use crate::tui::results::Page;
 use crate::tui::study::{Entry, Phase, Source, title, what};
 use ratatui::Frame;
 use ratatui::layout::{Constraint, Layout, Rect};
@@ -25,6 +26,9 @@ pub(super) fn draw_studies(frame: &mut Frame, area: Rect, app: &App, th: &Theme)
     ])
     .areas(area);
     draw_tabs(frame, tabs, app, th);
+    if let Some(page) = app.results.page {
+        return super::results::draw_page(frame, line, panel, app, page, th);
+    }
     let kind = app.studies.kind();
     let entry = app.studies.entry(kind);
     let mut items: Vec<String> = info(entry, th)
@@ -52,7 +56,7 @@ pub(super) fn draw_studies(frame: &mut Frame, area: Rect, app: &App, th: &Theme)
     } else {
         format!("model: {} as saved", app.file_name())
     };
-    draw_panel(frame, panel, kind, entry, &next, th);
+    draw_panel(frame, panel, kind, entry, &next, app.results.grid, th);
 }
 
 /// A study's state in a word or two.
@@ -72,17 +76,16 @@ fn state(e: Option<&Entry>) -> String {
     }
 }
 
-/// The list of studies; the selected one always shown, others while they fit.
+/// The list of studies and results pages; the selected one always shown, others while they
+/// fit.
 fn draw_tabs(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
-    let sel = app.studies.selected;
-    let items: Vec<String> = (StudyKind::ALL.iter().enumerate())
-        .map(|(i, k)| {
+    let sel = crate::tui::update::list_index(app);
+    let studies = (StudyKind::ALL.iter()).map(|k| (title(*k), state(app.studies.entry(*k))));
+    let pages = (Page::ALL.iter()).map(|p| (p.title(), super::results::state(app, *p)));
+    let items: Vec<String> = (studies.chain(pages).enumerate())
+        .map(|(i, (name, state))| {
             let mark = if i == sel { '>' } else { ' ' };
-            th.text(&format!(
-                "{mark}{}: {} ",
-                title(*k),
-                state(app.studies.entry(*k))
-            ))
+            th.text(&format!("{mark}{name}: {state} "))
         })
         .collect();
     let mut room = area.width as usize - items[sel].chars().count().min(area.width as usize);
@@ -159,6 +162,7 @@ fn panel_title(kind: StudyKind, e: Option<&Entry>, next: &str) -> Vec<String> {
         StudyKind::Mu => "Fig. 8: increase of peak |θ| vs μ",
         StudyKind::Suite => "record suite: peak |θ| vs PGA",
         StudyKind::Screen => "screening by the impact law",
+        StudyKind::Precision => "work-precision and stability",
     };
     let source = match e.map(|e| &e.source) {
         None => next.to_string(),
@@ -184,6 +188,7 @@ fn draw_panel(
     kind: StudyKind,
     e: Option<&Entry>,
     next: &str,
+    grid: bool,
     th: &Theme,
 ) {
     let items: Vec<String> = (panel_title(kind, e, next).iter())
@@ -209,6 +214,9 @@ fn draw_panel(
         }
         (Some(StudyTable::Runs(t)), _) if t.done() > 0 => draw_figure(frame, inner, t, th),
         (Some(StudyTable::Screen(s)), _) => draw_screen(frame, inner, s, th),
+        (Some(StudyTable::Precision(t)), _) if t.progress().0 > 0 => {
+            super::precision::draw_precision(frame, inner, t, grid, th)
+        }
         (_, Some(Phase::Running | Phase::Cancelling)) => {
             let t = match kind {
                 StudyKind::Screen => th.text("computing the screening…"),

@@ -370,12 +370,17 @@ fn chart_header(
             format!(" {glyph}")
         }
     };
-    // names: 2 whole, 1 their initials (left_top: lt), 0 none
+    // names: 2 whole, 1 their initials (left_top: lt), 0 none, 3 the initials alone
     let item = |(k, s): (usize, &&Series), names: u8| -> Vec<Span<'static>> {
         let mut v = vec![Span::styled(sample(k), s.style)];
         match names {
             2 => v.push(Span::raw(format!("{} ", s.name))),
             1 => v.push(Span::raw(format!("{} ", initials(&s.name)))),
+            // without colour a series needs its name more than its value
+            3 => {
+                v.push(Span::raw(initials(&s.name)));
+                return v;
+            }
             _ => {}
         }
         v.push(Span::styled(value(s), th.cursor()));
@@ -429,6 +434,9 @@ fn chart_header(
             items(1, true),
             items(1, false),
         ]);
+        if th.marks() {
+            variants.extend([items(3, true), items(3, false)]);
+        }
     }
     variants.extend([items(0, true), items(0, false)]);
     let chosen = variants.iter().find(|v| total(v) <= room).cloned();

@@ -5,6 +5,7 @@
 mod edit;
 mod file;
 mod reconcile;
+mod results;
 mod run;
 mod runs;
 mod study;
@@ -16,6 +17,12 @@ use crate::tui::keymap::{self, Action};
 use crate::tui::msg::{Effect, Msg};
 use crossterm::event::{KeyCode, KeyEvent, KeyEventKind, KeyModifiers};
 use std::path::PathBuf;
+
+/// The index of the entry shown in the studies view's list (the studies, then the results
+/// pages).
+pub fn list_index(app: &App) -> usize {
+    results::index(app)
+}
 
 /// Handles one message.
 pub fn update(app: &mut App, msg: Msg) -> Vec<Effect> {
@@ -57,6 +64,9 @@ pub fn update(app: &mut App, msg: Msg) -> Vec<Effect> {
         Msg::StudyFiles(r) => study::on_files(app, r),
         Msg::StudyLoaded { path, result } => study::on_loaded(app, path, result),
         Msg::RunsStored(r) => runs::on_stored(app, r),
+        Msg::StudyPoint { id, index, point } => results::on_point(app, id, index, *point),
+        Msg::ResultProgress { id, done, all } => results::on_progress(app, id, done, all),
+        Msg::ResultDone { id, outcome } => results::on_done(app, id, outcome),
         // the runtime ends the loop on it (see `signals`)
         Msg::Signal(_) => Vec::new(),
     }
@@ -204,6 +214,7 @@ fn on_action(app: &mut App, a: Action) -> Vec<Effect> {
             Vec::new()
         }
         A::Suspend => term::suspend(app),
+        A::ResultUp | A::ResultDown | A::ResultGrid => results::action(app, a),
     }
 }
 
@@ -234,6 +245,9 @@ fn quit(app: &mut App) -> Vec<Effect> {
     }
     if let Some((_, e)) = app.studies.running() {
         fx.push(Effect::CancelStudy { id: e.id });
+    }
+    if let Some(id) = app.results.running_id() {
+        fx.push(Effect::CancelResult { id });
     }
     fx.push(Effect::Quit);
     fx

@@ -14,11 +14,13 @@ const MAX_SUITE_PAIRS: usize = 50;
 
 /// The keys of the studies view and of the list of CSVs.
 pub(super) fn study_action(app: &mut App, a: Action) -> Vec<Effect> {
-    let n = StudyKind::ALL.len();
-    let s = &mut app.studies;
     match a {
-        Action::StudyPrev => s.selected = (s.selected + n - 1) % n,
-        Action::StudyNext => s.selected = (s.selected + 1) % n,
+        Action::StudyPrev | Action::StudyNext => {
+            return super::results::step(app, a == Action::StudyNext);
+        }
+        Action::StudyRun if app.results.page.is_some() => {
+            return super::results::action(app, a);
+        }
         Action::StudyRun => return start(app),
         Action::StudyMore | Action::StudyFewer => {
             let mut sub = app.studies.suite_for(&app.path);
@@ -35,9 +37,15 @@ pub(super) fn study_action(app: &mut App, a: Action) -> Vec<Effect> {
             );
             app.studies.suite = Some(sub);
             app.studies.selected = Studies::index_of(StudyKind::Suite);
+            app.results.page = None;
             app.set_status(StatusKind::Info, msg);
         }
-        Action::StudyCancel => return cancel(app),
+        Action::StudyCancel => {
+            if let Some(fx) = super::results::cancel(app) {
+                return fx;
+            }
+            return cancel(app);
+        }
         Action::StudyReopen => {
             let dirs = study_dirs(&app.path);
             let shown = dirs[0].display().to_string();
@@ -83,6 +91,7 @@ fn start(app: &mut App) -> Vec<Effect> {
     }
     let suite = app.studies.suite_for(&app.path);
     let table = match study::plan(kind, &app.draft, &app.studies.mus, &suite) {
+        Ok(None) if kind == StudyKind::Precision => super::results::precision_plan(app),
         Ok(t) => t.map(StudyTable::Runs),
         Err(e) => {
             app.set_status(StatusKind::Error, e);
@@ -170,6 +179,10 @@ fn counts(e: &Entry) -> String {
             format!("{} of {} runs{failed}", t.done(), t.runs.len())
         }
         Some(StudyTable::Screen(_)) => "done".into(),
+        Some(StudyTable::Precision(t)) => {
+            let (done, all) = t.progress();
+            format!("{done} of {all} points")
+        }
         None => "nothing".into(),
     }
 }
@@ -328,6 +341,7 @@ pub(super) fn on_loaded(
         }
     );
     app.studies.selected = Studies::index_of(kind);
+    app.results.page = None;
     app.studies.entries[app.studies.selected] = Some(entry);
     app.view = View::Studies;
     app.generation += 1;
