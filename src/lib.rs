@@ -52,9 +52,9 @@ pub mod study_csv;
 pub mod study_table;
 pub mod suite;
 pub mod timestepping;
-pub mod units;
 #[cfg(feature = "workbench")]
 pub mod tui;
+pub mod units;
 
 pub use event_driven::{FrictionFork, run};
 pub use model::{ModelError, load};

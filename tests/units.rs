@@ -97,7 +97,10 @@ fn the_bridge_in_kip_in_moves_as_in_si_kn() {
     assert!((t_us - t_si).abs() < 1e-6, "{t_us} vs {t_si}");
     let (x_si, _) = peak(&si, &path, "deck.x");
     let (x_us, _) = peak(&us, &path, "deck.x");
-    assert!((x_us / (x_si * IN_PER_M) - 1.0).abs() < 1e-8, "{x_us} in vs {x_si} m");
+    assert!(
+        (x_us / (x_si * IN_PER_M) - 1.0).abs() < 1e-8,
+        "{x_us} in vs {x_si} m"
+    );
 }
 
 #[test]
@@ -114,7 +117,9 @@ fn records_in_g_become_the_systems_acceleration() {
     };
     let (x, y) = (acc(&a), acc(&b));
     assert_eq!(x.len(), y.len());
-    let worst = (x.iter().zip(&y)).map(|(p, q)| (q - p * IN_PER_M).abs()).fold(0.0, f64::max);
+    let worst = (x.iter().zip(&y))
+        .map(|(p, q)| (q - p * IN_PER_M).abs())
+        .fold(0.0, f64::max);
     assert!(worst < 1e-9, "{worst}");
 }
 
@@ -124,5 +129,8 @@ fn an_unknown_unit_system_names_the_key_and_the_choices() {
     let si = std::fs::read_to_string(&path).unwrap();
     let e = model::load_str(&si, &path, &["units=\"cgs\"".into()]).unwrap_err();
     let s = e.to_string();
-    assert!(s.contains("units") && s.contains("SI-kN, SI, kip-in"), "{s}");
+    assert!(
+        s.contains("units") && s.contains("SI-kN, SI, kip-in"),
+        "{s}"
+    );
 }
