@@ -35,6 +35,8 @@ pub enum Confirm {
     SaveConflict { text: String },
     /// Quit with unsaved edits.
     Quit,
+    /// Open another model (chosen in the list of models) and lose the unsaved edits.
+    OpenModel { path: PathBuf },
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -49,6 +51,18 @@ pub enum Mode {
     Help,
     /// Choosing a study's CSV to reopen (the files found, newest first).
     Pick {
+        files: Vec<PathBuf>,
+        selected: usize,
+    },
+    // the form's search and the list of models
+    /// Typing a search in the form (`/`): the selection follows the first match; `from` is
+    /// where it was (Esc goes back there).
+    Search {
+        query: String,
+        from: form::Spot,
+    },
+    /// Choosing a model to open (the model files of the model's folder and its subfolders).
+    OpenModel {
         files: Vec<PathBuf>,
         selected: usize,
     },
@@ -163,6 +177,9 @@ pub struct App {
     pub generation: u64,
     /// The studies view: the last study of each kind, running or done.
     pub studies: Studies,
+    // the form and the model file
+    /// "save and quit" was answered: quit once the save is done.
+    pub quit_after_save: bool,
 }
 
 impl App {
@@ -200,6 +217,7 @@ impl App {
             watch_mode: String::new(),
             generation: 0,
             studies: Studies::default(),
+            quit_after_save: false,
         };
         match form::validate(text, path) {
             Ok(scene) => {
@@ -290,6 +308,9 @@ impl App {
             Mode::Normal => None,
             Mode::Editing { .. } => Some(Ctx::Edit),
             Mode::Confirm(Confirm::Merge { .. }) => Some(Ctx::Merge),
+            Mode::Confirm(Confirm::Quit) => Some(Ctx::Quit),
+            Mode::Search { .. } => Some(Ctx::Search),
+            Mode::OpenModel { .. } => Some(Ctx::OpenModel),
             Mode::Confirm(_) => Some(Ctx::Confirm),
             Mode::Help => Some(Ctx::Help),
             Mode::Pick { .. } => Some(Ctx::Pick),
@@ -306,20 +327,18 @@ impl App {
         }
     }
 
-    /// Rebuilds the form from the draft, keeping the selected field.
+    /// Rebuilds the form from the draft, keeping the selected field, the folded groups and
+    /// the last search.
     pub(crate) fn rebuild_form(&mut self) {
-        let sel = self.form.selected().map(|f| f.path.clone());
-        let old = self.form.selected;
+        let old = std::mem::take(&mut self.form);
         self.form = form::build(&self.draft, &self.text);
-        self.form.selected = sel
-            .and_then(|p| self.form.index_of(&p))
-            .unwrap_or(old.min(self.form.fields.len().saturating_sub(1)));
+        self.form.keep_from(&old);
     }
 
     /// Live check of an edit buffer: the engine's verdict on the model with this value.
     pub fn check_edit(&self, buffer: &str) -> Result<String, String> {
         let f = self.form.selected().ok_or("no field selected")?;
-        let text = form::set_value(&self.draft, &f.path, f.kind, buffer, &f.unit)?;
+        let text = form::set_value(&self.draft, &f.path, f.kind, buffer, f.dim)?;
         match form::validate(&text, &self.path) {
             Ok(_) => Ok(text),
             Err(e) => {

@@ -6,7 +6,7 @@ use super::export;
 use super::msg::{Effect, Msg};
 use super::study::StudySpec;
 use super::update::update;
-use super::{study_files, study_worker, worker};
+use super::{model_files, study_files, study_worker, worker};
 use crate::scene::Scene;
 use std::collections::VecDeque;
 use std::io::{self, Write};
@@ -67,6 +67,8 @@ pub trait Host {
     fn background(&mut self, job: Job) -> Vec<Msg>;
     /// A timing milestone.
     fn log(&mut self, _label: &str) {}
+    /// Watches `path` instead of the file watched so far (none without a terminal).
+    fn watch(&mut self, _path: &Path) {}
 }
 
 /// Executes effects; the messages they produce at once are fed back to [`update`] and their
@@ -132,6 +134,18 @@ fn execute(app: &mut App, host: &mut impl Host, e: Effect) -> Vec<Msg> {
             let result = study_files::load(&path);
             Msg::StudyLoaded { path, result }
         })),
+        Effect::ListModels { dir } => {
+            host.background(Box::new(move || Msg::ModelFiles(model_files::list(&dir))))
+        }
+        Effect::ReadModel { path } => {
+            let result = std::fs::read_to_string(&path)
+                .map_err(|e| format!("{}: cannot read: {e}", path.display()));
+            vec![Msg::ModelRead { path, result }]
+        }
+        Effect::Watch { path } => {
+            host.watch(&path);
+            Vec::new()
+        }
         Effect::Quit => {
             app.quit = true;
             Vec::new()

@@ -82,6 +82,14 @@ pub enum Msg {
         path: PathBuf,
         result: Result<Box<StudyTable>, String>,
     },
+    // another model
+    /// Result of [`Effect::ListModels`]: the model files found.
+    ModelFiles(Result<Vec<PathBuf>, String>),
+    /// Result of [`Effect::ReadModel`]: the model's text.
+    ModelRead {
+        path: PathBuf,
+        result: Result<String, String>,
+    },
 }
 
 /// Output of [`super::update`], executed by [`super::effects::perform`].
@@ -133,6 +141,19 @@ pub enum Effect {
     },
     /// Read a study's CSV.
     LoadStudy {
+        path: PathBuf,
+    },
+    // another model
+    /// List the model files of `dir` and its subfolders ([`super::model_files`]).
+    ListModels {
+        dir: PathBuf,
+    },
+    /// Read a model file to open it.
+    ReadModel {
+        path: PathBuf,
+    },
+    /// Watch `path` for changes from now on (the watcher of the model before it stops).
+    Watch {
         path: PathBuf,
     },
     Quit,

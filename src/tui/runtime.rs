@@ -113,6 +113,8 @@ struct Threads {
     runs: HashMap<u64, worker::RunHandle>,
     studies: HashMap<u64, study_worker::StudyHandle>,
     timing: Timing,
+    /// The model file's watcher (replaced when another model is opened).
+    watch: Option<watch::Watch>,
 }
 
 impl Host for Threads {
@@ -150,6 +152,11 @@ impl Host for Threads {
     }
     fn log(&mut self, label: &str) {
         self.timing.log(label);
+    }
+    fn watch(&mut self, path: &Path) {
+        // the watcher before stops when dropped
+        self.watch = None;
+        self.watch = Some(watch::spawn(path, self.tx.clone()));
     }
 }
 
@@ -211,13 +218,14 @@ pub fn run(model: &Path) -> Result<(), Box<dyn std::error::Error>> {
     let size = terminal.size()?;
     update(&mut app, Msg::Resize(size.width, size.height));
     spawn_input(tx.clone());
-    let _watch = watch::spawn(&app.path, tx.clone());
     let mut host = Threads {
         tx: tx.clone(),
         runs: HashMap::new(),
         studies: HashMap::new(),
         timing,
+        watch: None,
     };
+    host.watch(&app.path);
     let fx = app.start();
     perform(&mut app, &mut host, fx);
     let ended = event_loop(&mut terminal, &mut app, &mut host, &rx);

@@ -4,6 +4,8 @@
 
 mod edit;
 mod file;
+mod find;
+mod open;
 mod reconcile;
 mod run;
 mod study;
@@ -54,6 +56,8 @@ pub fn update(app: &mut App, msg: Msg) -> Vec<Effect> {
         Msg::StudyWritten { id, result } => study::on_written(app, id, result),
         Msg::StudyFiles(r) => study::on_files(app, r),
         Msg::StudyLoaded { path, result } => study::on_loaded(app, path, result),
+        Msg::ModelFiles(r) => open::on_files(app, r),
+        Msg::ModelRead { path, result } => open::on_read(app, path, result),
         // the runtime ends the loop on it (see `signals`)
         Msg::Signal(_) => Vec::new(),
     }
@@ -89,6 +93,12 @@ fn on_key(app: &mut App, ev: KeyEvent) -> Vec<Effect> {
     {
         buffer.push(c);
         edit::recheck(app);
+    }
+    if let Mode::Search { .. } = app.mode
+        && let KeyCode::Char(c) = ev.code
+        && !ev.modifiers.contains(KeyModifiers::CONTROL)
+    {
+        find::type_char(app, c);
     }
     Vec::new()
 }
@@ -153,6 +163,23 @@ fn on_action(app: &mut App, a: Action) -> Vec<Effect> {
         | A::PickDown
         | A::PickLoad
         | A::PickClose => study::study_action(app, a),
+        A::FieldFirst
+        | A::FieldLast
+        | A::SearchStart
+        | A::SearchNext
+        | A::SearchPrev
+        | A::SearchKeep
+        | A::SearchCancel
+        | A::SearchBackspace
+        | A::FoldToggle
+        | A::FoldAll => {
+            find::find_action(app, a);
+            Vec::new()
+        }
+        A::SaveQuit => file::save_and_quit(app),
+        A::OpenModel | A::ModelUp | A::ModelDown | A::ModelOpen | A::ModelClose => {
+            open::open_action(app, a)
+        }
     }
 }
 
@@ -167,7 +194,7 @@ fn ask_quit(app: &mut App) -> Vec<Effect> {
         app.mode = Mode::Confirm(Confirm::Quit);
         app.set_status(
             StatusKind::Warn,
-            "unsaved edits: quit anyway and lose them? (y/n)",
+            "unsaved edits: s saves and quits, y quits without saving, n stays",
         );
         Vec::new()
     } else {
@@ -176,16 +203,7 @@ fn ask_quit(app: &mut App) -> Vec<Effect> {
 }
 
 fn quit(app: &mut App) -> Vec<Effect> {
-    app.quit = true;
-    let mut fx = Vec::new();
-    if let Some(cur) = app.current.as_ref().filter(|c| c.running()) {
-        fx.push(Effect::CancelRun { id: cur.id });
-    }
-    if let Some((_, e)) = app.studies.running() {
-        fx.push(Effect::CancelStudy { id: e.id });
-    }
-    fx.push(Effect::Quit);
-    fx
+    file::quit_now(app)
 }
 
 /// The answer to a yes/no question (quit, save over a change on disk).
@@ -200,6 +218,7 @@ fn answer(app: &mut App, yes: bool) -> Vec<Effect> {
             Vec::new()
         }
         (Confirm::SaveConflict { text }, yes) => reconcile::answer_save_conflict(app, text, yes),
+        (Confirm::OpenModel { path }, yes) => open::answer(app, path, yes),
         (c @ Confirm::Merge { .. }, _) => {
             // answered with m/t/M/T, not y/n
             app.mode = Mode::Confirm(c);
