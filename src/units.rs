@@ -183,7 +183,7 @@ mod tests {
     #[test]
     fn each_system_is_consistent_mass_is_force_s2_per_length() {
         // 1 kip = 4448.2216152605 N, 1 in = 0.0254 m: 1 kip·s²/in = 175126.835… kg
-        let kip = 4448.2216152605;
+        let kip: f64 = 4448.2216152605;
         let kg_per = [
             (UnitSystem::SiKn, 1000.0_f64, 1000.0_f64, 1.0_f64),
             (UnitSystem::Si, 1.0, 1.0, 1.0),

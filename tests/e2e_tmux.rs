@@ -100,7 +100,7 @@ fn workspace() -> PathBuf {
         "solver.t_end",
         deckspin::tui::form::Kind::Float,
         "3.0",
-        "",
+        deckspin::tui::form::Dim::Plain,
     )
     .unwrap();
     std::fs::write(d.join("models/four-span.toml"), text).unwrap();
@@ -215,10 +215,12 @@ fn workbench_in_tmux() {
     // edit the left_top gap in the form
     tmux.keys(&["Tab"]);
     tmux.wait("the form", 5, |s| s.contains("parameters"));
-    for _ in 0..10 {
-        tmux.keys(&["Down"]);
-    }
-    tmux.wait("the gap field", 5, |s| s.contains("contacts.gaps.0"));
+    // found by the form's search
+    tmux.text("/gap 1");
+    tmux.keys(&["Enter"]);
+    tmux.wait("the gap field", 5, |s| {
+        s.contains("contacts gap 1 (left_top)")
+    });
     tmux.keys(&["Enter", "C-u"]);
     tmux.text("0.002");
     tmux.wait("a valid value", 5, |s| s.contains("✓ valid"));
@@ -365,10 +367,12 @@ fn signal_round(d: &Path, sig: &str, status: i32, edit: bool) -> String {
     if edit {
         tmux.keys(&["Tab"]);
         tmux.wait("the form", 5, |s| s.contains("parameters"));
-        for _ in 0..10 {
-            tmux.keys(&["Down"]);
-        }
-        tmux.wait("the gap field", 5, |s| s.contains("contacts.gaps.0"));
+        // found by the form's search
+        tmux.text("/gap 1");
+        tmux.keys(&["Enter"]);
+        tmux.wait("the gap field", 5, |s| {
+            s.contains("contacts gap 1 (left_top)")
+        });
         tmux.keys(&["Enter", "C-u"]);
         tmux.text("0.002");
         tmux.wait("a valid value", 5, |s| s.contains("✓ valid"));

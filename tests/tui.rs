@@ -44,7 +44,8 @@ fn set(text: &str, path: &str, value: &str) -> String {
     } else {
         form::Kind::Str
     };
-    form::set_value(text, path, kind, value, "").unwrap_or_else(|e| panic!("{path}={value}: {e}"))
+    form::set_value(text, path, kind, value, form::Dim::Plain)
+        .unwrap_or_else(|e| panic!("{path}={value}: {e}"))
 }
 
 /// The four-span bridge shortened to 2 s with 4 mm gaps (impacts, sticks and slips early on).
@@ -285,7 +286,22 @@ fn every_binding_is_handled_in_its_context() {
                     app.view = View::Form;
                     act(&mut app, Action::FieldEdit);
                 }
-                Ctx::Confirm => app.mode = Mode::Confirm(Confirm::Quit),
+                Ctx::Confirm => {
+                    app.mode = Mode::Confirm(Confirm::SaveConflict {
+                        text: app.text.clone(),
+                    })
+                }
+                Ctx::Quit => app.mode = Mode::Confirm(Confirm::Quit),
+                Ctx::Search => {
+                    app.view = View::Form;
+                    act(&mut app, Action::SearchStart);
+                }
+                Ctx::OpenModel => {
+                    app.mode = Mode::OpenModel {
+                        files: vec![corner_path()],
+                        selected: 0,
+                    }
+                }
                 Ctx::Merge => {
                     app.mode = Mode::Confirm(Confirm::Merge {
                         conflicts: vec![tui::merge::Conflict {
@@ -385,17 +401,17 @@ fn edit_a_gap_valid_value_accepted() {
         "{}",
         app.draft
     );
-    // the trailing comment of that line is kept
+    // the trailing comment of that line is kept in its column (two characters fewer before it)
     assert!(
         app.draft
-            .contains("]   # m, corners left_top, left_bottom, right_top, right_bottom")
+            .contains("0.0127]     # m, corners left_top, left_bottom, right_top, right_bottom")
     );
     let f = &app.form.fields[app.form.index_of("contacts.gaps.1").unwrap()];
     assert!(f.edited());
     assert_eq!(f.value.as_deref(), Some("0.02"));
     assert_eq!(f.saved.as_deref(), Some("0.0127"));
     assert!(
-        app.status.contains("contacts.gaps.1 = 0.02 m"),
+        app.status.contains("contacts gap 2 (left_bottom) = 0.02 m"),
         "{}",
         app.status
     );
@@ -1939,7 +1955,7 @@ fn a_value_being_typed_survives_an_outside_change_to_another_field() {
     assert_eq!(app.scene.as_ref().unwrap().contacts[0].restitution, 0.2);
     assert_eq!(start_ids(&fx), vec![2], "the merged model reruns");
     assert!(
-        app.status.contains("contact.0.restitution"),
+        app.status.contains("contact 1 restitution"),
         "{}",
         app.status
     );
@@ -1964,7 +1980,7 @@ fn an_outside_change_to_the_field_being_typed_keeps_the_typed_value() {
     };
     assert_eq!(buffer, "0.3");
     assert!(
-        app.status.contains("contact.0.mu") && app.status.contains("0.4"),
+        app.status.contains("contact 1 mu") && app.status.contains("0.4"),
         "{}",
         app.status
     );
@@ -2029,15 +2045,16 @@ fn conflict_app() -> (App, String) {
 fn a_field_changed_outside_and_by_the_user_is_asked_about() {
     // per field: keep mine for mu, take theirs for restitution
     let (mut app, disk) = conflict_app();
-    assert!(app.status.contains("contact.0.mu"), "{}", app.status);
+    // the field in the user's words, numbered from 1
+    assert!(app.status.contains("contact 1 mu"), "{}", app.status);
     let s = screen(&render(&mut app, 80, 24));
-    assert!(s.contains("contact.0.mu"), "{s}");
+    assert!(s.contains("contact 1 mu"), "{s}");
     assert!(s.contains("yours 0.3") && s.contains("on disk 0.4"), "{s}");
     assert!(s.contains("keep mine") && s.contains("take theirs"), "{s}");
     assert!(update(&mut app, key('m')).is_empty());
     assert!(matches!(app.mode, Mode::Confirm(_)), "second question");
     assert!(
-        app.status.contains("contact.0.restitution"),
+        app.status.contains("contact 1 restitution"),
         "{}",
         app.status
     );
@@ -2213,7 +2230,7 @@ fn a_multi_frame_bridge_lists_its_frames_joints_and_bents_in_bridge_words() {
     let g = field("joint.1.gaps.0").expect("joint 2's top gap");
     assert_eq!(
         (g.label.as_str(), g.unit.as_str()),
-        ("joint 2 gap top", "m")
+        ("joint 2 gap 1 (top)", "m")
     );
     let m = field("frame.2.mass").unwrap();
     assert_eq!((m.label.as_str(), m.unit.as_str()), ("frame 3 mass", "t"));

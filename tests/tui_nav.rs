@@ -33,7 +33,7 @@ fn read(p: &Path) -> String {
 }
 
 fn set(text: &str, path: &str, value: &str) -> String {
-    form::set_value(text, path, form::Kind::Float, value, "")
+    form::set_value(text, path, form::Kind::Float, value, form::Dim::Plain)
         .unwrap_or_else(|e| panic!("{path}={value}: {e}"))
 }
 

@@ -40,6 +40,8 @@ pub enum Confirm {
     SaveConflict { text: String },
     /// Quit with unsaved edits.
     Quit,
+    /// Open another model (chosen in the list of models) and lose the unsaved edits.
+    OpenModel { path: PathBuf },
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -61,6 +63,18 @@ pub enum Mode {
     Naming {
         number: u64,
         buffer: String,
+    },
+    // the form's search and the list of models
+    /// Typing a search in the form (`/`): the selection follows the first match; `from` is
+    /// where it was (Esc goes back there).
+    Search {
+        query: String,
+        from: form::Spot,
+    },
+    /// Choosing a model to open (the model files of the model's folder and its subfolders).
+    OpenModel {
+        files: Vec<PathBuf>,
+        selected: usize,
     },
 }
 
@@ -192,6 +206,9 @@ pub struct App {
     pub help_scroll: usize,
     /// The results pages of the studies view (energy, contacts, modes, records).
     pub results: Results,
+    // the form and the model file
+    /// "save and quit" was answered: quit once the save is done.
+    pub quit_after_save: bool,
 }
 
 impl App {
@@ -234,6 +251,7 @@ impl App {
             event_sel: None,
             help_scroll: 0,
             results: Results::default(),
+            quit_after_save: false,
         };
         match form::validate(text, path) {
             Ok(scene) => {
@@ -362,6 +380,9 @@ impl App {
             Mode::Normal => None,
             Mode::Editing { .. } => Some(Ctx::Edit),
             Mode::Confirm(Confirm::Merge { .. }) => Some(Ctx::Merge),
+            Mode::Confirm(Confirm::Quit) => Some(Ctx::Quit),
+            Mode::Search { .. } => Some(Ctx::Search),
+            Mode::OpenModel { .. } => Some(Ctx::OpenModel),
             Mode::Confirm(_) => Some(Ctx::Confirm),
             Mode::Help => Some(Ctx::Help),
             Mode::Pick { .. } => Some(Ctx::Pick),
@@ -384,20 +405,18 @@ impl App {
         }
     }
 
-    /// Rebuilds the form from the draft, keeping the selected field.
+    /// Rebuilds the form from the draft, keeping the selected field, the folded groups and
+    /// the last search.
     pub(crate) fn rebuild_form(&mut self) {
-        let sel = self.form.selected().map(|f| f.path.clone());
-        let old = self.form.selected;
+        let old = std::mem::take(&mut self.form);
         self.form = form::build(&self.draft, &self.text);
-        self.form.selected = sel
-            .and_then(|p| self.form.index_of(&p))
-            .unwrap_or(old.min(self.form.fields.len().saturating_sub(1)));
+        self.form.keep_from(&old);
     }
 
     /// Live check of an edit buffer: the engine's verdict on the model with this value.
     pub fn check_edit(&self, buffer: &str) -> Result<String, String> {
         let f = self.form.selected().ok_or("no field selected")?;
-        let text = form::set_value(&self.draft, &f.path, f.kind, buffer, &f.unit)?;
+        let text = form::set_value(&self.draft, &f.path, f.kind, buffer, f.dim)?;
         match form::validate(&text, &self.path) {
             Ok(_) => Ok(text),
             Err(e) => {

@@ -8,7 +8,7 @@ use super::results::ResultSpec;
 use super::results_worker;
 use super::study::StudySpec;
 use super::update::update;
-use super::{run_store, study_files, study_worker, worker};
+use super::{model_files, run_store, study_files, study_worker, worker};
 use crate::scene::Scene;
 use std::collections::VecDeque;
 use std::io::{self, Write};
@@ -83,6 +83,8 @@ pub trait Host {
     /// Suspend the workbench to the shell (Ctrl-Z) once the messages at hand are handled;
     /// nothing without a terminal.
     fn suspend(&mut self) {}
+    /// Watches `path` instead of the file watched so far (none without a terminal).
+    fn watch(&mut self, _path: &Path) {}
 }
 
 /// Executes effects; the messages they produce at once are fed back to [`update`] and their
@@ -154,6 +156,18 @@ fn execute(app: &mut App, host: &mut impl Host, e: Effect) -> Vec<Msg> {
         Effect::StartResult { id, spec } => host.start_result(id, *spec),
         Effect::CancelResult { id } => {
             host.cancel_result(id);
+            Vec::new()
+        }
+        Effect::ListModels { dir } => {
+            host.background(Box::new(move || Msg::ModelFiles(model_files::list(&dir))))
+        }
+        Effect::ReadModel { path } => {
+            let result = std::fs::read_to_string(&path)
+                .map_err(|e| format!("{}: cannot read: {e}", path.display()));
+            vec![Msg::ModelRead { path, result }]
+        }
+        Effect::Watch { path } => {
+            host.watch(&path);
             Vec::new()
         }
         Effect::Quit => {

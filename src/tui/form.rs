@@ -1,133 +1,29 @@
-//! The parameter form: a curated list of bridge parameters (with units) followed by every other
-//! scalar leaf of the TOML document under its dotted path. Edits are applied to the text with
-//! `toml_edit`, keeping comments and layout; validation is the engine's own (`load_str`).
+//! The parameter form: a curated list of bridge parameters followed by every other scalar leaf
+//! of the TOML document, in groups (one per table, each folding), each field with its label in
+//! the user's words (lists numbered from 1) and its unit in the model's unit system. Edits are
+//! applied to the text with `toml_edit`, keeping comments and layout (`form_edit`); validation
+//! is the engine's own (`load_str`).
 
-use super::units::{split_unit, unit_factor, unit_hint};
+pub use super::form_edit::{remove_value, set_leaf, set_value, system_of};
+pub use super::form_spec::{Dim, Kind, fit_label, group_of, group_title, label_of, place_of};
+pub use super::units::parse_input;
+
+use super::form_edit;
+use super::form_spec::{self as spec, BRIDGE, SOLVER, law_keys};
+use std::collections::BTreeSet;
 use std::path::Path;
 use toml_edit::{DocumentMut, Item, Value};
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Kind {
-    Float,
-    Int,
-    Bool,
-    Str,
-}
-
-impl Kind {
-    fn of(v: &Value) -> Option<Kind> {
-        match v {
-            Value::Float(_) => Some(Kind::Float),
-            Value::Integer(_) => Some(Kind::Int),
-            Value::Boolean(_) => Some(Kind::Bool),
-            Value::String(_) => Some(Kind::Str),
-            _ => None,
-        }
-    }
-    pub fn name(self) -> &'static str {
-        match self {
-            Kind::Float => "number",
-            Kind::Int => "integer",
-            Kind::Bool => "true/false",
-            Kind::Str => "text",
-        }
-    }
-}
-
-/// A curated bridge parameter.
-struct Spec {
-    path: &'static str,
-    label: &'static str,
-    unit: &'static str,
-    kind: Kind,
-    /// Shown when the key is absent (the engine's default applies).
-    optional: bool,
-}
-
-const fn s(
-    path: &'static str,
-    label: &'static str,
-    unit: &'static str,
-    kind: Kind,
-    optional: bool,
-) -> Spec {
-    Spec {
-        path,
-        label,
-        unit,
-        kind,
-        optional,
-    }
-}
-
-use Kind::{Bool as B, Float as F, Int as I, Str as S};
-
-/// Bridge parameters in form order (units: t, kN, m, s).
-#[rustfmt::skip]
-const BRIDGE: &[Spec] = &[
-    s("deck.mass", "deck mass", "t", F, false),
-    s("deck.inertia", "deck inertia", "t·m²", F, false),
-    s("deck.length", "deck length", "m", F, false),
-    s("deck.width", "deck width", "m", F, false),
-    s("deck.skew", "deck skew", "°", F, true),
-    s("abutment.mass", "abutment mass", "t", F, false),
-    s("abutment.inertia", "abutment inertia", "t·m²", F, false),
-    s("abutment.actuator_stiffness", "actuator stiffness", "kN/m", F, false),
-    s("abutment.actuator_damping", "actuator damping", "kN·s/m", F, true),
-    s("abutment.actuator_offset", "actuator offset", "m", F, false),
-    s("contacts.gaps.0", "gap left_top", "m", F, false),
-    s("contacts.gaps.1", "gap left_bottom", "m", F, false),
-    s("contacts.gaps.2", "gap right_top", "m", F, false),
-    s("contacts.gaps.3", "gap right_bottom", "m", F, false),
-    s("contacts.mu", "friction μ", "–", F, false),
-    s("contacts.restitution", "restitution ε", "–", F, false),
-    s("contacts.enabled", "contacts enabled", "", B, true),
-    s("column.law.law", "column law", "linear|bilinear|takeda", S, false),
-    s("column.law.stiffness", "column stiffness", "kN/m", F, false),
-    s("column.law.yield_force", "column yield force", "kN", F, false),
-    s("column.law.post_yield_ratio", "post-yield ratio", "–", F, false),
-    s("column.law.unloading_exponent", "unloading exponent", "–", F, false),
-    s("column.law.crack_force", "crack force", "kN", F, false),
-    s("column.law.yield_displacement", "yield displacement", "m", F, false),
-    s("column.reference_height", "column ref. height", "m", F, false),
-    s("column.offset", "column offset", "m", F, false),
-    s("column.torsion_stiffness", "column torsion k", "kN·m/rad", F, false),
-    s("damping.ratio", "damping ratio ζ", "–", F, true),
-    s("excitation.run", "excitation run", "#", I, true),
-    s("excitation.time_scale", "time scale", "–", F, true),
-];
-
-/// Solver settings, offered for every model (absent keys can be added).
-#[rustfmt::skip]
-const SOLVER: &[Spec] = &[
-    s("solver.method", "solver method", "event|moreau|penalty|penalty-explicit", S, true),
-    s("solver.t_end", "t_end", "s", F, true),
-    s("solver.rtol", "rtol", "–", F, true),
-    s("solver.output_dt", "output step", "s", F, true),
-];
-
-/// Keys of each hysteretic law (required first).
-fn law_keys(kind: &str) -> Option<&'static [&'static str]> {
-    match kind {
-        "linear" => Some(&["stiffness"]),
-        "bilinear" => Some(&["stiffness", "yield_force", "post_yield_ratio"]),
-        "takeda" => Some(&[
-            "stiffness",
-            "yield_force",
-            "post_yield_ratio",
-            "unloading_exponent",
-            "crack_force",
-            "yield_displacement",
-        ]),
-        _ => None,
-    }
-}
-
 #[derive(Clone, Debug)]
 pub struct Field {
-    /// Dotted path: tables, array-of-table and array indices, inline tables.
+    /// Dotted path: tables, array-of-table and array indices (0-based, as `--set` takes
+    /// them), inline tables.
     pub path: String,
+    /// The field in the user's words, list elements numbered from 1.
     pub label: String,
+    /// What its number measures.
+    pub dim: Dim,
+    /// Its unit in the model's system (or the words it takes).
     pub unit: String,
     pub kind: Kind,
     /// Value in the draft (None: absent, the default applies).
@@ -137,6 +33,8 @@ pub struct Field {
     /// The trailing comment of the line, if any.
     pub note: String,
     pub curated: bool,
+    /// The group (table) it is shown in: [`group_of`] its path.
+    pub group: String,
 }
 
 impl Field {
@@ -147,20 +45,191 @@ impl Field {
     pub fn edit_text(&self) -> String {
         self.value.clone().unwrap_or_default()
     }
+    /// Whether the search text is in its label or its path (case-insensitive).
+    pub fn matches(&self, query: &str) -> bool {
+        let q = query.to_lowercase();
+        !q.is_empty() && (self.label.to_lowercase().contains(&q) || self.path.contains(&q))
+    }
+}
+
+/// A row of the form: a group's header or a field.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Row {
+    /// The header of the group of field `first` (its first field).
+    Header(usize),
+    Field(usize),
+}
+
+/// Where the form's selection was (what `Esc` goes back to after a search).
+#[derive(Clone, Debug, PartialEq, Eq, Default)]
+pub struct Spot {
+    pub selected: usize,
+    pub on_header: bool,
+    pub folded: BTreeSet<String>,
 }
 
 #[derive(Clone, Debug, Default)]
 pub struct Form {
+    /// The fields, group after group.
     pub fields: Vec<Field>,
+    /// The selected field (or, `on_header`, its group's header).
     pub selected: usize,
+    pub on_header: bool,
+    /// The folded groups (kept when the form is rebuilt).
+    pub folded: BTreeSet<String>,
+    /// The last search (`n`/`N` look for it again).
+    pub query: String,
 }
 
 impl Form {
+    /// The selected field (None on a group's header).
     pub fn selected(&self) -> Option<&Field> {
-        self.fields.get(self.selected)
+        if self.on_header {
+            None
+        } else {
+            self.fields.get(self.selected)
+        }
     }
     pub fn index_of(&self, path: &str) -> Option<usize> {
         self.fields.iter().position(|f| f.path == path)
+    }
+    /// Selects field `i`, unfolding its group.
+    pub fn select(&mut self, i: usize) {
+        if let Some(f) = self.fields.get(i) {
+            self.folded.remove(&f.group);
+            self.selected = i;
+            self.on_header = false;
+        }
+    }
+    /// The group of the selection.
+    pub fn group(&self) -> Option<&str> {
+        self.fields.get(self.selected).map(|f| f.group.as_str())
+    }
+    /// The rows shown: each group's header, then its fields unless it is folded.
+    pub fn rows(&self) -> Vec<Row> {
+        let mut out = Vec::new();
+        for (i, f) in self.fields.iter().enumerate() {
+            if i == 0 || self.fields[i - 1].group != f.group {
+                out.push(Row::Header(i));
+            }
+            if !self.folded.contains(&f.group) {
+                out.push(Row::Field(i));
+            }
+        }
+        out
+    }
+    /// The selection's row among [`Form::rows`].
+    pub fn row(&self, rows: &[Row]) -> usize {
+        let first = self.first_of_group(self.selected);
+        let want = if self.on_header || self.folded.contains(self.group().unwrap_or("")) {
+            Row::Header(first)
+        } else {
+            Row::Field(self.selected)
+        };
+        rows.iter().position(|r| *r == want).unwrap_or(0)
+    }
+    fn first_of_group(&self, i: usize) -> usize {
+        let Some(g) = self.fields.get(i).map(|f| &f.group) else {
+            return 0;
+        };
+        (0..=i)
+            .rev()
+            .take_while(|&k| self.fields[k].group == *g)
+            .last()
+            .unwrap_or(i)
+    }
+    /// Moves the selection `d` rows (headers count), within the rows.
+    pub fn move_by(&mut self, d: i64) {
+        let rows = self.rows();
+        if rows.is_empty() {
+            return;
+        }
+        let at = (self.row(&rows) as i64 + d).clamp(0, rows.len() as i64 - 1) as usize;
+        self.go_to(rows[at]);
+    }
+    /// Selects the first (`last` false) or the last row.
+    pub fn go_end(&mut self, last: bool) {
+        let rows = self.rows();
+        let r = if last { rows.last() } else { rows.first() };
+        if let Some(r) = r.copied() {
+            self.go_to(r);
+        }
+    }
+    fn go_to(&mut self, r: Row) {
+        match r {
+            Row::Header(i) => {
+                self.selected = i;
+                self.on_header = true;
+            }
+            Row::Field(i) => {
+                self.selected = i;
+                self.on_header = false;
+            }
+        }
+    }
+    /// Folds or unfolds the selection's group; folding puts the selection on its header.
+    /// Returns the group and whether it is folded now.
+    pub fn toggle_fold(&mut self) -> Option<(String, bool)> {
+        let g = self.group()?.to_string();
+        let folded = if self.folded.remove(&g) {
+            false
+        } else {
+            self.folded.insert(g.clone());
+            self.selected = self.first_of_group(self.selected);
+            self.on_header = true;
+            true
+        };
+        Some((g, folded))
+    }
+    /// Folds every group; unfolds them all when any is folded.
+    pub fn toggle_fold_all(&mut self) -> bool {
+        let groups: BTreeSet<String> = self.fields.iter().map(|f| f.group.clone()).collect();
+        let fold = self.folded.is_empty();
+        if fold {
+            self.folded = groups;
+            self.selected = self.first_of_group(self.selected);
+            self.on_header = true;
+        } else {
+            self.folded.clear();
+        }
+        fold
+    }
+    pub fn spot(&self) -> Spot {
+        Spot {
+            selected: self.selected,
+            on_header: self.on_header,
+            folded: self.folded.clone(),
+        }
+    }
+    pub fn restore(&mut self, s: &Spot) {
+        self.selected = s.selected.min(self.fields.len().saturating_sub(1));
+        self.on_header = s.on_header;
+        self.folded = s.folded.clone();
+    }
+    /// The first field matching `query` from field `from` on (`forward`) or back from it,
+    /// wrapping around.
+    pub fn find(&self, query: &str, from: usize, forward: bool) -> Option<usize> {
+        let n = self.fields.len();
+        (0..n)
+            .map(|k| {
+                if forward {
+                    (from + k) % n
+                } else {
+                    (from + n - k % n) % n
+                }
+            })
+            .find(|&i| self.fields[i].matches(query))
+    }
+    /// Carries the folds, the last search and the selection (by path) over from the form
+    /// before a rebuild.
+    pub fn keep_from(&mut self, old: &Form) {
+        self.folded = old.folded.clone();
+        self.query = old.query.clone();
+        let path = old.fields.get(old.selected).map(|f| f.path.as_str());
+        self.selected = path
+            .and_then(|p| self.index_of(p))
+            .unwrap_or(old.selected.min(self.fields.len().saturating_sub(1)));
+        self.on_header = old.on_header;
     }
 }
 
@@ -266,57 +335,11 @@ pub fn show(v: &Value) -> String {
     display(v)
 }
 
-/// Sets the leaf at `path` to `value` as it is (a law kind changes alone: no keys are added
-/// or dropped), keeping comments and layout. Missing tables and keys are created.
-pub fn set_leaf(text: &str, path: &str, value: Value) -> Result<String, String> {
-    let mut doc: DocumentMut = text
-        .parse()
-        .map_err(|e: toml_edit::TomlError| format!("the file is not valid TOML: {e}"))?;
-    let segs: Vec<&str> = path.split('.').collect();
-    set_in_item(doc.as_item_mut(), &segs, value)?;
-    Ok(doc.to_string())
-}
-
 /// Whether a model text is a bridge file (has a `[deck]` table or `[[frame]]` tables).
 pub fn is_bridge(text: &str) -> bool {
     text.parse::<DocumentMut>()
         .map(|d| d.contains_key("deck") || d.contains_key("frame"))
         .unwrap_or(false)
-}
-
-/// Label and unit of a field of the bridge's lists (frames, their bents, joints, keys), with
-/// the list numbers 1-based as in the bridge's words (`frame 2 bent 1 height`).
-fn list_label(path: &str) -> Option<(String, &'static str)> {
-    let segs: Vec<&str> = path.split('.').collect();
-    let n = |s: &str| s.parse::<usize>().ok().map(|i| i + 1);
-    let unit = |key: &str| match key {
-        "mass" => "t",
-        "inertia" => "t·m²",
-        "length" | "width" | "x" | "height" | "gap" | "seat_width" | "failure_displacement" => "m",
-        "skew" | "heading" => "°",
-        "stiffness" => "kN/m",
-        "capacity" => "kN",
-        "seat_percent" => "%",
-        "mu" | "restitution" => "–",
-        _ => "",
-    };
-    match segs.as_slice() {
-        ["frame", i, "bent", j, key] => {
-            Some((format!("frame {} bent {} {key}", n(i)?, n(j)?), unit(key)))
-        }
-        ["frame" | "joint" | "key" | "bent", i, key] => {
-            Some((format!("{} {} {key}", segs[0], n(i)?), unit(key)))
-        }
-        ["joint", i, "gaps", k] => Some((
-            format!(
-                "joint {} gap {}",
-                n(i)?,
-                ["top", "bottom"].get(k.parse::<usize>().ok()?)?
-            ),
-            "m",
-        )),
-        _ => None,
-    }
 }
 
 /// Builds the form from the draft text and the saved text. A draft that is not TOML gives an
@@ -336,6 +359,7 @@ pub fn build(draft: &str, saved: &str) -> Form {
             .find(|l| l.path == p)
             .map(|l| l.value.clone())
     };
+    let sys = form_edit::system_of(&doc);
     let mut fields = Vec::new();
     let bridge = doc.contains_key("deck") || doc.contains_key("frame");
     let law = draft_leaves
@@ -363,310 +387,63 @@ pub fn build(draft: &str, saved: &str) -> Form {
         fields.push(Field {
             path: sp.path.to_string(),
             label: sp.label.to_string(),
-            unit: sp.unit.to_string(),
+            dim: sp.dim,
+            unit: sp.dim.unit(sys),
             kind: leaf.map_or(sp.kind, |l| l.kind),
             value: leaf.map(|l| l.value.clone()),
             saved: saved_of(sp.path),
             note: leaf.map(|l| l.note.clone()).unwrap_or_default(),
             curated: true,
+            group: group_of(sp.path).to_string(),
         });
     }
     for l in &draft_leaves {
         if fields.iter().any(|f| f.path == l.path) {
             continue;
         }
-        let (label, unit) = list_label(&l.path).unwrap_or((l.path.clone(), ""));
+        let dim = dim_of_path(&l.path, l.kind);
         fields.push(Field {
             path: l.path.clone(),
-            label,
-            unit: unit.to_string(),
+            label: label_of(&l.path),
+            dim,
+            unit: dim.unit(sys),
             kind: l.kind,
             value: Some(l.value.clone()),
             saved: saved_of(&l.path),
             note: l.note.clone(),
             curated: false,
+            group: group_of(&l.path).to_string(),
         });
     }
+    // group after group (stable: the curated fields first within each)
+    let mut first_seen: Vec<String> = Vec::new();
+    for f in &fields {
+        if !first_seen.contains(&f.group) {
+            first_seen.push(f.group.clone());
+        }
+    }
+    let rank = |g: &str| spec::group_rank(g, first_seen.iter().position(|x| x == g).unwrap_or(0));
+    fields.sort_by_key(|f| rank(&f.group));
     Form {
         fields,
-        selected: 0,
+        ..Form::default()
     }
 }
 
-/// Parses what the user typed for a field of this kind. A number may carry a unit: the
-/// field's own ("0.02 m") or one that converts to it ([`super::units::CONVERSIONS`]: "20 mm", "1e4 kN/mm",
-/// "650 kg"); any other unit is refused, naming the ones taken.
-pub fn parse_input(kind: Kind, raw: &str, unit: &str) -> Result<Value, String> {
-    let t = raw.trim();
-    if t.is_empty() {
-        return Err(format!("empty: expected a {}", kind.name()));
+/// The quantity of a leaf that is not a curated parameter, from its key (or its list's name
+/// for an array's element); words and true/false have none.
+fn dim_of_path(path: &str, kind: Kind) -> Dim {
+    if path == "units" {
+        return Dim::Choice("SI-kN|SI|kip-in");
     }
-    match kind {
-        Kind::Float => {
-            let (number, typed) = split_unit(t);
-            let factor = unit_factor(typed, unit)?;
-            let v = match number.parse::<Value>() {
-                Ok(Value::Float(f)) => *f.value(),
-                Ok(Value::Integer(i)) => *i.value() as f64,
-                _ => number
-                    .parse::<f64>()
-                    .map_err(|_| format!("'{number}' is not a number{}", unit_hint(unit)))?,
-            };
-            Ok(Value::from(v * factor))
-        }
-        Kind::Int => match t
-            .strip_suffix(unit)
-            .unwrap_or(t)
-            .trim_end()
-            .parse::<Value>()
-        {
-            Ok(Value::Integer(i)) => Ok(Value::Integer(i)),
-            _ => Err(format!("'{t}' is not an integer")),
-        },
-        Kind::Bool => match t.to_ascii_lowercase().as_str() {
-            "true" | "yes" | "on" | "1" => Ok(Value::from(true)),
-            "false" | "no" | "off" | "0" => Ok(Value::from(false)),
-            _ => Err(format!("'{t}' is not true or false")),
-        },
-        Kind::Str => match t.parse::<Value>() {
-            Ok(Value::String(s)) => Ok(Value::String(s)),
-            _ => Ok(Value::from(t)),
-        },
+    if matches!(kind, Kind::Str | Kind::Bool) {
+        return Dim::Plain;
     }
-}
-
-/// Sets `path` to what the user typed, keeping comments, layout and the column of a trailing
-/// comment. Missing tables and keys are created. Changing a hysteretic law kind (`…law.law`)
-/// drops the keys the new law does not take and adds the ones it needs.
-pub fn set_value(
-    text: &str,
-    path: &str,
-    kind: Kind,
-    raw: &str,
-    unit: &str,
-) -> Result<String, String> {
-    let value = parse_input(kind, raw, unit)?;
-    let mut doc: DocumentMut = text
-        .parse()
-        .map_err(|e: toml_edit::TomlError| format!("the file is not valid TOML: {e}"))?;
-    let segs: Vec<&str> = path.split('.').collect();
-    set_in_item(doc.as_item_mut(), &segs, value.clone())?;
-    if segs.len() >= 2
-        && segs[segs.len() - 1] == "law"
-        && let Value::String(kind) = &value
-    {
-        fix_law(doc.as_item_mut(), &segs[..segs.len() - 1], kind.value())?;
-    }
-    Ok(doc.to_string())
-}
-
-/// Removes a key (reverting a field that was absent in the saved file).
-pub fn remove_value(text: &str, path: &str) -> Result<String, String> {
-    let mut doc: DocumentMut = text
-        .parse()
-        .map_err(|e: toml_edit::TomlError| format!("the file is not valid TOML: {e}"))?;
-    let segs: Vec<&str> = path.split('.').collect();
-    let (last, parent) = segs.split_last().ok_or("empty path")?;
-    let removed = if let Some(t) = table_at(doc.as_table_mut(), parent) {
-        t.remove(last).is_some()
-    } else if let Some(Value::InlineTable(t)) = value_at(doc.as_item_mut(), parent) {
-        t.remove(last).is_some()
-    } else {
-        false
-    };
-    if removed {
-        Ok(doc.to_string())
-    } else {
-        Err(format!("cannot remove '{path}'"))
-    }
-}
-
-/// The table at a path of table keys and array-of-table indices.
-fn table_at<'a>(t: &'a mut toml_edit::Table, segs: &[&str]) -> Option<&'a mut toml_edit::Table> {
-    let Some((first, rest)) = segs.split_first() else {
-        return Some(t);
-    };
-    match t.get_mut(first)? {
-        Item::Table(c) => table_at(c, rest),
-        Item::ArrayOfTables(a) => {
-            let (i, rest2) = rest.split_first()?;
-            table_at(a.get_mut(i.parse().ok()?)?, rest2)
-        }
-        _ => None,
-    }
-}
-
-/// The value at a path (through tables, arrays of tables, arrays and inline tables).
-fn value_at<'a>(item: &'a mut Item, segs: &[&str]) -> Option<&'a mut Value> {
-    match item {
-        Item::Value(v) => value_in(v, segs),
-        Item::Table(t) => {
-            let (first, rest) = segs.split_first()?;
-            value_at(t.get_mut(first)?, rest)
-        }
-        Item::ArrayOfTables(a) => {
-            let (i, rest) = segs.split_first()?;
-            let t = a.get_mut(i.parse().ok()?)?;
-            let (k, rest2) = rest.split_first()?;
-            value_at(t.get_mut(k)?, rest2)
-        }
-        Item::None => None,
-    }
-}
-
-fn value_in<'a>(v: &'a mut Value, segs: &[&str]) -> Option<&'a mut Value> {
-    let Some((first, rest)) = segs.split_first() else {
-        return Some(v);
-    };
-    match v {
-        Value::Array(a) => value_in(a.get_mut(first.parse().ok()?)?, rest),
-        Value::InlineTable(t) => value_in(t.get_mut(first)?, rest),
-        _ => None,
-    }
-}
-
-/// Replaces `slot` by `new`, keeping its decor and the column of a trailing comment.
-fn replace_keep_decor(slot: &mut Value, mut new: Value) {
-    let old_len = display_len(slot);
-    let decor = slot.decor().clone();
-    *new.decor_mut() = decor;
-    let new_len = display_len(&new);
-    if let Some(suffix) = new
-        .decor()
-        .suffix()
-        .and_then(|s| s.as_str())
-        .map(str::to_string)
-    {
-        let spaces = suffix.len() - suffix.trim_start_matches(' ').len();
-        let rest = &suffix[spaces..];
-        if rest.starts_with('#') && spaces > 0 {
-            let target = (spaces + old_len).saturating_sub(new_len).max(1);
-            new.decor_mut()
-                .set_suffix(format!("{}{rest}", " ".repeat(target)));
-        }
-    }
-    *slot = new;
-}
-
-fn display_len(v: &Value) -> usize {
-    let mut c = v.clone();
-    c.decor_mut().clear();
-    c.to_string().chars().count()
-}
-
-fn set_in_item(item: &mut Item, segs: &[&str], value: Value) -> Result<(), String> {
-    let Some((first, rest)) = segs.split_first() else {
-        return Err("empty path".into());
-    };
-    match item {
-        Item::Table(t) => {
-            if rest.is_empty() {
-                match t.get_mut(first) {
-                    Some(Item::Value(v)) if !v.is_array() && !v.is_inline_table() => {
-                        replace_keep_decor(v, value);
-                        Ok(())
-                    }
-                    Some(Item::None) | None => {
-                        t.insert(first, Item::Value(value));
-                        Ok(())
-                    }
-                    Some(_) => Err(format!("'{first}' is not a single value")),
-                }
-            } else {
-                if !t.contains_key(first) {
-                    let mut nt = toml_edit::Table::new();
-                    nt.set_implicit(false);
-                    t.insert(first, Item::Table(nt));
-                }
-                set_in_item(t.get_mut(first).expect("inserted"), rest, value)
-            }
-        }
-        Item::ArrayOfTables(a) => {
-            let i: usize = first
-                .parse()
-                .map_err(|_| format!("'{first}' is not an index"))?;
-            let t = a.get_mut(i).ok_or_else(|| format!("no element {i}"))?;
-            let (k, rest2) = rest.split_first().ok_or("path ends at a table")?;
-            if rest2.is_empty() {
-                match t.get_mut(k) {
-                    Some(Item::Value(v)) if !v.is_array() && !v.is_inline_table() => {
-                        replace_keep_decor(v, value);
-                    }
-                    Some(Item::None) | None => {
-                        t.insert(k, Item::Value(value));
-                    }
-                    Some(_) => return Err(format!("'{k}' is not a single value")),
-                }
-                Ok(())
-            } else {
-                let child = t.get_mut(k).ok_or_else(|| format!("no key '{k}'"))?;
-                set_in_item(child, rest2, value)
-            }
-        }
-        Item::Value(v) => set_in_value(v, segs, value),
-        Item::None => Err(format!("no key '{first}'")),
-    }
-}
-
-fn set_in_value(v: &mut Value, segs: &[&str], value: Value) -> Result<(), String> {
-    let Some((first, rest)) = segs.split_first() else {
-        replace_keep_decor(v, value);
-        return Ok(());
-    };
-    match v {
-        Value::Array(a) => {
-            let i: usize = first
-                .parse()
-                .map_err(|_| format!("'{first}' is not an index"))?;
-            let x = a.get_mut(i).ok_or_else(|| format!("no element {i}"))?;
-            set_in_value(x, rest, value)
-        }
-        Value::InlineTable(t) => match t.get_mut(first) {
-            Some(x) => set_in_value(x, rest, value),
-            None if rest.is_empty() => {
-                t.insert(*first, value);
-                Ok(())
-            }
-            None => Err(format!("no key '{first}'")),
-        },
-        _ => Err(format!("cannot descend into '{first}'")),
-    }
-}
-
-/// After a law kind change: keep the keys shared with the new law, drop the others, add the
-/// required ones with plausible values derived from the stiffness.
-fn fix_law(root: &mut Item, segs: &[&str], kind: &str) -> Result<(), String> {
-    let keys =
-        law_keys(kind).ok_or_else(|| format!("unknown law '{kind}' (linear, bilinear, takeda)"))?;
-    let Some(Value::InlineTable(t)) = value_at(root, segs) else {
-        return Ok(());
-    };
-    let stale: Vec<String> = t
-        .iter()
-        .map(|(k, _)| k.to_string())
-        .filter(|k| k != "law" && !keys.contains(&k.as_str()))
-        .collect();
-    for k in stale {
-        t.remove(&k);
-    }
-    let k = t
-        .get("stiffness")
-        .and_then(|v| v.as_float())
-        .unwrap_or(1000.0);
-    for key in keys {
-        if t.contains_key(key) {
-            continue;
-        }
-        let v = match *key {
-            "stiffness" => Value::from(k),
-            "yield_force" => Value::from(k * 0.01),
-            "post_yield_ratio" => Value::from(0.05),
-            _ => continue, // optional Takeda keys keep their defaults
-        };
-        t.insert(*key, v);
-    }
-    t.fmt();
-    Ok(())
+    let key = path
+        .rsplit('.')
+        .find(|s| s.parse::<usize>().is_err())
+        .unwrap_or(path);
+    spec::dim_of_key(key)
 }
 
 /// A model error with line and column: (`file:line:col: …` message, the message without the
@@ -713,18 +490,4 @@ pub fn error_with_column(e: &crate::ModelError, text: &str) -> (String, Option<(
 /// Validates a model text with the engine (the same path as loading the file).
 pub fn validate(text: &str, path: &Path) -> Result<crate::scene::Scene, crate::ModelError> {
     crate::model::load_str(text, path, &[])
-}
-
-#[cfg(test)]
-mod tests {
-    use crate::methods::Method;
-
-    #[test]
-    fn the_method_field_lists_the_registry() {
-        let spec = super::SOLVER
-            .iter()
-            .find(|s| s.path == "solver.method")
-            .unwrap();
-        assert_eq!(spec.unit, Method::names("|"));
-    }
 }

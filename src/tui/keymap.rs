@@ -97,6 +97,23 @@ pub enum Action {
     ResultDown,
     /// Work-precision: the chart or the stability grid.
     ResultGrid,
+    // the form: first/last field, search, folds; the model file: save and quit, open another
+    FieldFirst,
+    FieldLast,
+    SearchStart,
+    SearchNext,
+    SearchPrev,
+    SearchKeep,
+    SearchCancel,
+    SearchBackspace,
+    FoldToggle,
+    FoldAll,
+    SaveQuit,
+    OpenModel,
+    ModelUp,
+    ModelDown,
+    ModelOpen,
+    ModelClose,
 }
 
 /// Where a binding applies. Lookup order: the mode's own context first, then the view, then
@@ -116,6 +133,10 @@ pub enum Ctx {
     Naming,
     /// The event list is open in the charts view.
     Events,
+    // the form's search, the quit question, the list of models
+    Search,
+    Quit,
+    OpenModel,
 }
 
 impl Ctx {
@@ -133,6 +154,9 @@ impl Ctx {
             Ctx::Runs => "run list",
             Ctx::Naming => "naming a run",
             Ctx::Events => "the event list",
+            Ctx::Search => "searching the form",
+            Ctx::Quit => "quitting with unsaved edits",
+            Ctx::OpenModel => "choosing a model to open",
         }
     }
 }
@@ -300,6 +324,29 @@ pub const KEYMAP: &[Binding] = &[
     b(Ctx::Help, &[K::Code(KC::Home)], "Home", A::HelpTop, "to the top", None),
     b(Ctx::Help, &[K::Code(KC::End)], "End", A::HelpBottom, "to the end", None),
     b(Ctx::Global, &[K::Ctrl('z')], "^Z", A::Suspend, "suspend (fg resumes)", Some(("^Z", "suspend"))),
+    // the form: first/last field, search, folds
+    b(Ctx::Form, &[K::Code(KC::Home), K::Ch('g')], "Home/g", A::FieldFirst, "first field", None),
+    b(Ctx::Form, &[K::Code(KC::End), K::Ch('G')], "End/G", A::FieldLast, "last field", None),
+    b(Ctx::Form, &[K::Ch('/')], "/", A::SearchStart, "search labels and paths", Some(("/", "search"))),
+    b(Ctx::Form, &[K::Ch('n')], "n", A::SearchNext, "next match of the search", None),
+    b(Ctx::Form, &[K::Ch('N')], "N", A::SearchPrev, "previous match", None),
+    b(Ctx::Form, &[K::Ch('z'), K::Ch(' ')], "z/Space", A::FoldToggle, "fold / unfold the group", Some(("z", "fold"))),
+    b(Ctx::Form, &[K::Ch('Z')], "Z", A::FoldAll, "fold all (or unfold all)", None),
+    b(Ctx::Search, &[K::Code(KC::Enter)], "Enter", A::SearchKeep, "keep the match", Some(("Enter", "keep"))),
+    b(Ctx::Search, &[K::Code(KC::Esc)], "Esc", A::SearchCancel, "back to where it was", Some(("Esc", "back"))),
+    b(Ctx::Search, &[K::Code(KC::Down)], "↓", A::SearchNext, "next match", Some(("↑↓", "match"))),
+    b(Ctx::Search, &[K::Code(KC::Up)], "↑", A::SearchPrev, "previous match", None),
+    b(Ctx::Search, &[K::Code(KC::Backspace)], "Bksp", A::SearchBackspace, "delete a character", None),
+    // quitting with unsaved edits
+    b(Ctx::Quit, &[K::Ch('s')], "s", A::SaveQuit, "save, then quit", Some(("s", "save and quit"))),
+    b(Ctx::Quit, &[K::Ch('y'), K::Ch('q')], "y/q", A::Yes, "quit without saving", Some(("y", "quit, not saving"))),
+    b(Ctx::Quit, &[K::Ch('n'), K::Code(KC::Esc)], "n/Esc", A::No, "stay", Some(("n/Esc", "stay"))),
+    // another model
+    b(Ctx::Global, &[K::Ch('O')], "O", A::OpenModel, "open another model", None),
+    b(Ctx::OpenModel, &[K::Code(KC::Up), K::Ch('k')], "↑/k", A::ModelUp, "previous model", None),
+    b(Ctx::OpenModel, &[K::Code(KC::Down), K::Ch('j')], "↓/j", A::ModelDown, "next model", Some(("j/k", "model"))),
+    b(Ctx::OpenModel, &[K::Code(KC::Enter)], "Enter", A::ModelOpen, "open the model", Some(("Enter", "open"))),
+    b(Ctx::OpenModel, &[K::Code(KC::Esc), K::Ch('q')], "Esc/q", A::ModelClose, "close the list", Some(("Esc", "close"))),
 ];
 
 /// The contexts that are active, most specific first.
@@ -365,6 +412,9 @@ pub fn help() -> Vec<(&'static str, Vec<(&'static str, &'static str)>)> {
         Ctx::Merge,
         Ctx::Help,
         Ctx::Events,
+        Ctx::Search,
+        Ctx::Quit,
+        Ctx::OpenModel,
     ]
     .iter()
     .map(|c| {

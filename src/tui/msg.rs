@@ -119,6 +119,14 @@ pub enum Msg {
         id: u64,
         outcome: ResultOutcome,
     },
+    // another model
+    /// Result of [`Effect::ListModels`]: the model files found.
+    ModelFiles(Result<Vec<PathBuf>, String>),
+    /// Result of [`Effect::ReadModel`]: the model's text.
+    ModelRead {
+        path: PathBuf,
+        result: Result<String, String>,
+    },
 }
 
 /// Output of [`super::update`], executed by [`super::effects::perform`].
@@ -187,6 +195,19 @@ pub enum Effect {
     },
     CancelResult {
         id: u64,
+    },
+    // another model
+    /// List the model files of `dir` and its subfolders ([`super::model_files`]).
+    ListModels {
+        dir: PathBuf,
+    },
+    /// Read a model file to open it.
+    ReadModel {
+        path: PathBuf,
+    },
+    /// Watch `path` for changes from now on (the watcher of the model before it stops).
+    Watch {
+        path: PathBuf,
     },
     Quit,
     /// Ctrl-Z: restore the terminal, stop the process (SIGTSTP) and, once continued, take

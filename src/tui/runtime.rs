@@ -150,6 +150,8 @@ struct Threads {
     suspend: bool,
     /// The results pages' computations.
     results: HashMap<u64, results_worker::ResultHandle>,
+    /// The model file's watcher (replaced when another model is opened).
+    watch: Option<watch::Watch>,
 }
 
 impl Host for Threads {
@@ -226,6 +228,11 @@ impl Host for Threads {
             h.cancel();
         }
     }
+    fn watch(&mut self, path: &Path) {
+        // the watcher before stops when dropped
+        self.watch = None;
+        self.watch = Some(watch::spawn(path, self.tx.clone()));
+    }
 }
 
 impl Threads {
@@ -298,7 +305,6 @@ pub fn run(model: &Path) -> Result<(), Box<dyn std::error::Error>> {
     let size = terminal.size()?;
     update(&mut app, Msg::Resize(size.width, size.height));
     spawn_input(tx.clone());
-    let _watch = watch::spawn(&app.path, tx.clone());
     let mut host = Threads {
         tx: tx.clone(),
         runs: HashMap::new(),
@@ -307,7 +313,9 @@ pub fn run(model: &Path) -> Result<(), Box<dyn std::error::Error>> {
         writer: None,
         suspend: false,
         results: HashMap::new(),
+        watch: None,
     };
+    host.watch(&app.path);
     let fx = app.start();
     perform(&mut app, &mut host, fx);
     let ended = event_loop(&mut terminal, &mut app, &mut host, &rx);

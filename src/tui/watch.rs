@@ -19,10 +19,18 @@ pub const DEBOUNCE: Duration = Duration::from_millis(50);
 /// Polling period of the fallback.
 pub const POLL: Duration = Duration::from_secs(1);
 
-/// Keeps the watcher alive.
+/// Keeps the watcher alive; dropped, it stops (the notify watcher and the polling thread,
+/// after its current sleep).
 pub struct Watch {
     _debouncer: Option<Debouncer<notify::RecommendedWatcher, RecommendedCache>>,
     pub mode: String,
+    stop: Arc<AtomicBool>,
+}
+
+impl Drop for Watch {
+    fn drop(&mut self) {
+        self.stop.store(true, Ordering::SeqCst);
+    }
 }
 
 fn read(path: &Path) -> Msg {
@@ -37,33 +45,37 @@ fn read(path: &Path) -> Msg {
 pub fn spawn(path: &Path, tx: Sender<Msg>) -> Watch {
     let path = std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf());
     let forced = std::env::var("DECKSPIN_WATCH").is_ok_and(|v| v == "poll");
+    let stop = Arc::new(AtomicBool::new(false));
     if !forced {
-        match notify_watch(&path, tx.clone()) {
+        match notify_watch_until(&path, tx.clone(), stop.clone()) {
             Ok(d) => {
                 let mode = "notify".to_string();
                 let _ = tx.send(Msg::WatchMode(mode.clone()));
                 return Watch {
                     _debouncer: Some(d),
                     mode,
+                    stop,
                 };
             }
             Err(e) => {
                 let mode = format!("polling 1 s ({e})");
                 let _ = tx.send(Msg::WatchMode(mode.clone()));
-                spawn_poll(path, tx, POLL);
+                spawn_poll_until(path, tx, POLL, stop.clone());
                 return Watch {
                     _debouncer: None,
                     mode,
+                    stop,
                 };
             }
         }
     }
     let mode = "polling 1 s".to_string();
     let _ = tx.send(Msg::WatchMode(mode.clone()));
-    spawn_poll(path, tx, POLL);
+    spawn_poll_until(path, tx, POLL, stop.clone());
     Watch {
         _debouncer: None,
         mode,
+        stop,
     }
 }
 
@@ -72,6 +84,15 @@ pub fn spawn(path: &Path, tx: Sender<Msg>) -> Watch {
 pub fn notify_watch(
     path: &Path,
     tx: Sender<Msg>,
+) -> Result<Debouncer<notify::RecommendedWatcher, RecommendedCache>, String> {
+    notify_watch_until(path, tx, Arc::new(AtomicBool::new(false)))
+}
+
+/// [`notify_watch`] whose polling fallback stops when `stop` is set.
+fn notify_watch_until(
+    path: &Path,
+    tx: Sender<Msg>,
+    stop: Arc<AtomicBool>,
 ) -> Result<Debouncer<notify::RecommendedWatcher, RecommendedCache>, String> {
     let dir = path
         .parent()
@@ -92,7 +113,7 @@ pub fn notify_watch(
                         .iter()
                         .any(|p| p.file_name() == Some(name.as_os_str()))
             });
-            if ours && target.exists() {
+            if ours && target.exists() && !stop.load(Ordering::SeqCst) {
                 let _ = tx.send(read(&target));
             }
         }
@@ -102,7 +123,7 @@ pub fn notify_watch(
                     .first()
                     .map_or("unknown".to_string(), |e| e.to_string());
                 let _ = tx.send(Msg::WatchMode(format!("polling 1 s (watcher error: {e})")));
-                spawn_poll(target.clone(), tx.clone(), POLL);
+                spawn_poll_until(target.clone(), tx.clone(), POLL, stop.clone());
             }
         }
     })
@@ -120,6 +141,16 @@ fn stamp(path: &Path) -> Option<(SystemTime, u64)> {
 /// Polls the file every `every`: when mtime or size changed, reads it and sends it if the
 /// content hash differs from the last one seen. Stops when the receiver is gone.
 pub fn spawn_poll(path: PathBuf, tx: Sender<Msg>, every: Duration) -> std::thread::JoinHandle<()> {
+    spawn_poll_until(path, tx, every, Arc::new(AtomicBool::new(false)))
+}
+
+/// [`spawn_poll`] that also stops once `stop` is set.
+fn spawn_poll_until(
+    path: PathBuf,
+    tx: Sender<Msg>,
+    every: Duration,
+    stop: Arc<AtomicBool>,
+) -> std::thread::JoinHandle<()> {
     std::thread::Builder::new()
         .name("deckspin-poll".into())
         .spawn(move || {
@@ -127,6 +158,9 @@ pub fn spawn_poll(path: PathBuf, tx: Sender<Msg>, every: Duration) -> std::threa
             let mut last_hash = std::fs::read_to_string(&path).ok().map(|t| hash_text(&t));
             loop {
                 std::thread::sleep(every);
+                if stop.load(Ordering::SeqCst) {
+                    return;
+                }
                 let s = stamp(&path);
                 if s == last_stamp {
                     continue;

@@ -75,7 +75,17 @@ fn draw_screen(frame: &mut Frame, app: &App, cache: &mut Cache) {
     status::draw_hints(frame, hints, app, &th);
     match &app.mode {
         Mode::Help => status::draw_help(frame, area, app, &th),
-        Mode::Pick { files, selected } => studies::draw_picker(frame, area, files, *selected, &th),
+        Mode::Pick { files, selected } => studies::draw_picker(
+            frame,
+            area,
+            " reopen a study — newest first ",
+            files,
+            *selected,
+            &th,
+        ),
+        Mode::OpenModel { files, selected } => {
+            form::draw_model_picker(frame, area, app, files, *selected, &th)
+        }
         Mode::Confirm(c) => status::draw_confirm(frame, area, app, c, &th),
         _ => {}
     }

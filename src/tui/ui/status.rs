@@ -168,7 +168,7 @@ fn question(app: &App, c: &Confirm) -> (Vec<String>, Vec<(&'static str, &'static
             if let Some(c) = conflicts.first() {
                 q.push(format!(
                     "{}: yours {}, on disk {}",
-                    c.path,
+                    crate::tui::form::label_of(&c.path),
                     v(&c.mine),
                     v(&c.theirs)
                 ));
@@ -192,7 +192,18 @@ fn question(app: &App, c: &Confirm) -> (Vec<String>, Vec<(&'static str, &'static
             yes_no,
         ),
         Confirm::Quit => (
-            vec!["Quit and lose your unsaved edits?".to_string()],
+            vec![format!("{name} has unsaved edits.")],
+            vec![
+                ("s", "save and quit"),
+                ("y", "quit without saving"),
+                ("n", "stay"),
+            ],
+        ),
+        Confirm::OpenModel { path } => (
+            vec![format!(
+                "Open {} and lose your unsaved edits of {name}?",
+                path.display()
+            )],
             yes_no,
         ),
     }

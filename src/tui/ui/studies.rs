@@ -375,6 +375,7 @@ fn fig8(t: &RunTable, th: &Theme) -> Plot {
 pub(super) fn draw_picker(
     frame: &mut Frame,
     area: Rect,
+    title: &str,
     files: &[PathBuf],
     selected: usize,
     th: &Theme,
@@ -394,7 +395,7 @@ pub(super) fn draw_picker(
         w.min(area.width),
         h,
     );
-    let block = th.block(th.text(" reopen a study — newest first "));
+    let block = th.block(th.text(title));
     let inner = block.inner(rect);
     frame.render_widget(Clear, rect);
     frame.render_widget(block, rect);

@@ -12,6 +12,9 @@ pub(super) fn form_action(app: &mut App, a: Action) {
         A::FieldDown => select(app, 1),
         A::FieldPageUp => select(app, -10),
         A::FieldPageDown => select(app, 10),
+        A::FieldEdit if app.form.on_header => {
+            super::find::find_action(app, A::FoldToggle);
+        }
         A::FieldEdit => start_edit(app),
         A::FieldRevert => revert(app),
         A::ItemDuplicate | A::ItemRemove => list_edit(app, a == A::ItemDuplicate),
@@ -55,11 +58,9 @@ pub(super) fn recheck(app: &mut App) {
     }
 }
 
+/// Moves the selection `d` rows (group headers included).
 fn select(app: &mut App, d: i64) {
-    let n = app.form.fields.len() as i64;
-    if n > 0 {
-        app.form.selected = (app.form.selected as i64 + d).clamp(0, n - 1) as usize;
-    }
+    app.form.move_by(d);
 }
 
 /// `Enter`: accept the edit (refused, with the reason, when invalid).
@@ -80,7 +81,10 @@ fn commit(app: &mut App) {
                 .selected()
                 .and_then(|f| f.value.clone())
                 .unwrap_or_default();
-            let unit = if f.unit.is_empty() || f.unit == "–" || f.unit.contains('|') {
+            let unit = if f.unit.is_empty()
+                || ["–", "#"].contains(&f.unit.as_str())
+                || f.unit.contains('|')
+            {
                 String::new()
             } else {
                 format!(" {}", f.unit)
@@ -89,7 +93,7 @@ fn commit(app: &mut App) {
                 StatusKind::Ok,
                 format!(
                     "{} = {v}{unit} (unsaved: s saves and reruns, r runs the edits)",
-                    f.path
+                    f.label
                 ),
             );
         }
@@ -144,11 +148,11 @@ fn revert(app: &mut App) {
         return;
     };
     if !f.edited() {
-        app.set_status(StatusKind::Info, format!("{} is not edited", f.path));
+        app.set_status(StatusKind::Info, format!("{} is not edited", f.label));
         return;
     }
     let r = match &f.saved {
-        Some(v) => form::set_value(&app.draft, &f.path, f.kind, v, ""),
+        Some(v) => form::set_value(&app.draft, &f.path, f.kind, v, form::Dim::Plain),
         None => form::remove_value(&app.draft, &f.path),
     };
     match r.and_then(|t| {
@@ -158,8 +162,8 @@ fn revert(app: &mut App) {
     }) {
         Ok(t) => {
             accept_draft(app, t);
-            app.set_status(StatusKind::Ok, format!("{} reverted", f.path));
+            app.set_status(StatusKind::Ok, format!("{} reverted", f.label));
         }
-        Err(e) => app.set_status(StatusKind::Error, format!("cannot revert {}: {e}", f.path)),
+        Err(e) => app.set_status(StatusKind::Error, format!("cannot revert {}: {e}", f.label)),
     }
 }

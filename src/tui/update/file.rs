@@ -30,25 +30,68 @@ pub(super) fn save(app: &mut App) -> Vec<Effect> {
     }]
 }
 
-/// The save finished: rerun, or report the failure.
+/// Quits: the running simulation and study cancelled.
+pub(super) fn quit_now(app: &mut App) -> Vec<Effect> {
+    app.quit = true;
+    let mut fx = Vec::new();
+    if let Some(cur) = app.current.as_ref().filter(|c| c.running()) {
+        fx.push(Effect::CancelRun { id: cur.id });
+    }
+    if let Some((_, e)) = app.studies.running() {
+        fx.push(Effect::CancelStudy { id: e.id });
+    }
+    if let Some(id) = app.results.running_id() {
+        fx.push(Effect::CancelResult { id });
+    }
+    fx.push(Effect::Quit);
+    fx
+}
+
+/// `s` in the quit question: save, and quit once saved (a draft the engine refuses, a failed
+/// save or a change on disk stop the quit, with the reason).
+pub(super) fn save_and_quit(app: &mut App) -> Vec<Effect> {
+    app.mode = Mode::Normal;
+    if !app.dirty() {
+        return quit_now(app);
+    }
+    let fx = save(app);
+    if fx.is_empty() {
+        let why = app.status.clone();
+        app.set_status(StatusKind::Error, format!("{why} — not quitting"));
+    } else {
+        app.quit_after_save = true;
+        app.set_status(
+            StatusKind::Info,
+            format!("saving {} to quit…", app.file_name()),
+        );
+    }
+    fx
+}
+
+/// The save finished: rerun (or quit, when asked to), or report the failure.
 pub(super) fn on_saved(
     app: &mut App,
     text: String,
     result: Result<PathBuf, String>,
 ) -> Vec<Effect> {
     app.expected_save = None;
+    let quitting = std::mem::take(&mut app.quit_after_save);
     match result {
         Ok(p) => {
             app.disk_hash = hash_text(&text);
             app.text = text;
             app.load_error = None;
             app.rebuild_form();
+            if quitting {
+                return quit_now(app);
+            }
             let fx = start_run(app);
             app.set_status(StatusKind::Ok, format!("saved {} — rerunning", p.display()));
             fx
         }
         Err(e) => {
-            app.set_status(StatusKind::Error, format!("save failed: {e}"));
+            let not = if quitting { " — not quitting" } else { "" };
+            app.set_status(StatusKind::Error, format!("save failed: {e}{not}"));
             Vec::new()
         }
     }

@@ -4,6 +4,8 @@
 
 mod edit;
 mod file;
+mod find;
+mod open;
 mod reconcile;
 mod results;
 mod run;
@@ -67,6 +69,8 @@ pub fn update(app: &mut App, msg: Msg) -> Vec<Effect> {
         Msg::StudyPoint { id, index, point } => results::on_point(app, id, index, *point),
         Msg::ResultProgress { id, done, all } => results::on_progress(app, id, done, all),
         Msg::ResultDone { id, outcome } => results::on_done(app, id, outcome),
+        Msg::ModelFiles(r) => open::on_files(app, r),
+        Msg::ModelRead { path, result } => open::on_read(app, path, result),
         // the runtime ends the loop on it (see `signals`)
         Msg::Signal(_) => Vec::new(),
     }
@@ -119,6 +123,12 @@ fn on_key(app: &mut App, ev: KeyEvent) -> Vec<Effect> {
         && !ev.modifiers.contains(KeyModifiers::CONTROL)
     {
         runs::name_type(app, c);
+    }
+    if let Mode::Search { .. } = app.mode
+        && let KeyCode::Char(c) = ev.code
+        && !ev.modifiers.contains(KeyModifiers::CONTROL)
+    {
+        find::type_char(app, c);
     }
     Vec::new()
 }
@@ -215,6 +225,23 @@ fn on_action(app: &mut App, a: Action) -> Vec<Effect> {
         }
         A::Suspend => term::suspend(app),
         A::ResultUp | A::ResultDown | A::ResultGrid => results::action(app, a),
+        A::FieldFirst
+        | A::FieldLast
+        | A::SearchStart
+        | A::SearchNext
+        | A::SearchPrev
+        | A::SearchKeep
+        | A::SearchCancel
+        | A::SearchBackspace
+        | A::FoldToggle
+        | A::FoldAll => {
+            find::find_action(app, a);
+            Vec::new()
+        }
+        A::SaveQuit => file::save_and_quit(app),
+        A::OpenModel | A::ModelUp | A::ModelDown | A::ModelOpen | A::ModelClose => {
+            open::open_action(app, a)
+        }
     }
 }
 
@@ -229,7 +256,7 @@ fn ask_quit(app: &mut App) -> Vec<Effect> {
         app.mode = Mode::Confirm(Confirm::Quit);
         app.set_status(
             StatusKind::Warn,
-            "unsaved edits: quit anyway and lose them? (y/n)",
+            "unsaved edits: s saves and quits, y quits without saving, n stays",
         );
         Vec::new()
     } else {
@@ -238,19 +265,7 @@ fn ask_quit(app: &mut App) -> Vec<Effect> {
 }
 
 fn quit(app: &mut App) -> Vec<Effect> {
-    app.quit = true;
-    let mut fx = Vec::new();
-    if let Some(cur) = app.current.as_ref().filter(|c| c.running()) {
-        fx.push(Effect::CancelRun { id: cur.id });
-    }
-    if let Some((_, e)) = app.studies.running() {
-        fx.push(Effect::CancelStudy { id: e.id });
-    }
-    if let Some(id) = app.results.running_id() {
-        fx.push(Effect::CancelResult { id });
-    }
-    fx.push(Effect::Quit);
-    fx
+    file::quit_now(app)
 }
 
 /// The answer to a yes/no question (quit, save over a change on disk).
@@ -265,6 +280,7 @@ fn answer(app: &mut App, yes: bool) -> Vec<Effect> {
             Vec::new()
         }
         (Confirm::SaveConflict { text }, yes) => reconcile::answer_save_conflict(app, text, yes),
+        (Confirm::OpenModel { path }, yes) => open::answer(app, path, yes),
         (c @ Confirm::Merge { .. }, _) => {
             // answered with m/t/M/T, not y/n
             app.mode = Mode::Confirm(c);

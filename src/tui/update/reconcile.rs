@@ -90,7 +90,8 @@ pub(super) fn merge_outside(app: &mut App, theirs: String) -> Vec<Effect> {
     {
         let v = merge::value_of(&app.text, path).map_or("(removed)".into(), |v| form::show(&v));
         note.push_str(&format!(
-            "; {path} changed on disk to {v} while you typed: Enter keeps yours, Esc takes it"
+            "; {} changed on disk to {v} while you typed: Enter keeps yours, Esc takes it",
+            form::label_of(path)
         ));
     }
     if !conflicts.is_empty() {
@@ -110,7 +111,10 @@ fn describe(taken: &[String], failed: &[(String, String)]) -> String {
     let mut s = if taken.is_empty() {
         "the change on disk needed no merge".to_string()
     } else {
-        let mut list = taken.iter().take(3).cloned().collect::<Vec<_>>().join(", ");
+        let mut list = (taken.iter().take(3))
+            .map(|p| form::label_of(p))
+            .collect::<Vec<_>>()
+            .join(", ");
         if taken.len() > 3 {
             list.push_str(&format!(" and {} more", taken.len() - 3));
         }
@@ -118,7 +122,8 @@ fn describe(taken: &[String], failed: &[(String, String)]) -> String {
     };
     for (p, e) in failed {
         s.push_str(&format!(
-            "; your edit of {p} could not be kept ({e}): the disk's stays"
+            "; your edit of {} could not be kept ({e}): the disk's stays",
+            form::label_of(p)
         ));
     }
     s
@@ -136,7 +141,7 @@ fn resume(app: &mut App, typing: Option<(String, String)>, other: Option<Mode>) 
     app.mode = other.unwrap_or(Mode::Normal);
     if let Some((path, buffer)) = typing {
         if let Some(i) = app.form.index_of(&path) {
-            app.form.selected = i;
+            app.form.select(i);
         }
         app.mode = Mode::Editing {
             buffer,
@@ -185,7 +190,7 @@ fn ask(app: &mut App, note: &str) {
     let msg = format!(
         "{lead}{} changed on disk and here{more}: yours {}, on disk {} — m keeps mine, \
          t takes theirs, M/T for all",
-        c.path,
+        form::label_of(&c.path),
         v(&c.mine),
         v(&c.theirs)
     );
@@ -210,7 +215,10 @@ pub(super) fn answer_conflict(app: &mut App, keep_mine: bool, all: bool) -> Vec<
         let theirs = merge::value_of(&app.text, &c.path);
         match merge::apply(&app.draft, &c.path, theirs.as_ref()) {
             Ok(t) => app.draft = t,
-            Err(e) => failed.push(format!("cannot take {} from disk: {e}", c.path)),
+            Err(e) => failed.push(format!(
+                "cannot take {} from disk: {e}",
+                form::label_of(&c.path)
+            )),
         }
     }
     set_scene(app);
@@ -242,6 +250,8 @@ pub(super) fn answer_conflict(app: &mut App, keep_mine: bool, all: bool) -> Vec<
 /// `s` found `disk` on disk, not the version the edits were based on: ask.
 pub(super) fn on_save_conflict(app: &mut App, disk: String) -> Vec<Effect> {
     app.expected_save = None;
+    // a save to quit stops here: the question comes first
+    app.quit_after_save = false;
     let loads = form::validate(&disk, &app.path).is_ok();
     let q = if loads {
         "merge it into your edits first? (y: merge, then s saves; n: do not save)"
