@@ -2,7 +2,7 @@
 # Bytes the workbench sends to its terminal per second, idle and during a run, at 80x24: the
 # workbench on models/four-span.toml in a detached tmux pane, its output recorded by
 # script(1); the first run is left to finish, the idle bytes are counted over 10 s, then `r`
-# reruns and the bytes up to its end ("run 2 done", or "failed" when the accuracy check finds the fixed step too coarse) are counted with the wall time they took. So that a
+# reruns and the bytes up to its end ("#2 done", or "failed" when the accuracy check finds the fixed step too coarse) are counted with the wall time they took. So that a
 # run lasts seconds, the model is solved by Moreau–Jean with a 20 µs step (some 6 s here; the
 # event-driven default takes 0.1 s).
 #
@@ -39,7 +39,7 @@ wait_for() {
     echo "timed out waiting for '$1'" >&2
     exit 1
 }
-wait_for "run 1 (done|failed)"
+wait_for "#1 (done|failed)"
 sleep 1
 a=$(size)
 sleep 10
@@ -48,7 +48,7 @@ echo "idle at 80x24: $(((b - a) / 10)) B/s ($((b - a)) bytes in 10 s)"
 a=$(size)
 t0=$(date +%s%N)
 tmux -L "$sock" send-keys -t b r
-wait_for "run 2 (done|failed)"
+wait_for "#2 (done|failed)"
 t1=$(date +%s%N)
 b=$(size)
 ms=$(((t1 - t0) / 1000000))
