@@ -292,10 +292,7 @@ fn edit_run_pin_edit_run_compare_save_and_reopen() {
     run(&mut again, fx);
     assert_eq!(again.current.as_ref().unwrap().id, 5);
     let s = screen(&render(&mut again, 120, 40));
-    assert!(
-        s.contains(" ┈#2 "),
-        "the baseline overlaid: {s}"
-    );
+    assert!(s.contains(" ┈#2 "), "the baseline overlaid: {s}");
     assert!(s.contains("#2 base"), "{s}");
     let _ = std::fs::remove_dir_all(model.parent().unwrap().parent().unwrap());
 }
