@@ -628,6 +628,102 @@ fn at_80_columns_the_readouts_are_whole_items() {
     assert_eq!(head.matches('━').count(), 4, "{head}");
 }
 
+/// Draws `app` at 80×24 with `cache` (kept across frames as the runtime keeps it) and returns
+/// its lines.
+fn frame_with(app: &mut App, cache: &mut tui::ui::Cache) -> Vec<String> {
+    update(app, Msg::Resize(80, 24));
+    let mut t = Terminal::new(TestBackend::new(80, 24)).unwrap();
+    t.draw(|f| tui::ui::draw(f, app, cache)).unwrap();
+    screen(&t)
+}
+
+/// The readout line, left of the side panels.
+fn readout_line(lines: &[String]) -> String {
+    let ro = lines.iter().find(|l| l.starts_with("t = "));
+    let ro = ro.unwrap_or_else(|| panic!("{}", lines.join("\n")));
+    ro.chars().take(52).collect()
+}
+
+#[test]
+fn while_a_run_is_followed_the_readouts_refresh_twice_a_second() {
+    let mut app = App::new_from_text(&read(&bridge_path()), Path::new("models/four-span.toml"));
+    let fx = app.start();
+    let Some(Effect::StartRun { id, scene }) = fx
+        .into_iter()
+        .find(|e| matches!(e, Effect::StartRun { .. }))
+    else {
+        panic!("no run started")
+    };
+    let msgs = tui::worker::run_blocking(id, &scene);
+    assert!(msgs.len() > 6, "{} messages", msgs.len());
+    let mut msgs = msgs.into_iter();
+    let mut feed = |app: &mut App, n: usize| {
+        for m in msgs.by_ref().take(n) {
+            update(app, m);
+        }
+    };
+    let mut cache = tui::ui::Cache::default();
+    feed(&mut app, 2);
+    assert!(app.running() && app.follow);
+    let t1 = app.cursor_time();
+    let first = frame_with(&mut app, &mut cache);
+    let ro1 = readout_line(&first);
+    assert!(
+        ro1.starts_with(&format!("t = {} s", nav::fmt_time(t1))),
+        "{ro1}"
+    );
+    // more batches within the period: the charts and the header go on, the readouts stay
+    feed(&mut app, 2);
+    assert!(app.running());
+    let t2 = app.cursor_time();
+    assert!(t2 > t1);
+    let started = std::time::Instant::now();
+    let second = frame_with(&mut app, &mut cache);
+    assert!(started.elapsed() < tui::ui::READOUT_PERIOD);
+    assert_eq!(readout_line(&second), ro1);
+    // the column loop's deformation and force, on its lower border
+    let loop_readout = |l: &[String]| -> String {
+        let right = l.iter().map(|s| s.chars().skip(52).collect::<String>());
+        let border = right
+            .filter(|s| s.starts_with("└ ") && s.contains(", "))
+            .last();
+        border.unwrap_or_else(|| panic!("{}", l.join("\n")))
+    };
+    assert_eq!(loop_readout(&second), loop_readout(&first));
+    assert_ne!(second[0], first[0], "the header's progress goes on");
+    let plan = |l: &[String]| l[1].chars().skip(50).collect::<String>();
+    assert!(plan(&second).contains(&format!("t={} s", chart::fmt_num(t1, 7))));
+    // after the period the readouts take the latest sample
+    std::thread::sleep(tui::ui::READOUT_PERIOD);
+    let third = frame_with(&mut app, &mut cache);
+    let ro3 = readout_line(&third);
+    assert!(
+        ro3.starts_with(&format!("t = {} s", nav::fmt_time(t2))),
+        "{ro3}"
+    );
+    assert!(plan(&third).contains(&format!("t={} s", chart::fmt_num(t2, 7))));
+    // a cursor moved by hand is read at once
+    act(&mut app, Action::CursorLeft);
+    assert!(!app.follow);
+    let tc = app.cursor_time();
+    let ro = readout_line(&frame_with(&mut app, &mut cache));
+    assert!(
+        ro.starts_with(&format!("t = {} s", nav::fmt_time(tc))),
+        "{ro}"
+    );
+    // and so is the end of the run once it is done
+    act(&mut app, Action::CursorEnd);
+    feed(&mut app, usize::MAX);
+    assert!(!app.running());
+    let end = app.cursor_time();
+    assert_eq!(end, 16.0);
+    let ro = readout_line(&frame_with(&mut app, &mut cache));
+    assert!(
+        ro.starts_with(&format!("t = {} s", nav::fmt_time(end))),
+        "{ro}"
+    );
+}
+
 // ---------------------------------------------------------------------------------------------
 // reruns in a zoomed window
 

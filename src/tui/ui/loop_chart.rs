@@ -38,8 +38,16 @@ impl Plot {
     }
 }
 
-/// Draws the force–deformation chart of the selected element.
-pub(super) fn draw_loop(frame: &mut Frame, area: Rect, app: &App, cache: &mut Cache, th: &Theme) {
+/// Draws the force–deformation chart of the selected element up to the cursor, its readout
+/// (on the lower border) at `rt`.
+pub(super) fn draw_loop(
+    frame: &mut Frame,
+    area: Rect,
+    app: &App,
+    cache: &mut Cache,
+    rt: f64,
+    th: &Theme,
+) {
     let Some(run) = shown_run(app) else {
         frame.render_widget(th.block(" column "), area);
         return;
@@ -68,7 +76,7 @@ pub(super) fn draw_loop(frame: &mut Frame, area: Rect, app: &App, cache: &mut Ca
     );
     let block = th
         .block(title)
-        .title_bottom(Line::styled(loop_readout(app, run, j, tc), th.cursor()));
+        .title_bottom(Line::styled(loop_readout(app, run, j, rt), th.cursor()));
     let inner = block.inner(area);
     let plot = plot(run, j, prev, inner, loop_units(app, run, j), th);
     let mut key = vec![run.t.len() as u64, t0.to_bits(), tc.to_bits()];

@@ -165,9 +165,9 @@ fn view_box(scene: &Scene, inner: Rect) -> (f64, f64, f64, f64) {
     (cx, cy, hx, hy)
 }
 
-/// Draws the plan view at the cursor time.
-pub(super) fn draw_plan(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
-    let tc = app.cursor_time();
+/// Draws the plan view at `tc`: the cursor time, or the instant the readouts hold while a
+/// running run is followed ([`super::Cache::readout_time`]).
+pub(super) fn draw_plan(frame: &mut Frame, area: Rect, app: &App, tc: f64, th: &Theme) {
     let Some(scene) = &app.scene else {
         frame.render_widget(Paragraph::new("no model").block(th.block(" plan ")), area);
         return;

@@ -33,19 +33,21 @@ struct Window<'a> {
     overlays: Vec<Overlay<'a>>,
     t0: f64,
     t1: f64,
-    tc: f64,
+    /// The time of the values at the cursor in the headers ([`super::Cache::readout_time`]).
+    rt: f64,
     cols: u16,
 }
 
 /// One chart: title, unit, series.
 type TimeChart = (String, String, Vec<Series>);
 
-/// Draws the time charts that fit and the event strip under them.
+/// Draws the time charts that fit and the event strip under them; the readouts at `rt`.
 pub(super) fn draw_time_panel(
     frame: &mut Frame,
     area: Rect,
     app: &App,
     cache: &mut Cache,
+    rt: f64,
     th: &Theme,
 ) {
     let Some(run) = shown_run(app) else {
@@ -81,7 +83,7 @@ pub(super) fn draw_time_panel(
         overlays,
         t0,
         t1,
-        tc,
+        rt,
         cols,
     };
     let mut charts: Vec<TimeChart> = Vec::new();
@@ -96,7 +98,7 @@ pub(super) fn draw_time_panel(
         draw_time_chart(frame, rects[i], (t0, t1, tc), &title, &unit, series, th);
     }
     let kn = nav::kilonewton(app);
-    draw_timeline(frame, rects[n_charts], run, (t0, t1, tc), kn, cache, th);
+    draw_timeline(frame, rects[n_charts], run, (t0, t1, tc, rt), kn, cache, th);
 }
 
 /// One series of `r` (column `y`, cached as `what`) over the window, with its value at the
@@ -113,7 +115,7 @@ fn series(
         style,
         data: cache.decimated(r, &what, y, sp.t0, sp.t1, sp.cols),
         overlay,
-        now: value_at(r, y, sp.tc),
+        now: value_at(r, y, sp.rt),
     }
 }
 
