@@ -683,10 +683,8 @@ fn while_a_run_is_followed_the_readouts_refresh_twice_a_second() {
     assert_eq!(readout_line(&second), ro1);
     // the column loop's deformation and force, on its lower border
     let loop_readout = |l: &[String]| -> String {
-        let right = l.iter().map(|s| s.chars().skip(52).collect::<String>());
-        let border = right
-            .filter(|s| s.starts_with("└ ") && s.contains(", "))
-            .last();
+        let mut right = l.iter().map(|s| s.chars().skip(52).collect::<String>());
+        let border = right.rfind(|s| s.starts_with("└ ") && s.contains(", "));
         border.unwrap_or_else(|| panic!("{}", l.join("\n")))
     };
     assert_eq!(loop_readout(&second), loop_readout(&first));
