@@ -1,7 +1,9 @@
 //! End-to-end: the real `deckspin MODEL.toml` workbench in a detached tmux session (120×40).
 //! Runs a 3 s copy of the four-span bridge, edits a gap in the form, saves, sees the rerun
 //! and the comparison change, edits the file on disk and sees "reloaded", quits with `q` and
-//! checks the terminal is back on the normal screen. Skipped (passes) without tmux.
+//! checks the terminal is back on the normal screen; a whole session from an interactive shell
+//! (edit, run, pin, compare, events, the work-precision study, Ctrl-Z and `fg`, quit); panics,
+//! signals, suspension. Skipped (passes) without tmux.
 
 #![cfg(feature = "workbench")]
 
