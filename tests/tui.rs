@@ -445,8 +445,8 @@ fn edit_invalid_values_refused_with_the_reason() {
         panic!("not refused: {:?}", app.mode)
     };
     assert!(
-        reason.contains("contacts.gaps.0: must be ≥ 0, got -0.01"),
-        "{reason}"
+        reason.contains("contacts gap 1 (left_top): must be ≥ 0, got -0.01"),
+        "numbered from 1 as the form's labels: {reason}"
     );
     assert!(
         reason.contains("four-span.toml:24:9:"),

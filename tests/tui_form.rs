@@ -668,3 +668,96 @@ fn the_form_draws_at_any_size_in_any_state() {
         }
     }
 }
+
+// ---------------------------------------------------------------------------------------------
+// the engine's messages, numbered from 1
+
+/// Types `value` into the field at `path` (not accepted) and returns the live verdict.
+fn verdict(app: &mut App, path: &str, value: &str) -> Result<(), String> {
+    app.view = View::Form;
+    app.form.selected = app.form.index_of(path).expect(path);
+    update(app, code(KeyCode::Enter));
+    update(
+        app,
+        Msg::Key(KeyEvent::new(KeyCode::Char('u'), KeyModifiers::CONTROL)),
+    );
+    keys(app, value);
+    let Mode::Editing { check, .. } = &app.mode else {
+        panic!("not editing: {:?}", app.mode)
+    };
+    check.clone()
+}
+
+#[test]
+fn engine_errors_name_list_elements_from_1_as_the_labels_do() {
+    // an edit refused: the reason names the field by its label
+    let mut app = bridge_app();
+    let r = verdict(&mut app, "contacts.gaps.0", "-0.01").unwrap_err();
+    assert!(
+        r.contains("contacts gap 1 (left_top): must be ≥ 0, got -0.01"),
+        "{r}"
+    );
+    assert!(!r.contains("contacts.gaps.0"), "{r}");
+    assert!(r.starts_with("models/four-span.toml:24:9: "), "{r}");
+    let s = screen(&render(&mut app, 120, 40));
+    assert!(
+        s.contains("✗") && s.contains("gap 1 (left_top): must be ≥ 0"),
+        "{s}"
+    );
+    assert!(!s.contains("gaps.0"), "{s}");
+    update(&mut app, code(KeyCode::Esc));
+    let r = verdict(&mut app, "contacts.gaps.3", "-1").unwrap_err();
+    assert!(
+        r.contains("contacts gap 4 (right_bottom): must be ≥ 0"),
+        "{r}"
+    );
+
+    // nested lists: frame 2's first bent
+    let path = root().join("models/three-frame.toml");
+    let mut app = App::new_from_text(&read(&path), Path::new("models/three-frame.toml"));
+    let r = verdict(&mut app, "frame.1.bent.0.height", "-2").unwrap_err();
+    assert!(r.contains("frame 2 bent 1 height: "), "{r}");
+    assert!(!r.contains("frame.1.bent.0"), "{r}");
+
+    // a version on disk that does not load: the banner and the status line, from 1
+    let mut app = bridge_app();
+    let broken = app
+        .text
+        .replace("gaps = [0.0127, 0.0127,", "gaps = [0.0127, -0.0127,");
+    assert_ne!(broken, app.text);
+    update(&mut app, Msg::FileChanged(broken));
+    let le = app.load_error.clone().expect("the reload refused");
+    assert!(
+        le.message
+            .contains("contacts gap 2 (left_bottom): must be ≥ 0"),
+        "{}",
+        le.message
+    );
+    assert!(
+        le.detail.starts_with("contacts gap 2 (left_bottom)"),
+        "{}",
+        le.detail
+    );
+    assert!(
+        app.status.contains("contacts gap 2 (left_bottom)"),
+        "{}",
+        app.status
+    );
+    let s = screen(&render(&mut app, 120, 40));
+    assert!(
+        s.contains("contacts gap 2 (left_bottom): must be ≥ 0"),
+        "{s}"
+    );
+    assert!(!s.contains("gaps.1"), "{s}");
+    // the command line's --set keeps the engine's paths, numbered from 0
+    let e = deckspin::model::load_str(
+        &read(&root().join("models/four-span.toml")),
+        Path::new("four-span.toml"),
+        &["contacts.gaps.0=-0.01".to_string()],
+    )
+    .unwrap_err();
+    assert!(
+        e.to_string().contains("contacts.gaps.0: must be ≥ 0"),
+        "{e}"
+    );
+}

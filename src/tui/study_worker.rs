@@ -4,6 +4,7 @@
 //! final; the end a [`Msg::StudyDone`] with the whole table. A cancel flag, read before each
 //! run starts, skips the runs not started.
 
+use super::form::shown_error;
 use super::msg::{Msg, StudyOutcome};
 use super::study::StudySpec;
 use super::worker::{THREAD_PREFIX, panic_text};
@@ -56,8 +57,8 @@ impl Watch for Watcher<'_> {
 /// `send`; returns its [`Msg::StudyDone`].
 pub fn run(id: u64, spec: &StudySpec, cancel: &AtomicBool, send: &(dyn Fn(Msg) + Sync)) -> Msg {
     let work = || {
-        let study =
-            Study::from_text(&spec.text, &spec.path, &spec.overrides).map_err(|e| e.to_string())?;
+        let study = Study::from_text(&spec.text, &spec.path, &spec.overrides)
+            .map_err(|e| shown_error(&e))?;
         let watch = Watcher { id, cancel, send };
         let point = |index: usize, p: &crate::precision::Point| {
             let point = Box::new(p.clone());
