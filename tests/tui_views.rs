@@ -497,6 +497,17 @@ fn snapshot_results_pages() {
     show(&mut app, Page::Records);
     app.ascii = true;
     snap(&mut app, 80, 24, "results_records_80x24_ascii");
+    let mut app = bridge_app();
+    show(&mut app, Page::Modes);
+    app.ascii = true;
+    let t = render(&mut app, 80, 24);
+    assert_ascii(&screen(&t), "modes");
+    assert!(
+        screen(&t).contains("mode 1 on the plan x1"),
+        "{}",
+        screen(&t)
+    );
+    snap(&mut app, 80, 24, "results_modes_80x24_ascii");
 }
 
 #[test]
@@ -516,4 +527,75 @@ fn snapshot_precision() {
         .collect::<Vec<_>>()
         .join("\n");
     snapshot_settings().bind(|| insta::assert_snapshot!("precision_grid_120x40", s));
+}
+
+/// The canvas of the modes page's plan (inside its border) and its title line.
+fn mode_plan(s: &str) -> (String, Vec<Vec<char>>) {
+    let lines: Vec<&str> = s.lines().collect();
+    let top = (lines.iter().position(|l| l.contains(" on the plan ×")))
+        .unwrap_or_else(|| panic!("no mode plan:\n{s}"));
+    let bottom = top
+        + lines[top..]
+            .iter()
+            .position(|l| l.starts_with('└'))
+            .unwrap();
+    let rows = lines[top + 1..bottom]
+        .iter()
+        .map(|l| {
+            let inner: Vec<char> = l.chars().skip(1).collect();
+            let end = inner.iter().position(|&c| c == '│').unwrap();
+            inner[..end].to_vec()
+        })
+        .collect();
+    (lines[top].to_string(), rows)
+}
+
+#[test]
+fn the_modes_page_draws_the_selected_mode_on_the_plan() {
+    let mut app = bridge_app();
+    show(&mut app, Page::Modes);
+    // without colour only the displaced outline is drawn
+    app.opts.color = false;
+    let mut plans = Vec::new();
+    for k in 1..=5 {
+        assert_eq!(app.results.mode, k - 1);
+        let s = screen(&render(&mut app, 120, 40));
+        let (title, rows) = mode_plan(&s);
+        assert!(
+            title.contains(&format!("┌ mode {k} on the plan ×")),
+            "{title}"
+        );
+        assert!(
+            rows.iter().flatten().filter(|c| **c != ' ').count() > 50,
+            "an outline is drawn:\n{s}"
+        );
+        plans.push(rows);
+        act(&mut app, Action::ResultDown);
+    }
+    // modes 1 (deck y and θ), 2 (deck x), 4 (left abutment x) are drawn differently
+    assert_ne!(plans[0], plans[1]);
+    assert_ne!(plans[1], plans[3]);
+    assert_ne!(plans[0], plans[3]);
+    // modes 4 and 5 move only the left or the right abutment: they differ at the ends of the
+    // bridge, and nowhere in the middle half, where the deck is at rest in both
+    let (a, b) = (&plans[3], &plans[4]);
+    let w = a[0].len();
+    let mut differ = Vec::new();
+    for (ra, rb) in a.iter().zip(b) {
+        for x in 0..w {
+            if ra[x] != rb[x] {
+                differ.push(x);
+            }
+        }
+    }
+    assert!(differ.iter().any(|&x| x < w / 4), "{differ:?}");
+    assert!(differ.iter().any(|&x| x >= 3 * w / 4), "{differ:?}");
+    assert!(
+        differ.iter().all(|&x| x < w / 4 || x >= 3 * w / 4),
+        "{differ:?} of {w}"
+    );
+    // a terminal too short for it: the table alone
+    let s = screen(&render(&mut app, 80, 18));
+    assert!(!s.contains("on the plan"), "{s}");
+    assert!(s.contains("shape of mode 6"), "{s}");
 }
