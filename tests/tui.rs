@@ -966,7 +966,7 @@ fn reload_with_a_parse_error_keeps_the_last_good_model() {
     let le = app.load_error.clone().unwrap();
     assert_eq!((le.line, le.column), (Some(line), Some(1)));
     assert!(
-        le.message.contains("contact.0.mu: must be ≥ 0"),
+        le.message.contains("contact 1 mu: must be ≥ 0"),
         "{}",
         le.message
     );
@@ -1024,7 +1024,7 @@ fn a_file_that_never_loaded_can_be_repaired() {
     let mut app = App::new_from_text(&bad, &corner_path());
     assert!(app.scene.is_none());
     let le = app.load_error.clone().unwrap();
-    assert!(le.message.contains("contact.0.mu"), "{}", le.message);
+    assert!(le.message.contains("contact 1 mu"), "{}", le.message);
     assert!(app.start().is_empty(), "nothing to run");
     assert!(act(&mut app, Action::Rerun).is_empty());
     let s = screen(&render(&mut app, 80, 24));
