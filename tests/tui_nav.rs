@@ -234,7 +234,7 @@ fn an_impact_is_described_with_its_normal_impulse() {
         .iter()
         .find(|e| e.kind == EventKind::Impact)
         .unwrap();
-    let s = nav::describe(run, e, true, false);
+    let s = nav::describe(run, e, "kN", false);
     assert_eq!(
         s,
         format!(
@@ -244,10 +244,7 @@ fn an_impact_is_described_with_its_normal_impulse() {
         )
     );
     // a scene file's units are its author's: the number alone
-    assert_eq!(
-        nav::impulse(e, false, false),
-        Some(eng(e.normal, "", false))
-    );
+    assert_eq!(nav::impulse(e, "", false), Some(eng(e.normal, "", false)));
 }
 
 // ---------------------------------------------------------------------------------------------

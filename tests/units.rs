@@ -216,3 +216,53 @@ fn the_workbench_energy_page_is_in_the_models_energy_unit() {
     let (s_j, _) = page(&d.to_string(), Page::Energy);
     assert!(s_j.contains("energy ledger over time [J]"), "{s_j}");
 }
+
+/// The charts view of the bridge in kip-in: lengths in in (no SI prefix on them), the column
+/// loop in kip, the runs compared in in; SI-kN keeps m and kN.
+#[cfg(feature = "workbench")]
+#[test]
+fn the_workbench_charts_are_in_the_models_units() {
+    use deckspin::tui::{self, App, Msg, update};
+    use ratatui::Terminal;
+    use ratatui::backend::TestBackend;
+
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("models/four-span.toml");
+    let mut d: DocumentMut = std::fs::read_to_string(&path).unwrap().parse().unwrap();
+    d["solver"]["t_end"] = value(2.0);
+    let si = d.to_string();
+    let charts = |text: &str| -> String {
+        let mut app = App::new_from_text(text, Path::new("models/four-span.toml"));
+        let fx = app.start();
+        tui::execute_blocking(&mut app, fx);
+        update(&mut app, Msg::Resize(120, 40));
+        let mut t = Terminal::new(TestBackend::new(120, 40)).unwrap();
+        let mut cache = tui::ui::Cache::default();
+        t.draw(|f| tui::ui::draw(f, &app, &mut cache)).unwrap();
+        let b = t.backend().buffer();
+        (0..b.area.height)
+            .map(|y| {
+                (0..b.area.width)
+                    .map(|x| b[(x, y)].symbol())
+                    .collect::<String>()
+                    + "\n"
+            })
+            .collect()
+    };
+    let s = charts(&in_kip_in(&si));
+    // (in takes no SI prefix: a scale of 1e-3 in is written out)
+    assert!(s.contains("gaps g_N [1e-3 in]"), "{s}");
+    assert!(s.contains("deck.x / deck.y [in]"), "{s}");
+    assert!(s.contains("deck.theta [µrad]"), "{s}");
+    assert!(s.contains("min gap [in]"), "{s}");
+    assert!(
+        s.contains(" kip │") && s.contains(" kip ───"),
+        "the column loop's force: {s}"
+    );
+    assert!(
+        !s.contains("mm") && !s.contains(" kN") && !s.contains("[m]"),
+        "{s}"
+    );
+    let s = charts(&si);
+    assert!(s.contains("gaps g_N [mm]"), "{s}");
+    assert!(s.contains("min gap [m]") && s.contains(" kN"), "{s}");
+}

@@ -111,20 +111,22 @@ pub(super) fn draw_loop(
     frame.render_widget(chart, area);
 }
 
-/// The units of element `j`'s deformation and force: m and kN (rad and kN·m for a rotation)
-/// in a bridge model; a scene file's force unit is its author's (none printed).
+/// The units of element `j`'s deformation and force in the model's units: m and kN (rad and
+/// kN·m for a rotation; in, kip, kip·in in kip-in) in a bridge model; a scene file's force
+/// unit is its author's (none printed).
 fn loop_units(app: &App, run: &RunData, j: usize) -> (String, String) {
-    let kn = nav::force_unit(nav::kilonewton(app));
+    let kn = nav::force_unit(app);
+    let len = nav::length_unit(app);
     if run.element_names[j].ends_with(".theta") {
         let dot = if app.ascii { "*" } else { "·" };
         let fu = if kn.is_empty() {
             String::new()
         } else {
-            format!("{kn}{dot}m")
+            format!("{kn}{dot}{len}")
         };
         ("rad".to_string(), fu)
     } else {
-        ("m".to_string(), kn.to_string())
+        (len.to_string(), kn.to_string())
     }
 }
 

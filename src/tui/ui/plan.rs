@@ -204,10 +204,11 @@ pub(super) fn draw_plan(frame: &mut Frame, area: Rect, app: &App, tc: f64, th: &
     // the seat margin when it fits whole
     let title = match seat_margin(scene, run, idx) {
         Some(m) => th.text(&format!(
-            " plan ×{} t={} s seat margin {} m ",
+            " plan ×{} t={} s seat margin {} {} ",
             fmt_num(s, 8),
             fmt_num(tc, 7),
-            fmt_num(m, 5)
+            fmt_num(m, 5),
+            crate::tui::nav::length_unit(app)
         )),
         None => short.clone(),
     };

@@ -250,7 +250,11 @@ pub(super) fn draw_records(frame: &mut Frame, area: Rect, app: &App, th: &Theme)
     );
     draw_line_plot(frame, acc, &pa, th);
     let pd = history(
-        format!("displacement [m], PGD {}", fmt_sig(c.pgd(), 3)),
+        format!(
+            "displacement [{}], PGD {}",
+            crate::tui::nav::length_unit(app),
+            fmt_sig(c.pgd(), 3)
+        ),
         'd',
         &c.disp,
         disp,

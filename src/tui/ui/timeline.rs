@@ -205,13 +205,13 @@ const KEYS_LABEL: &str = "keys";
 /// Draws the event strip of `run` over the window `t0..t1` with the cursor at `tc`: the
 /// legend, the readout at `rt` (the cursor time, or the instant held while a running run is
 /// followed; when `area` has a line for it), one row per contact, the key failures, the time
-/// axis. `kn`: the model's forces are in kN.
+/// axis. `kn`: the model's force unit (none when empty).
 pub(super) fn draw_timeline(
     frame: &mut Frame,
     area: Rect,
     run: &RunData,
     (t0, t1, tc, rt): (f64, f64, f64, f64),
-    kn: bool,
+    kn: &str,
     cache: &mut Cache,
     th: &Theme,
 ) {
@@ -304,7 +304,7 @@ fn legend(width: usize, keys: bool, th: &Theme) -> Line<'static> {
 
 /// The readout line at the cursor: its time, the state of each contact, the last impact
 /// before it with its normal impulse; whole items only, every contact named when they fit.
-fn readout(run: &RunData, tc: f64, kn: bool, width: usize, th: &Theme) -> Line<'static> {
+fn readout(run: &RunData, tc: f64, kn: &str, width: usize, th: &Theme) -> Line<'static> {
     let time = format!("t = {} s ", nav::fmt_time(tc));
     let room = width.saturating_sub(time.chars().count());
     let last = nav::last_impact(run, tc).map(|e| {
