@@ -599,3 +599,39 @@ fn the_modes_page_draws_the_selected_mode_on_the_plan() {
     assert!(!s.contains("on the plan"), "{s}");
     assert!(s.contains("shape of mode 6"), "{s}");
 }
+
+#[test]
+fn the_results_worker_runs_in_its_own_named_thread_and_sends_its_end() {
+    use deckspin::tui::msg::{ResultData, ResultOutcome};
+    use deckspin::tui::results::ResultSpec;
+    let app = bridge_app();
+    let scene = app.scene.clone().expect("the model loads");
+    let (tx, rx) = std::sync::mpsc::channel();
+    let h = tui::results_worker::spawn(7, ResultSpec::Modes(Box::new(scene)), tx);
+    assert_eq!(h.id, 7);
+    let msg = rx
+        .recv_timeout(std::time::Duration::from_secs(30))
+        .expect("the worker's end");
+    let Msg::ResultDone { id, outcome } = msg else {
+        panic!("not the end: {msg:?}")
+    };
+    assert_eq!(id, 7);
+    let ResultOutcome::Done(ResultData::Modes(m)) = outcome else {
+        panic!("{outcome:?}")
+    };
+    // the same modes as in this thread
+    let blocking = tui::results_worker::run_blocking(
+        7,
+        &ResultSpec::Modes(Box::new(app.scene.clone().unwrap())),
+    );
+    let Some(Msg::ResultDone {
+        outcome: ResultOutcome::Done(ResultData::Modes(b)),
+        ..
+    }) = blocking.last()
+    else {
+        panic!("{blocking:?}")
+    };
+    assert_eq!(m.periods, b.periods);
+    assert_eq!(m.periods.len(), 7);
+    assert!((m.periods[0] - 0.3892).abs() < 5e-5, "{}", m.periods[0]);
+}
