@@ -3,6 +3,11 @@
 
 #![cfg(feature = "workbench")]
 
+mod common;
+
+use common::root;
+use common::tui::*;
+
 use crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
 use deckspin::output::ContactState;
 use deckspin::tui::app::{Confirm, Mode, StatusKind, View};
@@ -21,50 +26,8 @@ use std::time::{Duration, Instant};
 // ---------------------------------------------------------------------------------------------
 // fixtures
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn bridge_path() -> PathBuf {
-    root().join("models/four-span.toml")
-}
-
 fn corner_path() -> PathBuf {
     root().join("models/validation/corner-impact.toml")
-}
-
-fn read(p: &Path) -> String {
-    std::fs::read_to_string(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
-}
-
-/// Sets a value in model text the way the form does.
-fn set(text: &str, path: &str, value: &str) -> String {
-    let kind = if value.parse::<f64>().is_ok() {
-        form::Kind::Float
-    } else {
-        form::Kind::Str
-    };
-    form::set_value(text, path, kind, value, form::Dim::Plain)
-        .unwrap_or_else(|e| panic!("{path}={value}: {e}"))
-}
-
-/// The four-span bridge shortened to 2 s with 4 mm gaps (impacts, sticks and slips early on).
-fn short_bridge(gap: &str) -> String {
-    let mut t = set(&read(&bridge_path()), "solver.t_end", "2.0");
-    for i in 0..4 {
-        t = set(&t, &format!("contacts.gaps.{i}"), gap);
-    }
-    t
-}
-
-fn run_of(text: &str, path: &Path, id: u64) -> RunData {
-    let mut app = App::new_from_text(text, path);
-    app.next_run = id;
-    let fx = app.start();
-    tui::execute_blocking(&mut app, fx);
-    let run = app.current.expect("a run");
-    assert_eq!(run.status, RunStatus::Finished, "{}", app.status);
-    run
 }
 
 /// Run 2 of the short bridge (4 mm gaps), computed once per test binary.
@@ -111,18 +74,6 @@ fn corner_app() -> App {
     let fx = app.start();
     tui::execute_blocking(&mut app, fx);
     app
-}
-
-fn key(c: char) -> Msg {
-    Msg::Key(KeyEvent::new(KeyCode::Char(c), KeyModifiers::NONE))
-}
-
-fn code(c: KeyCode) -> Msg {
-    Msg::Key(KeyEvent::new(c, KeyModifiers::NONE))
-}
-
-fn act(app: &mut App, a: Action) -> Vec<Effect> {
-    update(app, Msg::Action(a))
 }
 
 fn type_str(app: &mut App, s: &str) {
@@ -182,18 +133,6 @@ fn render(app: &mut App, w: u16, h: u16) -> Terminal<TestBackend> {
     let mut t = Terminal::new(TestBackend::new(w, h)).unwrap();
     draw(&mut t, app);
     t
-}
-
-fn screen(t: &Terminal<TestBackend>) -> String {
-    let b = t.backend().buffer();
-    let mut s = String::new();
-    for y in 0..b.area.height {
-        for x in 0..b.area.width {
-            s.push_str(b[(x, y)].symbol());
-        }
-        s.push('\n');
-    }
-    s
 }
 
 /// A scratch directory mirroring the repository layout: models/ + excitations/.
@@ -1767,13 +1706,6 @@ fn resize_and_too_small() {
             act(&mut app, Action::CloseHelp);
         }
     }
-}
-
-fn snapshot_settings() -> insta::Settings {
-    let mut s = insta::Settings::clone_current();
-    s.set_snapshot_path(root().join("tests/snapshots"));
-    s.set_prepend_module_to_snapshot(false);
-    s
 }
 
 #[test]

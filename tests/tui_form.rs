@@ -4,21 +4,16 @@
 
 #![cfg(feature = "workbench")]
 
+mod common;
+
+use common::root;
+use common::tui::*;
+
 use crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
 use deckspin::tui::app::{Confirm, Mode, View};
 use deckspin::tui::keymap::Action;
 use deckspin::tui::{self, App, Effect, Msg, Options, form, update};
-use ratatui::Terminal;
-use ratatui::backend::TestBackend;
 use std::path::{Path, PathBuf};
-
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn read(p: &Path) -> String {
-    std::fs::read_to_string(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
-}
 
 /// The four-span bridge in the form view (relative path: snapshots hold no checkout path).
 fn bridge_app() -> App {
@@ -26,14 +21,6 @@ fn bridge_app() -> App {
     let mut app = App::new_from_text(&text, Path::new("models/four-span.toml"));
     app.view = View::Form;
     app
-}
-
-fn key(c: char) -> Msg {
-    Msg::Key(KeyEvent::new(KeyCode::Char(c), KeyModifiers::NONE))
-}
-
-fn code(c: KeyCode) -> Msg {
-    Msg::Key(KeyEvent::new(c, KeyModifiers::NONE))
 }
 
 fn keys(app: &mut App, s: &str) {
@@ -47,26 +34,6 @@ fn selected_path(app: &App) -> String {
         .selected()
         .map(|f| f.path.clone())
         .unwrap_or_default()
-}
-
-fn render(app: &mut App, w: u16, h: u16) -> Terminal<TestBackend> {
-    update(app, Msg::Resize(w, h));
-    let mut t = Terminal::new(TestBackend::new(w, h)).unwrap();
-    let mut cache = tui::ui::Cache::default();
-    t.draw(|f| tui::ui::draw(f, app, &mut cache)).unwrap();
-    t
-}
-
-fn screen(t: &Terminal<TestBackend>) -> String {
-    let b = t.backend().buffer();
-    let mut s = String::new();
-    for y in 0..b.area.height {
-        for x in 0..b.area.width {
-            s.push_str(b[(x, y)].symbol());
-        }
-        s.push('\n');
-    }
-    s
 }
 
 /// A file in a fresh folder of the test's scratch space.
@@ -608,13 +575,6 @@ fn opening_another_model_asks_first_with_unsaved_edits() {
 
 // ---------------------------------------------------------------------------------------------
 // snapshots
-
-fn snapshot_settings() -> insta::Settings {
-    let mut s = insta::Settings::clone_current();
-    s.set_snapshot_path(root().join("tests/snapshots"));
-    s.set_prepend_module_to_snapshot(false);
-    s
-}
 
 fn snap(app: &mut App, name: &str, w: u16, h: u16) {
     let t = render(app, w, h);

@@ -4,72 +4,41 @@
 
 #![cfg(feature = "workbench")]
 
+mod common;
+
+use common::tui::lines as screen;
+use common::tui::*;
+
 use crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
 use deckspin::output::{ContactState, EventKind, EventRecord};
 use deckspin::tui::app::{StatusKind, View};
 use deckspin::tui::eng::{eng, eng_sig};
 use deckspin::tui::keymap::{Action, Ctx};
-use deckspin::tui::run_data::{RunData, RunStatus};
+use deckspin::tui::run_data::RunData;
 use deckspin::tui::run_list::Entry;
-use deckspin::tui::{self, App, Effect, Msg, Options, chart, form, nav, update};
+use deckspin::tui::{self, App, Effect, Msg, Options, chart, nav, update};
 use ratatui::Terminal;
 use ratatui::backend::TestBackend;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::OnceLock;
 
 // ---------------------------------------------------------------------------------------------
 // fixtures
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn bridge_path() -> PathBuf {
-    root().join("models/four-span.toml")
-}
-
-fn read(p: &Path) -> String {
-    std::fs::read_to_string(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
-}
-
-fn set(text: &str, path: &str, value: &str) -> String {
-    form::set_value(text, path, form::Kind::Float, value, form::Dim::Plain)
-        .unwrap_or_else(|e| panic!("{path}={value}: {e}"))
-}
-
-/// The four-span bridge shortened to 2 s with gaps of `gap` m.
-fn short_bridge(gap: &str) -> String {
-    let mut t = set(&read(&bridge_path()), "solver.t_end", "2.0");
-    for i in 0..4 {
-        t = set(&t, &format!("contacts.gaps.{i}"), gap);
-    }
-    t
-}
-
-fn run_of(text: &str, id: u64) -> RunData {
-    let mut app = App::new_from_text(text, &bridge_path());
-    app.next_run = id;
-    let fx = app.start();
-    tui::execute_blocking(&mut app, fx);
-    let run = app.current.expect("a run");
-    assert_eq!(run.status, RunStatus::Finished, "{}", app.status);
-    run
-}
-
 fn short_run() -> &'static RunData {
     static R: OnceLock<RunData> = OnceLock::new();
-    R.get_or_init(|| run_of(&short_bridge("0.004"), 2))
+    R.get_or_init(|| run_of(&short_bridge("0.004"), &bridge_path(), 2))
 }
 
 fn short_prev_run() -> &'static RunData {
     static R: OnceLock<RunData> = OnceLock::new();
-    R.get_or_init(|| run_of(&short_bridge("0.006"), 1))
+    R.get_or_init(|| run_of(&short_bridge("0.006"), &bridge_path(), 1))
 }
 
 /// The default model as shipped, run to its end (16 s).
 fn default_run() -> &'static RunData {
     static R: OnceLock<RunData> = OnceLock::new();
-    R.get_or_init(|| run_of(&read(&bridge_path()), 1))
+    R.get_or_init(|| run_of(&read(&bridge_path()), &bridge_path(), 1))
 }
 
 /// The short bridge with run 2 current and run 1 overlaid (relative path: no checkout
@@ -96,36 +65,6 @@ fn app_with(opts: Options) -> App {
 
 fn bridge_app() -> App {
     app_with(Options::default())
-}
-
-fn act(app: &mut App, a: Action) -> Vec<Effect> {
-    update(app, Msg::Action(a))
-}
-
-fn key(c: char) -> Msg {
-    Msg::Key(KeyEvent::new(KeyCode::Char(c), KeyModifiers::NONE))
-}
-
-fn render(app: &mut App, w: u16, h: u16) -> Terminal<TestBackend> {
-    update(app, Msg::Resize(w, h));
-    let mut t = Terminal::new(TestBackend::new(w, h)).unwrap();
-    let mut cache = tui::ui::Cache::default();
-    t.draw(|f| tui::ui::draw(f, app, &mut cache)).unwrap();
-    t
-}
-
-fn screen(t: &Terminal<TestBackend>) -> Vec<String> {
-    let b = t.backend().buffer();
-    (0..b.area.height)
-        .map(|y| (0..b.area.width).map(|x| b[(x, y)].symbol()).collect())
-        .collect()
-}
-
-fn snapshot_settings() -> insta::Settings {
-    let mut s = insta::Settings::clone_current();
-    s.set_snapshot_path(root().join("tests/snapshots"));
-    s.set_prepend_module_to_snapshot(false);
-    s
 }
 
 /// The y label of a chart row: what stands left of its axis `│` (trimmed).

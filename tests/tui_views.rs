@@ -5,6 +5,11 @@
 
 #![cfg(feature = "workbench")]
 
+mod common;
+
+use common::root;
+use common::tui::*;
+
 use deckspin::excitation::G;
 use deckspin::study_table::{StudyKind, StudyTable};
 use deckspin::tui::app::{StatusKind, View};
@@ -12,27 +17,12 @@ use deckspin::tui::keymap::Action;
 use deckspin::tui::msg::StudyOutcome;
 use deckspin::tui::results::{JobState, Page};
 use deckspin::tui::run_data::{RunData, RunStatus};
-use deckspin::tui::{self, App, Effect, Msg, form, update};
-use ratatui::Terminal;
-use ratatui::backend::TestBackend;
+use deckspin::tui::{self, App, Effect, Msg, update};
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
 // ---------------------------------------------------------------------------------------------
 // fixtures
-
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn read(p: &Path) -> String {
-    std::fs::read_to_string(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
-}
-
-fn set(text: &str, path: &str, value: &str) -> String {
-    form::set_value(text, path, form::Kind::Float, value, form::Dim::Plain)
-        .unwrap_or_else(|e| panic!("{path}={value}: {e}"))
-}
 
 /// The four-span bridge shortened to 2 s with 4 mm gaps (impacts early on).
 fn short_bridge() -> String {
@@ -72,10 +62,6 @@ fn bridge_app() -> App {
     app
 }
 
-fn act(app: &mut App, a: Action) -> Vec<Effect> {
-    update(app, Msg::Action(a))
-}
-
 /// Steps with `l` to `page`, executing what it starts (blocking).
 fn show(app: &mut App, page: Page) {
     for _ in 0..20 {
@@ -86,33 +72,6 @@ fn show(app: &mut App, page: Page) {
         tui::execute_blocking(app, fx);
     }
     panic!("{page:?} not reached");
-}
-
-fn render(app: &mut App, w: u16, h: u16) -> Terminal<TestBackend> {
-    update(app, Msg::Resize(w, h));
-    let mut t = Terminal::new(TestBackend::new(w, h)).unwrap();
-    let mut cache = tui::ui::Cache::default();
-    t.draw(|f| tui::ui::draw(f, app, &mut cache)).unwrap();
-    t
-}
-
-fn screen(t: &Terminal<TestBackend>) -> String {
-    let b = t.backend().buffer();
-    let mut s = String::new();
-    for y in 0..b.area.height {
-        for x in 0..b.area.width {
-            s.push_str(b[(x, y)].symbol());
-        }
-        s.push('\n');
-    }
-    s
-}
-
-fn snapshot_settings() -> insta::Settings {
-    let mut s = insta::Settings::clone_current();
-    s.set_snapshot_path(root().join("tests/snapshots"));
-    s.set_prepend_module_to_snapshot(false);
-    s
 }
 
 /// Below the header line (shared with the other views), no character above 0x7E.

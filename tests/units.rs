@@ -1,6 +1,8 @@
 //! The `units` key: the four-span bridge written in kip, in, s gives the same motion as in t, kN,
 //! m, s (records stay in g; the Caltrans backfill and AASHTO's seat length convert).
 
+mod common;
+
 use deckspin::model;
 use deckspin::units::UnitSystem;
 use std::path::Path;
@@ -140,12 +142,11 @@ fn an_unknown_unit_system_names_the_key_and_the_choices() {
 #[cfg(feature = "workbench")]
 #[test]
 fn the_workbench_energy_page_is_in_the_models_energy_unit() {
+    use common::tui::{render, screen};
     use deckspin::tui::app::View;
     use deckspin::tui::keymap::Action;
     use deckspin::tui::results::Page;
     use deckspin::tui::{self, App, Msg, update};
-    use ratatui::Terminal;
-    use ratatui::backend::TestBackend;
 
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("models/four-span.toml");
     let short = |t: &str| {
@@ -171,18 +172,7 @@ fn the_workbench_energy_page_is_in_the_models_energy_unit() {
             tui::execute_blocking(&mut app, fx);
         }
         assert_eq!(app.results.page, Some(page));
-        update(&mut app, Msg::Resize(120, 40));
-        let mut t = Terminal::new(TestBackend::new(120, 40)).unwrap();
-        let mut cache = tui::ui::Cache::default();
-        t.draw(|f| tui::ui::draw(f, &app, &mut cache)).unwrap();
-        let b = t.backend().buffer();
-        let s: String = (0..b.area.height)
-            .map(|y| {
-                let l: String = (0..b.area.width).map(|x| b[(x, y)].symbol()).collect();
-                l + "\n"
-            })
-            .collect();
-        (s, input)
+        (screen(&render(&mut app, 120, 40)), input)
     };
     let (s_si, in_si) = page(&si, Page::Energy);
     assert!(s_si.contains("energy ledger over time [kJ]"), "{s_si}");
@@ -222,9 +212,8 @@ fn the_workbench_energy_page_is_in_the_models_energy_unit() {
 #[cfg(feature = "workbench")]
 #[test]
 fn the_workbench_charts_are_in_the_models_units() {
-    use deckspin::tui::{self, App, Msg, update};
-    use ratatui::Terminal;
-    use ratatui::backend::TestBackend;
+    use common::tui::{render, screen};
+    use deckspin::tui::{self, App};
 
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("models/four-span.toml");
     let mut d: DocumentMut = std::fs::read_to_string(&path).unwrap().parse().unwrap();
@@ -234,19 +223,7 @@ fn the_workbench_charts_are_in_the_models_units() {
         let mut app = App::new_from_text(text, Path::new("models/four-span.toml"));
         let fx = app.start();
         tui::execute_blocking(&mut app, fx);
-        update(&mut app, Msg::Resize(120, 40));
-        let mut t = Terminal::new(TestBackend::new(120, 40)).unwrap();
-        let mut cache = tui::ui::Cache::default();
-        t.draw(|f| tui::ui::draw(f, &app, &mut cache)).unwrap();
-        let b = t.backend().buffer();
-        (0..b.area.height)
-            .map(|y| {
-                (0..b.area.width)
-                    .map(|x| b[(x, y)].symbol())
-                    .collect::<String>()
-                    + "\n"
-            })
-            .collect()
+        screen(&render(&mut app, 120, 40))
     };
     let s = charts(&in_kip_in(&si));
     // (in takes no SI prefix: a scale of 1e-3 in is written out)
