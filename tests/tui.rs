@@ -643,6 +643,51 @@ fn the_models_solver_method_is_used() {
 }
 
 #[test]
+fn a_runs_batches_are_drawn_together_at_most_every_data_frame() {
+    use deckspin::tui::runtime::{DATA_FRAME, pace};
+    let batch = |run| Msg::Batch {
+        run,
+        samples: Vec::new(),
+        events: Vec::new(),
+        t: 0.0,
+    };
+    let (tx, rx) = mpsc::channel();
+    // nothing comes: the wait lasts until the frame's time
+    let t0 = Instant::now();
+    assert!(pace(&rx, t0 + Duration::from_millis(50)).is_empty());
+    assert!(t0.elapsed() >= Duration::from_millis(50));
+    // batches are taken with it; a key ends the wait at once, and is taken last
+    for m in [batch(1), batch(1), key('q'), batch(1)] {
+        tx.send(m).unwrap();
+    }
+    let t0 = Instant::now();
+    let got = pace(&rx, t0 + DATA_FRAME * 20);
+    assert!(t0.elapsed() < DATA_FRAME * 10, "{:?}", t0.elapsed());
+    assert_eq!(got.len(), 3);
+    assert!(matches!(got[..2], [Msg::Batch { .. }, Msg::Batch { .. }]));
+    assert!(matches!(got[2], Msg::Key(_)));
+    // the batch after the key waits for the next frame
+    assert!(matches!(rx.try_recv(), Ok(Msg::Batch { .. })));
+    // batches arriving while it waits are taken, up to the frame's time
+    let keep = tx.clone();
+    let sender = std::thread::spawn(move || {
+        for _ in 0..3 {
+            std::thread::sleep(Duration::from_millis(10));
+            tx.send(batch(2)).unwrap();
+        }
+    });
+    let t0 = Instant::now();
+    let got = pace(&rx, t0 + Duration::from_millis(200));
+    assert!(t0.elapsed() >= Duration::from_millis(200));
+    assert_eq!(got.len(), 3);
+    sender.join().unwrap();
+    drop(keep);
+    // past the frame's time: nothing is waited for
+    assert!(pace(&rx, Instant::now()).is_empty());
+    assert_eq!(DATA_FRAME, Duration::from_millis(80));
+}
+
+#[test]
 fn batches_of_a_stale_run_are_ignored() {
     let mut app = corner_app();
     let fx = act(&mut app, Action::Rerun);
