@@ -20,8 +20,9 @@ pub struct Cache {
 }
 
 /// How often the readouts at the cursor (the values in the charts' headers, the contact
-/// states, the loop's deformation and force) are refreshed while a running run is followed:
-/// twice a second. The charts, the plan and the cursor go on with every batch.
+/// states, the loop's deformation and force) and the plan, drawn at their instant, are
+/// refreshed while a running run is followed: twice a second. The charts, the cursor line and
+/// the column loop go on with every frame.
 pub const READOUT_PERIOD: Duration = Duration::from_millis(500);
 
 #[derive(Clone, Copy, PartialEq, Debug)]
