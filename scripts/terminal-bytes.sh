@@ -54,3 +54,5 @@ b=$(size)
 ms=$(((t1 - t0) / 1000000))
 echo "running at 80x24: $(((b - a) * 1000 / ms)) B/s ($((b - a)) bytes in $ms ms, the 16 s run)"
 tmux -L "$sock" send-keys -t b q
+# the workbench writes its run list on the way out: let it end before the folder goes
+sleep 1

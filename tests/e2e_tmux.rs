@@ -1,7 +1,9 @@
 //! End-to-end: the real `deckspin MODEL.toml` workbench in a detached tmux session (120×40).
 //! Runs a 3 s copy of the four-span bridge, edits a gap in the form, saves, sees the rerun
 //! and the comparison change, edits the file on disk and sees "reloaded", quits with `q` and
-//! checks the terminal is back on the normal screen. Skipped (passes) without tmux.
+//! checks the terminal is back on the normal screen; a whole session from an interactive shell
+//! (edit, run, pin, compare, events, the work-precision study, Ctrl-Z and `fg`, quit); panics,
+//! signals, suspension. Skipped (passes) without tmux.
 
 #![cfg(feature = "workbench")]
 
@@ -444,36 +446,7 @@ fn ctrl_z_suspends_to_the_shell_and_fg_resumes() {
     let tmux = Tmux {
         socket: format!("deckspin-e2e-z-{}", std::process::id()),
     };
-    let out = tmux.cmd(&[
-        "new-session",
-        "-d",
-        "-s",
-        "e2e",
-        "-x",
-        "80",
-        "-y",
-        "24",
-        "env",
-        "PS1=shell$ ",
-        "bash",
-        "--norc",
-        "--noprofile",
-        "-i",
-    ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    tmux.wait("the shell", 10, |s| s.contains("shell$"));
-    tmux.text(&format!(
-        "cd '{}' && '{}' models/four-span.toml",
-        d.display(),
-        env!("CARGO_BIN_EXE_deckspin")
-    ));
-    tmux.keys(&["Enter"]);
-    tmux.wait("run 1 to finish", 30, |s| s.contains("#1 done"));
-    assert_eq!(tmux.alternate_on(), "1");
+    start_in_shell(&tmux, &d, (80, 24));
 
     tmux.keys(&["C-z"]);
     let s = tmux.wait("the stopped job", 10, |s| s.contains("Stopped"));
@@ -501,5 +474,200 @@ fn ctrl_z_suspends_to_the_shell_and_fg_resumes() {
     tmux.text("echo deckspin-exited-$?");
     tmux.keys(&["Enter"]);
     tmux.wait("the shell", 10, |s| s.contains("deckspin-exited-0"));
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+/// Starts an interactive bash (prompt `shell$ `) in session "e2e" at `w`×`h`, in `d`, and the
+/// workbench in it on models/four-span.toml, as a user would (so that Ctrl-Z stops it as a
+/// job); waits for the first run to end.
+fn start_in_shell(tmux: &Tmux, d: &Path, (w, h): (u16, u16)) {
+    let (w, h) = (w.to_string(), h.to_string());
+    let out = tmux.cmd(&[
+        "new-session",
+        "-d",
+        "-s",
+        "e2e",
+        "-x",
+        &w,
+        "-y",
+        &h,
+        "env",
+        "PS1=shell$ ",
+        "bash",
+        "--norc",
+        "--noprofile",
+        "-i",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    tmux.wait("the shell", 10, |s| s.contains("shell$"));
+    tmux.text(&format!(
+        "cd '{}' && '{}' models/four-span.toml",
+        d.display(),
+        env!("CARGO_BIN_EXE_deckspin")
+    ));
+    tmux.keys(&["Enter"]);
+    tmux.wait("run 1 to finish", 30, |s| s.contains("#1 done"));
+    assert_eq!(tmux.alternate_on(), "1");
+}
+
+/// In the form: finds the left_top gap by the search and types `value` into it (not saved).
+fn edit_gap(tmux: &Tmux, value: &str) {
+    tmux.text("/gap 1");
+    tmux.keys(&["Enter"]);
+    tmux.wait("the gap field", 5, |s| {
+        s.contains("contacts gap 1 (left_top)")
+    });
+    tmux.keys(&["Enter", "C-u"]);
+    tmux.text(value);
+    tmux.wait("a valid value", 5, |s| {
+        s.contains("✓ valid") && s.contains(value)
+    });
+    tmux.keys(&["Enter"]);
+    tmux.wait("the edit to be accepted", 5, |s| {
+        s.contains("four-span.toml [+]")
+            && s.lines()
+                .any(|l| l.contains("contacts gap 1 (left_top)") && l.contains(value))
+            && !s.contains("✓ valid")
+    });
+}
+
+/// A whole session as a user has it: an edit run before saving, the run pinned as the
+/// baseline, another edit run and compared with it (run list, overlay, runs compared), the
+/// cursor from event to event, the work-precision study in the studies view, Ctrl-Z and `fg`,
+/// and quitting without saving. Asserts on the screen at each step; bounded in time.
+#[test]
+fn a_whole_session_edit_run_pin_compare_study_suspend_quit() {
+    if !have_tmux() || Command::new("bash").arg("--version").output().is_err() {
+        println!("tmux or bash is not on PATH: skipping the whole-session test");
+        return;
+    }
+    let began = Instant::now();
+    let d = workspace();
+    let model = d.join("models/four-span.toml");
+    let saved = std::fs::read_to_string(&model).unwrap();
+    let tmux = Tmux {
+        socket: format!("deckspin-e2e-session-{}", std::process::id()),
+    };
+    start_in_shell(&tmux, &d, (120, 40));
+
+    // edit the left_top gap and run the draft (not saved): #2
+    tmux.keys(&["Tab"]);
+    tmux.wait("the form", 5, |s| s.contains("parameters"));
+    edit_gap(&tmux, "0.008");
+    tmux.keys(&["r"]);
+    tmux.wait("#2 to finish", 30, |s| s.contains("#2 done"));
+
+    // the run list: #2 selected, pinned as the baseline
+    tmux.keys(&["#"]);
+    let s = tmux.wait("the run list", 5, |s| s.contains("runs (2) · baseline #1"));
+    assert!(s.contains("#2 against #1: 1 changed"), "{s}");
+    assert!(s.contains("contacts.gaps.0: 0.0127 → 0.008"), "{s}");
+    tmux.keys(&["b"]);
+    let s = tmux.wait("#2 pinned", 5, |s| s.contains("runs (2) · baseline #2"));
+    assert!(s.contains("#2 is the baseline"), "{s}");
+    assert!(s.lines().any(|l| l.contains("│B #2 ")), "#2 marked B:\n{s}");
+
+    // edit again, run: #3, compared with the baseline #2
+    tmux.keys(&["Tab"]);
+    tmux.wait("the form", 5, |s| s.contains("parameters"));
+    edit_gap(&tmux, "0.004");
+    tmux.keys(&["r"]);
+    tmux.wait("#3 to finish", 30, |s| s.contains("#3 done"));
+    tmux.keys(&["#"]);
+    let s = tmux.wait("the run list", 5, |s| s.contains("runs (3) · baseline #2"));
+    assert!(s.contains("#3 against #2: 1 changed"), "{s}");
+    assert!(s.contains("contacts.gaps.0: 0.008 → 0.004"), "{s}");
+    assert!(s.contains("runs compared"), "{s}");
+    assert!(s.contains("#2 base"), "{s}");
+    let (base, now) = row(&s, "peak |θ|");
+    assert!(base.parse::<f64>().unwrap() > 0.0, "{s}");
+    assert!(now.parse::<f64>().unwrap() > 0.0, "{s}");
+    assert_ne!(base, now, "the gaps differ, so do the peaks:\n{s}");
+    // overlay #1 as well, then back to the charts: #2 and #1 drawn under #3
+    tmux.keys(&["Up", "Up"]);
+    tmux.keys(&["Space"]);
+    tmux.wait("#1 overlaid", 5, |s| {
+        s.contains("#1 overlaid on the charts and compared")
+    });
+    tmux.keys(&["Enter"]);
+    let s = tmux.wait("the charts with the overlay", 5, |s| {
+        s.contains("deck.theta [") && s.contains("┈#2") && s.contains("┈#1")
+    });
+    assert!(s.contains("#3 done"), "{s}");
+
+    // from event to event
+    tmux.keys(&["Home"]);
+    tmux.text("]");
+    tmux.wait("the first event", 5, |s| s.contains("event 1/"));
+    tmux.text("]");
+    let s = tmux.wait("the second event", 5, |s| s.contains("event 2/"));
+    let t2 = s
+        .lines()
+        .find(|l| l.contains("event 2/"))
+        .unwrap()
+        .to_string();
+    assert!(t2.contains("at t = "), "{s}");
+    tmux.text("[");
+    tmux.wait("back to the first event", 5, |s| s.contains("event 1/"));
+
+    // the studies view: the work-precision study, run and drawn
+    tmux.keys(&["Tab", "Tab"]);
+    tmux.wait("the studies view", 5, |s| s.contains(">PGA (Fig. 7)"));
+    tmux.keys(&["l", "l", "l", "l"]);
+    tmux.wait("the work-precision study", 5, |s| {
+        s.contains(">work-precision")
+    });
+    tmux.keys(&["Enter"]);
+    let s = tmux.wait("the work-precision chart", 40, |s| {
+        s.contains(">work-precision: done") && s.contains("CPU time [s], log")
+    });
+    assert!(s.contains("1 %"), "the 1 % line in the legend:\n{s}");
+    assert!(
+        s.contains("model: form draft (unsaved edits)"),
+        "run on the draft:\n{s}"
+    );
+
+    // Ctrl-Z: the shell with the job stopped; fg: the same view redrawn
+    tmux.keys(&["C-z"]);
+    let s = tmux.wait("the stopped job", 10, |s| s.contains("Stopped"));
+    assert_eq!(tmux.alternate_on(), "0", "{s}");
+    tmux.text("fg");
+    tmux.keys(&["Enter"]);
+    let s = tmux.wait("the workbench again", 10, |s| {
+        s.contains(">work-precision: done") && s.contains("CPU time [s], log")
+    });
+    assert_eq!(tmux.alternate_on(), "1", "{s}");
+    assert!(
+        s.lines().next().unwrap_or("").starts_with("deckspin"),
+        "{s}"
+    );
+
+    // quit: asked about the unsaved edits, quit without saving
+    tmux.keys(&["q"]);
+    tmux.wait("the question", 5, |s| {
+        s.contains("four-span.toml has unsaved edits.")
+    });
+    tmux.keys(&["y"]);
+    tmux.wait("the workbench to end", 10, |_| tmux.alternate_on() == "0");
+    tmux.text("echo deckspin-exited-$?");
+    tmux.keys(&["Enter"]);
+    tmux.wait("the shell", 10, |s| s.contains("deckspin-exited-0"));
+    assert_eq!(std::fs::read_to_string(&model).unwrap(), saved, "not saved");
+    // the runs are kept beside the model
+    for n in 1..=3 {
+        assert!(
+            d.join(format!("models/four-span.runs/000{n}.json"))
+                .is_file()
+        );
+    }
+    assert!(
+        began.elapsed() < Duration::from_secs(90),
+        "{:?}",
+        began.elapsed()
+    );
     let _ = std::fs::remove_dir_all(&d);
 }

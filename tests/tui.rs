@@ -3,6 +3,11 @@
 
 #![cfg(feature = "workbench")]
 
+mod common;
+
+use common::root;
+use common::tui::*;
+
 use crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
 use deckspin::output::ContactState;
 use deckspin::tui::app::{Confirm, Mode, StatusKind, View};
@@ -21,50 +26,8 @@ use std::time::{Duration, Instant};
 // ---------------------------------------------------------------------------------------------
 // fixtures
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn bridge_path() -> PathBuf {
-    root().join("models/four-span.toml")
-}
-
 fn corner_path() -> PathBuf {
     root().join("models/validation/corner-impact.toml")
-}
-
-fn read(p: &Path) -> String {
-    std::fs::read_to_string(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
-}
-
-/// Sets a value in model text the way the form does.
-fn set(text: &str, path: &str, value: &str) -> String {
-    let kind = if value.parse::<f64>().is_ok() {
-        form::Kind::Float
-    } else {
-        form::Kind::Str
-    };
-    form::set_value(text, path, kind, value, form::Dim::Plain)
-        .unwrap_or_else(|e| panic!("{path}={value}: {e}"))
-}
-
-/// The four-span bridge shortened to 2 s with 4 mm gaps (impacts, sticks and slips early on).
-fn short_bridge(gap: &str) -> String {
-    let mut t = set(&read(&bridge_path()), "solver.t_end", "2.0");
-    for i in 0..4 {
-        t = set(&t, &format!("contacts.gaps.{i}"), gap);
-    }
-    t
-}
-
-fn run_of(text: &str, path: &Path, id: u64) -> RunData {
-    let mut app = App::new_from_text(text, path);
-    app.next_run = id;
-    let fx = app.start();
-    tui::execute_blocking(&mut app, fx);
-    let run = app.current.expect("a run");
-    assert_eq!(run.status, RunStatus::Finished, "{}", app.status);
-    run
 }
 
 /// Run 2 of the short bridge (4 mm gaps), computed once per test binary.
@@ -111,18 +74,6 @@ fn corner_app() -> App {
     let fx = app.start();
     tui::execute_blocking(&mut app, fx);
     app
-}
-
-fn key(c: char) -> Msg {
-    Msg::Key(KeyEvent::new(KeyCode::Char(c), KeyModifiers::NONE))
-}
-
-fn code(c: KeyCode) -> Msg {
-    Msg::Key(KeyEvent::new(c, KeyModifiers::NONE))
-}
-
-fn act(app: &mut App, a: Action) -> Vec<Effect> {
-    update(app, Msg::Action(a))
 }
 
 fn type_str(app: &mut App, s: &str) {
@@ -182,18 +133,6 @@ fn render(app: &mut App, w: u16, h: u16) -> Terminal<TestBackend> {
     let mut t = Terminal::new(TestBackend::new(w, h)).unwrap();
     draw(&mut t, app);
     t
-}
-
-fn screen(t: &Terminal<TestBackend>) -> String {
-    let b = t.backend().buffer();
-    let mut s = String::new();
-    for y in 0..b.area.height {
-        for x in 0..b.area.width {
-            s.push_str(b[(x, y)].symbol());
-        }
-        s.push('\n');
-    }
-    s
 }
 
 /// A scratch directory mirroring the repository layout: models/ + excitations/.
@@ -445,8 +384,8 @@ fn edit_invalid_values_refused_with_the_reason() {
         panic!("not refused: {:?}", app.mode)
     };
     assert!(
-        reason.contains("contacts.gaps.0: must be ≥ 0, got -0.01"),
-        "{reason}"
+        reason.contains("contacts gap 1 (left_top): must be ≥ 0, got -0.01"),
+        "numbered from 1 as the form's labels: {reason}"
     );
     assert!(
         reason.contains("four-span.toml:24:9:"),
@@ -701,6 +640,51 @@ fn the_models_solver_method_is_used() {
         app.status
     );
     assert!(cur.t.len() > 10);
+}
+
+#[test]
+fn a_runs_batches_are_drawn_together_at_most_every_data_frame() {
+    use deckspin::tui::runtime::{DATA_FRAME, pace};
+    let batch = |run| Msg::Batch {
+        run,
+        samples: Vec::new(),
+        events: Vec::new(),
+        t: 0.0,
+    };
+    let (tx, rx) = mpsc::channel();
+    // nothing comes: the wait lasts until the frame's time
+    let t0 = Instant::now();
+    assert!(pace(&rx, t0 + Duration::from_millis(50)).is_empty());
+    assert!(t0.elapsed() >= Duration::from_millis(50));
+    // batches are taken with it; a key ends the wait at once, and is taken last
+    for m in [batch(1), batch(1), key('q'), batch(1)] {
+        tx.send(m).unwrap();
+    }
+    let t0 = Instant::now();
+    let got = pace(&rx, t0 + DATA_FRAME * 20);
+    assert!(t0.elapsed() < DATA_FRAME * 10, "{:?}", t0.elapsed());
+    assert_eq!(got.len(), 3);
+    assert!(matches!(got[..2], [Msg::Batch { .. }, Msg::Batch { .. }]));
+    assert!(matches!(got[2], Msg::Key(_)));
+    // the batch after the key waits for the next frame
+    assert!(matches!(rx.try_recv(), Ok(Msg::Batch { .. })));
+    // batches arriving while it waits are taken, up to the frame's time
+    let keep = tx.clone();
+    let sender = std::thread::spawn(move || {
+        for _ in 0..3 {
+            std::thread::sleep(Duration::from_millis(10));
+            tx.send(batch(2)).unwrap();
+        }
+    });
+    let t0 = Instant::now();
+    let got = pace(&rx, t0 + Duration::from_millis(200));
+    assert!(t0.elapsed() >= Duration::from_millis(200));
+    assert_eq!(got.len(), 3);
+    sender.join().unwrap();
+    drop(keep);
+    // past the frame's time: nothing is waited for
+    assert!(pace(&rx, Instant::now()).is_empty());
+    assert_eq!(DATA_FRAME, Duration::from_millis(80));
 }
 
 #[test]
@@ -966,7 +950,7 @@ fn reload_with_a_parse_error_keeps_the_last_good_model() {
     let le = app.load_error.clone().unwrap();
     assert_eq!((le.line, le.column), (Some(line), Some(1)));
     assert!(
-        le.message.contains("contact.0.mu: must be ≥ 0"),
+        le.message.contains("contact 1 mu: must be ≥ 0"),
         "{}",
         le.message
     );
@@ -1024,7 +1008,7 @@ fn a_file_that_never_loaded_can_be_repaired() {
     let mut app = App::new_from_text(&bad, &corner_path());
     assert!(app.scene.is_none());
     let le = app.load_error.clone().unwrap();
-    assert!(le.message.contains("contact.0.mu"), "{}", le.message);
+    assert!(le.message.contains("contact 1 mu"), "{}", le.message);
     assert!(app.start().is_empty(), "nothing to run");
     assert!(act(&mut app, Action::Rerun).is_empty());
     let s = screen(&render(&mut app, 80, 24));
@@ -1767,13 +1751,6 @@ fn resize_and_too_small() {
             act(&mut app, Action::CloseHelp);
         }
     }
-}
-
-fn snapshot_settings() -> insta::Settings {
-    let mut s = insta::Settings::clone_current();
-    s.set_snapshot_path(root().join("tests/snapshots"));
-    s.set_prepend_module_to_snapshot(false);
-    s
 }
 
 #[test]

@@ -4,21 +4,16 @@
 
 #![cfg(feature = "workbench")]
 
+mod common;
+
+use common::root;
+use common::tui::*;
+
 use crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
 use deckspin::tui::app::{Confirm, Mode, View};
 use deckspin::tui::keymap::Action;
 use deckspin::tui::{self, App, Effect, Msg, Options, form, update};
-use ratatui::Terminal;
-use ratatui::backend::TestBackend;
 use std::path::{Path, PathBuf};
-
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn read(p: &Path) -> String {
-    std::fs::read_to_string(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
-}
 
 /// The four-span bridge in the form view (relative path: snapshots hold no checkout path).
 fn bridge_app() -> App {
@@ -26,14 +21,6 @@ fn bridge_app() -> App {
     let mut app = App::new_from_text(&text, Path::new("models/four-span.toml"));
     app.view = View::Form;
     app
-}
-
-fn key(c: char) -> Msg {
-    Msg::Key(KeyEvent::new(KeyCode::Char(c), KeyModifiers::NONE))
-}
-
-fn code(c: KeyCode) -> Msg {
-    Msg::Key(KeyEvent::new(c, KeyModifiers::NONE))
 }
 
 fn keys(app: &mut App, s: &str) {
@@ -47,26 +34,6 @@ fn selected_path(app: &App) -> String {
         .selected()
         .map(|f| f.path.clone())
         .unwrap_or_default()
-}
-
-fn render(app: &mut App, w: u16, h: u16) -> Terminal<TestBackend> {
-    update(app, Msg::Resize(w, h));
-    let mut t = Terminal::new(TestBackend::new(w, h)).unwrap();
-    let mut cache = tui::ui::Cache::default();
-    t.draw(|f| tui::ui::draw(f, app, &mut cache)).unwrap();
-    t
-}
-
-fn screen(t: &Terminal<TestBackend>) -> String {
-    let b = t.backend().buffer();
-    let mut s = String::new();
-    for y in 0..b.area.height {
-        for x in 0..b.area.width {
-            s.push_str(b[(x, y)].symbol());
-        }
-        s.push('\n');
-    }
-    s
 }
 
 /// A file in a fresh folder of the test's scratch space.
@@ -609,13 +576,6 @@ fn opening_another_model_asks_first_with_unsaved_edits() {
 // ---------------------------------------------------------------------------------------------
 // snapshots
 
-fn snapshot_settings() -> insta::Settings {
-    let mut s = insta::Settings::clone_current();
-    s.set_snapshot_path(root().join("tests/snapshots"));
-    s.set_prepend_module_to_snapshot(false);
-    s
-}
-
 fn snap(app: &mut App, name: &str, w: u16, h: u16) {
     let t = render(app, w, h);
     snapshot_settings().bind(|| insta::assert_snapshot!(name, t.backend()));
@@ -667,4 +627,97 @@ fn the_form_draws_at_any_size_in_any_state() {
             let _ = render(&mut app, w, h);
         }
     }
+}
+
+// ---------------------------------------------------------------------------------------------
+// the engine's messages, numbered from 1
+
+/// Types `value` into the field at `path` (not accepted) and returns the live verdict.
+fn verdict(app: &mut App, path: &str, value: &str) -> Result<(), String> {
+    app.view = View::Form;
+    app.form.selected = app.form.index_of(path).expect(path);
+    update(app, code(KeyCode::Enter));
+    update(
+        app,
+        Msg::Key(KeyEvent::new(KeyCode::Char('u'), KeyModifiers::CONTROL)),
+    );
+    keys(app, value);
+    let Mode::Editing { check, .. } = &app.mode else {
+        panic!("not editing: {:?}", app.mode)
+    };
+    check.clone()
+}
+
+#[test]
+fn engine_errors_name_list_elements_from_1_as_the_labels_do() {
+    // an edit refused: the reason names the field by its label
+    let mut app = bridge_app();
+    let r = verdict(&mut app, "contacts.gaps.0", "-0.01").unwrap_err();
+    assert!(
+        r.contains("contacts gap 1 (left_top): must be ≥ 0, got -0.01"),
+        "{r}"
+    );
+    assert!(!r.contains("contacts.gaps.0"), "{r}");
+    assert!(r.starts_with("models/four-span.toml:24:9: "), "{r}");
+    let s = screen(&render(&mut app, 120, 40));
+    assert!(
+        s.contains("✗") && s.contains("gap 1 (left_top): must be ≥ 0"),
+        "{s}"
+    );
+    assert!(!s.contains("gaps.0"), "{s}");
+    update(&mut app, code(KeyCode::Esc));
+    let r = verdict(&mut app, "contacts.gaps.3", "-1").unwrap_err();
+    assert!(
+        r.contains("contacts gap 4 (right_bottom): must be ≥ 0"),
+        "{r}"
+    );
+
+    // nested lists: frame 2's first bent
+    let path = root().join("models/three-frame.toml");
+    let mut app = App::new_from_text(&read(&path), Path::new("models/three-frame.toml"));
+    let r = verdict(&mut app, "frame.1.bent.0.height", "-2").unwrap_err();
+    assert!(r.contains("frame 2 bent 1 height: "), "{r}");
+    assert!(!r.contains("frame.1.bent.0"), "{r}");
+
+    // a version on disk that does not load: the banner and the status line, from 1
+    let mut app = bridge_app();
+    let broken = app
+        .text
+        .replace("gaps = [0.0127, 0.0127,", "gaps = [0.0127, -0.0127,");
+    assert_ne!(broken, app.text);
+    update(&mut app, Msg::FileChanged(broken));
+    let le = app.load_error.clone().expect("the reload refused");
+    assert!(
+        le.message
+            .contains("contacts gap 2 (left_bottom): must be ≥ 0"),
+        "{}",
+        le.message
+    );
+    assert!(
+        le.detail.starts_with("contacts gap 2 (left_bottom)"),
+        "{}",
+        le.detail
+    );
+    assert!(
+        app.status.contains("contacts gap 2 (left_bottom)"),
+        "{}",
+        app.status
+    );
+    let s = screen(&render(&mut app, 120, 40));
+    assert!(
+        s.contains("contacts gap 2 (left_bottom): must be ≥ 0"),
+        "{s}"
+    );
+    assert!(!s.contains("gaps.1"), "{s}");
+    // the command line's --set keeps the engine's paths, numbered from 0
+    let e = deckspin::model::load_str(
+        &read(&root().join("models/four-span.toml")),
+        Path::new("four-span.toml"),
+        &["contacts.gaps.0=-0.01".to_string()],
+    )
+    .unwrap_err();
+    assert!(
+        e.to_string().contains("contacts.gaps.0: must be ≥ 0"),
+        "{e}"
+    );
 }

@@ -4,72 +4,41 @@
 
 #![cfg(feature = "workbench")]
 
+mod common;
+
+use common::tui::lines as screen;
+use common::tui::*;
+
 use crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
 use deckspin::output::{ContactState, EventKind, EventRecord};
 use deckspin::tui::app::{StatusKind, View};
 use deckspin::tui::eng::{eng, eng_sig};
 use deckspin::tui::keymap::{Action, Ctx};
-use deckspin::tui::run_data::{RunData, RunStatus};
+use deckspin::tui::run_data::RunData;
 use deckspin::tui::run_list::Entry;
-use deckspin::tui::{self, App, Effect, Msg, Options, chart, form, nav, update};
+use deckspin::tui::{self, App, Effect, Msg, Options, chart, nav, update};
 use ratatui::Terminal;
 use ratatui::backend::TestBackend;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::OnceLock;
 
 // ---------------------------------------------------------------------------------------------
 // fixtures
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn bridge_path() -> PathBuf {
-    root().join("models/four-span.toml")
-}
-
-fn read(p: &Path) -> String {
-    std::fs::read_to_string(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
-}
-
-fn set(text: &str, path: &str, value: &str) -> String {
-    form::set_value(text, path, form::Kind::Float, value, form::Dim::Plain)
-        .unwrap_or_else(|e| panic!("{path}={value}: {e}"))
-}
-
-/// The four-span bridge shortened to 2 s with gaps of `gap` m.
-fn short_bridge(gap: &str) -> String {
-    let mut t = set(&read(&bridge_path()), "solver.t_end", "2.0");
-    for i in 0..4 {
-        t = set(&t, &format!("contacts.gaps.{i}"), gap);
-    }
-    t
-}
-
-fn run_of(text: &str, id: u64) -> RunData {
-    let mut app = App::new_from_text(text, &bridge_path());
-    app.next_run = id;
-    let fx = app.start();
-    tui::execute_blocking(&mut app, fx);
-    let run = app.current.expect("a run");
-    assert_eq!(run.status, RunStatus::Finished, "{}", app.status);
-    run
-}
-
 fn short_run() -> &'static RunData {
     static R: OnceLock<RunData> = OnceLock::new();
-    R.get_or_init(|| run_of(&short_bridge("0.004"), 2))
+    R.get_or_init(|| run_of(&short_bridge("0.004"), &bridge_path(), 2))
 }
 
 fn short_prev_run() -> &'static RunData {
     static R: OnceLock<RunData> = OnceLock::new();
-    R.get_or_init(|| run_of(&short_bridge("0.006"), 1))
+    R.get_or_init(|| run_of(&short_bridge("0.006"), &bridge_path(), 1))
 }
 
 /// The default model as shipped, run to its end (16 s).
 fn default_run() -> &'static RunData {
     static R: OnceLock<RunData> = OnceLock::new();
-    R.get_or_init(|| run_of(&read(&bridge_path()), 1))
+    R.get_or_init(|| run_of(&read(&bridge_path()), &bridge_path(), 1))
 }
 
 /// The short bridge with run 2 current and run 1 overlaid (relative path: no checkout
@@ -96,36 +65,6 @@ fn app_with(opts: Options) -> App {
 
 fn bridge_app() -> App {
     app_with(Options::default())
-}
-
-fn act(app: &mut App, a: Action) -> Vec<Effect> {
-    update(app, Msg::Action(a))
-}
-
-fn key(c: char) -> Msg {
-    Msg::Key(KeyEvent::new(KeyCode::Char(c), KeyModifiers::NONE))
-}
-
-fn render(app: &mut App, w: u16, h: u16) -> Terminal<TestBackend> {
-    update(app, Msg::Resize(w, h));
-    let mut t = Terminal::new(TestBackend::new(w, h)).unwrap();
-    let mut cache = tui::ui::Cache::default();
-    t.draw(|f| tui::ui::draw(f, app, &mut cache)).unwrap();
-    t
-}
-
-fn screen(t: &Terminal<TestBackend>) -> Vec<String> {
-    let b = t.backend().buffer();
-    (0..b.area.height)
-        .map(|y| (0..b.area.width).map(|x| b[(x, y)].symbol()).collect())
-        .collect()
-}
-
-fn snapshot_settings() -> insta::Settings {
-    let mut s = insta::Settings::clone_current();
-    s.set_snapshot_path(root().join("tests/snapshots"));
-    s.set_prepend_module_to_snapshot(false);
-    s
 }
 
 /// The y label of a chart row: what stands left of its axis `│` (trimmed).
@@ -234,7 +173,7 @@ fn an_impact_is_described_with_its_normal_impulse() {
         .iter()
         .find(|e| e.kind == EventKind::Impact)
         .unwrap();
-    let s = nav::describe(run, e, true, false);
+    let s = nav::describe(run, e, "kN", false);
     assert_eq!(
         s,
         format!(
@@ -244,10 +183,7 @@ fn an_impact_is_described_with_its_normal_impulse() {
         )
     );
     // a scene file's units are its author's: the number alone
-    assert_eq!(
-        nav::impulse(e, false, false),
-        Some(eng(e.normal, "", false))
-    );
+    assert_eq!(nav::impulse(e, "", false), Some(eng(e.normal, "", false)));
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -626,6 +562,100 @@ fn at_80_columns_the_readouts_are_whole_items() {
     // the chart headers: values only, every one of them
     let head = lines.iter().find(|l| l.starts_with("gaps g_N")).unwrap();
     assert_eq!(head.matches('━').count(), 4, "{head}");
+}
+
+/// Draws `app` at 80×24 with `cache` (kept across frames as the runtime keeps it) and returns
+/// its lines.
+fn frame_with(app: &mut App, cache: &mut tui::ui::Cache) -> Vec<String> {
+    update(app, Msg::Resize(80, 24));
+    let mut t = Terminal::new(TestBackend::new(80, 24)).unwrap();
+    t.draw(|f| tui::ui::draw(f, app, cache)).unwrap();
+    screen(&t)
+}
+
+/// The readout line, left of the side panels.
+fn readout_line(lines: &[String]) -> String {
+    let ro = lines.iter().find(|l| l.starts_with("t = "));
+    let ro = ro.unwrap_or_else(|| panic!("{}", lines.join("\n")));
+    ro.chars().take(52).collect()
+}
+
+#[test]
+fn while_a_run_is_followed_the_readouts_refresh_twice_a_second() {
+    let mut app = App::new_from_text(&read(&bridge_path()), Path::new("models/four-span.toml"));
+    let fx = app.start();
+    let Some(Effect::StartRun { id, scene }) = fx
+        .into_iter()
+        .find(|e| matches!(e, Effect::StartRun { .. }))
+    else {
+        panic!("no run started")
+    };
+    let msgs = tui::worker::run_blocking(id, &scene);
+    assert!(msgs.len() > 6, "{} messages", msgs.len());
+    let mut msgs = msgs.into_iter();
+    let mut feed = |app: &mut App, n: usize| {
+        for m in msgs.by_ref().take(n) {
+            update(app, m);
+        }
+    };
+    let mut cache = tui::ui::Cache::default();
+    feed(&mut app, 2);
+    assert!(app.running() && app.follow);
+    let t1 = app.cursor_time();
+    let first = frame_with(&mut app, &mut cache);
+    let ro1 = readout_line(&first);
+    assert!(
+        ro1.starts_with(&format!("t = {} s", nav::fmt_time(t1))),
+        "{ro1}"
+    );
+    // more batches within the period: the charts and the header go on, the readouts stay
+    feed(&mut app, 2);
+    assert!(app.running());
+    let t2 = app.cursor_time();
+    assert!(t2 > t1);
+    let started = std::time::Instant::now();
+    let second = frame_with(&mut app, &mut cache);
+    assert!(started.elapsed() < tui::ui::READOUT_PERIOD);
+    assert_eq!(readout_line(&second), ro1);
+    // the column loop's deformation and force, on its lower border
+    let loop_readout = |l: &[String]| -> String {
+        let mut right = l.iter().map(|s| s.chars().skip(52).collect::<String>());
+        let border = right.rfind(|s| s.starts_with("└ ") && s.contains(", "));
+        border.unwrap_or_else(|| panic!("{}", l.join("\n")))
+    };
+    assert_eq!(loop_readout(&second), loop_readout(&first));
+    assert_ne!(second[0], first[0], "the header's progress goes on");
+    let plan = |l: &[String]| l[1].chars().skip(50).collect::<String>();
+    assert!(plan(&second).contains(&format!("t={} s", chart::fmt_num(t1, 7))));
+    // after the period the readouts take the latest sample
+    std::thread::sleep(tui::ui::READOUT_PERIOD);
+    let third = frame_with(&mut app, &mut cache);
+    let ro3 = readout_line(&third);
+    assert!(
+        ro3.starts_with(&format!("t = {} s", nav::fmt_time(t2))),
+        "{ro3}"
+    );
+    assert!(plan(&third).contains(&format!("t={} s", chart::fmt_num(t2, 7))));
+    // a cursor moved by hand is read at once
+    act(&mut app, Action::CursorLeft);
+    assert!(!app.follow);
+    let tc = app.cursor_time();
+    let ro = readout_line(&frame_with(&mut app, &mut cache));
+    assert!(
+        ro.starts_with(&format!("t = {} s", nav::fmt_time(tc))),
+        "{ro}"
+    );
+    // and so is the end of the run once it is done
+    act(&mut app, Action::CursorEnd);
+    feed(&mut app, usize::MAX);
+    assert!(!app.running());
+    let end = app.cursor_time();
+    assert_eq!(end, 16.0);
+    let ro = readout_line(&frame_with(&mut app, &mut cache));
+    assert!(
+        ro.starts_with(&format!("t = {} s", nav::fmt_time(end))),
+        "{ro}"
+    );
 }
 
 // ---------------------------------------------------------------------------------------------

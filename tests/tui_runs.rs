@@ -4,56 +4,22 @@
 
 #![cfg(feature = "workbench")]
 
+mod common;
+
+use common::root;
+use common::tui::*;
+
 use crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
 use deckspin::tui::app::{Mode, StatusKind, View};
 use deckspin::tui::keymap::Action;
 use deckspin::tui::run_data::{RunData, RunStatus};
 use deckspin::tui::run_list::{self, Ended, Entry, KEEP, MAX_SAMPLES, Runs};
 use deckspin::tui::{self, App, Effect, Msg, Options, form, run_store, update};
-use ratatui::Terminal;
-use ratatui::backend::TestBackend;
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
 // ---------------------------------------------------------------------------------------------
 // fixtures
-
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn read(p: &Path) -> String {
-    std::fs::read_to_string(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
-}
-
-/// Sets a value in model text the way the form does.
-fn set(text: &str, path: &str, value: &str) -> String {
-    form::set_value(text, path, form::Kind::Float, value, form::Dim::Plain)
-        .unwrap_or_else(|e| panic!("{path}={value}: {e}"))
-}
-
-/// The four-span bridge shortened to 2 s with all four gaps `gap`.
-fn short_bridge(gap: &str) -> String {
-    let mut t = set(
-        &read(&root().join("models/four-span.toml")),
-        "solver.t_end",
-        "2.0",
-    );
-    for i in 0..4 {
-        t = set(&t, &format!("contacts.gaps.{i}"), gap);
-    }
-    t
-}
-
-fn run_of(text: &str, id: u64) -> RunData {
-    let mut app = App::new_from_text(text, &root().join("models/four-span.toml"));
-    app.next_run = id;
-    let fx = app.start();
-    tui::execute_blocking(&mut app, fx);
-    let run = app.current.expect("a run");
-    assert_eq!(run.status, RunStatus::Finished, "{}", app.status);
-    run
-}
 
 /// #1 (6 mm gaps), #2 (4 mm), #3 (5 mm) of the short bridge, computed once.
 fn bridge_runs() -> &'static [(RunData, String); 3] {
@@ -61,7 +27,7 @@ fn bridge_runs() -> &'static [(RunData, String); 3] {
     R.get_or_init(|| {
         [("0.006", 1), ("0.004", 2), ("0.005", 3)].map(|(g, n)| {
             let text = short_bridge(g);
-            (run_of(&text, n), text)
+            (run_of(&text, &bridge_path(), n), text)
         })
     })
 }
@@ -87,18 +53,6 @@ fn runs_app(opts: Options) -> App {
     app
 }
 
-fn key(c: char) -> Msg {
-    Msg::Key(KeyEvent::new(KeyCode::Char(c), KeyModifiers::NONE))
-}
-
-fn code(c: KeyCode) -> Msg {
-    Msg::Key(KeyEvent::new(c, KeyModifiers::NONE))
-}
-
-fn act(app: &mut App, a: Action) -> Vec<Effect> {
-    update(app, Msg::Action(a))
-}
-
 /// Edits a field of the form: select it, Enter, clear, type, Enter.
 fn edit(app: &mut App, path: &str, value: &str) {
     app.view = View::Form;
@@ -122,26 +76,6 @@ fn run(app: &mut App, fx: Vec<Effect>) {
     tui::execute_blocking(app, fx);
     let cur = app.current.as_ref().expect("a run");
     assert_eq!(cur.status, RunStatus::Finished, "{}", app.status);
-}
-
-fn render(app: &mut App, w: u16, h: u16) -> Terminal<TestBackend> {
-    update(app, Msg::Resize(w, h));
-    let mut t = Terminal::new(TestBackend::new(w, h)).unwrap();
-    let mut cache = tui::ui::Cache::default();
-    t.draw(|f| tui::ui::draw(f, app, &mut cache)).unwrap();
-    t
-}
-
-fn screen(t: &Terminal<TestBackend>) -> String {
-    let b = t.backend().buffer();
-    let mut s = String::new();
-    for y in 0..b.area.height {
-        for x in 0..b.area.width {
-            s.push_str(b[(x, y)].symbol());
-        }
-        s.push('\n');
-    }
-    s
 }
 
 /// A scratch folder with models/ (the short bridge) and excitations/; the model's path.
@@ -510,13 +444,6 @@ fn while_running_the_last_value_is_not_called_residual() {
 
 // ---------------------------------------------------------------------------------------------
 // snapshots
-
-fn snapshot_settings() -> insta::Settings {
-    let mut s = insta::Settings::clone_current();
-    s.set_snapshot_path(root().join("tests/snapshots"));
-    s.set_prepend_module_to_snapshot(false);
-    s
-}
 
 #[test]
 fn snapshot_runs_80x24() {

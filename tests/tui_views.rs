@@ -5,6 +5,11 @@
 
 #![cfg(feature = "workbench")]
 
+mod common;
+
+use common::root;
+use common::tui::*;
+
 use deckspin::excitation::G;
 use deckspin::study_table::{StudyKind, StudyTable};
 use deckspin::tui::app::{StatusKind, View};
@@ -12,27 +17,12 @@ use deckspin::tui::keymap::Action;
 use deckspin::tui::msg::StudyOutcome;
 use deckspin::tui::results::{JobState, Page};
 use deckspin::tui::run_data::{RunData, RunStatus};
-use deckspin::tui::{self, App, Effect, Msg, form, update};
-use ratatui::Terminal;
-use ratatui::backend::TestBackend;
+use deckspin::tui::{self, App, Effect, Msg, update};
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
 // ---------------------------------------------------------------------------------------------
 // fixtures
-
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn read(p: &Path) -> String {
-    std::fs::read_to_string(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
-}
-
-fn set(text: &str, path: &str, value: &str) -> String {
-    form::set_value(text, path, form::Kind::Float, value, form::Dim::Plain)
-        .unwrap_or_else(|e| panic!("{path}={value}: {e}"))
-}
 
 /// The four-span bridge shortened to 2 s with 4 mm gaps (impacts early on).
 fn short_bridge() -> String {
@@ -72,10 +62,6 @@ fn bridge_app() -> App {
     app
 }
 
-fn act(app: &mut App, a: Action) -> Vec<Effect> {
-    update(app, Msg::Action(a))
-}
-
 /// Steps with `l` to `page`, executing what it starts (blocking).
 fn show(app: &mut App, page: Page) {
     for _ in 0..20 {
@@ -86,33 +72,6 @@ fn show(app: &mut App, page: Page) {
         tui::execute_blocking(app, fx);
     }
     panic!("{page:?} not reached");
-}
-
-fn render(app: &mut App, w: u16, h: u16) -> Terminal<TestBackend> {
-    update(app, Msg::Resize(w, h));
-    let mut t = Terminal::new(TestBackend::new(w, h)).unwrap();
-    let mut cache = tui::ui::Cache::default();
-    t.draw(|f| tui::ui::draw(f, app, &mut cache)).unwrap();
-    t
-}
-
-fn screen(t: &Terminal<TestBackend>) -> String {
-    let b = t.backend().buffer();
-    let mut s = String::new();
-    for y in 0..b.area.height {
-        for x in 0..b.area.width {
-            s.push_str(b[(x, y)].symbol());
-        }
-        s.push('\n');
-    }
-    s
-}
-
-fn snapshot_settings() -> insta::Settings {
-    let mut s = insta::Settings::clone_current();
-    s.set_snapshot_path(root().join("tests/snapshots"));
-    s.set_prepend_module_to_snapshot(false);
-    s
 }
 
 /// Below the header line (shared with the other views), no character above 0x7E.
@@ -497,6 +456,17 @@ fn snapshot_results_pages() {
     show(&mut app, Page::Records);
     app.ascii = true;
     snap(&mut app, 80, 24, "results_records_80x24_ascii");
+    let mut app = bridge_app();
+    show(&mut app, Page::Modes);
+    app.ascii = true;
+    let t = render(&mut app, 80, 24);
+    assert_ascii(&screen(&t), "modes");
+    assert!(
+        screen(&t).contains("mode 1 on the plan x1"),
+        "{}",
+        screen(&t)
+    );
+    snap(&mut app, 80, 24, "results_modes_80x24_ascii");
 }
 
 #[test]
@@ -516,4 +486,111 @@ fn snapshot_precision() {
         .collect::<Vec<_>>()
         .join("\n");
     snapshot_settings().bind(|| insta::assert_snapshot!("precision_grid_120x40", s));
+}
+
+/// The canvas of the modes page's plan (inside its border) and its title line.
+fn mode_plan(s: &str) -> (String, Vec<Vec<char>>) {
+    let lines: Vec<&str> = s.lines().collect();
+    let top = (lines.iter().position(|l| l.contains(" on the plan ×")))
+        .unwrap_or_else(|| panic!("no mode plan:\n{s}"));
+    let bottom = top
+        + lines[top..]
+            .iter()
+            .position(|l| l.starts_with('└'))
+            .unwrap();
+    let rows = lines[top + 1..bottom]
+        .iter()
+        .map(|l| {
+            let inner: Vec<char> = l.chars().skip(1).collect();
+            let end = inner.iter().position(|&c| c == '│').unwrap();
+            inner[..end].to_vec()
+        })
+        .collect();
+    (lines[top].to_string(), rows)
+}
+
+#[test]
+fn the_modes_page_draws_the_selected_mode_on_the_plan() {
+    let mut app = bridge_app();
+    show(&mut app, Page::Modes);
+    // without colour only the displaced outline is drawn
+    app.opts.color = false;
+    let mut plans = Vec::new();
+    for k in 1..=5 {
+        assert_eq!(app.results.mode, k - 1);
+        let s = screen(&render(&mut app, 120, 40));
+        let (title, rows) = mode_plan(&s);
+        assert!(
+            title.contains(&format!("┌ mode {k} on the plan ×")),
+            "{title}"
+        );
+        assert!(
+            rows.iter().flatten().filter(|c| **c != ' ').count() > 50,
+            "an outline is drawn:\n{s}"
+        );
+        plans.push(rows);
+        act(&mut app, Action::ResultDown);
+    }
+    // modes 1 (deck y and θ), 2 (deck x), 4 (left abutment x) are drawn differently
+    assert_ne!(plans[0], plans[1]);
+    assert_ne!(plans[1], plans[3]);
+    assert_ne!(plans[0], plans[3]);
+    // modes 4 and 5 move only the left or the right abutment: they differ at the ends of the
+    // bridge, and nowhere in the middle half, where the deck is at rest in both
+    let (a, b) = (&plans[3], &plans[4]);
+    let w = a[0].len();
+    let mut differ = Vec::new();
+    for (ra, rb) in a.iter().zip(b) {
+        for x in 0..w {
+            if ra[x] != rb[x] {
+                differ.push(x);
+            }
+        }
+    }
+    assert!(differ.iter().any(|&x| x < w / 4), "{differ:?}");
+    assert!(differ.iter().any(|&x| x >= 3 * w / 4), "{differ:?}");
+    assert!(
+        differ.iter().all(|&x| x < w / 4 || x >= 3 * w / 4),
+        "{differ:?} of {w}"
+    );
+    // a terminal too short for it: the table alone
+    let s = screen(&render(&mut app, 80, 18));
+    assert!(!s.contains("on the plan"), "{s}");
+    assert!(s.contains("shape of mode 6"), "{s}");
+}
+
+#[test]
+fn the_results_worker_runs_in_its_own_named_thread_and_sends_its_end() {
+    use deckspin::tui::msg::{ResultData, ResultOutcome};
+    use deckspin::tui::results::ResultSpec;
+    let app = bridge_app();
+    let scene = app.scene.clone().expect("the model loads");
+    let (tx, rx) = std::sync::mpsc::channel();
+    let h = tui::results_worker::spawn(7, ResultSpec::Modes(Box::new(scene)), tx);
+    assert_eq!(h.id, 7);
+    let msg = rx
+        .recv_timeout(std::time::Duration::from_secs(30))
+        .expect("the worker's end");
+    let Msg::ResultDone { id, outcome } = msg else {
+        panic!("not the end: {msg:?}")
+    };
+    assert_eq!(id, 7);
+    let ResultOutcome::Done(ResultData::Modes(m)) = outcome else {
+        panic!("{outcome:?}")
+    };
+    // the same modes as in this thread
+    let blocking = tui::results_worker::run_blocking(
+        7,
+        &ResultSpec::Modes(Box::new(app.scene.clone().unwrap())),
+    );
+    let Some(Msg::ResultDone {
+        outcome: ResultOutcome::Done(ResultData::Modes(b)),
+        ..
+    }) = blocking.last()
+    else {
+        panic!("{blocking:?}")
+    };
+    assert_eq!(m.periods, b.periods);
+    assert_eq!(m.periods.len(), 7);
+    assert!((m.periods[0] - 0.3892).abs() < 5e-5, "{}", m.periods[0]);
 }

@@ -1,6 +1,8 @@
 //! The `units` key: the four-span bridge written in kip, in, s gives the same motion as in t, kN,
 //! m, s (records stay in g; the Caltrans backfill and AASHTO's seat length convert).
 
+mod common;
+
 use deckspin::model;
 use deckspin::units::UnitSystem;
 use std::path::Path;
@@ -133,4 +135,111 @@ fn an_unknown_unit_system_names_the_key_and_the_choices() {
         s.contains("units") && s.contains("SI-kN, SI, kip-in"),
         "{s}"
     );
+}
+
+/// The workbench's results pages in the model's units: the energy ledger of the bridge in
+/// kip-in is in kip·in (1 kJ = 8.8507 kip·in), its contact forces in kip and kip·s.
+#[cfg(feature = "workbench")]
+#[test]
+fn the_workbench_energy_page_is_in_the_models_energy_unit() {
+    use common::tui::{render, screen};
+    use deckspin::tui::app::View;
+    use deckspin::tui::keymap::Action;
+    use deckspin::tui::results::Page;
+    use deckspin::tui::{self, App, Msg, update};
+
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("models/four-span.toml");
+    let short = |t: &str| {
+        let mut d: DocumentMut = t.parse().unwrap();
+        d["solver"]["t_end"] = value(2.0);
+        d.to_string()
+    };
+    let si = short(&std::fs::read_to_string(&path).unwrap());
+    let us = in_kip_in(&si);
+    // the page of a model after its run: (screen, the ledger's input at the end)
+    let page = |text: &str, page: Page| -> (String, f64) {
+        let mut app = App::new_from_text(text, Path::new("models/four-span.toml"));
+        let fx = app.start();
+        tui::execute_blocking(&mut app, fx);
+        let run = app.current.as_ref().expect("a run");
+        let input = run.results.ledger.terms[0].last().copied().unwrap();
+        app.view = View::Studies;
+        for _ in 0..20 {
+            if app.results.page == Some(page) {
+                break;
+            }
+            let fx = update(&mut app, Msg::Action(Action::StudyNext));
+            tui::execute_blocking(&mut app, fx);
+        }
+        assert_eq!(app.results.page, Some(page));
+        (screen(&render(&mut app, 120, 40)), input)
+    };
+    let (s_si, in_si) = page(&si, Page::Energy);
+    assert!(s_si.contains("energy ledger over time [kJ]"), "{s_si}");
+    assert!(s_si.contains("energy [kJ]"), "{s_si}");
+    let (s_us, in_us) = page(&us, Page::Energy);
+    assert!(s_us.contains("energy ledger over time [kip·in]"), "{s_us}");
+    assert!(s_us.contains("energy [kip·in]"), "{s_us}");
+    assert!(!s_us.contains("kJ"), "{s_us}");
+    // the same motion, its energy in the other unit: 1 kJ = 1 kN·m in kip·in
+    let kip_in_per_kj = KIP_PER_KN * IN_PER_M;
+    assert!((kip_in_per_kj - 8.8507).abs() < 1e-4);
+    assert!(in_si > 0.0);
+    // (the default tolerances of the solver, not scaled to inches: agreement to 1e-4)
+    assert!(
+        (in_us / (in_si * kip_in_per_kj) - 1.0).abs() < 1e-4,
+        "{in_us} kip·in vs {in_si} kJ"
+    );
+    let shown = format!("input {} kip·in", tui::chart::fmt_sig(in_us, 4));
+    assert!(s_us.contains(&shown), "{shown} in\n{s_us}");
+    // the contact forces and impulses in kip and kip·s
+    let (c_us, _) = page(&us, Page::Contacts);
+    assert!(c_us.contains("forces [kip]"), "{c_us}");
+    assert!(
+        c_us.contains(" kip · max ΛN ") && c_us.contains(" kip·s "),
+        "{c_us}"
+    );
+    assert!(!c_us.contains("kN"), "{c_us}");
+    // SI: J
+    let mut d: DocumentMut = si.parse().unwrap();
+    d["units"] = value("SI");
+    let (s_j, _) = page(&d.to_string(), Page::Energy);
+    assert!(s_j.contains("energy ledger over time [J]"), "{s_j}");
+}
+
+/// The charts view of the bridge in kip-in: lengths in in (no SI prefix on them), the column
+/// loop in kip, the runs compared in in; SI-kN keeps m and kN.
+#[cfg(feature = "workbench")]
+#[test]
+fn the_workbench_charts_are_in_the_models_units() {
+    use common::tui::{render, screen};
+    use deckspin::tui::{self, App};
+
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("models/four-span.toml");
+    let mut d: DocumentMut = std::fs::read_to_string(&path).unwrap().parse().unwrap();
+    d["solver"]["t_end"] = value(2.0);
+    let si = d.to_string();
+    let charts = |text: &str| -> String {
+        let mut app = App::new_from_text(text, Path::new("models/four-span.toml"));
+        let fx = app.start();
+        tui::execute_blocking(&mut app, fx);
+        screen(&render(&mut app, 120, 40))
+    };
+    let s = charts(&in_kip_in(&si));
+    // (in takes no SI prefix: a scale of 1e-3 in is written out)
+    assert!(s.contains("gaps g_N [1e-3 in]"), "{s}");
+    assert!(s.contains("deck.x / deck.y [in]"), "{s}");
+    assert!(s.contains("deck.theta [µrad]"), "{s}");
+    assert!(s.contains("min gap [in]"), "{s}");
+    assert!(
+        s.contains(" kip │") && s.contains(" kip ───"),
+        "the column loop's force: {s}"
+    );
+    assert!(
+        !s.contains("mm") && !s.contains(" kN") && !s.contains("[m]"),
+        "{s}"
+    );
+    let s = charts(&si);
+    assert!(s.contains("gaps g_N [mm]"), "{s}");
+    assert!(s.contains("min gap [m]") && s.contains(" kN"), "{s}");
 }

@@ -448,7 +448,23 @@ fn dim_of_path(path: &str, kind: Kind) -> Dim {
 
 /// A model error with line and column: (`file:line:col: …` message, the message without the
 /// location, (line, column)). `Invalid` errors carry a field whose column is located in the text.
+/// The paths in the messages are numbered from 1, as the form's labels ([`spec::one_based`]).
 pub fn describe_error(
+    e: &crate::ModelError,
+    text: &str,
+) -> (String, String, Option<(usize, usize)>) {
+    let (message, detail, at) = describe_engine_error(e, text);
+    (spec::one_based(&message), spec::one_based(&detail), at)
+}
+
+/// A model error as the workbench shows it: [`crate::ModelError`]'s text with its paths
+/// numbered from 1 ([`spec::one_based`]).
+pub fn shown_error(e: &crate::ModelError) -> String {
+    spec::one_based(&e.to_string())
+}
+
+/// [`describe_error`] in the engine's words (paths numbered from 0).
+fn describe_engine_error(
     e: &crate::ModelError,
     text: &str,
 ) -> (String, String, Option<(usize, usize)>) {

@@ -383,6 +383,52 @@ const SHORT: [(&str, &str); 10] = [
     ("unloading", "unload."),
 ];
 
+/// A message of the engine as the workbench shows it: every dotted path with a list index in
+/// it (`contacts.gaps.0`, `frame.1.bent.0.height`, `body.0.initial_velocity[2]`, numbered from
+/// 0 as the command line's `--set` takes them) replaced by its label, numbered from 1
+/// ([`label_of`]: `contacts gap 1 (left_top)`, `frame 2 bent 1 height`); the rest unchanged.
+pub fn one_based(message: &str) -> String {
+    let is_part = |c: char| c.is_ascii_alphanumeric() || matches!(c, '_' | '.' | '[' | ']');
+    let mut out = String::with_capacity(message.len());
+    let mut rest = message;
+    while let Some(start) = rest.find(is_part) {
+        out.push_str(&rest[..start]);
+        let len = rest[start..]
+            .find(|c| !is_part(c))
+            .unwrap_or(rest.len() - start);
+        let token = &rest[start..start + len];
+        // a sentence's full stop is not part of the path; a part of a file's path is none
+        let path = token.trim_end_matches('.');
+        let in_file_path = out.ends_with('/') || rest[start + len..].starts_with('/');
+        match indexed_path(path).filter(|_| !in_file_path) {
+            Some(dotted) => {
+                out.push_str(&label_of(&dotted));
+                out.push_str(&token[path.len()..]);
+            }
+            None => out.push_str(token),
+        }
+        rest = &rest[start + len..];
+    }
+    out.push_str(rest);
+    out
+}
+
+/// `path` as a dotted path (`a.0.b`, `a[0]` read as `a.0`) when it is one with a list index
+/// after its first key.
+fn indexed_path(path: &str) -> Option<String> {
+    let dotted = path.replace('[', ".").replace(']', "");
+    if path.matches('[').count() != path.matches(']').count() || path.ends_with('.') {
+        return None;
+    }
+    let segs: Vec<&str> = dotted.split('.').collect();
+    let first = segs.first()?;
+    let number = |s: &&str| !s.is_empty() && s.bytes().all(|b| b.is_ascii_digit());
+    let ok = first.starts_with(|c: char| c.is_ascii_alphabetic())
+        && segs.iter().all(|s| !s.is_empty())
+        && segs[1..].iter().any(number);
+    ok.then_some(dotted)
+}
+
 /// A label that fits `width` characters, never cut inside a word: long words shortened
 /// (`displacement` → `displ.`), then whole words dropped from the end, marked by `…`.
 pub fn fit_label(label: &str, width: usize) -> String {
@@ -428,6 +474,22 @@ mod tests {
     fn labels_number_list_elements_from_one() {
         assert_eq!(label_of("run.3.pga_x"), "test run 4 pga x");
         assert_eq!(label_of("contacts.gaps.0"), "contacts gap 1 (left_top)");
+        assert_eq!(
+            one_based("m.toml:12:8: contacts.gaps.0: must be ≥ 0, got -0.01."),
+            "m.toml:12:8: contacts gap 1 (left_top): must be ≥ 0, got -0.01."
+        );
+        assert_eq!(
+            one_based("frame.1.bent.0.height: must be > 0 (see frame.1.length.)"),
+            "frame 2 bent 1 height: must be > 0 (see frame 2 length.)"
+        );
+        assert_eq!(
+            one_based("body.0.initial_velocity[2] is not finite; solver.rtol too"),
+            "body 1 initial velocity 3 is not finite; solver.rtol too"
+        );
+        assert_eq!(
+            one_based("/w/v1.2/four-span.toml 1.5e3 x.0a"),
+            "/w/v1.2/four-span.toml 1.5e3 x.0a"
+        );
         assert_eq!(label_of("frame.1.bent.0.height"), "frame 2 bent 1 height");
         assert_eq!(label_of("joint.0.gaps.1"), "joint 1 gap 2 (bottom)");
         assert_eq!(label_of("excitation.lag_bents.2"), "excitation lag bent 3");

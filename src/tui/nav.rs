@@ -7,6 +7,7 @@ use super::chart;
 use super::eng;
 use super::run_data::RunData;
 use crate::output::{ContactState, EventKind, EventRecord};
+use crate::units::Quantity;
 
 /// The events' indices in time order (events of one instant keep their order).
 pub fn in_time_order(run: &RunData) -> Vec<usize> {
@@ -45,17 +46,19 @@ pub fn prev_time(run: &RunData, t: f64) -> Option<f64> {
         .map(|i| times[i])
 }
 
-/// The model's forces are in kN: a bridge model (a `deck` body; its units are t, kN, m, s).
-pub fn kilonewton(app: &App) -> bool {
-    app.scene
-        .as_ref()
-        .is_some_and(|s| s.bodies.iter().any(|b| b.name == "deck"))
+/// Force unit of the model's numbers: a bridge model's (a `deck` body) from its `units` (kN in
+/// SI-kN, N in SI, kip in kip-in); none for a scene file, whose forces are its author's.
+pub fn force_unit(app: &App) -> &'static str {
+    match &app.scene {
+        Some(s) if s.bodies.iter().any(|b| b.name == "deck") => s.units.unit(Quantity::Force),
+        _ => "",
+    }
 }
 
-/// Force unit of the model's numbers: kN for bridge models (t, kN, m, s); none for a scene
-/// file, whose units are its author's.
-pub fn force_unit(kilonewton: bool) -> &'static str {
-    if kilonewton { "kN" } else { "" }
+/// Length unit of the model's numbers, from its `units` (m; in for kip-in).
+pub fn length_unit(app: &App) -> &'static str {
+    let sys = app.scene.as_ref().map(|s| s.units).unwrap_or_default();
+    sys.unit(Quantity::Length)
 }
 
 /// Who an event is about: its contact, or for a key failure its element.
@@ -71,23 +74,24 @@ pub fn subject(run: &RunData, e: &EventRecord) -> String {
         .unwrap_or_else(|| format!("#{}", e.contact + 1))
 }
 
-/// The normal impulse of an impact with its unit (`1.234 kN·s`); None for other events.
-pub fn impulse(e: &EventRecord, kilonewton: bool, ascii: bool) -> Option<String> {
+/// The normal impulse of an impact with its unit (`1.234 kN·s`; `force`: the model's force
+/// unit, [`force_unit`], none when empty); None for other events.
+pub fn impulse(e: &EventRecord, force: &str, ascii: bool) -> Option<String> {
     (e.kind == EventKind::Impact && e.normal.is_finite()).then(|| {
         let dot = if ascii { "*" } else { "·" };
-        let unit = if kilonewton {
-            format!("kN{dot}s")
-        } else {
+        let unit = if force.is_empty() {
             String::new()
+        } else {
+            format!("{force}{dot}s")
         };
         eng::eng(e.normal, &unit, ascii)
     })
 }
 
 /// One event in words: `left_top impact 1.234 kN·s`.
-pub fn describe(run: &RunData, e: &EventRecord, kilonewton: bool, ascii: bool) -> String {
+pub fn describe(run: &RunData, e: &EventRecord, force: &str, ascii: bool) -> String {
     let mut s = format!("{} {}", subject(run, e), e.kind.label());
-    if let Some(i) = impulse(e, kilonewton, ascii) {
+    if let Some(i) = impulse(e, force, ascii) {
         s.push(' ');
         s.push_str(&i);
     }
@@ -101,14 +105,14 @@ pub fn fmt_time(t: f64) -> String {
 
 /// The status line after a jump to the events at `t`: their number among the instants, the
 /// time, and each event in words.
-pub fn jump_status(run: &RunData, t: f64, kilonewton: bool, ascii: bool) -> String {
+pub fn jump_status(run: &RunData, t: f64, force: &str, ascii: bool) -> String {
     let times = event_times(run);
     let k = times.partition_point(|&x| x < t) + 1;
     let what: Vec<String> = run
         .events
         .iter()
         .filter(|e| e.t == t)
-        .map(|e| describe(run, e, kilonewton, ascii))
+        .map(|e| describe(run, e, force, ascii))
         .collect();
     format!(
         "event {k}/{} at t = {} s: {}",

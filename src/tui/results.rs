@@ -66,7 +66,8 @@ pub struct Component {
     /// Its start (the lag) and sampling interval, s.
     pub t0: f64,
     pub dt: f64,
-    /// Acceleration, g, and displacement, m, at each sample (the support's factor applied).
+    /// Acceleration, g, and displacement (the model's length unit: m, in) at each sample (the
+    /// support's factor applied).
     pub acc_g: Vec<f64>,
     pub disp: Vec<f64>,
     /// (T s, Sa g) of the 5 %-damped pseudo-acceleration spectrum.

@@ -6,7 +6,7 @@ use super::msg::{Msg, ResultData, ResultOutcome};
 use super::results::{
     Component, RecordsData, ResultSpec, modes_data, record_supports, spectrum, spectrum_periods,
 };
-use super::worker::{THREAD_PREFIX, panic_text};
+use super::worker::{JobBody, panic_text, spawn_job};
 use crate::excitation::G;
 use crate::scene::Scene;
 use crate::suite::intensity::pseudo_acceleration;
@@ -92,22 +92,11 @@ pub fn run(id: u64, spec: &ResultSpec, cancel: &AtomicBool, send: &dyn Fn(Msg)) 
 
 /// Starts computation `id` in a thread sending to `tx`.
 pub fn spawn(id: u64, spec: ResultSpec, tx: Sender<Msg>) -> ResultHandle {
-    let cancel = Arc::new(AtomicBool::new(false));
-    let flag = cancel.clone();
-    let tx2 = tx.clone();
-    let spawned = std::thread::Builder::new()
-        .name(format!("{THREAD_PREFIX}-result{id}"))
-        .spawn(move || {
-            let send = |m: Msg| {
-                let _ = tx.send(m);
-            };
-            let done = run(id, &spec, &flag, &send);
-            let _ = tx.send(done);
-        });
-    if let Err(e) = spawned {
-        let outcome = ResultOutcome::Failed(format!("cannot start a thread: {e}"));
-        let _ = tx2.send(Msg::ResultDone { id, outcome });
-    }
+    let body: JobBody = Box::new(move |flag, send| run(id, &spec, flag, send));
+    let cancel = spawn_job(&format!("result{id}"), tx, body, |why| Msg::ResultDone {
+        id,
+        outcome: ResultOutcome::Failed(why),
+    });
     ResultHandle { id, cancel }
 }
 

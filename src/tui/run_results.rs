@@ -3,12 +3,27 @@
 //! the same samples as [`super::run_data::RunData`].
 
 use crate::output::{EnergySample, Sample};
+use crate::units::{Quantity, UnitSystem};
 
-/// The energies' unit: the model's force × length (kN · m = kJ in t, kN, m, s).
-pub const ENERGY_UNIT: &str = "kJ";
-/// The contact forces' unit and the impulses' (kN, kN·s in t, kN, m, s).
-pub const FORCE_UNIT: &str = "kN";
-pub const IMPULSE_UNIT: &str = "kN·s";
+/// The units of the results pages in the model's unit system (its `units` key): energy
+/// (force × length: kJ in SI-kN, J in SI, kip·in in kip-in), force (kN, N, kip) and impulse
+/// (kN·s, N·s, kip·s).
+pub fn units(sys: UnitSystem) -> ResultUnits {
+    let force = sys.unit(Quantity::Force);
+    ResultUnits {
+        energy: sys.unit(Quantity::Energy),
+        force,
+        impulse: format!("{force}·s"),
+    }
+}
+
+/// [`units`]: the energy, force and impulse units of a model.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ResultUnits {
+    pub energy: &'static str,
+    pub force: &'static str,
+    pub impulse: String,
+}
 
 /// The ledger's terms, in the order of [`Ledger::terms`].
 pub const TERMS: [&str; 8] = [

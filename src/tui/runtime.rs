@@ -24,7 +24,7 @@ use std::collections::HashMap;
 use std::io::{self, Write};
 use std::path::Path;
 use std::sync::mpsc::{self, Receiver, Sender};
-use std::time::{Instant, SystemTime, UNIX_EPOCH};
+use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
 /// Whether the terminal is in workbench mode (raw, alternate screen).
 static TERMINAL_TAKEN: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
@@ -289,6 +289,38 @@ fn drain(rx: &Receiver<Msg>) -> Option<Vec<Msg>> {
     Some(batch)
 }
 
+/// The shortest time between two frames drawn for a run's data alone: 80 ms, at most 12.5
+/// frames a second while a run streams in (its batches come every 40 ms); a key, a resize or
+/// any other message is drawn at once, and so is the first batch of a run.
+pub const DATA_FRAME: Duration = Duration::from_millis(80);
+
+/// Whether `m` is a run's data (drawn at most every [`DATA_FRAME`]).
+fn is_data(m: &Msg) -> bool {
+    matches!(m, Msg::Batch { .. })
+}
+
+/// Waits until `until` for more messages while those that come are a run's data, so that its
+/// batches are drawn together; returns them (the first other message ends the wait, and is
+/// returned last).
+pub fn pace(rx: &Receiver<Msg>, until: Instant) -> Vec<Msg> {
+    let mut more = Vec::new();
+    loop {
+        let Some(left) = until.checked_duration_since(Instant::now()) else {
+            return more;
+        };
+        match rx.recv_timeout(left) {
+            Ok(m) => {
+                let data = is_data(&m);
+                more.push(m);
+                if !data {
+                    return more;
+                }
+            }
+            Err(_) => return more,
+        }
+    }
+}
+
 /// Open the workbench on a model file.
 pub fn run(model: &Path) -> Result<(), Box<dyn std::error::Error>> {
     let mut timing = Timing::from_env();
@@ -346,6 +378,7 @@ fn event_loop(
     let mut framed: u64 = 0;
     loop {
         terminal.draw(|f| ui::draw(f, app, &mut cache))?;
+        let drawn = Instant::now();
         if first_frame {
             host.timing.log("first-frame");
             first_frame = false;
@@ -360,9 +393,14 @@ fn event_loop(
         if app.quit {
             return Ok(None);
         }
-        let Some(batch) = drain(rx) else {
+        let Some(mut batch) = drain(rx) else {
             return Ok(None);
         };
+        // a run's data alone waits for the next frame's time (a new run's first batch does not)
+        let fresh = |m: &Msg| matches!(m, Msg::Batch { run, .. } if *run > framed);
+        if batch.iter().all(is_data) && !batch.iter().any(fresh) {
+            batch.extend(pace(rx, drawn + DATA_FRAME));
+        }
         for m in batch {
             match &m {
                 Msg::Signal(sig) => return Ok(Some(*sig)),

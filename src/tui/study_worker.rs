@@ -4,9 +4,10 @@
 //! final; the end a [`Msg::StudyDone`] with the whole table. A cancel flag, read before each
 //! run starts, skips the runs not started.
 
+use super::form::shown_error;
 use super::msg::{Msg, StudyOutcome};
 use super::study::StudySpec;
-use super::worker::{THREAD_PREFIX, panic_text};
+use super::worker::{JobBody, THREAD_PREFIX, panic_text, spawn_job};
 use crate::precision_study::run_precision;
 use crate::progress::Progress;
 use crate::studies::{Row, Study, Watch};
@@ -56,8 +57,8 @@ impl Watch for Watcher<'_> {
 /// `send`; returns its [`Msg::StudyDone`].
 pub fn run(id: u64, spec: &StudySpec, cancel: &AtomicBool, send: &(dyn Fn(Msg) + Sync)) -> Msg {
     let work = || {
-        let study =
-            Study::from_text(&spec.text, &spec.path, &spec.overrides).map_err(|e| e.to_string())?;
+        let study = Study::from_text(&spec.text, &spec.path, &spec.overrides)
+            .map_err(|e| shown_error(&e))?;
         let watch = Watcher { id, cancel, send };
         let point = |index: usize, p: &crate::precision::Point| {
             let point = Box::new(p.clone());
@@ -96,22 +97,11 @@ pub fn run(id: u64, spec: &StudySpec, cancel: &AtomicBool, send: &(dyn Fn(Msg) +
 
 /// Starts study `id` in a thread sending to `tx`.
 pub fn spawn(id: u64, spec: StudySpec, tx: Sender<Msg>) -> StudyHandle {
-    let cancel = Arc::new(AtomicBool::new(false));
-    let flag = cancel.clone();
-    let tx2 = tx.clone();
-    let spawned = std::thread::Builder::new()
-        .name(format!("{THREAD_PREFIX}-study{id}"))
-        .spawn(move || {
-            let send = |m: Msg| {
-                let _ = tx.send(m);
-            };
-            let done = run(id, &spec, &flag, &send);
-            let _ = tx.send(done);
-        });
-    if let Err(e) = spawned {
-        let outcome = StudyOutcome::Failed(format!("cannot start a thread: {e}"));
-        let _ = tx2.send(Msg::StudyDone { id, outcome });
-    }
+    let body: JobBody = Box::new(move |flag, send| run(id, &spec, flag, send));
+    let cancel = spawn_job(&format!("study{id}"), tx, body, |why| Msg::StudyDone {
+        id,
+        outcome: StudyOutcome::Failed(why),
+    });
     StudyHandle { id, cancel }
 }
 

@@ -107,6 +107,38 @@ pub(crate) fn panic_text(p: &(dyn std::any::Any + Send)) -> String {
         .unwrap_or_else(|| "unknown panic".into())
 }
 
+/// A job's body in its thread: given its cancel flag and a sender of its messages, it returns
+/// its last message.
+pub type JobBody = Box<dyn FnOnce(&AtomicBool, &(dyn Fn(Msg) + Sync)) -> Msg + Send>;
+
+/// Starts `body` in a thread named `name` (under [`THREAD_PREFIX`], so that a panic in it is
+/// the job's to report) with a new cancel flag, its messages and its last one sent to `tx`;
+/// when the thread cannot start, `failed` with the reason is sent instead. Returns the flag.
+/// (The studies' and the results pages' workers.)
+pub fn spawn_job(
+    name: &str,
+    tx: Sender<Msg>,
+    body: JobBody,
+    failed: impl FnOnce(String) -> Msg,
+) -> Arc<AtomicBool> {
+    let cancel = Arc::new(AtomicBool::new(false));
+    let flag = cancel.clone();
+    let tx2 = tx.clone();
+    let spawned = std::thread::Builder::new()
+        .name(format!("{THREAD_PREFIX}-{name}"))
+        .spawn(move || {
+            let send = |m: Msg| {
+                let _ = tx.send(m);
+            };
+            let done = body(&flag, &send);
+            let _ = tx.send(done);
+        });
+    if let Err(e) = spawned {
+        let _ = tx2.send(failed(format!("cannot start a thread: {e}")));
+    }
+    cancel
+}
+
 /// Starts run `id` of `scene` in a worker thread sending to `tx`.
 pub fn spawn(id: u64, scene: Scene, tx: Sender<Msg>) -> RunHandle {
     let cancel = Arc::new(AtomicBool::new(false));

@@ -2,6 +2,9 @@
 use deckspin::output::{EventKind, RunOutput, SampleKind};
 use std::path::{Path, PathBuf};
 
+#[cfg(feature = "workbench")]
+pub mod tui;
+
 pub fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }

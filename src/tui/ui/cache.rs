@@ -5,6 +5,7 @@
 use crate::tui::chart::downsample_minmax;
 use crate::tui::run_data::RunData;
 use std::collections::HashMap;
+use std::time::{Duration, Instant};
 
 pub(super) type Points = Vec<(f64, f64)>;
 
@@ -14,7 +15,15 @@ pub struct Cache {
     series: HashMap<String, (Key, Points)>,
     strips: HashMap<u64, (Key, Vec<Vec<char>>)>,
     memo: HashMap<String, (Vec<u64>, Points)>,
+    /// The instant the readouts show while a running run is followed: (run, time, when taken).
+    readout: Option<(u64, f64, Instant)>,
 }
+
+/// How often the readouts at the cursor (the values in the charts' headers, the contact
+/// states, the loop's deformation and force) and the plan, drawn at their instant, are
+/// refreshed while a running run is followed: twice a second. The charts, the cursor line and
+/// the column loop go on with every frame.
+pub const READOUT_PERIOD: Duration = Duration::from_millis(500);
 
 #[derive(Clone, Copy, PartialEq, Debug)]
 pub(super) struct Key {
@@ -39,6 +48,23 @@ pub(super) fn time_key(r: &RunData, t0: f64, t1: f64, cols: u16) -> Key {
 }
 
 impl Cache {
+    /// The time the readouts are drawn at: the cursor time `tc`, except while run `run` is
+    /// running and followed (`held`), when it is the latest sample at most
+    /// [`READOUT_PERIOD`] ago, so that the numbers do not change with every frame.
+    pub(super) fn readout_time(&mut self, run: u64, tc: f64, held: bool) -> f64 {
+        if !held {
+            self.readout = None;
+            return tc;
+        }
+        match self.readout {
+            Some((r, t, at)) if r == run && t <= tc && at.elapsed() < READOUT_PERIOD => t,
+            _ => {
+                self.readout = Some((run, tc, Instant::now()));
+                tc
+            }
+        }
+    }
+
     /// Cached computation of points under `name`, recomputed when `key` changes.
     pub(super) fn memo(
         &mut self,

@@ -71,8 +71,8 @@ fn short(name: &str) -> String {
 
 type Get = Box<dyn Fn(&Column) -> String>;
 
-/// Rows of the comparison: (label, one cell per column), most telling first.
-pub(super) fn rows(cols: &[Column]) -> Vec<(String, Vec<String>)> {
+/// Rows of the comparison: (label, one cell per column), most telling first; lengths in `len`.
+pub(super) fn rows(cols: &[Column], len: &str) -> Vec<(String, Vec<String>)> {
     let Some(first) = cols.first() else {
         return Vec::new();
     };
@@ -106,13 +106,13 @@ pub(super) fn rows(cols: &[Column]) -> Vec<(String, Vec<String>)> {
             Box::new(|c: &Column| cell(c.results.stick_time)),
         ),
         (
-            "min gap [m]".into(),
+            format!("min gap [{len}]"),
             Box::new(|c: &Column| cell(c.results.min_gap)),
         ),
     ];
     for (i, name) in first.results.translations.iter().enumerate() {
         defs.push((
-            format!("peak |{}| [m]", short(name)),
+            format!("peak |{}| [{len}]", short(name)),
             Box::new(move |c: &Column| cell(c.results.peak_xy.get(i).copied().flatten())),
         ));
     }
@@ -138,7 +138,7 @@ pub(super) fn rows(cols: &[Column]) -> Vec<(String, Vec<String>)> {
 pub(super) fn draw_compare(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
     let cols = columns(app);
     // as drawn (ASCII spelled out) before it is measured
-    let rows: Vec<(String, Vec<String>)> = rows(&cols)
+    let rows: Vec<(String, Vec<String>)> = rows(&cols, crate::tui::nav::length_unit(app))
         .into_iter()
         .map(|(l, cells)| (th.text(&l), cells.iter().map(|c| th.text(c)).collect()))
         .collect();

@@ -79,7 +79,7 @@ pub(super) fn draw_event_list(frame: &mut Frame, area: Rect, app: &App, th: &The
     }
     let width = inner.width as usize;
     let (cw, kw, iw) = columns(run, width);
-    let kn = nav::kilonewton(app);
+    let kn = nav::force_unit(app);
     let mut lines = vec![Line::styled(
         format!(
             "{:>TIME_W$} {:<cw$} {:<kw$}{}",

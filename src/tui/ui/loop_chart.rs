@@ -38,8 +38,16 @@ impl Plot {
     }
 }
 
-/// Draws the force–deformation chart of the selected element.
-pub(super) fn draw_loop(frame: &mut Frame, area: Rect, app: &App, cache: &mut Cache, th: &Theme) {
+/// Draws the force–deformation chart of the selected element up to the cursor, its readout
+/// (on the lower border) at `rt`.
+pub(super) fn draw_loop(
+    frame: &mut Frame,
+    area: Rect,
+    app: &App,
+    cache: &mut Cache,
+    rt: f64,
+    th: &Theme,
+) {
     let Some(run) = shown_run(app) else {
         frame.render_widget(th.block(" column "), area);
         return;
@@ -68,7 +76,7 @@ pub(super) fn draw_loop(frame: &mut Frame, area: Rect, app: &App, cache: &mut Ca
     );
     let block = th
         .block(title)
-        .title_bottom(Line::styled(loop_readout(app, run, j, tc), th.cursor()));
+        .title_bottom(Line::styled(loop_readout(app, run, j, rt), th.cursor()));
     let inner = block.inner(area);
     let plot = plot(run, j, prev, inner, loop_units(app, run, j), th);
     let mut key = vec![run.t.len() as u64, t0.to_bits(), tc.to_bits()];
@@ -103,20 +111,22 @@ pub(super) fn draw_loop(frame: &mut Frame, area: Rect, app: &App, cache: &mut Ca
     frame.render_widget(chart, area);
 }
 
-/// The units of element `j`'s deformation and force: m and kN (rad and kN·m for a rotation)
-/// in a bridge model; a scene file's force unit is its author's (none printed).
+/// The units of element `j`'s deformation and force in the model's units: m and kN (rad and
+/// kN·m for a rotation; in, kip, kip·in in kip-in) in a bridge model; a scene file's force
+/// unit is its author's (none printed).
 fn loop_units(app: &App, run: &RunData, j: usize) -> (String, String) {
-    let kn = nav::force_unit(nav::kilonewton(app));
+    let kn = nav::force_unit(app);
+    let len = nav::length_unit(app);
     if run.element_names[j].ends_with(".theta") {
         let dot = if app.ascii { "*" } else { "·" };
         let fu = if kn.is_empty() {
             String::new()
         } else {
-            format!("{kn}{dot}m")
+            format!("{kn}{dot}{len}")
         };
         ("rad".to_string(), fu)
     } else {
-        ("m".to_string(), kn.to_string())
+        (len.to_string(), kn.to_string())
     }
 }
 

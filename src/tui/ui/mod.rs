@@ -26,7 +26,7 @@ mod timeline;
 mod xy_plot;
 
 pub use ascii::{ascii_only, ascii_symbol};
-pub use cache::Cache;
+pub use cache::{Cache, READOUT_PERIOD};
 pub use event_list::scroll;
 pub use timeline::{Cell, event_strip, key_failure_mark, key_strip, priority, strip_cells};
 
@@ -105,10 +105,21 @@ fn draw_charts(frame: &mut Frame, area: Rect, app: &App, cache: &mut Cache, th: 
     }
     let [left, right] =
         Layout::horizontal([Constraint::Min(0), Constraint::Length(right_w)]).areas(area);
-    time::draw_time_panel(frame, left, app, cache, th);
+    let rt = readout_time(app, cache);
+    time::draw_time_panel(frame, left, app, cache, rt, th);
     if app.events_open {
         event_list::draw_event_list(frame, right, app, th);
     } else {
-        side::draw_side_panel(frame, right, app, cache, th);
+        side::draw_side_panel(frame, right, app, cache, rt, th);
+    }
+}
+
+/// The time of the readouts at the cursor ([`Cache::readout_time`]): held between refreshes
+/// while the shown run is running and the cursor follows its end.
+fn readout_time(app: &App, cache: &mut Cache) -> f64 {
+    let tc = app.cursor_time();
+    match common::shown_run(app) {
+        Some(r) => cache.readout_time(r.id, tc, app.follow && r.running()),
+        None => tc,
     }
 }

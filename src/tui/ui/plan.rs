@@ -64,6 +64,8 @@ struct Pose<'a> {
     s: f64,
     /// Time of the sample (the ground's motion moves driven bodies).
     t: f64,
+    /// A mode shape instead of a run's sample: its DOFs' names and amplitudes.
+    mode: Option<(&'a [String], &'a [f64])>,
 }
 
 impl Pose<'_> {
@@ -79,6 +81,11 @@ impl Pose<'_> {
             return (Vector2::new(u[0], u[1]), 0.0);
         }
         let get = |a: usize| -> f64 {
+            if let (Some(k), Some((names, phi))) = (body.dofs[a], self.mode) {
+                let name = &self.scene.dof_names[k];
+                let i = names.iter().position(|n| n == name);
+                return i.and_then(|i| phi.get(i).copied()).unwrap_or(0.0);
+            }
             match (body.dofs[a], self.run, self.idx) {
                 (Some(k), Some(r), Some(i)) => {
                     let name = &self.scene.dof_names[k];
@@ -165,9 +172,9 @@ fn view_box(scene: &Scene, inner: Rect) -> (f64, f64, f64, f64) {
     (cx, cy, hx, hy)
 }
 
-/// Draws the plan view at the cursor time.
-pub(super) fn draw_plan(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
-    let tc = app.cursor_time();
+/// Draws the plan view at `tc`: the cursor time, or the instant the readouts hold while a
+/// running run is followed ([`super::Cache::readout_time`]).
+pub(super) fn draw_plan(frame: &mut Frame, area: Rect, app: &App, tc: f64, th: &Theme) {
     let Some(scene) = &app.scene else {
         frame.render_widget(Paragraph::new("no model").block(th.block(" plan ")), area);
         return;
@@ -186,6 +193,7 @@ pub(super) fn draw_plan(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
         idx,
         s,
         t,
+        mode: None,
     };
     let states = pose.states();
     let body_color = th.series(0).fg.unwrap_or(Color::Reset);
@@ -196,10 +204,11 @@ pub(super) fn draw_plan(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
     // the seat margin when it fits whole
     let title = match seat_margin(scene, run, idx) {
         Some(m) => th.text(&format!(
-            " plan ×{} t={} s seat margin {} m ",
+            " plan ×{} t={} s seat margin {} {} ",
             fmt_num(s, 8),
             fmt_num(tc, 7),
-            fmt_num(m, 5)
+            fmt_num(m, 5),
+            crate::tui::nav::length_unit(app)
         )),
         None => short.clone(),
     };
@@ -219,6 +228,65 @@ pub(super) fn draw_plan(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
             paint_bodies(ctx, &pose, hx, body_color);
             paint_contacts(ctx, &pose, &states, th);
             paint_keys(ctx, &pose, tc, th);
+        });
+    frame.render_widget(canvas, area);
+}
+
+/// Draws mode `number`'s shape on the plan: the bodies and abutment faces displaced and
+/// rotated by the shape (`names`: its DOFs, `shape`: their amplitudes, largest 1), magnified
+/// so that the largest displacement is drawn as a tenth of the view (the factor in the title),
+/// over the outline at rest (dimmed; left out without colours, where the two would not be told
+/// apart).
+pub(super) fn draw_mode_plan(
+    frame: &mut Frame,
+    area: Rect,
+    scene: &Scene,
+    (number, names, shape): (usize, &[String], &[f64]),
+    th: &Theme,
+) {
+    let inner = th.block("").inner(area);
+    let (cx, cy, hx, hy) = view_box(scene, inner);
+    // a rotation counts by the displacement it gives half a view away
+    let d = (names.iter().zip(shape))
+        .map(|(n, a)| {
+            if n.ends_with(".theta") {
+                a.abs() * 0.5 * hx
+            } else {
+                a.abs()
+            }
+        })
+        .fold(0.0, f64::max);
+    let s = if d > 0.0 {
+        chart::nice_factor(0.1 * hx / d)
+    } else {
+        1.0
+    };
+    let at = |s: f64| Pose {
+        scene,
+        run: None,
+        idx: None,
+        s,
+        t: 0.0,
+        mode: Some((names, shape)),
+    };
+    let (rest, moved) = (at(0.0), at(s));
+    let body_color = th.series(0).fg.unwrap_or(Color::Reset);
+    let face_color = if th.color { Color::Gray } else { Color::Reset };
+    let (face_len, depth) = (0.06 * hx.max(hy), 0.03 * hx);
+    let title = th.text(&format!(" mode {number} on the plan ×{} ", fmt_num(s, 8)));
+    let canvas = Canvas::default()
+        .block(th.block(title))
+        .marker(th.marker())
+        .x_bounds([cx - hx, cx + hx])
+        .y_bounds([cy - hy, cy + hy])
+        .paint(|ctx: &mut Context| {
+            if th.color {
+                paint_faces(ctx, &rest, face_len, depth, Color::DarkGray);
+                paint_bodies(ctx, &rest, hx, Color::DarkGray);
+                ctx.layer();
+            }
+            paint_faces(ctx, &moved, face_len, depth, face_color);
+            paint_bodies(ctx, &moved, hx, body_color);
         });
     frame.render_widget(canvas, area);
 }
@@ -395,6 +463,7 @@ gap = 0.1
             idx: None,
             s: 10.0,
             t: 0.5,
+            mode: None,
         };
         let (u, th) = pose.disp(0);
         assert!((u - Vector2::new(0.2, 0.0)).norm() < 1e-15 && th == 0.0);

@@ -10,7 +10,7 @@ use crate::tui::app::App;
 use crate::tui::chart::{downsample_minmax, fmt_sig};
 use crate::tui::results::{JobState, Page};
 use crate::tui::run_data::RunData;
-use crate::tui::run_results::{ENERGY_UNIT, FORCE_UNIT, IMPULSE_UNIT, TERMS};
+use crate::tui::run_results::{ResultUnits, TERMS, units};
 use ratatui::Frame;
 use ratatui::layout::{Constraint, Layout, Rect};
 use ratatui::text::Line;
@@ -51,13 +51,14 @@ pub(super) fn draw_page(
     page: Page,
     th: &Theme,
 ) {
-    let items = info(app, page, th);
+    let u = model_units(app);
+    let items = info(app, page, &u, th);
     frame.render_widget(
         Paragraph::new(Line::from(fit(&items, th.sep(), line.width as usize))),
         line,
     );
     let title = match page {
-        Page::Energy => format!("energy ledger over time [{ENERGY_UNIT}]"),
+        Page::Energy => format!("energy ledger over time [{}]", u.energy),
         Page::Contacts => "contact forces and impulses per corner".into(),
         Page::Modes => "modes of the form's model (K0, M; contacts open)".into(),
         Page::Records => "input records and the 5 % response spectrum".into(),
@@ -71,9 +72,9 @@ pub(super) fn draw_page(
     frame.render_widget(block, panel);
     let run = shown_run(app);
     match (page, run) {
-        (Page::Energy, Some(r)) if !r.t.is_empty() => draw_energy(frame, inner, r, th),
+        (Page::Energy, Some(r)) if !r.t.is_empty() => draw_energy(frame, inner, r, &u, th),
         (Page::Contacts, Some(r)) if !r.t.is_empty() && !r.contact_names.is_empty() => {
-            draw_contacts(frame, inner, r, app.results.contact, th)
+            draw_contacts(frame, inner, r, (app.results.contact, &u), th)
         }
         (Page::Modes, _) => draw_modes(frame, inner, app, th),
         (Page::Records, _) => draw_records(frame, inner, app, th),
@@ -89,8 +90,13 @@ pub(super) fn draw_page(
     }
 }
 
+/// The units of the form's model (its `units` key; SI-kN when it does not load).
+fn model_units(app: &App) -> ResultUnits {
+    units(app.scene.as_ref().map(|s| s.units).unwrap_or_default())
+}
+
 /// The page's state line, items in order of importance.
-fn info(app: &App, page: Page, th: &Theme) -> Vec<String> {
+fn info(app: &App, page: Page, u: &ResultUnits, th: &Theme) -> Vec<String> {
     let run = shown_run(app);
     let items: Vec<String> = match (page, run) {
         (Page::Energy, Some(r)) => {
@@ -101,12 +107,13 @@ fn info(app: &App, page: Page, th: &Theme) -> Vec<String> {
             let input = r.results.ledger.terms[0].last().copied().unwrap_or(0.0);
             vec![
                 format!(
-                    "{}: max |closure| {} {ENERGY_UNIT}",
+                    "{}: max |closure| {} {}",
                     r.label,
-                    fmt_sig(closure, 3)
+                    fmt_sig(closure, 3),
+                    u.energy
                 ),
                 rel,
-                format!("input {} {ENERGY_UNIT}", fmt_sig(input, 4)),
+                format!("input {} {}", fmt_sig(input, 4), u.energy),
             ]
         }
         (Page::Contacts, Some(r)) if !r.contact_names.is_empty() => {
@@ -125,8 +132,8 @@ fn info(app: &App, page: Page, th: &Theme) -> Vec<String> {
                     r.contact_names.len()
                 ),
                 format!("{} impacts", r.impacts.get(i).copied().unwrap_or(0)),
-                format!("max λN {} {FORCE_UNIT}", fmt_sig(peak, 3)),
-                format!("max ΛN {} {IMPULSE_UNIT}", fmt_sig(imp, 3)),
+                format!("max λN {} {}", fmt_sig(peak, 3), u.force),
+                format!("max ΛN {} {}", fmt_sig(imp, 3), u.impulse),
                 "j/k corner".into(),
             ]
         }
@@ -145,8 +152,8 @@ fn decimate(r: &RunData, y: &[f64], width: u16, th: &Theme) -> Vec<(f64, f64)> {
     downsample_minmax(&r.t, y, t0, t1, width as usize * th.per_cell())
 }
 
-fn draw_energy(frame: &mut Frame, area: Rect, r: &RunData, th: &Theme) {
-    let mut p = LinePlot::new(format!("energy [{ENERGY_UNIT}]"), "t [s]".into());
+fn draw_energy(frame: &mut Frame, area: Rect, r: &RunData, u: &ResultUnits, th: &Theme) {
+    let mut p = LinePlot::new(th.text(&format!("energy [{}]", u.energy)), "t [s]".into());
     for (k, col) in r.results.ledger.terms.iter().enumerate() {
         p.curves.push(Curve {
             name: TERMS[k].into(),
@@ -170,13 +177,19 @@ fn time_range(r: &RunData) -> [f64; 2] {
     [0.0, r.t.last().copied().unwrap_or(0.0).max(r.t_sim)]
 }
 
-fn draw_contacts(frame: &mut Frame, area: Rect, r: &RunData, selected: usize, th: &Theme) {
+fn draw_contacts(
+    frame: &mut Frame,
+    area: Rect,
+    r: &RunData,
+    (selected, u): (usize, &ResultUnits),
+    th: &Theme,
+) {
     let i = selected.min(r.contact_names.len() - 1);
     let [top, bottom] =
         Layout::vertical([Constraint::Percentage(55), Constraint::Min(0)]).areas(area);
     let f = &r.results.forces;
     let mut p = LinePlot::new(
-        format!("{} forces [{FORCE_UNIT}]", r.contact_names[i]),
+        format!("{} forces [{}]", r.contact_names[i], u.force),
         "t [s]".into(),
     );
     for (k, (name, mark, col)) in [
@@ -203,7 +216,8 @@ fn draw_contacts(frame: &mut Frame, area: Rect, r: &RunData, selected: usize, th
     draw_line_plot(frame, top, &p, th);
     let mut s = LinePlot::new(
         th.text(&format!(
-            "impulses at impacts ΛN [{IMPULSE_UNIT}], | each impact"
+            "impulses at impacts ΛN [{}], | each impact",
+            u.impulse
         )),
         "t [s]".into(),
     );

@@ -1,10 +1,12 @@
 //! The results pages computed from the form's model: the modes (periods, participating mass
-//! ratios along x, y and θ, the selected mode's shape by DOF in full names) and the input
+//! ratios along x, y and θ, the selected mode's shape by DOF in full names and drawn on the
+//! plan) and the input
 //! records (acceleration and displacement of the selected support, its 5 %-damped
 //! pseudo-acceleration spectrum with the first mode's period marked).
 
 use super::common::Theme;
 use super::line_plot::{Curve, LinePlot, Marks, RefLine, draw_line_plot};
+use super::plan::draw_mode_plan;
 use crate::tui::app::App;
 use crate::tui::chart::{downsample_minmax, fmt_sig};
 use crate::tui::results::{Component, JobState, ModesData, Page, RecordsData};
@@ -81,6 +83,9 @@ fn ready<'a, T>(
     None
 }
 
+/// The height under which the modes page leaves the selected mode's plan out.
+const MODE_PLAN_MIN_H: u16 = 6;
+
 /// A ratio in percent, one decimal.
 fn pct(x: f64) -> String {
     format!("{:.1}", 100.0 * x)
@@ -152,7 +157,19 @@ pub(super) fn draw_modes(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
         ),
         th.dim(),
     ));
-    frame.render_widget(Paragraph::new(lines), left);
+    // the selected mode on the plan under the table, when there is room for it
+    let table_h = (lines.len() as u16).min(left.height);
+    let [table, below] =
+        Layout::vertical([Constraint::Length(table_h), Constraint::Min(0)]).areas(left);
+    frame.render_widget(Paragraph::new(lines), table);
+    if let Some(scene) = app
+        .scene
+        .as_ref()
+        .filter(|_| below.height >= MODE_PLAN_MIN_H)
+    {
+        let mode = (sel + 1, m.dof_names.as_slice(), m.shapes[sel].as_slice());
+        draw_mode_plan(frame, below, scene, mode, th);
+    }
     let mut shape = vec![Line::styled(
         th.text(&format!("shape of mode {}", sel + 1)),
         th.bold(),
@@ -233,7 +250,11 @@ pub(super) fn draw_records(frame: &mut Frame, area: Rect, app: &App, th: &Theme)
     );
     draw_line_plot(frame, acc, &pa, th);
     let pd = history(
-        format!("displacement [m], PGD {}", fmt_sig(c.pgd(), 3)),
+        format!(
+            "displacement [{}], PGD {}",
+            crate::tui::nav::length_unit(app),
+            fmt_sig(c.pgd(), 3)
+        ),
         'd',
         &c.disp,
         disp,

@@ -9,12 +9,14 @@ use crate::tui::app::App;
 use ratatui::Frame;
 use ratatui::layout::{Constraint, Layout, Rect};
 
-/// Draws the plan view, the column loop (if any) and the comparison (if it fits).
+/// Draws the plan view (at `rt`), the column loop (if any; its readout at `rt`) and the
+/// comparison (if it fits).
 pub(super) fn draw_side_panel(
     frame: &mut Frame,
     area: Rect,
     app: &App,
     cache: &mut Cache,
+    rt: f64,
     th: &Theme,
 ) {
     let has_loop = shown_run(app).is_some_and(|r| !r.element_names.is_empty());
@@ -23,7 +25,7 @@ pub(super) fn draw_side_panel(
         let sum_h = 9.min(area.height / 2);
         let [plan, sum] =
             Layout::vertical([Constraint::Min(0), Constraint::Length(sum_h)]).areas(area);
-        draw_plan(frame, plan, app, th);
+        draw_plan(frame, plan, app, rt, th);
         draw_summary(frame, sum, app, th);
         return;
     }
@@ -37,8 +39,8 @@ pub(super) fn draw_side_panel(
         Constraint::Length(sum_h),
     ])
     .areas(area);
-    draw_plan(frame, plan, app, th);
-    draw_loop(frame, lp, app, cache, th);
+    draw_plan(frame, plan, app, rt, th);
+    draw_loop(frame, lp, app, cache, rt, th);
     if with_summary {
         draw_summary(frame, sum, app, th);
     }

@@ -33,19 +33,23 @@ struct Window<'a> {
     overlays: Vec<Overlay<'a>>,
     t0: f64,
     t1: f64,
-    tc: f64,
+    /// The time of the values at the cursor in the headers ([`super::Cache::readout_time`]).
+    rt: f64,
     cols: u16,
+    /// The model's length unit (m, in).
+    len: &'static str,
 }
 
 /// One chart: title, unit, series.
 type TimeChart = (String, String, Vec<Series>);
 
-/// Draws the time charts that fit and the event strip under them.
+/// Draws the time charts that fit and the event strip under them; the readouts at `rt`.
 pub(super) fn draw_time_panel(
     frame: &mut Frame,
     area: Rect,
     app: &App,
     cache: &mut Cache,
+    rt: f64,
     th: &Theme,
 ) {
     let Some(run) = shown_run(app) else {
@@ -81,8 +85,9 @@ pub(super) fn draw_time_panel(
         overlays,
         t0,
         t1,
-        tc,
+        rt,
         cols,
+        len: nav::length_unit(app),
     };
     let mut charts: Vec<TimeChart> = Vec::new();
     charts.extend(rotation_chart(&sp, cache, th));
@@ -95,8 +100,8 @@ pub(super) fn draw_time_panel(
     for (i, (title, unit, series)) in charts.into_iter().take(n_charts).enumerate() {
         draw_time_chart(frame, rects[i], (t0, t1, tc), &title, &unit, series, th);
     }
-    let kn = nav::kilonewton(app);
-    draw_timeline(frame, rects[n_charts], run, (t0, t1, tc), kn, cache, th);
+    let kn = nav::force_unit(app);
+    draw_timeline(frame, rects[n_charts], run, (t0, t1, tc, rt), kn, cache, th);
 }
 
 /// One series of `r` (column `y`, cached as `what`) over the window, with its value at the
@@ -113,7 +118,7 @@ fn series(
         style,
         data: cache.decimated(r, &what, y, sp.t0, sp.t1, sp.cols),
         overlay,
-        now: value_at(r, y, sp.tc),
+        now: value_at(r, y, sp.rt),
     }
 }
 
@@ -138,7 +143,7 @@ fn rotation_chart(sp: &Window, cache: &mut Cache, th: &Theme) -> Option<TimeChar
     }
     let col = (run, format!("q{r}"), run.q[r].as_slice());
     s.push(series(sp, cache, col, (name.clone(), th.series(0)), None));
-    Some((name.clone(), unit_of(&name).into(), s))
+    Some((name.clone(), unit_of(&name, sp.len).into(), s))
 }
 
 /// The gaps g_N(t) of all contacts (and the overlaid runs').
@@ -161,7 +166,7 @@ fn gap_chart(sp: &Window, cache: &mut Cache, th: &Theme) -> Option<TimeChart> {
         let col = (run, format!("g{i}"), run.gap[i].as_slice());
         s.push(series(sp, cache, col, (n.clone(), th.series(i)), None));
     }
-    Some(("gaps g_N".into(), "m".into(), s))
+    Some(("gaps g_N".into(), sp.len.into(), s))
 }
 
 /// x and y of the rotating body (and the overlaid runs').
@@ -187,11 +192,12 @@ fn xy_chart(sp: &Window, cache: &mut Cache, th: &Theme) -> Option<TimeChart> {
         s.push(series(sp, cache, col, (name, th.series(i + 4)), None));
     }
     let names: Vec<&str> = run.xy.iter().map(|&k| run.dof_names[k].as_str()).collect();
-    Some((names.join(" / "), "m".into(), s))
+    Some((names.join(" / "), sp.len.into(), s))
 }
 
-fn unit_of(dof: &str) -> &'static str {
-    if dof.ends_with(".theta") { "rad" } else { "m" }
+/// The unit of a DOF: rad for a rotation, else `len`.
+fn unit_of(dof: &str, len: &'static str) -> &'static str {
+    if dof.ends_with(".theta") { "rad" } else { len }
 }
 
 /// Value of a column at the cursor.

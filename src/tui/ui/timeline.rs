@@ -203,14 +203,15 @@ pub fn key_strip(
 const KEYS_LABEL: &str = "keys";
 
 /// Draws the event strip of `run` over the window `t0..t1` with the cursor at `tc`: the
-/// legend, the readout at the cursor (when `area` has a line for it), one row per contact, the
-/// key failures, the time axis. `kn`: the model's forces are in kN.
+/// legend, the readout at `rt` (the cursor time, or the instant held while a running run is
+/// followed; when `area` has a line for it), one row per contact, the key failures, the time
+/// axis. `kn`: the model's force unit (none when empty).
 pub(super) fn draw_timeline(
     frame: &mut Frame,
     area: Rect,
     run: &RunData,
-    (t0, t1, tc): (f64, f64, f64),
-    kn: bool,
+    (t0, t1, tc, rt): (f64, f64, f64, f64),
+    kn: &str,
     cache: &mut Cache,
     th: &Theme,
 ) {
@@ -226,7 +227,7 @@ pub(super) fn draw_timeline(
     let rows = room.saturating_sub(usize::from(keys)).min(nc);
     let mut lines = vec![legend(area.width as usize, keys, th)];
     if with_readout {
-        lines.push(readout(run, tc, kn, area.width as usize, th));
+        lines.push(readout(run, rt, kn, area.width as usize, th));
     }
     let key = Key {
         extra: u64::from(th.ascii),
@@ -303,7 +304,7 @@ fn legend(width: usize, keys: bool, th: &Theme) -> Line<'static> {
 
 /// The readout line at the cursor: its time, the state of each contact, the last impact
 /// before it with its normal impulse; whole items only, every contact named when they fit.
-fn readout(run: &RunData, tc: f64, kn: bool, width: usize, th: &Theme) -> Line<'static> {
+fn readout(run: &RunData, tc: f64, kn: &str, width: usize, th: &Theme) -> Line<'static> {
     let time = format!("t = {} s ", nav::fmt_time(tc));
     let room = width.saturating_sub(time.chars().count());
     let last = nav::last_impact(run, tc).map(|e| {

@@ -129,7 +129,10 @@ fn list_edit(app: &mut App, add: bool) {
     };
     let checked = edit.and_then(|(t, what)| match form::validate(&t, &app.path) {
         Ok(_) => Ok((t, what)),
-        Err(e) => Err(format!("the model would be invalid: {e}")),
+        Err(e) => Err(format!(
+            "the model would be invalid: {}",
+            form::shown_error(&e)
+        )),
     });
     match checked {
         Ok((t, what)) => {
@@ -158,7 +161,7 @@ fn revert(app: &mut App) {
     match r.and_then(|t| {
         form::validate(&t, &app.path)
             .map(|_| t)
-            .map_err(|e| e.to_string())
+            .map_err(|e| form::shown_error(&e))
     }) {
         Ok(t) => {
             accept_draft(app, t);

@@ -177,7 +177,7 @@ pub(super) fn event_action(app: &mut App, a: Action) {
 /// it; the status line says what happened there.
 fn jump(app: &mut App, forward: bool) {
     let tc = app.cursor_time();
-    let kn = nav::kilonewton(app);
+    let kn = nav::force_unit(app);
     let ascii = app.ascii;
     let Some(run) = event_run(app) else {
         app.set_status(StatusKind::Info, "no run yet: r runs the model");
@@ -239,7 +239,7 @@ fn select(app: &mut App, by: i64) {
 /// `Enter` in the event list: the cursor to the selected event.
 fn go_to_selected(app: &mut App) {
     let tc = app.cursor_time();
-    let kn = nav::kilonewton(app);
+    let kn = nav::force_unit(app);
     let ascii = app.ascii;
     let Some(run) = event_run(app) else {
         return;
