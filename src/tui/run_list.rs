@@ -6,6 +6,7 @@
 
 use super::chart;
 use super::form;
+use super::form_spec;
 use super::run_data::{RunData, RunStatus};
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
@@ -101,10 +102,16 @@ pub struct Change {
 }
 
 impl Change {
-    /// `contacts.mu: 0.3 → 0.5`.
+    /// `contacts.mu: 0.3 → 0.5`; a list element by its label, numbered from 1 as in the form
+    /// (`contacts gap 1 (left_top): 0.0127 → 0.006` for `contacts.gaps.0`).
     pub fn line(&self) -> String {
         let v = |s: &Option<String>| s.clone().unwrap_or_else(|| "(none)".into());
-        format!("{}: {} → {}", self.path, v(&self.old), v(&self.new))
+        format!("{}: {} → {}", self.shown(), v(&self.old), v(&self.new))
+    }
+
+    /// The path as a user reads it: list elements numbered from 1 ([`form_spec::one_based`]).
+    pub fn shown(&self) -> String {
+        form_spec::one_based(&self.path)
     }
 }
 
@@ -155,8 +162,8 @@ pub fn derived_name(changes: &[Change], against: Option<u64>) -> String {
         };
     };
     let mut s = match &first.new {
-        Some(v) => format!("{}={v}", first.path),
-        None => format!("{} removed", first.path),
+        Some(v) => format!("{}={v}", first.shown()),
+        None => format!("{} removed", first.shown()),
     };
     if changes.len() > 1 {
         s.push_str(&format!(" +{}", changes.len() - 1));
