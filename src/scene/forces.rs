@@ -1,6 +1,7 @@
 //! The smooth (non-contact) forces h(t, q, q̇) of eq. 1 — springs, dashpots, hysteretic
 //! columns, mass-proportional damping, loads — and the power terms of the energy ledger.
 
+use super::force_runs::{Element, NONE, Runs, Sums};
 use super::kinematics::{BodyState, Frame};
 use super::{Attachment, Motion, Scene};
 use crate::hysteresis::Hysteretic;
@@ -133,9 +134,6 @@ impl Scene {
             .sum()
     }
 }
-
-/// Sentinel of a missing DOF or support in [`ForceModel`].
-const NONE: usize = usize::MAX;
 
 /// One element of a [`ForceModel`]: e = d·(X − X₀ + R(θ)p − p) − u_g (point) or θ − u_g
 /// (rotation), with generalized direction J = ∂e/∂q.
@@ -278,15 +276,6 @@ struct GeneralElement {
     hysteretic: Option<usize>,
 }
 
-/// Elements `start..end` of springs ++ hysteretic elements, all on `body`.
-#[derive(Clone, Debug)]
-struct ForceRun {
-    body: usize,
-    dofs: [usize; 3],
-    start: usize,
-    end: usize,
-}
-
 /// The smooth forces of a scene flattened for repeated evaluation: the same h(t, q, q̇) and
 /// power terms as [`smooth_forces_in`], with linear springs of identical attachment and support
 /// merged (their stiffnesses and dampings add).
@@ -297,9 +286,11 @@ pub struct ForceModel {
     references: Vec<Vector2<f64>>,
     /// Consecutive elements (springs, then hysteretic elements) on one body: their forces are
     /// summed before they touch h.
-    runs: Vec<ForceRun>,
+    runs: Runs,
     /// (dof, support, factor) of q̇_ref with supports that move alike merged.
     mass_reference: Vec<(usize, usize, f64)>,
+    /// a₀ m_k per DOF (empty when a₀ = 0).
+    mass_factor: Vec<f64>,
     /// Elements between two bodies or on driven bodies (not in the runs).
     general: Vec<GeneralElement>,
     /// Some body of the scene is driven by the ground.
@@ -373,27 +364,39 @@ impl ForceModel {
                 None => mass_reference.push((k, root, f)),
             }
         }
-        let mut runs: Vec<ForceRun> = Vec::new();
+        let mut runs = Runs::default();
+        let mut last: Option<(usize, usize)> = None;
         for (i, el) in springs.iter().chain(&elements).enumerate() {
             if el.general {
                 continue;
             }
-            match runs.last_mut() {
-                Some(r) if r.body == el.body && r.end == i => r.end = i + 1,
-                _ => runs.push(ForceRun {
-                    body: el.body,
-                    dofs: el.dofs,
-                    start: i,
-                    end: i + 1,
-                }),
+            if !matches!(last, Some((b, end)) if b == el.body && end == i) {
+                runs.start(el.body, scene.bodies[el.body].reference, el.dofs);
             }
+            last = Some((el.body, i + 1));
+            runs.push(&Element {
+                rotation: el.rotation,
+                point: el.point,
+                direction: el.direction,
+                support: el.support,
+                stiffness: el.stiffness,
+                damping: el.damping,
+                law: i.checked_sub(springs.len()),
+            });
         }
+        let alpha = scene.mass_damping.alpha;
+        let mass_factor = if alpha == 0.0 {
+            Vec::new()
+        } else {
+            scene.mass.iter().map(|m| alpha * m).collect()
+        };
         Self {
             springs,
             elements,
             references: scene.bodies.iter().map(|b| b.reference).collect(),
             runs,
             mass_reference,
+            mass_factor,
             general,
             driven_bodies: scene.bodies.iter().any(|b| b.is_driven()),
         }
@@ -421,47 +424,15 @@ impl ForceModel {
             ..Default::default()
         };
         let hs = h.as_mut_slice();
-        // generalized forces summed per run of elements on one body, in registers, then
-        // subtracted from h once per run
-        let (mut supports, mut damping, mut hysteretic) = (0.0, 0.0, 0.0);
-        let ns = self.springs.len();
-        for run in &self.runs {
-            let s = &fr.poses[run.body];
-            let rel = s.position - self.references[run.body];
-            let mut acc = [0.0f64; 3];
-            let mut add = |f: f64, jac: [f64; 3]| {
-                acc[0] += f * jac[0];
-                acc[1] += f * jac[1];
-                acc[2] += f * jac[2];
-            };
-            for sp in &self.springs[run.start.min(ns)..run.end.min(ns)] {
-                let (e, ed, vg, jac) = sp.deformation_of(s, rel, fr);
-                let f = sp.stiffness * e + sp.damping * ed;
-                add(f, jac);
-                supports -= f * vg;
-                damping += sp.damping * ed * ed;
-            }
-            let (e0, e1) = (run.start.max(ns) - ns, run.end.max(ns) - ns);
-            for ((el, law), out) in self.elements[e0..e1]
-                .iter()
-                .zip(&laws[e0..e1])
-                .zip(&mut elements[e0..e1])
-            {
-                let (e, ed, vg, jac) = el.deformation_of(s, rel, fr);
-                *out = (e, ed);
-                let fh = law.force(e);
-                let f = fh + el.damping * ed;
-                add(f, jac);
-                supports -= f * vg;
-                damping += el.damping * ed * ed;
-                hysteretic += fh * ed;
-            }
-            for (&k, a) in run.dofs.iter().zip(acc) {
-                if let Some(x) = hs.get_mut(k) {
-                    *x -= a;
-                }
-            }
-        }
+        // generalized forces summed per run of elements on one body, then subtracted from h
+        // once per run
+        let mut sums = Sums::default();
+        self.runs.eval(fr, laws, hs, elements, &mut sums);
+        let Sums {
+            mut supports,
+            mut damping,
+            mut hysteretic,
+        } = sums;
         for g in &self.general {
             let (e, ed, vg, jj, nj) = scene.deformation(fr, &g.attachment, g.support);
             let fh = match g.hysteretic {
@@ -484,10 +455,41 @@ impl ForceModel {
         p.supports += supports;
         p.damping += damping;
         p.hysteretic += hysteretic;
-        let (damping, supports) = mass_damping(scene, &self.mass_reference, fr, v, h);
+        let (damping, supports) = self.mass_damping(scene, fr, v, h);
         p.damping += damping;
         p.supports += supports;
         p
+    }
+
+    /// [`mass_damping`] with the factors a₀ m_k taken from `mass_factor`: f_k = (a₀ m_k)(q̇_k −
+    /// q̇_ref,k), h_k −= f_k.
+    fn mass_damping(
+        &self,
+        scene: &Scene,
+        fr: &Frame,
+        v: &DVector<f64>,
+        h: &mut DVector<f64>,
+    ) -> (f64, f64) {
+        let n = h.len();
+        if self.mass_factor.len() != n || n > 16 {
+            return mass_damping(scene, &self.mass_reference, fr, v, h);
+        }
+        let mut vref = [0.0f64; 16];
+        for &(k, s, f) in &self.mass_reference {
+            vref[k] += f * fr.supports[s].1;
+        }
+        let (mut damping, mut supports) = (0.0, 0.0);
+        let rows = (h.as_mut_slice().iter_mut().zip(v.as_slice()))
+            .zip(&self.mass_factor)
+            .zip(&vref[..n]);
+        for (((h, v), a), vr) in rows {
+            let rel = v - vr;
+            let f = a * rel;
+            *h -= f;
+            damping += f * rel;
+            supports -= f * vr;
+        }
+        (damping, supports)
     }
 
     /// (e, ė) of each hysteretic element, as [`ForceModel::eval`] writes them.
