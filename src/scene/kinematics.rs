@@ -177,6 +177,7 @@ impl Scene {
 
     /// Adds `coef·(∂ (point velocity)/∂q̇)ᵀ d` to a Jacobian row: the generalized direction of a
     /// force d applied at world arm ρ from the centre of body b.
+    #[inline(always)]
     fn add_point_jacobian(
         &self,
         row: &mut DVector<f64>,
@@ -210,7 +211,13 @@ impl Scene {
     /// [`Scene::frame`] written into `fr`, reusing its storage: the support motions first, then
     /// the poses (driven bodies from the supports).
     pub fn frame_into(&self, fr: &mut Frame, t: f64, q: &DVector<f64>, v: &DVector<f64>) {
-        if fr.alias.len() != self.supports.len() {
+        self.frame_of(fr, t, q.as_slice(), v.as_slice());
+    }
+
+    /// [`Scene::frame_into`] from q and q̇ as slices.
+    pub fn frame_of(&self, fr: &mut Frame, t: f64, q: &[f64], v: &[f64]) {
+        let n = self.supports.len();
+        if fr.alias.len() != n {
             fr.alias = self
                 .supports
                 .iter()
@@ -224,13 +231,12 @@ impl Scene {
                 })
                 .collect();
         }
-        fr.supports.clear();
-        for (s, alias) in self.supports.iter().zip(&fr.alias) {
-            let val = match *alias {
+        fr.supports.resize(n, (0.0, 0.0, 0.0));
+        for (i, (s, alias)) in self.supports.iter().zip(&fr.alias).enumerate() {
+            fr.supports[i] = match *alias {
                 Some(j) => fr.supports[j],
                 None => s.at(t),
             };
-            fr.supports.push(val);
         }
         self.dof_poses(fr, q, v);
         self.drive_poses(fr, |fr, s| fr.supports[s]);
@@ -239,13 +245,12 @@ impl Scene {
     /// The poses of [`Scene::frame_into`] at t alone (the support motions are left as they
     /// were; a driven body's supports are evaluated for it): enough for contact kinematics.
     pub fn poses_into(&self, fr: &mut Frame, t: f64, q: &DVector<f64>, v: &DVector<f64>) {
-        self.dof_poses(fr, q, v);
+        self.dof_poses(fr, q.as_slice(), v.as_slice());
         self.drive_poses(fr, |_, s| self.supports[s].at(t));
     }
 
     /// The poses from the DOFs (a body without DOFs at its reference).
-    fn dof_poses(&self, fr: &mut Frame, q: &DVector<f64>, v: &DVector<f64>) {
-        let (qs, vs) = (q.as_slice(), v.as_slice());
+    fn dof_poses(&self, fr: &mut Frame, qs: &[f64], vs: &[f64]) {
         fr.poses.clear();
         fr.poses
             .extend(self.bodies.iter().map(|b| pose(b, |k| qs[k], |k| vs[k])));
@@ -308,36 +313,31 @@ impl Scene {
         let v_p = a.velocity + a.omega * perp(rho_a);
         let v_bmat = b.velocity + b.omega * perp(arm_b);
         let v_rel = v_p - v_bmat;
-        let mut w_n = std::mem::replace(&mut out.w_n, DVector::zeros(0));
-        let mut w_t = std::mem::replace(&mut out.w_t, DVector::zeros(0));
-        if w_n.len() != n_dof {
-            w_n = DVector::zeros(n_dof);
-            w_t = DVector::zeros(n_dof);
+        if out.w_n.len() != n_dof {
+            out.w_n = DVector::zeros(n_dof);
         } else {
-            w_n.as_mut_slice().fill(0.0);
-            w_t.as_mut_slice().fill(0.0);
+            out.w_n.as_mut_slice().fill(0.0);
         }
-        self.add_point_jacobian(&mut w_n, c.point_body, rho_a, n, 1.0);
-        self.add_point_jacobian(&mut w_n, c.face_body, arm_b, n, -1.0);
-        self.add_point_jacobian(&mut w_t, c.point_body, rho_a, t, 1.0);
-        self.add_point_jacobian(&mut w_t, c.face_body, arm_b, t, -1.0);
+        if out.w_t.len() != n_dof {
+            out.w_t = DVector::zeros(n_dof);
+        } else {
+            out.w_t.as_mut_slice().fill(0.0);
+        }
+        self.add_point_jacobian(&mut out.w_n, c.point_body, rho_a, n, 1.0);
+        self.add_point_jacobian(&mut out.w_n, c.face_body, arm_b, n, -1.0);
+        self.add_point_jacobian(&mut out.w_t, c.point_body, rho_a, t, 1.0);
+        self.add_point_jacobian(&mut out.w_t, c.face_body, arm_b, t, -1.0);
         // g̈ = d/dt[n·v_rel]: ṅ = −ω_B t, ṫ = ω_B n; a_P ∋ −ω_A² ρ_A; d/dt v_Bmat ∋ ω_B k×(v_P − v_B).
         let common = -a.omega * a.omega * rho_a - b.omega * perp(v_p - b.velocity);
-        let bias_n = -b.omega * t.dot(&v_rel) + n.dot(&common);
-        let bias_t = b.omega * n.dot(&v_rel) + t.dot(&common);
-        *out = ContactKinematics {
-            gap,
-            gap_rate: n.dot(&v_rel),
-            slip_rate: t.dot(&v_rel),
-            w_n,
-            w_t,
-            bias_n,
-            bias_t,
-            driven_n: 0.0,
-            driven_t: 0.0,
-            point: p,
-            normal: n,
-        };
+        out.gap = gap;
+        out.gap_rate = n.dot(&v_rel);
+        out.slip_rate = t.dot(&v_rel);
+        out.bias_n = -b.omega * t.dot(&v_rel) + n.dot(&common);
+        out.bias_t = b.omega * n.dot(&v_rel) + t.dot(&common);
+        out.driven_n = 0.0;
+        out.driven_t = 0.0;
+        out.point = p;
+        out.normal = n;
     }
 
     /// Deformation e, rate ė, the rate u̇ with ė = J q̇ − u̇ (the support velocity u̇_g, less
