@@ -122,18 +122,15 @@ impl Scratch {
         let n = minv.len();
         let nc = scene.contacts.len();
         self.size(n);
-        self.q.as_mut_slice().copy_from_slice(&y.as_slice()[..n]);
-        self.v
-            .as_mut_slice()
-            .copy_from_slice(&y.as_slice()[n..2 * n]);
-        scene.frame_into(&mut self.fr, t, &self.q, &self.v);
+        let (q, v) = y.as_slice()[..2 * n].split_at(n);
+        scene.frame_of(&mut self.fr, t, q, v);
         self.elements.resize(scene.hysteretic.len(), (0.0, 0.0));
-        self.power = forces.eval(
+        self.power = forces.eval_in(
             scene,
             laws,
             &self.fr,
-            &self.v,
-            &mut self.h,
+            v,
+            self.h.as_mut_slice(),
             &mut self.elements,
         );
         self.kin.resize_with(nc, ContactKinematics::placeholder);
@@ -147,8 +144,12 @@ impl Scratch {
             }
         }
         for lam in [&mut self.lam_n, &mut self.lam_t] {
-            lam.clear();
-            lam.resize(nc, 0.0);
+            if lam.len() == nc {
+                lam.fill(0.0);
+            } else {
+                lam.clear();
+                lam.resize(nc, 0.0);
+            }
         }
         for ((a, h), m) in self
             .qdd

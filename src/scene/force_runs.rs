@@ -72,12 +72,28 @@ pub(super) struct Sums {
     pub hysteretic: f64,
 }
 
-/// The runs of a force model.
+/// A segment as evaluated: its items, its body, and the DOFs its run's sums go to after its
+/// last segment (`flush`).
+#[derive(Clone, Debug)]
+struct Block {
+    axis: u8,
+    support: bool,
+    hysteretic: bool,
+    law: usize,
+    body: usize,
+    reference: Vector2<f64>,
+    items: Vec<Item>,
+    flush: Option<[usize; 3]>,
+}
+
+/// The runs of a force model: built by [`Runs::start`] and [`Runs::push`], evaluated as
+/// blocks after [`Runs::finish`].
 #[derive(Clone, Debug, Default)]
 pub(super) struct Runs {
     items: Vec<Item>,
     segments: Vec<Segment>,
     runs: Vec<Run>,
+    blocks: Vec<Block>,
 }
 
 impl Runs {
@@ -167,6 +183,27 @@ impl Runs {
         }
     }
 
+    /// The blocks of the runs pushed.
+    pub(super) fn finish(&mut self) {
+        let mut blocks = Vec::new();
+        for r in &self.runs {
+            let segments = &self.segments[r.start..r.end];
+            for (k, seg) in segments.iter().enumerate() {
+                blocks.push(Block {
+                    axis: seg.axis,
+                    support: seg.support,
+                    hysteretic: seg.hysteretic,
+                    law: seg.law,
+                    body: r.body,
+                    reference: r.reference,
+                    items: self.items[seg.start..seg.end].to_vec(),
+                    flush: (k + 1 == segments.len()).then_some(r.dofs),
+                });
+            }
+        }
+        self.blocks = blocks;
+    }
+
     /// Adds −Σ J f of every run to `h`, writes (e, ė) of the hysteretic elements into
     /// `elements` and accumulates the sums.
     pub(super) fn eval(
@@ -177,26 +214,51 @@ impl Runs {
         elements: &mut [(f64, f64)],
         sums: &mut Sums,
     ) {
-        for run in &self.runs {
-            let s = &fr.poses[run.body];
-            let rel = s.position - run.reference;
-            let mut acc = [0.0f64; 3];
-            for seg in &self.segments[run.start..run.end] {
-                let items = &self.items[seg.start..seg.end];
-                let b = Body { s, rel, fr };
-                let laws = (seg.law, laws, &mut *elements);
-                match seg.axis {
-                    X => segment::<X>(seg, items, &b, laws, &mut acc, sums),
-                    Y => segment::<Y>(seg, items, &b, laws, &mut acc, sums),
-                    ROT => segment::<ROT>(seg, items, &b, laws, &mut acc, sums),
-                    XY => pairs(seg, items, &b, laws, &mut acc, sums),
-                    _ => segment::<ANY>(seg, items, &b, laws, &mut acc, sums),
-                }
+        let mut acc = [0.0f64; 3];
+        for bl in &self.blocks {
+            let s = &fr.poses[bl.body];
+            let b = Body {
+                s,
+                rel: s.position - bl.reference,
+                fr,
+            };
+            let it = &bl.items[..];
+            let n = it.len();
+            let (l, o) = if bl.hysteretic {
+                (&laws[bl.law..bl.law + n], &mut elements[bl.law..bl.law + n])
+            } else {
+                (&laws[..0], &mut elements[..0])
+            };
+            let (a, m) = (&mut acc, &mut *sums);
+            match (bl.axis, bl.support, bl.hysteretic) {
+                (X, true, true) => hysteretic::<X, true>(it, &b, l, o, a, m),
+                (X, false, true) => hysteretic::<X, false>(it, &b, l, o, a, m),
+                (X, true, false) => springs::<X, true>(it, &b, a, m),
+                (X, false, false) => springs::<X, false>(it, &b, a, m),
+                (Y, true, true) => hysteretic::<Y, true>(it, &b, l, o, a, m),
+                (Y, false, true) => hysteretic::<Y, false>(it, &b, l, o, a, m),
+                (Y, true, false) => springs::<Y, true>(it, &b, a, m),
+                (Y, false, false) => springs::<Y, false>(it, &b, a, m),
+                (ROT, true, true) => hysteretic::<ROT, true>(it, &b, l, o, a, m),
+                (ROT, false, true) => hysteretic::<ROT, false>(it, &b, l, o, a, m),
+                (ROT, true, false) => springs::<ROT, true>(it, &b, a, m),
+                (ROT, false, false) => springs::<ROT, false>(it, &b, a, m),
+                (XY, true, true) => hysteretic_pairs::<true>(it, &b, l, o, a, m),
+                (XY, false, true) => hysteretic_pairs::<false>(it, &b, l, o, a, m),
+                (XY, true, false) => spring_pairs::<true>(it, &b, a, m),
+                (XY, false, false) => spring_pairs::<false>(it, &b, a, m),
+                (_, true, true) => hysteretic::<ANY, true>(it, &b, l, o, a, m),
+                (_, false, true) => hysteretic::<ANY, false>(it, &b, l, o, a, m),
+                (_, true, false) => springs::<ANY, true>(it, &b, a, m),
+                (_, false, false) => springs::<ANY, false>(it, &b, a, m),
             }
-            for (&k, a) in run.dofs.iter().zip(acc) {
-                if let Some(x) = h.get_mut(k) {
-                    *x -= a;
+            if let Some(dofs) = bl.flush {
+                for (&k, a) in dofs.iter().zip(acc) {
+                    if let Some(x) = h.get_mut(k) {
+                        *x -= a;
+                    }
                 }
+                acc = [0.0; 3];
             }
         }
     }
@@ -207,34 +269,6 @@ struct Body<'a> {
     s: &'a BodyState,
     rel: Vector2<f64>,
     fr: &'a Frame,
-}
-
-/// The first law of a segment, the laws and the (e, ė) of the hysteretic elements.
-type Laws<'a, 'b> = (usize, &'a [Hysteretic], &'b mut [(f64, f64)]);
-
-/// One segment, by its support and law.
-#[inline(always)]
-fn segment<const A: u8>(
-    seg: &Segment,
-    items: &[Item],
-    b: &Body,
-    (law, laws, out): Laws,
-    acc: &mut [f64; 3],
-    sums: &mut Sums,
-) {
-    let n = items.len();
-    match (seg.support, seg.hysteretic) {
-        (true, true) => {
-            let (laws, out) = (&laws[law..law + n], &mut out[law..law + n]);
-            hysteretic::<A, true>(items, b, laws, out, acc, sums)
-        }
-        (false, true) => {
-            let (laws, out) = (&laws[law..law + n], &mut out[law..law + n]);
-            hysteretic::<A, false>(items, b, laws, out, acc, sums)
-        }
-        (true, false) => springs::<A, true>(items, b, acc, sums),
-        (false, false) => springs::<A, false>(items, b, acc, sums),
-    }
 }
 
 /// (e, ė, u̇_g, J) of an item along axis A: the expressions of the general direction with the
@@ -336,35 +370,39 @@ fn hysteretic<const A: u8, const S: bool>(
     }
 }
 
-/// Pairs of hysteretic elements or springs along x then y at one point: ρ = R(θ)p once for
-/// both, each element as alone.
+/// (u_g, u̇_g) of an item's support (0 without: S false).
 #[inline(always)]
-fn pairs(
-    seg: &Segment,
-    items: &[Item],
-    b: &Body,
-    (law, laws, out): Laws,
-    acc: &mut [f64; 3],
-    sums: &mut Sums,
-) {
-    let n = items.len();
-    match (seg.support, seg.hysteretic) {
-        (true, true) => {
-            let (laws, out) = (&laws[law..law + n], &mut out[law..law + n]);
-            pairs_of::<true, true>(items, b, laws, out, acc, sums)
-        }
-        (false, true) => {
-            let (laws, out) = (&laws[law..law + n], &mut out[law..law + n]);
-            pairs_of::<false, true>(items, b, laws, out, acc, sums)
-        }
-        (true, false) => pairs_of::<true, false>(items, b, &[], &mut [], acc, sums),
-        (false, false) => pairs_of::<false, false>(items, b, &[], &mut [], acc, sums),
+fn support<const S: bool>(it: &Item, fr: &Frame) -> (f64, f64) {
+    if S {
+        let (u, v, _) = fr.supports[it.support];
+        (u, v)
+    } else {
+        (0.0, 0.0)
     }
 }
 
-/// [`pairs`] by support and law (H: hysteretic, `laws` and `out` two per pair).
+/// (e, ė, u̇_g) of the x and y items of a pair at one point, ρ = R(θ)p computed once; and
+/// the arms J_θ of both (−ρ_y, ρ_x).
 #[inline(always)]
-fn pairs_of<const S: bool, const H: bool>(
+fn pair<const S: bool>(ix: &Item, iy: &Item, b: &Body) -> [(f64, f64, f64, f64); 2] {
+    let (s, rel) = (b.s, b.rel);
+    let (c, sn) = s.cs;
+    let (px, py) = (ix.px, ix.py);
+    let rx = c * px - sn * py;
+    let ry = sn * px + c * py;
+    let (ugx, vgx) = support::<S>(ix, b.fr);
+    let arm = -ry;
+    let ux = rel.x + rx - px;
+    let edx = s.velocity.x + s.omega * arm - vgx;
+    let (ugy, vgy) = support::<S>(iy, b.fr);
+    let uy = rel.y + ry - py;
+    let edy = s.velocity.y + s.omega * rx - vgy;
+    [(ux - ugx, edx, vgx, arm), (uy - ugy, edy, vgy, rx)]
+}
+
+/// Pairs of hysteretic elements along x then y at one point, each element as alone.
+#[inline(always)]
+fn hysteretic_pairs<const S: bool>(
     items: &[Item],
     b: &Body,
     laws: &[Hysteretic],
@@ -372,48 +410,35 @@ fn pairs_of<const S: bool, const H: bool>(
     acc: &mut [f64; 3],
     sums: &mut Sums,
 ) {
-    let (s, rel) = (b.s, b.rel);
-    let (c, sn) = s.cs;
-    let support = |it: &Item| {
-        if S {
-            let (u, v, _) = b.fr.supports[it.support];
-            (u, v)
-        } else {
-            (0.0, 0.0)
-        }
-    };
-    let mut element = |it: &Item, e: f64, ed: f64, vg: f64, k: usize| {
-        let (f, fh) = if H {
+    let rows = (items.chunks_exact(2).zip(laws.chunks_exact(2))).zip(out.chunks_exact_mut(2));
+    for ((it, law), out) in rows {
+        let d = pair::<S>(&it[0], &it[1], b);
+        for k in 0..2 {
+            let (e, ed, vg, arm) = d[k];
             out[k] = (e, ed);
-            let fh = laws[k].force(e);
-            (fh + it.damping * ed, fh)
-        } else {
-            (it.stiffness * e + it.damping * ed, 0.0)
-        };
-        sums.supports -= f * vg;
-        sums.damping += it.damping * ed * ed;
-        if H {
+            let fh = law[k].force(e);
+            let f = fh + it[k].damping * ed;
+            acc[k] += f;
+            acc[2] += f * arm;
+            sums.supports -= f * vg;
+            sums.damping += it[k].damping * ed * ed;
             sums.hysteretic += fh * ed;
         }
-        f
-    };
-    for (k, pair) in items.chunks_exact(2).enumerate() {
-        let (ix, iy) = (&pair[0], &pair[1]);
-        let (px, py) = (ix.px, ix.py);
-        let rx = c * px - sn * py;
-        let ry = sn * px + c * py;
-        let (ug, vg) = support(ix);
-        let arm = -ry;
-        let ux = rel.x + rx - px;
-        let ed = s.velocity.x + s.omega * arm - vg;
-        let f = element(ix, ux - ug, ed, vg, 2 * k);
-        acc[0] += f;
-        acc[2] += f * arm;
-        let (ug, vg) = support(iy);
-        let uy = rel.y + ry - py;
-        let ed = s.velocity.y + s.omega * rx - vg;
-        let f = element(iy, uy - ug, ed, vg, 2 * k + 1);
-        acc[1] += f;
-        acc[2] += f * rx;
+    }
+}
+
+/// Pairs of springs along x then y at one point.
+#[inline(always)]
+fn spring_pairs<const S: bool>(items: &[Item], b: &Body, acc: &mut [f64; 3], sums: &mut Sums) {
+    for it in items.chunks_exact(2) {
+        let d = pair::<S>(&it[0], &it[1], b);
+        for k in 0..2 {
+            let (e, ed, vg, arm) = d[k];
+            let f = it[k].stiffness * e + it[k].damping * ed;
+            acc[k] += f;
+            acc[2] += f * arm;
+            sums.supports -= f * vg;
+            sums.damping += it[k].damping * ed * ed;
+        }
     }
 }

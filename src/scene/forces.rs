@@ -5,7 +5,7 @@ use super::force_runs::{Element, NONE, Runs, Sums};
 use super::kinematics::{BodyState, Frame};
 use super::{Attachment, Motion, Scene};
 use crate::hysteresis::Hysteretic;
-use nalgebra::{DVector, Vector2};
+use nalgebra::{DVector, DVectorView, Vector2};
 use std::sync::Arc;
 
 /// Rates of the energy ledger's integrated terms.
@@ -78,6 +78,7 @@ pub fn smooth_forces_in(
         p.damping += el.damping * ed * ed;
         p.hysteretic += fh * ed;
     }
+    let (v, h) = (v.as_slice(), h.as_mut_slice());
     let (damping, supports) = mass_damping(scene, &scene.mass_damping.reference, fr, v, h);
     p.damping += damping;
     p.supports += supports;
@@ -90,8 +91,8 @@ fn mass_damping(
     scene: &Scene,
     reference: &[(usize, usize, f64)],
     fr: &Frame,
-    v: &DVector<f64>,
-    h: &mut DVector<f64>,
+    v: &[f64],
+    h: &mut [f64],
 ) -> (f64, f64) {
     let alpha = scene.mass_damping.alpha;
     if alpha == 0.0 {
@@ -110,7 +111,7 @@ fn mass_damping(
         vref[k] += f * fr.supports[s].1;
     }
     let (mut damping, mut supports) = (0.0, 0.0);
-    let (v, h, mass) = (v.as_slice(), h.as_mut_slice(), scene.mass.as_slice());
+    let mass = scene.mass.as_slice();
     for k in 0..n {
         let rel = v[k] - vref[k];
         let f = alpha * mass[k] * rel;
@@ -291,6 +292,8 @@ pub struct ForceModel {
     mass_reference: Vec<(usize, usize, f64)>,
     /// a₀ m_k per DOF (empty when a₀ = 0).
     mass_factor: Vec<f64>,
+    /// Every load is zero.
+    no_loads: bool,
     /// Elements between two bodies or on driven bodies (not in the runs).
     general: Vec<GeneralElement>,
     /// Some body of the scene is driven by the ground.
@@ -384,6 +387,7 @@ impl ForceModel {
                 law: i.checked_sub(springs.len()),
             });
         }
+        runs.finish();
         let alpha = scene.mass_damping.alpha;
         let mass_factor = if alpha == 0.0 {
             Vec::new()
@@ -397,6 +401,7 @@ impl ForceModel {
             runs,
             mass_reference,
             mass_factor,
+            no_loads: scene.loads.iter().all(|&l| l == 0.0),
             general,
             driven_bodies: scene.bodies.iter().any(|b| b.is_driven()),
         }
@@ -418,12 +423,31 @@ impl ForceModel {
         h: &mut DVector<f64>,
         elements: &mut [(f64, f64)],
     ) -> PowerTerms {
-        h.as_mut_slice().copy_from_slice(scene.loads.as_slice());
+        let (v, h) = (v.as_slice(), h.as_mut_slice());
+        self.eval_in(scene, laws, fr, v, h, elements)
+    }
+
+    /// [`ForceModel::eval`] with q̇ and h as slices.
+    pub fn eval_in(
+        &self,
+        scene: &Scene,
+        laws: &[Hysteretic],
+        fr: &Frame,
+        v: &[f64],
+        hs: &mut [f64],
+        elements: &mut [(f64, f64)],
+    ) -> PowerTerms {
+        hs.copy_from_slice(scene.loads.as_slice());
+        // without loads Σ 0·q̇_k = 0
+        let loads = if self.no_loads {
+            0.0
+        } else {
+            scene.loads.dot(&DVectorView::from_slice(v, v.len()))
+        };
         let mut p = PowerTerms {
-            loads: scene.loads.dot(v),
+            loads,
             ..Default::default()
         };
-        let hs = h.as_mut_slice();
         // generalized forces summed per run of elements on one body, then subtracted from h
         // once per run
         let mut sums = Sums::default();
@@ -455,7 +479,7 @@ impl ForceModel {
         p.supports += supports;
         p.damping += damping;
         p.hysteretic += hysteretic;
-        let (damping, supports) = self.mass_damping(scene, fr, v, h);
+        let (damping, supports) = self.mass_damping(scene, fr, v, hs);
         p.damping += damping;
         p.supports += supports;
         p
@@ -463,13 +487,7 @@ impl ForceModel {
 
     /// [`mass_damping`] with the factors a₀ m_k taken from `mass_factor`: f_k = (a₀ m_k)(q̇_k −
     /// q̇_ref,k), h_k −= f_k.
-    fn mass_damping(
-        &self,
-        scene: &Scene,
-        fr: &Frame,
-        v: &DVector<f64>,
-        h: &mut DVector<f64>,
-    ) -> (f64, f64) {
+    fn mass_damping(&self, scene: &Scene, fr: &Frame, v: &[f64], h: &mut [f64]) -> (f64, f64) {
         let n = h.len();
         if self.mass_factor.len() != n || n > 16 {
             return mass_damping(scene, &self.mass_reference, fr, v, h);
@@ -479,9 +497,7 @@ impl ForceModel {
             vref[k] += f * fr.supports[s].1;
         }
         let (mut damping, mut supports) = (0.0, 0.0);
-        let rows = (h.as_mut_slice().iter_mut().zip(v.as_slice()))
-            .zip(&self.mass_factor)
-            .zip(&vref[..n]);
+        let rows = (h.iter_mut().zip(v)).zip(&self.mass_factor).zip(&vref[..n]);
         for (((h, v), a), vr) in rows {
             let rel = v - vr;
             let f = a * rel;
