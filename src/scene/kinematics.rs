@@ -95,8 +95,12 @@ pub struct Frame {
     pub ground: BodyState,
     /// (u_g, u̇_g, ü_g) per support.
     pub supports: Vec<(f64, f64, f64)>,
-    /// Per support, an earlier support driven by the same record and factor (evaluated once).
-    alias: Vec<Option<usize>>,
+    /// The supports driven by a record and factor no earlier support has (evaluated), and
+    /// (support, earlier support) for the others (copied).
+    roots: Vec<usize>,
+    copies: Vec<(usize, usize)>,
+    /// The time of `supports` (they are not evaluated again at the same t).
+    supports_at: Option<f64>,
     /// The bodies driven by the ground (listed on first use, `driven_known`).
     driven: Vec<usize>,
     driven_known: bool,
@@ -217,26 +221,33 @@ impl Scene {
     /// [`Scene::frame_into`] from q and q̇ as slices.
     pub fn frame_of(&self, fr: &mut Frame, t: f64, q: &[f64], v: &[f64]) {
         let n = self.supports.len();
-        if fr.alias.len() != n {
-            fr.alias = self
-                .supports
-                .iter()
-                .enumerate()
-                .map(|(i, s)| match &s.motion {
+        if fr.roots.len() + fr.copies.len() != n {
+            fr.roots.clear();
+            fr.copies.clear();
+            for (i, s) in self.supports.iter().enumerate() {
+                let alias = match &s.motion {
                     Motion::Record(g) => self.supports[..i].iter().position(|o| {
                         matches!(&o.motion, Motion::Record(h) if Arc::ptr_eq(g, h))
                             && o.factor == s.factor
                     }),
                     Motion::Harmonic { .. } => None,
-                })
-                .collect();
+                };
+                match alias {
+                    Some(j) => fr.copies.push((i, j)),
+                    None => fr.roots.push(i),
+                }
+            }
+            fr.supports_at = None;
         }
-        fr.supports.resize(n, (0.0, 0.0, 0.0));
-        for (i, (s, alias)) in self.supports.iter().zip(&fr.alias).enumerate() {
-            fr.supports[i] = match *alias {
-                Some(j) => fr.supports[j],
-                None => s.at(t),
-            };
+        if fr.supports_at != Some(t) || fr.supports.len() != n {
+            fr.supports.resize(n, (0.0, 0.0, 0.0));
+            for &i in &fr.roots {
+                fr.supports[i] = self.supports[i].at(t);
+            }
+            for &(i, j) in &fr.copies {
+                fr.supports[i] = fr.supports[j];
+            }
+            fr.supports_at = Some(t);
         }
         self.dof_poses(fr, q, v);
         self.drive_poses(fr, |fr, s| fr.supports[s]);
