@@ -277,6 +277,14 @@ struct GeneralElement {
     hysteretic: Option<usize>,
 }
 
+/// Mass-proportional damping of one DOF: a₀ m_k and q̇_ref,k = `reference` u̇ of `support`.
+#[derive(Clone, Copy, Debug)]
+struct MassDof {
+    factor: f64,
+    support: usize,
+    reference: f64,
+}
+
 /// The smooth forces of a scene flattened for repeated evaluation: the same h(t, q, q̇) and
 /// power terms as [`smooth_forces_in`], with linear springs of identical attachment and support
 /// merged (their stiffnesses and dampings add).
@@ -290,8 +298,9 @@ pub struct ForceModel {
     runs: Runs,
     /// (dof, support, factor) of q̇_ref with supports that move alike merged.
     mass_reference: Vec<(usize, usize, f64)>,
-    /// a₀ m_k per DOF (empty when a₀ = 0).
-    mass_factor: Vec<f64>,
+    /// Per DOF, a₀ m_k and the one (support, factor) of q̇_ref,k (NONE: q̇_ref,k = 0); empty
+    /// when a₀ = 0 or a DOF has several reference terms.
+    mass_dofs: Vec<MassDof>,
     /// Every load is zero.
     no_loads: bool,
     /// Elements between two bodies or on driven bodies (not in the runs).
@@ -389,10 +398,20 @@ impl ForceModel {
         }
         runs.finish();
         let alpha = scene.mass_damping.alpha;
-        let mass_factor = if alpha == 0.0 {
+        let terms = |k: usize| mass_reference.iter().filter(move |r| r.0 == k);
+        let mass_dofs = if alpha == 0.0 || (0..scene.mass.len()).any(|k| terms(k).count() > 1) {
             Vec::new()
         } else {
-            scene.mass.iter().map(|m| alpha * m).collect()
+            (scene.mass.iter().enumerate())
+                .map(|(k, m)| {
+                    let (support, factor) = terms(k).next().map_or((NONE, 0.0), |r| (r.1, r.2));
+                    MassDof {
+                        factor: alpha * m,
+                        support,
+                        reference: factor,
+                    }
+                })
+                .collect()
         };
         Self {
             springs,
@@ -400,7 +419,7 @@ impl ForceModel {
             references: scene.bodies.iter().map(|b| b.reference).collect(),
             runs,
             mass_reference,
-            mass_factor,
+            mass_dofs,
             no_loads: scene.loads.iter().all(|&l| l == 0.0),
             general,
             driven_bodies: scene.bodies.iter().any(|b| b.is_driven()),
@@ -485,25 +504,26 @@ impl ForceModel {
         p
     }
 
-    /// [`mass_damping`] with the factors a₀ m_k taken from `mass_factor`: f_k = (a₀ m_k)(q̇_k −
+    /// [`mass_damping`] from `mass_dofs`: q̇_ref,k = 0 + c u̇_g (or 0), f_k = (a₀ m_k)(q̇_k −
     /// q̇_ref,k), h_k −= f_k.
     fn mass_damping(&self, scene: &Scene, fr: &Frame, v: &[f64], h: &mut [f64]) -> (f64, f64) {
-        let n = h.len();
-        if self.mass_factor.len() != n || n > 16 {
+        if self.mass_dofs.len() != h.len() {
             return mass_damping(scene, &self.mass_reference, fr, v, h);
         }
-        let mut vref = [0.0f64; 16];
-        for &(k, s, f) in &self.mass_reference {
-            vref[k] += f * fr.supports[s].1;
-        }
         let (mut damping, mut supports) = (0.0, 0.0);
-        let rows = (h.iter_mut().zip(v)).zip(&self.mass_factor).zip(&vref[..n]);
-        for (((h, v), a), vr) in rows {
-            let rel = v - vr;
-            let f = a * rel;
-            *h -= f;
-            damping += f * rel;
-            supports -= f * vr;
+        for ((h, v), d) in h.iter_mut().zip(v).zip(&self.mass_dofs) {
+            if d.support == NONE {
+                let f = d.factor * v;
+                *h -= f;
+                damping += f * v;
+            } else {
+                let vr = 0.0 + d.reference * fr.supports[d.support].1;
+                let rel = v - vr;
+                let f = d.factor * rel;
+                *h -= f;
+                damping += f * rel;
+                supports -= f * vr;
+            }
         }
         (damping, supports)
     }
