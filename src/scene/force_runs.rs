@@ -410,21 +410,43 @@ fn hysteretic_pairs<const S: bool>(
     acc: &mut [f64; 3],
     sums: &mut Sums,
 ) {
+    let (st, rel) = (b.s, b.rel);
+    let (c, sn) = st.cs;
+    let (vx, vy, om) = (st.velocity.x, st.velocity.y, st.omega);
+    let (mut a0, mut a1, mut a2) = (acc[0], acc[1], acc[2]);
+    let (mut sup, mut dmp, mut hys) = (sums.supports, sums.damping, sums.hysteretic);
     let rows = (items.chunks_exact(2).zip(laws.chunks_exact(2))).zip(out.chunks_exact_mut(2));
     for ((it, law), out) in rows {
-        let d = pair::<S>(&it[0], &it[1], b);
-        for k in 0..2 {
-            let (e, ed, vg, arm) = d[k];
-            out[k] = (e, ed);
-            let fh = law[k].force(e);
-            let f = fh + it[k].damping * ed;
-            acc[k] += f;
-            acc[2] += f * arm;
-            sums.supports -= f * vg;
-            sums.damping += it[k].damping * ed * ed;
-            sums.hysteretic += fh * ed;
-        }
+        let (ix, iy) = (&it[0], &it[1]);
+        let (px, py) = (ix.px, ix.py);
+        let rx = c * px - sn * py;
+        let ry = sn * px + c * py;
+        let (ugx, vgx) = support::<S>(ix, b.fr);
+        let arm = -ry;
+        let ex = rel.x + rx - px - ugx;
+        let edx = vx + om * arm - vgx;
+        out[0] = (ex, edx);
+        let fhx = law[0].force(ex);
+        let fx = fhx + ix.damping * edx;
+        a0 += fx;
+        a2 += fx * arm;
+        sup -= fx * vgx;
+        dmp += ix.damping * edx * edx;
+        hys += fhx * edx;
+        let (ugy, vgy) = support::<S>(iy, b.fr);
+        let ey = rel.y + ry - py - ugy;
+        let edy = vy + om * rx - vgy;
+        out[1] = (ey, edy);
+        let fhy = law[1].force(ey);
+        let fy = fhy + iy.damping * edy;
+        a1 += fy;
+        a2 += fy * rx;
+        sup -= fy * vgy;
+        dmp += iy.damping * edy * edy;
+        hys += fhy * edy;
     }
+    *acc = [a0, a1, a2];
+    (sums.supports, sums.damping, sums.hysteretic) = (sup, dmp, hys);
 }
 
 /// Pairs of springs along x then y at one point.
