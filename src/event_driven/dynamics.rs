@@ -121,10 +121,14 @@ impl Scratch {
     ) {
         let n = minv.len();
         let nc = scene.contacts.len();
-        self.size(n);
+        if self.h.len() != n || self.qdd.len() != n {
+            self.size(n);
+        }
         let (q, v) = y.as_slice()[..2 * n].split_at(n);
         scene.frame_of(&mut self.fr, t, q, v);
-        self.elements.resize(scene.hysteretic.len(), (0.0, 0.0));
+        if self.elements.len() != scene.hysteretic.len() {
+            self.elements.resize(scene.hysteretic.len(), (0.0, 0.0));
+        }
         self.power = forces.eval_in(
             scene,
             laws,
@@ -133,7 +137,9 @@ impl Scratch {
             self.h.as_mut_slice(),
             &mut self.elements,
         );
-        self.kin.resize_with(nc, ContactKinematics::placeholder);
+        if self.kin.len() != nc {
+            self.kin.resize_with(nc, ContactKinematics::placeholder);
+        }
         for ((c, st), k) in scene.contacts.iter().zip(contacts).zip(self.kin.iter_mut()) {
             if all || *st != ContactState::Open {
                 scene.contact_kinematics_into(&self.fr, c, k);
@@ -143,10 +149,13 @@ impl Scratch {
                 k.slip_rate = 0.0;
             }
         }
-        for lam in [&mut self.lam_n, &mut self.lam_t] {
-            if lam.len() == nc {
-                lam.fill(0.0);
-            } else {
+        if self.lam_n.len() == nc && self.lam_t.len() == nc {
+            // λ is nonzero only in the rows of the last evaluation's slots
+            for &(i, _) in &self.slots {
+                (self.lam_n[i], self.lam_t[i]) = (0.0, 0.0);
+            }
+        } else {
+            for lam in [&mut self.lam_n, &mut self.lam_t] {
                 lam.clear();
                 lam.resize(nc, 0.0);
             }
