@@ -262,9 +262,12 @@ impl Scene {
 
     /// The poses from the DOFs (a body without DOFs at its reference).
     fn dof_poses(&self, fr: &mut Frame, qs: &[f64], vs: &[f64]) {
-        fr.poses.clear();
-        fr.poses
-            .extend(self.bodies.iter().map(|b| pose(b, |k| qs[k], |k| vs[k])));
+        if fr.poses.len() != self.bodies.len() {
+            fr.poses.resize(self.bodies.len(), BodyState::default());
+        }
+        for (p, b) in fr.poses.iter_mut().zip(&self.bodies) {
+            *p = pose(b, |k| qs[k], |k| vs[k]);
+        }
     }
 
     /// Exact planar kinematics of contact `c` (no small-rotation linearisation):
