@@ -179,28 +179,31 @@ impl Scene {
         }
     }
 
-    /// Adds `coef·(∂ (point velocity)/∂q̇)ᵀ d` to a Jacobian row: the generalized direction of a
-    /// force d applied at world arm ρ from the centre of body b.
+    /// Adds `coef·(∂ (point velocity)/∂q̇)ᵀ d` to a Jacobian row for d = n and d = t (rows W_N
+    /// and W_T): the generalized directions of forces along n and t applied at world arm ρ from
+    /// the centre of body b.
     #[inline(always)]
-    fn add_point_jacobian(
+    fn add_point_jacobians(
         &self,
-        row: &mut DVector<f64>,
+        (w_n, w_t): (&mut [f64], &mut [f64]),
         b: BodyRef,
         arm: Vector2<f64>,
-        d: Vector2<f64>,
+        (n, t): (Vector2<f64>, Vector2<f64>),
         coef: f64,
     ) {
         if let BodyRef::Body(i) = b {
             let dofs = &self.bodies[i].dofs;
-            let row = row.as_mut_slice();
             if let Some(k) = dofs[0] {
-                row[k] += coef * d.x;
+                w_n[k] += coef * n.x;
+                w_t[k] += coef * t.x;
             }
             if let Some(k) = dofs[1] {
-                row[k] += coef * d.y;
+                w_n[k] += coef * n.y;
+                w_t[k] += coef * t.y;
             }
             if let Some(k) = dofs[2] {
-                row[k] += coef * d.dot(&perp(arm));
+                w_n[k] += coef * n.dot(&perp(arm));
+                w_t[k] += coef * t.dot(&perp(arm));
             }
         }
     }
@@ -316,6 +319,17 @@ impl Scene {
         out: &mut ContactKinematics,
     ) {
         let n_dof = self.ndof();
+        // the rows zeroed first: no value is live across the fills
+        if out.w_n.len() != n_dof {
+            out.w_n = DVector::zeros(n_dof);
+        } else {
+            out.w_n.as_mut_slice().fill(0.0);
+        }
+        if out.w_t.len() != n_dof {
+            out.w_t = DVector::zeros(n_dof);
+        } else {
+            out.w_t.as_mut_slice().fill(0.0);
+        }
         let rho_a = a.rot(c.point);
         let p = a.position + rho_a;
         let n = b.rot(c.face_normal);
@@ -327,20 +341,10 @@ impl Scene {
         let v_p = a.velocity + a.omega * perp(rho_a);
         let v_bmat = b.velocity + b.omega * perp(arm_b);
         let v_rel = v_p - v_bmat;
-        if out.w_n.len() != n_dof {
-            out.w_n = DVector::zeros(n_dof);
-        } else {
-            out.w_n.as_mut_slice().fill(0.0);
-        }
-        if out.w_t.len() != n_dof {
-            out.w_t = DVector::zeros(n_dof);
-        } else {
-            out.w_t.as_mut_slice().fill(0.0);
-        }
-        self.add_point_jacobian(&mut out.w_n, c.point_body, rho_a, n, 1.0);
-        self.add_point_jacobian(&mut out.w_n, c.face_body, arm_b, n, -1.0);
-        self.add_point_jacobian(&mut out.w_t, c.point_body, rho_a, t, 1.0);
-        self.add_point_jacobian(&mut out.w_t, c.face_body, arm_b, t, -1.0);
+        let rows = (out.w_n.as_mut_slice(), out.w_t.as_mut_slice());
+        self.add_point_jacobians(rows, c.point_body, rho_a, (n, t), 1.0);
+        let rows = (out.w_n.as_mut_slice(), out.w_t.as_mut_slice());
+        self.add_point_jacobians(rows, c.face_body, arm_b, (n, t), -1.0);
         // g̈ = d/dt[n·v_rel]: ṅ = −ω_B t, ṫ = ω_B n; a_P ∋ −ω_A² ρ_A; d/dt v_Bmat ∋ ω_B k×(v_P − v_B).
         let common = -a.omega * a.omega * rho_a - b.omega * perp(v_p - b.velocity);
         out.gap = gap;
