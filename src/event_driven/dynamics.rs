@@ -83,9 +83,14 @@ impl Engine<'_> {
         o[n..2 * n].copy_from_slice(&d.qdd.as_slice()[..n]);
         // −λ·ġ (relative rates) is dissipated; −λ·∂g/∂t is the work of faces moved by the ground
         let (mut contact_loss, mut driven) = (0.0, 0.0);
-        for i in 0..d.kin.len() {
-            let k = &d.kin[i];
-            contact_loss -= d.lam_n[i] * k.gap_rate + d.lam_t[i] * k.slip_rate;
+        // λ = 0 outside the constraint rows, whose contacts come in order (a stuck one twice)
+        let mut last = usize::MAX;
+        for &(i, _) in &d.slots {
+            if i != last {
+                let k = &d.kin[i];
+                contact_loss -= d.lam_n[i] * k.gap_rate + d.lam_t[i] * k.slip_rate;
+                last = i;
+            }
         }
         if self.forces.driven_bodies() {
             for i in 0..d.kin.len() {
