@@ -95,10 +95,10 @@ pub struct Frame {
     pub ground: BodyState,
     /// (u_g, u̇_g, ü_g) per support.
     pub supports: Vec<(f64, f64, f64)>,
-    /// The supports driven by a record and factor no earlier support has (evaluated), and
-    /// (support, earlier support) for the others (copied).
-    roots: Vec<usize>,
-    copies: Vec<(usize, usize)>,
+    /// The supports driven by a record and factor no earlier support has (evaluated), each
+    /// with the end of its run in `copies`: the later supports driven alike (copied).
+    roots: Vec<(usize, usize)>,
+    copies: Vec<usize>,
     /// The time of `supports` (they are not evaluated again at the same t).
     supports_at: Option<f64>,
     /// The bodies driven by the ground (listed on first use, `driven_known`).
@@ -225,30 +225,33 @@ impl Scene {
     pub fn frame_of(&self, fr: &mut Frame, t: f64, q: &[f64], v: &[f64]) {
         let n = self.supports.len();
         if fr.roots.len() + fr.copies.len() != n {
-            fr.roots.clear();
-            fr.copies.clear();
-            for (i, s) in self.supports.iter().enumerate() {
-                let alias = match &s.motion {
+            let alias: Vec<Option<usize>> = (self.supports.iter().enumerate())
+                .map(|(i, s)| match &s.motion {
                     Motion::Record(g) => self.supports[..i].iter().position(|o| {
                         matches!(&o.motion, Motion::Record(h) if Arc::ptr_eq(g, h))
                             && o.factor == s.factor
                     }),
                     Motion::Harmonic { .. } => None,
-                };
-                match alias {
-                    Some(j) => fr.copies.push((i, j)),
-                    None => fr.roots.push(i),
-                }
+                })
+                .collect();
+            fr.roots.clear();
+            fr.copies.clear();
+            for r in (0..n).filter(|&r| alias[r].is_none()) {
+                fr.copies.extend((0..n).filter(|&i| alias[i] == Some(r)));
+                fr.roots.push((r, fr.copies.len()));
             }
             fr.supports_at = None;
         }
         if fr.supports_at != Some(t) || fr.supports.len() != n {
             fr.supports.resize(n, (0.0, 0.0, 0.0));
-            for &i in &fr.roots {
-                fr.supports[i] = self.supports[i].at(t);
-            }
-            for &(i, j) in &fr.copies {
-                fr.supports[i] = fr.supports[j];
+            let mut start = 0;
+            for &(r, end) in &fr.roots {
+                let val = self.supports[r].at(t);
+                fr.supports[r] = val;
+                for &i in &fr.copies[start..end] {
+                    fr.supports[i] = val;
+                }
+                start = end;
             }
             fr.supports_at = Some(t);
         }
