@@ -76,9 +76,8 @@ pub(super) struct Sums {
 /// last segment (`flush`).
 #[derive(Clone, Debug)]
 struct Block {
-    axis: u8,
-    support: bool,
-    hysteretic: bool,
+    /// 4 axis + 2 support + hysteretic.
+    kind: u8,
     law: usize,
     body: usize,
     reference: Vector2<f64>,
@@ -190,9 +189,7 @@ impl Runs {
             let segments = &self.segments[r.start..r.end];
             for (k, seg) in segments.iter().enumerate() {
                 blocks.push(Block {
-                    axis: seg.axis,
-                    support: seg.support,
-                    hysteretic: seg.hysteretic,
+                    kind: 4 * seg.axis + 2 * u8::from(seg.support) + u8::from(seg.hysteretic),
                     law: seg.law,
                     body: r.body,
                     reference: r.reference,
@@ -223,34 +220,59 @@ impl Runs {
                 fr,
             };
             let it = &bl.items[..];
-            let n = it.len();
-            let (l, o) = if bl.hysteretic {
-                (&laws[bl.law..bl.law + n], &mut elements[bl.law..bl.law + n])
-            } else {
-                (&laws[..0], &mut elements[..0])
-            };
             let (a, m) = (&mut acc, &mut *sums);
-            match (bl.axis, bl.support, bl.hysteretic) {
-                (X, true, true) => hysteretic::<X, true>(it, &b, l, o, a, m),
-                (X, false, true) => hysteretic::<X, false>(it, &b, l, o, a, m),
-                (X, true, false) => springs::<X, true>(it, &b, a, m),
-                (X, false, false) => springs::<X, false>(it, &b, a, m),
-                (Y, true, true) => hysteretic::<Y, true>(it, &b, l, o, a, m),
-                (Y, false, true) => hysteretic::<Y, false>(it, &b, l, o, a, m),
-                (Y, true, false) => springs::<Y, true>(it, &b, a, m),
-                (Y, false, false) => springs::<Y, false>(it, &b, a, m),
-                (ROT, true, true) => hysteretic::<ROT, true>(it, &b, l, o, a, m),
-                (ROT, false, true) => hysteretic::<ROT, false>(it, &b, l, o, a, m),
-                (ROT, true, false) => springs::<ROT, true>(it, &b, a, m),
-                (ROT, false, false) => springs::<ROT, false>(it, &b, a, m),
-                (XY, true, true) => hysteretic_pairs::<true>(it, &b, l, o, a, m),
-                (XY, false, true) => hysteretic_pairs::<false>(it, &b, l, o, a, m),
-                (XY, true, false) => spring_pairs::<true>(it, &b, a, m),
-                (XY, false, false) => spring_pairs::<false>(it, &b, a, m),
-                (_, true, true) => hysteretic::<ANY, true>(it, &b, l, o, a, m),
-                (_, false, true) => hysteretic::<ANY, false>(it, &b, l, o, a, m),
-                (_, true, false) => springs::<ANY, true>(it, &b, a, m),
-                (_, false, false) => springs::<ANY, false>(it, &b, a, m),
+            let r = bl.law..bl.law + it.len();
+            match bl.kind {
+                0 => springs::<X, false>(it, &b, a, m),
+                1 => {
+                    let (l, o) = (&laws[r.clone()], &mut elements[r.clone()]);
+                    hysteretic::<X, false>(it, &b, l, o, a, m)
+                }
+                2 => springs::<X, true>(it, &b, a, m),
+                3 => {
+                    let (l, o) = (&laws[r.clone()], &mut elements[r.clone()]);
+                    hysteretic::<X, true>(it, &b, l, o, a, m)
+                }
+                4 => springs::<Y, false>(it, &b, a, m),
+                5 => {
+                    let (l, o) = (&laws[r.clone()], &mut elements[r.clone()]);
+                    hysteretic::<Y, false>(it, &b, l, o, a, m)
+                }
+                6 => springs::<Y, true>(it, &b, a, m),
+                7 => {
+                    let (l, o) = (&laws[r.clone()], &mut elements[r.clone()]);
+                    hysteretic::<Y, true>(it, &b, l, o, a, m)
+                }
+                8 => springs::<ROT, false>(it, &b, a, m),
+                9 => {
+                    let (l, o) = (&laws[r.clone()], &mut elements[r.clone()]);
+                    hysteretic::<ROT, false>(it, &b, l, o, a, m)
+                }
+                10 => springs::<ROT, true>(it, &b, a, m),
+                11 => {
+                    let (l, o) = (&laws[r.clone()], &mut elements[r.clone()]);
+                    hysteretic::<ROT, true>(it, &b, l, o, a, m)
+                }
+                12 => springs::<ANY, false>(it, &b, a, m),
+                13 => {
+                    let (l, o) = (&laws[r.clone()], &mut elements[r.clone()]);
+                    hysteretic::<ANY, false>(it, &b, l, o, a, m)
+                }
+                14 => springs::<ANY, true>(it, &b, a, m),
+                15 => {
+                    let (l, o) = (&laws[r.clone()], &mut elements[r.clone()]);
+                    hysteretic::<ANY, true>(it, &b, l, o, a, m)
+                }
+                16 => spring_pairs::<false>(it, &b, a, m),
+                17 => {
+                    let (l, o) = (&laws[r.clone()], &mut elements[r.clone()]);
+                    hysteretic_pairs::<false>(it, &b, l, o, a, m)
+                }
+                18 => spring_pairs::<true>(it, &b, a, m),
+                _ => {
+                    let (l, o) = (&laws[r.clone()], &mut elements[r.clone()]);
+                    hysteretic_pairs::<true>(it, &b, l, o, a, m)
+                }
             }
             if let Some(dofs) = bl.flush {
                 for (&k, a) in dofs.iter().zip(acc) {
