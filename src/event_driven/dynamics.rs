@@ -83,9 +83,14 @@ impl Engine<'_> {
         o[n..2 * n].copy_from_slice(&d.qdd.as_slice()[..n]);
         // −λ·ġ (relative rates) is dissipated; −λ·∂g/∂t is the work of faces moved by the ground
         let (mut contact_loss, mut driven) = (0.0, 0.0);
-        for i in 0..d.kin.len() {
-            let k = &d.kin[i];
-            contact_loss -= d.lam_n[i] * k.gap_rate + d.lam_t[i] * k.slip_rate;
+        // λ = 0 outside the constraint rows, whose contacts come in order (a stuck one twice)
+        let mut last = usize::MAX;
+        for &(i, _) in &d.slots {
+            if i != last {
+                let k = &d.kin[i];
+                contact_loss -= d.lam_n[i] * k.gap_rate + d.lam_t[i] * k.slip_rate;
+                last = i;
+            }
         }
         if self.forces.driven_bodies() {
             for i in 0..d.kin.len() {
@@ -121,22 +126,25 @@ impl Scratch {
     ) {
         let n = minv.len();
         let nc = scene.contacts.len();
-        self.size(n);
-        self.q.as_mut_slice().copy_from_slice(&y.as_slice()[..n]);
-        self.v
-            .as_mut_slice()
-            .copy_from_slice(&y.as_slice()[n..2 * n]);
-        scene.frame_into(&mut self.fr, t, &self.q, &self.v);
-        self.elements.resize(scene.hysteretic.len(), (0.0, 0.0));
-        self.power = forces.eval(
+        if self.h.len() != n || self.qdd.len() != n {
+            self.size(n);
+        }
+        let (q, v) = y.as_slice()[..2 * n].split_at(n);
+        scene.frame_of(&mut self.fr, t, q, v);
+        if self.elements.len() != scene.hysteretic.len() {
+            self.elements.resize(scene.hysteretic.len(), (0.0, 0.0));
+        }
+        self.power = forces.eval_in(
             scene,
             laws,
             &self.fr,
-            &self.v,
-            &mut self.h,
+            v,
+            self.h.as_mut_slice(),
             &mut self.elements,
         );
-        self.kin.resize_with(nc, ContactKinematics::placeholder);
+        if self.kin.len() != nc {
+            self.kin.resize_with(nc, ContactKinematics::placeholder);
+        }
         for ((c, st), k) in scene.contacts.iter().zip(contacts).zip(self.kin.iter_mut()) {
             if all || *st != ContactState::Open {
                 scene.contact_kinematics_into(&self.fr, c, k);
@@ -146,9 +154,16 @@ impl Scratch {
                 k.slip_rate = 0.0;
             }
         }
-        for lam in [&mut self.lam_n, &mut self.lam_t] {
-            lam.clear();
-            lam.resize(nc, 0.0);
+        if self.lam_n.len() == nc && self.lam_t.len() == nc {
+            // λ is nonzero only in the rows of the last evaluation's slots
+            for &(i, _) in &self.slots {
+                (self.lam_n[i], self.lam_t[i]) = (0.0, 0.0);
+            }
+        } else {
+            for lam in [&mut self.lam_n, &mut self.lam_t] {
+                lam.clear();
+                lam.resize(nc, 0.0);
+            }
         }
         for ((a, h), m) in self
             .qdd

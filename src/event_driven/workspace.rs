@@ -114,6 +114,7 @@ impl Scratch {
         }
     }
 
+    #[inline]
     pub(super) fn hold(&mut self, t: f64, y: &DVector<f64>, all: bool) {
         if self.at_y.len() != y.len() {
             self.at_y = DVector::zeros(y.len());

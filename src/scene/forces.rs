@@ -1,10 +1,11 @@
 //! The smooth (non-contact) forces h(t, q, q̇) of eq. 1 — springs, dashpots, hysteretic
 //! columns, mass-proportional damping, loads — and the power terms of the energy ledger.
 
+use super::force_runs::{Element, NONE, Runs, Sums};
 use super::kinematics::{BodyState, Frame};
 use super::{Attachment, Motion, Scene};
 use crate::hysteresis::Hysteretic;
-use nalgebra::{DVector, Vector2};
+use nalgebra::{DVector, DVectorView, Vector2};
 use std::sync::Arc;
 
 /// Rates of the energy ledger's integrated terms.
@@ -77,6 +78,7 @@ pub fn smooth_forces_in(
         p.damping += el.damping * ed * ed;
         p.hysteretic += fh * ed;
     }
+    let (v, h) = (v.as_slice(), h.as_mut_slice());
     let (damping, supports) = mass_damping(scene, &scene.mass_damping.reference, fr, v, h);
     p.damping += damping;
     p.supports += supports;
@@ -89,8 +91,8 @@ fn mass_damping(
     scene: &Scene,
     reference: &[(usize, usize, f64)],
     fr: &Frame,
-    v: &DVector<f64>,
-    h: &mut DVector<f64>,
+    v: &[f64],
+    h: &mut [f64],
 ) -> (f64, f64) {
     let alpha = scene.mass_damping.alpha;
     if alpha == 0.0 {
@@ -109,7 +111,7 @@ fn mass_damping(
         vref[k] += f * fr.supports[s].1;
     }
     let (mut damping, mut supports) = (0.0, 0.0);
-    let (v, h, mass) = (v.as_slice(), h.as_mut_slice(), scene.mass.as_slice());
+    let mass = scene.mass.as_slice();
     for k in 0..n {
         let rel = v[k] - vref[k];
         let f = alpha * mass[k] * rel;
@@ -133,9 +135,6 @@ impl Scene {
             .sum()
     }
 }
-
-/// Sentinel of a missing DOF or support in [`ForceModel`].
-const NONE: usize = usize::MAX;
 
 /// One element of a [`ForceModel`]: e = d·(X − X₀ + R(θ)p − p) − u_g (point) or θ − u_g
 /// (rotation), with generalized direction J = ∂e/∂q.
@@ -278,13 +277,12 @@ struct GeneralElement {
     hysteretic: Option<usize>,
 }
 
-/// Elements `start..end` of springs ++ hysteretic elements, all on `body`.
-#[derive(Clone, Debug)]
-struct ForceRun {
-    body: usize,
-    dofs: [usize; 3],
-    start: usize,
-    end: usize,
+/// Mass-proportional damping of one DOF: a₀ m_k and q̇_ref,k = `reference` u̇ of `support`.
+#[derive(Clone, Copy, Debug)]
+struct MassDof {
+    factor: f64,
+    support: usize,
+    reference: f64,
 }
 
 /// The smooth forces of a scene flattened for repeated evaluation: the same h(t, q, q̇) and
@@ -297,9 +295,14 @@ pub struct ForceModel {
     references: Vec<Vector2<f64>>,
     /// Consecutive elements (springs, then hysteretic elements) on one body: their forces are
     /// summed before they touch h.
-    runs: Vec<ForceRun>,
+    runs: Runs,
     /// (dof, support, factor) of q̇_ref with supports that move alike merged.
     mass_reference: Vec<(usize, usize, f64)>,
+    /// Per DOF, a₀ m_k and the one (support, factor) of q̇_ref,k (NONE: q̇_ref,k = 0); empty
+    /// when a₀ = 0 or a DOF has several reference terms.
+    mass_dofs: Vec<MassDof>,
+    /// Every load is zero.
+    no_loads: bool,
     /// Elements between two bodies or on driven bodies (not in the runs).
     general: Vec<GeneralElement>,
     /// Some body of the scene is driven by the ground.
@@ -373,27 +376,51 @@ impl ForceModel {
                 None => mass_reference.push((k, root, f)),
             }
         }
-        let mut runs: Vec<ForceRun> = Vec::new();
+        let mut runs = Runs::default();
+        let mut last: Option<(usize, usize)> = None;
         for (i, el) in springs.iter().chain(&elements).enumerate() {
             if el.general {
                 continue;
             }
-            match runs.last_mut() {
-                Some(r) if r.body == el.body && r.end == i => r.end = i + 1,
-                _ => runs.push(ForceRun {
-                    body: el.body,
-                    dofs: el.dofs,
-                    start: i,
-                    end: i + 1,
-                }),
+            if !matches!(last, Some((b, end)) if b == el.body && end == i) {
+                runs.start(el.body, scene.bodies[el.body].reference, el.dofs);
             }
+            last = Some((el.body, i + 1));
+            runs.push(&Element {
+                rotation: el.rotation,
+                point: el.point,
+                direction: el.direction,
+                support: el.support,
+                stiffness: el.stiffness,
+                damping: el.damping,
+                law: i.checked_sub(springs.len()),
+            });
         }
+        runs.finish();
+        let alpha = scene.mass_damping.alpha;
+        let terms = |k: usize| mass_reference.iter().filter(move |r| r.0 == k);
+        let mass_dofs = if alpha == 0.0 || (0..scene.mass.len()).any(|k| terms(k).count() > 1) {
+            Vec::new()
+        } else {
+            (scene.mass.iter().enumerate())
+                .map(|(k, m)| {
+                    let (support, factor) = terms(k).next().map_or((NONE, 0.0), |r| (r.1, r.2));
+                    MassDof {
+                        factor: alpha * m,
+                        support,
+                        reference: factor,
+                    }
+                })
+                .collect()
+        };
         Self {
             springs,
             elements,
             references: scene.bodies.iter().map(|b| b.reference).collect(),
             runs,
             mass_reference,
+            mass_dofs,
+            no_loads: scene.loads.iter().all(|&l| l == 0.0),
             general,
             driven_bodies: scene.bodies.iter().any(|b| b.is_driven()),
         }
@@ -415,53 +442,40 @@ impl ForceModel {
         h: &mut DVector<f64>,
         elements: &mut [(f64, f64)],
     ) -> PowerTerms {
-        h.as_mut_slice().copy_from_slice(scene.loads.as_slice());
+        let (v, h) = (v.as_slice(), h.as_mut_slice());
+        self.eval_in(scene, laws, fr, v, h, elements)
+    }
+
+    /// [`ForceModel::eval`] with q̇ and h as slices.
+    pub fn eval_in(
+        &self,
+        scene: &Scene,
+        laws: &[Hysteretic],
+        fr: &Frame,
+        v: &[f64],
+        hs: &mut [f64],
+        elements: &mut [(f64, f64)],
+    ) -> PowerTerms {
+        hs.copy_from_slice(scene.loads.as_slice());
+        // without loads Σ 0·q̇_k = 0
+        let loads = if self.no_loads {
+            0.0
+        } else {
+            scene.loads.dot(&DVectorView::from_slice(v, v.len()))
+        };
         let mut p = PowerTerms {
-            loads: scene.loads.dot(v),
+            loads,
             ..Default::default()
         };
-        let hs = h.as_mut_slice();
-        // generalized forces summed per run of elements on one body, in registers, then
-        // subtracted from h once per run
-        let (mut supports, mut damping, mut hysteretic) = (0.0, 0.0, 0.0);
-        let ns = self.springs.len();
-        for run in &self.runs {
-            let s = &fr.poses[run.body];
-            let rel = s.position - self.references[run.body];
-            let mut acc = [0.0f64; 3];
-            let mut add = |f: f64, jac: [f64; 3]| {
-                acc[0] += f * jac[0];
-                acc[1] += f * jac[1];
-                acc[2] += f * jac[2];
-            };
-            for sp in &self.springs[run.start.min(ns)..run.end.min(ns)] {
-                let (e, ed, vg, jac) = sp.deformation_of(s, rel, fr);
-                let f = sp.stiffness * e + sp.damping * ed;
-                add(f, jac);
-                supports -= f * vg;
-                damping += sp.damping * ed * ed;
-            }
-            let (e0, e1) = (run.start.max(ns) - ns, run.end.max(ns) - ns);
-            for ((el, law), out) in self.elements[e0..e1]
-                .iter()
-                .zip(&laws[e0..e1])
-                .zip(&mut elements[e0..e1])
-            {
-                let (e, ed, vg, jac) = el.deformation_of(s, rel, fr);
-                *out = (e, ed);
-                let fh = law.force(e);
-                let f = fh + el.damping * ed;
-                add(f, jac);
-                supports -= f * vg;
-                damping += el.damping * ed * ed;
-                hysteretic += fh * ed;
-            }
-            for (&k, a) in run.dofs.iter().zip(acc) {
-                if let Some(x) = hs.get_mut(k) {
-                    *x -= a;
-                }
-            }
-        }
+        // generalized forces summed per run of elements on one body, then subtracted from h
+        // once per run
+        let mut sums = Sums::default();
+        self.runs.eval(fr, laws, hs, elements, &mut sums);
+        let Sums {
+            mut supports,
+            mut damping,
+            mut hysteretic,
+        } = sums;
         for g in &self.general {
             let (e, ed, vg, jj, nj) = scene.deformation(fr, &g.attachment, g.support);
             let fh = match g.hysteretic {
@@ -484,10 +498,34 @@ impl ForceModel {
         p.supports += supports;
         p.damping += damping;
         p.hysteretic += hysteretic;
-        let (damping, supports) = mass_damping(scene, &self.mass_reference, fr, v, h);
+        let (damping, supports) = self.mass_damping(scene, fr, v, hs);
         p.damping += damping;
         p.supports += supports;
         p
+    }
+
+    /// [`mass_damping`] from `mass_dofs`: q̇_ref,k = 0 + c u̇_g (or 0), f_k = (a₀ m_k)(q̇_k −
+    /// q̇_ref,k), h_k −= f_k.
+    fn mass_damping(&self, scene: &Scene, fr: &Frame, v: &[f64], h: &mut [f64]) -> (f64, f64) {
+        if self.mass_dofs.len() != h.len() {
+            return mass_damping(scene, &self.mass_reference, fr, v, h);
+        }
+        let (mut damping, mut supports) = (0.0, 0.0);
+        for ((h, v), d) in h.iter_mut().zip(v).zip(&self.mass_dofs) {
+            if d.support == NONE {
+                let f = d.factor * v;
+                *h -= f;
+                damping += f * v;
+            } else {
+                let vr = 0.0 + d.reference * fr.supports[d.support].1;
+                let rel = v - vr;
+                let f = d.factor * rel;
+                *h -= f;
+                damping += f * rel;
+                supports -= f * vr;
+            }
+        }
+        (damping, supports)
     }
 
     /// (e, ė) of each hysteretic element, as [`ForceModel::eval`] writes them.

@@ -95,8 +95,12 @@ pub struct Frame {
     pub ground: BodyState,
     /// (u_g, u̇_g, ü_g) per support.
     pub supports: Vec<(f64, f64, f64)>,
-    /// Per support, an earlier support driven by the same record and factor (evaluated once).
-    alias: Vec<Option<usize>>,
+    /// The supports driven by a record and factor no earlier support has (evaluated), each
+    /// with the end of its run in `copies`: the later supports driven alike (copied).
+    roots: Vec<(usize, usize)>,
+    copies: Vec<usize>,
+    /// The time of `supports` (they are not evaluated again at the same t).
+    supports_at: Option<f64>,
     /// The bodies driven by the ground (listed on first use, `driven_known`).
     driven: Vec<usize>,
     driven_known: bool,
@@ -175,27 +179,31 @@ impl Scene {
         }
     }
 
-    /// Adds `coef·(∂ (point velocity)/∂q̇)ᵀ d` to a Jacobian row: the generalized direction of a
-    /// force d applied at world arm ρ from the centre of body b.
-    fn add_point_jacobian(
+    /// Adds `coef·(∂ (point velocity)/∂q̇)ᵀ d` to a Jacobian row for d = n and d = t (rows W_N
+    /// and W_T): the generalized directions of forces along n and t applied at world arm ρ from
+    /// the centre of body b.
+    #[inline(always)]
+    fn add_point_jacobians(
         &self,
-        row: &mut DVector<f64>,
+        (w_n, w_t): (&mut [f64], &mut [f64]),
         b: BodyRef,
         arm: Vector2<f64>,
-        d: Vector2<f64>,
+        (n, t): (Vector2<f64>, Vector2<f64>),
         coef: f64,
     ) {
         if let BodyRef::Body(i) = b {
             let dofs = &self.bodies[i].dofs;
-            let row = row.as_mut_slice();
             if let Some(k) = dofs[0] {
-                row[k] += coef * d.x;
+                w_n[k] += coef * n.x;
+                w_t[k] += coef * t.x;
             }
             if let Some(k) = dofs[1] {
-                row[k] += coef * d.y;
+                w_n[k] += coef * n.y;
+                w_t[k] += coef * t.y;
             }
             if let Some(k) = dofs[2] {
-                row[k] += coef * d.dot(&perp(arm));
+                w_n[k] += coef * n.dot(&perp(arm));
+                w_t[k] += coef * t.dot(&perp(arm));
             }
         }
     }
@@ -210,11 +218,14 @@ impl Scene {
     /// [`Scene::frame`] written into `fr`, reusing its storage: the support motions first, then
     /// the poses (driven bodies from the supports).
     pub fn frame_into(&self, fr: &mut Frame, t: f64, q: &DVector<f64>, v: &DVector<f64>) {
-        if fr.alias.len() != self.supports.len() {
-            fr.alias = self
-                .supports
-                .iter()
-                .enumerate()
+        self.frame_of(fr, t, q.as_slice(), v.as_slice());
+    }
+
+    /// [`Scene::frame_into`] from q and q̇ as slices.
+    pub fn frame_of(&self, fr: &mut Frame, t: f64, q: &[f64], v: &[f64]) {
+        let n = self.supports.len();
+        if fr.roots.len() + fr.copies.len() != n {
+            let alias: Vec<Option<usize>> = (self.supports.iter().enumerate())
                 .map(|(i, s)| match &s.motion {
                     Motion::Record(g) => self.supports[..i].iter().position(|o| {
                         matches!(&o.motion, Motion::Record(h) if Arc::ptr_eq(g, h))
@@ -223,14 +234,26 @@ impl Scene {
                     Motion::Harmonic { .. } => None,
                 })
                 .collect();
+            fr.roots.clear();
+            fr.copies.clear();
+            for r in (0..n).filter(|&r| alias[r].is_none()) {
+                fr.copies.extend((0..n).filter(|&i| alias[i] == Some(r)));
+                fr.roots.push((r, fr.copies.len()));
+            }
+            fr.supports_at = None;
         }
-        fr.supports.clear();
-        for (s, alias) in self.supports.iter().zip(&fr.alias) {
-            let val = match *alias {
-                Some(j) => fr.supports[j],
-                None => s.at(t),
-            };
-            fr.supports.push(val);
+        if fr.supports_at != Some(t) || fr.supports.len() != n {
+            fr.supports.resize(n, (0.0, 0.0, 0.0));
+            let mut start = 0;
+            for &(r, end) in &fr.roots {
+                let val = self.supports[r].at(t);
+                fr.supports[r] = val;
+                for &i in &fr.copies[start..end] {
+                    fr.supports[i] = val;
+                }
+                start = end;
+            }
+            fr.supports_at = Some(t);
         }
         self.dof_poses(fr, q, v);
         self.drive_poses(fr, |fr, s| fr.supports[s]);
@@ -239,16 +262,18 @@ impl Scene {
     /// The poses of [`Scene::frame_into`] at t alone (the support motions are left as they
     /// were; a driven body's supports are evaluated for it): enough for contact kinematics.
     pub fn poses_into(&self, fr: &mut Frame, t: f64, q: &DVector<f64>, v: &DVector<f64>) {
-        self.dof_poses(fr, q, v);
+        self.dof_poses(fr, q.as_slice(), v.as_slice());
         self.drive_poses(fr, |_, s| self.supports[s].at(t));
     }
 
     /// The poses from the DOFs (a body without DOFs at its reference).
-    fn dof_poses(&self, fr: &mut Frame, q: &DVector<f64>, v: &DVector<f64>) {
-        let (qs, vs) = (q.as_slice(), v.as_slice());
-        fr.poses.clear();
-        fr.poses
-            .extend(self.bodies.iter().map(|b| pose(b, |k| qs[k], |k| vs[k])));
+    fn dof_poses(&self, fr: &mut Frame, qs: &[f64], vs: &[f64]) {
+        if fr.poses.len() != self.bodies.len() {
+            fr.poses.resize(self.bodies.len(), BodyState::default());
+        }
+        for (p, b) in fr.poses.iter_mut().zip(&self.bodies) {
+            *p = pose(b, |k| qs[k], |k| vs[k]);
+        }
     }
 
     /// Exact planar kinematics of contact `c` (no small-rotation linearisation):
@@ -297,6 +322,17 @@ impl Scene {
         out: &mut ContactKinematics,
     ) {
         let n_dof = self.ndof();
+        // the rows zeroed first: no value is live across the fills
+        if out.w_n.len() != n_dof {
+            out.w_n = DVector::zeros(n_dof);
+        } else {
+            out.w_n.as_mut_slice().fill(0.0);
+        }
+        if out.w_t.len() != n_dof {
+            out.w_t = DVector::zeros(n_dof);
+        } else {
+            out.w_t.as_mut_slice().fill(0.0);
+        }
         let rho_a = a.rot(c.point);
         let p = a.position + rho_a;
         let n = b.rot(c.face_normal);
@@ -308,36 +344,21 @@ impl Scene {
         let v_p = a.velocity + a.omega * perp(rho_a);
         let v_bmat = b.velocity + b.omega * perp(arm_b);
         let v_rel = v_p - v_bmat;
-        let mut w_n = std::mem::replace(&mut out.w_n, DVector::zeros(0));
-        let mut w_t = std::mem::replace(&mut out.w_t, DVector::zeros(0));
-        if w_n.len() != n_dof {
-            w_n = DVector::zeros(n_dof);
-            w_t = DVector::zeros(n_dof);
-        } else {
-            w_n.as_mut_slice().fill(0.0);
-            w_t.as_mut_slice().fill(0.0);
-        }
-        self.add_point_jacobian(&mut w_n, c.point_body, rho_a, n, 1.0);
-        self.add_point_jacobian(&mut w_n, c.face_body, arm_b, n, -1.0);
-        self.add_point_jacobian(&mut w_t, c.point_body, rho_a, t, 1.0);
-        self.add_point_jacobian(&mut w_t, c.face_body, arm_b, t, -1.0);
+        let rows = (out.w_n.as_mut_slice(), out.w_t.as_mut_slice());
+        self.add_point_jacobians(rows, c.point_body, rho_a, (n, t), 1.0);
+        let rows = (out.w_n.as_mut_slice(), out.w_t.as_mut_slice());
+        self.add_point_jacobians(rows, c.face_body, arm_b, (n, t), -1.0);
         // g̈ = d/dt[n·v_rel]: ṅ = −ω_B t, ṫ = ω_B n; a_P ∋ −ω_A² ρ_A; d/dt v_Bmat ∋ ω_B k×(v_P − v_B).
         let common = -a.omega * a.omega * rho_a - b.omega * perp(v_p - b.velocity);
-        let bias_n = -b.omega * t.dot(&v_rel) + n.dot(&common);
-        let bias_t = b.omega * n.dot(&v_rel) + t.dot(&common);
-        *out = ContactKinematics {
-            gap,
-            gap_rate: n.dot(&v_rel),
-            slip_rate: t.dot(&v_rel),
-            w_n,
-            w_t,
-            bias_n,
-            bias_t,
-            driven_n: 0.0,
-            driven_t: 0.0,
-            point: p,
-            normal: n,
-        };
+        out.gap = gap;
+        out.gap_rate = n.dot(&v_rel);
+        out.slip_rate = t.dot(&v_rel);
+        out.bias_n = -b.omega * t.dot(&v_rel) + n.dot(&common);
+        out.bias_t = b.omega * n.dot(&v_rel) + t.dot(&common);
+        out.driven_n = 0.0;
+        out.driven_t = 0.0;
+        out.point = p;
+        out.normal = n;
     }
 
     /// Deformation e, rate ė, the rate u̇ with ė = J q̇ − u̇ (the support velocity u̇_g, less

@@ -8,6 +8,7 @@
 //! - [`kinematics`]: poses, exact contact kinematics (gap, Jacobians), element deformations;
 //! - [`forces`]: the smooth forces h(t, q, q̇) of eq. 1 and the energy ledger's power terms.
 
+mod force_runs;
 mod forces;
 mod key;
 mod kinematics;
