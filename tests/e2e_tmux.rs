@@ -250,7 +250,10 @@ fn workbench_in_tmux() {
     let s = tmux.wait("the run list", 5, |s| {
         s.contains("#2 against #1: 1 changed")
     });
-    assert!(s.contains("contacts gap 1 (left_top): 0.0127 → 0.002"), "{s}");
+    assert!(
+        s.contains("contacts gap 1 (left_top): 0.0127 → 0.002"),
+        "{s}"
+    );
     let stored = d.join("models/four-span.runs/0002.json");
     tmux.wait("the run stored", 10, |_| stored.is_file());
 
@@ -565,7 +568,10 @@ fn a_whole_session_edit_run_pin_compare_study_suspend_quit() {
     tmux.keys(&["#"]);
     let s = tmux.wait("the run list", 5, |s| s.contains("runs (2) · baseline #1"));
     assert!(s.contains("#2 against #1: 1 changed"), "{s}");
-    assert!(s.contains("contacts gap 1 (left_top): 0.0127 → 0.008"), "{s}");
+    assert!(
+        s.contains("contacts gap 1 (left_top): 0.0127 → 0.008"),
+        "{s}"
+    );
     tmux.keys(&["b"]);
     let s = tmux.wait("#2 pinned", 5, |s| s.contains("runs (2) · baseline #2"));
     assert!(s.contains("#2 is the baseline"), "{s}");
@@ -580,7 +586,10 @@ fn a_whole_session_edit_run_pin_compare_study_suspend_quit() {
     tmux.keys(&["#"]);
     let s = tmux.wait("the run list", 5, |s| s.contains("runs (3) · baseline #2"));
     assert!(s.contains("#3 against #2: 1 changed"), "{s}");
-    assert!(s.contains("contacts gap 1 (left_top): 0.008 → 0.004"), "{s}");
+    assert!(
+        s.contains("contacts gap 1 (left_top): 0.008 → 0.004"),
+        "{s}"
+    );
     assert!(s.contains("runs compared"), "{s}");
     assert!(s.contains("#2 base"), "{s}");
     let (base, now) = row(&s, "peak |θ|");

@@ -141,7 +141,10 @@ fn edit_run_pin_edit_run_compare_save_and_reopen() {
     edit(&mut app, "contacts.gaps.2", "0.006");
     let fx = act(&mut app, Action::Rerun);
     run(&mut app, fx);
-    assert_eq!(app.runs.get(2).unwrap().name, "contacts gap 3 (right_top)=0.006");
+    assert_eq!(
+        app.runs.get(2).unwrap().name,
+        "contacts gap 3 (right_top)=0.006"
+    );
     // pin #2 in the run list
     update(&mut app, key('#'));
     assert_eq!(app.view, View::Runs);
@@ -155,7 +158,10 @@ fn edit_run_pin_edit_run_compare_save_and_reopen() {
     assert_eq!(app.runs.baseline, Some(2));
     let one = app.runs.get(1).unwrap();
     assert_eq!(one.changes.len(), 1);
-    assert_eq!(one.changes[0].line(), "contacts gap 3 (right_top): 0.006 → 0.004");
+    assert_eq!(
+        one.changes[0].line(),
+        "contacts gap 3 (right_top): 0.006 → 0.004"
+    );
     // edit μ, run: #3, compared with #2 (the baseline), never implicitly with the run before
     edit(&mut app, "contacts.mu", "0.2");
     let fx = act(&mut app, Action::Rerun);
@@ -368,7 +374,10 @@ fn the_model_diff_goes_by_dotted_path_into_arrays_and_shows_elements_from_1() {
         .collect();
     assert_eq!(
         lines,
-        ["contacts.mu: 0.5 → 0.3", "contacts gap 3 (right_top): 0.004 → 0.006"]
+        [
+            "contacts.mu: 0.5 → 0.3",
+            "contacts gap 3 (right_top): 0.004 → 0.006"
+        ]
     );
     assert!(run_list::model_diff(&a, &a).is_empty());
     // a value only on one side
