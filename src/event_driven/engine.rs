@@ -192,10 +192,11 @@ impl<'a> Engine<'a> {
     /// [`Engine::all_kinematics`], shared while (t, y) stays the same (they depend on t, q, q̇
     /// only): the passes of an event's resolution read them several times unmoved.
     pub(super) fn kinematics_now(&mut self) -> Arc<Vec<ContactKinematics>> {
-        if let Some((t, y, kin)) = &self.ws.kin_now {
-            if *t == self.state.t && y.as_slice() == self.state.y.as_slice() {
-                return Arc::clone(kin);
-            }
+        if let Some((t, y, kin)) = &self.ws.kin_now
+            && *t == self.state.t
+            && y.as_slice() == self.state.y.as_slice()
+        {
+            return Arc::clone(kin);
         }
         let kin = Arc::new(self.all_kinematics());
         let y = self.state.y.clone();

@@ -40,7 +40,7 @@ impl Engine<'_> {
             }
         }
         let mut moved = 0.0f64;
-        // `ps.fr` holds the poses of the current q; `kin` of the held contacts are of them
+        // `fr`: the poses of the current q; `kin` of the held (all closed) contacts are of them
         let (mut fresh, mut kin_fresh) = (true, false);
         if !ps.held.is_empty() {
             for pass in 0..PASSES {
@@ -87,7 +87,6 @@ impl Engine<'_> {
         }
         let closed = self.state.contacts.iter().any(|s| *s != ContactState::Open);
         if closed {
-            // the poses and the closed contacts' kinematics (all held) of an unmoved q are reused
             if !fresh {
                 load(&mut ps, &self.state.y, self.state.t);
                 kin_fresh = false;
