@@ -358,10 +358,13 @@ impl<'a> Integration<'a> {
     /// f(t, y) at the current state, the event functions of the contact mode and their arming.
     fn rearm(&mut self) -> Result<(), SolverError> {
         let (eng, clock) = (&mut self.eng, &mut self.clock);
-        let y1 = eng.state.y.clone();
+        // the state is lent to the right-hand side (which does not read `state.y`), not cloned
+        let y1 = std::mem::take(&mut eng.state.y);
         let t = eng.state.t;
         clock.rhs_evals += 1;
-        eng.rhs(t, &y1, &mut clock.f0)?;
+        let r = eng.rhs(t, &y1, &mut clock.f0);
+        eng.state.y = y1;
+        r?;
         eng.event_fns_into(&mut clock.fns);
         arm_into(eng, &clock.fns, &mut clock.armed)
     }

@@ -8,6 +8,7 @@ use crate::output::{ContactState, RunOutput};
 use crate::run::SolverError;
 use crate::scene::{ContactKinematics, ForceModel, Frame, LEDGER_TERMS, Scene, smooth_forces};
 use nalgebra::DVector;
+use std::sync::Arc;
 
 /// The engine of one run: its scene, the physical [`State`] and reused storage.
 pub(super) struct Engine<'a> {
@@ -186,6 +187,21 @@ impl<'a> Engine<'a> {
             })
             .collect::<Vec<_>>()
             .join("; ")
+    }
+
+    /// [`Engine::all_kinematics`], shared while (t, y) stays the same (they depend on t, q, q̇
+    /// only): the passes of an event's resolution read them several times unmoved.
+    pub(super) fn kinematics_now(&mut self) -> Arc<Vec<ContactKinematics>> {
+        if let Some((t, y, kin)) = &self.ws.kin_now
+            && *t == self.state.t
+            && y.as_slice() == self.state.y.as_slice()
+        {
+            return Arc::clone(kin);
+        }
+        let kin = Arc::new(self.all_kinematics());
+        let y = self.state.y.clone();
+        self.ws.kin_now = Some((self.state.t, y, Arc::clone(&kin)));
+        kin
     }
 
     /// Kinematics of every contact at the current state.

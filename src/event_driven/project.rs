@@ -40,10 +40,13 @@ impl Engine<'_> {
             }
         }
         let mut moved = 0.0f64;
+        // `fr`: the poses of the current q; `kin` of the held (all closed) contacts are of them
+        let (mut fresh, mut kin_fresh) = (true, false);
         if !ps.held.is_empty() {
             for pass in 0..PASSES {
                 if pass > 0 {
                     load(&mut ps, &self.state.y, self.state.t);
+                    fresh = true;
                 }
                 let ProjectScratch {
                     fr,
@@ -70,6 +73,7 @@ impl Engine<'_> {
                     res.push(kin[i].gap);
                 }
                 if res.iter().all(|r| r.abs() < 1e-15) {
+                    kin_fresh = true;
                     break;
                 }
                 let rows = |r: usize| &kin[held[r]].w_n;
@@ -78,11 +82,15 @@ impl Engine<'_> {
                 for i in 0..n {
                     self.state.y[i] -= dq[i];
                 }
+                fresh = false;
             }
         }
         let closed = self.state.contacts.iter().any(|s| *s != ContactState::Open);
         if closed {
-            load(&mut ps, &self.state.y, self.state.t);
+            if !fresh {
+                load(&mut ps, &self.state.y, self.state.t);
+                kin_fresh = false;
+            }
             let ProjectScratch {
                 fr,
                 kin,
@@ -95,7 +103,7 @@ impl Engine<'_> {
             } = &mut ps;
             res.clear();
             for (i, st) in self.state.contacts.iter().enumerate() {
-                if *st != ContactState::Open {
+                if *st != ContactState::Open && !kin_fresh {
                     scene.contact_kinematics_into(fr, &scene.contacts[i], &mut kin[i]);
                 }
             }

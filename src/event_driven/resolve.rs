@@ -40,7 +40,7 @@ impl Engine<'_> {
             return;
         }
         let tol = self.scene.settings.velocity_tol;
-        let kin = self.all_kinematics();
+        let kin = self.kinematics_now();
         for (i, k) in kin.iter().enumerate() {
             let left = impacted[i] && k.gap_rate < -tol;
             debug_assert!(
@@ -64,7 +64,7 @@ impl Engine<'_> {
             return;
         }
         let st = &self.scene.settings;
-        let kin = self.all_kinematics();
+        let kin = self.kinematics_now();
         let near = |i: usize| kin[i].gap <= st.gap_tol;
         let lifted =
             |i: usize| before[i] != ContactState::Open && kin[i].gap_rate > st.velocity_tol;
@@ -93,7 +93,7 @@ impl Engine<'_> {
         let scene = self.scene;
         let st = &scene.settings;
         let nc = scene.contacts.len();
-        let kin = self.all_kinematics();
+        let kin = self.kinematics_now();
         let set: Vec<usize> = (0..nc).filter(|&i| kin[i].gap <= st.gap_tol).collect();
         let approaching: Vec<usize> = set
             .iter()
@@ -218,7 +218,7 @@ impl Engine<'_> {
         let st = &scene.settings;
         let nc = scene.contacts.len();
         let (q, v) = (self.q(), self.v());
-        let kin = self.all_kinematics();
+        let kin = self.kinematics_now();
         let closed: Vec<usize> = (0..nc)
             .filter(|&i| kin[i].gap <= st.gap_tol && kin[i].gap_rate.abs() <= st.velocity_tol)
             .collect();

@@ -5,6 +5,7 @@ use super::event_fn::EventFn;
 use crate::output::ContactSample;
 use crate::scene::{ContactKinematics, Frame, PowerTerms};
 use nalgebra::{DMatrix, DVector};
+use std::sync::Arc;
 
 /// Reused storage of one run: nothing here outlives an evaluation (a fork starts afresh).
 pub(super) struct Workspace {
@@ -31,6 +32,8 @@ pub(super) struct Workspace {
     pub(super) one_value: Vec<f64>,
     /// The state whose element entries a branch function's root search reads.
     pub(super) branch_y: DVector<f64>,
+    /// Every contact's kinematics at (t, y) ([`Engine::kinematics_now`]).
+    pub(super) kin_now: Option<(f64, DVector<f64>, Arc<Vec<ContactKinematics>>)>,
 }
 
 impl Workspace {
@@ -48,6 +51,7 @@ impl Workspace {
             dense_y: DVector::zeros(0),
             one_value: Vec::new(),
             branch_y: DVector::zeros(0),
+            kin_now: None,
         }
     }
 
