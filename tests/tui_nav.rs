@@ -584,13 +584,7 @@ fn readout_line(lines: &[String]) -> String {
 fn while_a_run_is_followed_the_readouts_refresh_twice_a_second() {
     let mut app = App::new_from_text(&read(&bridge_path()), Path::new("models/four-span.toml"));
     let fx = app.start();
-    let Some(Effect::StartRun { id, scene }) = fx
-        .into_iter()
-        .find(|e| matches!(e, Effect::StartRun { .. }))
-    else {
-        panic!("no run started")
-    };
-    let msgs = tui::worker::run_blocking(id, &scene);
+    let msgs = messages_of_started_run(fx);
     assert!(msgs.len() > 6, "{} messages", msgs.len());
     let mut msgs = msgs.into_iter();
     let mut feed = |app: &mut App, n: usize| {

@@ -429,13 +429,7 @@ fn while_running_the_last_value_is_not_called_residual() {
     let fx = app.start();
     run(&mut app, fx);
     let fx = act(&mut app, Action::Rerun);
-    let Some(Effect::StartRun { id, scene }) = fx
-        .into_iter()
-        .find(|e| matches!(e, Effect::StartRun { .. }))
-    else {
-        panic!("no run started")
-    };
-    let msgs = tui::worker::run_blocking(id, &scene);
+    let msgs = messages_of_started_run(fx);
     let n = msgs.len();
     for m in msgs.into_iter().take(n / 2) {
         update(&mut app, m);

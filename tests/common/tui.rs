@@ -49,6 +49,17 @@ pub fn run_of(text: &str, path: &Path, id: u64) -> RunData {
     run
 }
 
+/// The messages of the run that `fx` starts, computed on this thread to its end.
+pub fn messages_of_started_run(fx: Vec<Effect>) -> Vec<Msg> {
+    let Some(Effect::StartRun { id, scene }) = fx
+        .into_iter()
+        .find(|e| matches!(e, Effect::StartRun { .. }))
+    else {
+        panic!("no run started")
+    };
+    tui::worker::run_blocking(id, &scene)
+}
+
 pub fn key(c: char) -> Msg {
     Msg::Key(KeyEvent::new(KeyCode::Char(c), KeyModifiers::NONE))
 }
