@@ -13,6 +13,8 @@ fn scenes() -> Vec<(String, Scene)> {
     let mut validation: Vec<_> = std::fs::read_dir(common::model("models/validation"))
         .unwrap()
         .map(|e| e.unwrap().path())
+        // the models only: the workbench keeps a model's runs beside it (`<stem>.runs/`)
+        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
         .collect();
     validation.sort();
     paths.extend(validation);
