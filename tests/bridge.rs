@@ -243,6 +243,24 @@ fn damping_vanishes_for_rigid_body_support_motion() {
     }
 }
 
+/// The projection leaves a closed corner's drift in place while it is within 1e-4 of
+/// `gap_tol` (`event_driven/project.rs`, `DRIFT`): the deepest penetration follows the
+/// tolerance, and stays within that fraction of it.
+#[test]
+fn a_closed_corner_drifts_by_at_most_a_ten_thousandth_of_gap_tol() {
+    for gap_tol in [1e-9, 1e-8] {
+        let r = run(
+            FOUR_SPAN,
+            &["solver.t_end=6.0", &format!("solver.gap_tol={gap_tol}")],
+        );
+        let p = r.summary.max_penetration;
+        assert!(
+            p <= 1.01e-4 * gap_tol && p > 1e-6 * gap_tol,
+            "gap_tol {gap_tol:e}: penetration {p:.3e}"
+        );
+    }
+}
+
 #[test]
 fn bridge_run_closes_energy_and_never_penetrates() {
     // at the model's own tolerance (rtol 1e-4) a closed corner drifts by the integration error
