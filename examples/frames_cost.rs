@@ -1,6 +1,7 @@
 //! The cost of a bridge of N frames in series: `models/three-frame.toml` with its frames, bents
 //! and joints replaced by N frames of 40 m, one bent each (heights 8, 9, 10, 9, 8, … m), and
-//! N − 1 joints of 25 mm. Prints steps, events, right-hand sides and the run's wall time;
+//! N − 1 joints of 25 mm. Prints steps, events, right-hand sides, the run's wall time and the
+//! peak rotation of each body;
 //! run it under `valgrind --tool=callgrind` for its instruction count.
 //!
 //!     cargo run --release --example frames_cost -- N [key=value …]
@@ -57,5 +58,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         s.rhs_evals,
         cpu * 1e3
     );
+    for p in run
+        .output
+        .summary
+        .peaks
+        .iter()
+        .filter(|p| p.name.ends_with(".theta"))
+    {
+        println!("  {:<24} {:.9e} at {:.6}", p.name, p.max_abs, p.at);
+    }
     Ok(())
 }

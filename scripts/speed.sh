@@ -45,6 +45,7 @@ if command -v valgrind >/dev/null 2>&1; then
     echo "mu x runs sweep (56 runs), whole process: $(count $bin sweep models/four-span.toml --set contacts.mu=0,0.1,0.2,0.3,0.4,0.5,0.6,0.7 --set excitation.run=1,2,3,4,5,6,7 --out "$tmp/sweep.csv") instructions"
     for n in $frames; do
         echo "$n frames in series (examples/frames_cost), integration: $(count --integration target/release/examples/frames_cost "$n") instructions"
+        echo "$n frames in series by islands (solver.islands=true), integration: $(count --integration target/release/examples/frames_cost "$n" solver.islands=true) instructions"
     done
 else
     echo "valgrind not found: no instruction counts"

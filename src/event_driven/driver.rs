@@ -7,29 +7,12 @@ use super::events::{arm, arm_into, due_now};
 use super::locate::locate_event;
 use super::record::track_peaks;
 use crate::dopri::{self, Controller};
+use crate::hysteresis::Hysteretic;
 use crate::output::{ContactState, EventRecord, FinalState, RunOutput, SampleKind};
-use crate::run::{Batcher, Observer, Run, SolverError};
+use crate::run::{Batcher, Observer, SolverError};
 use crate::scene::{LEDGER_TERMS, Scene};
 use nalgebra::DVector;
 use std::time::Instant;
-
-/// Run the event-driven integration of a scene: the output of a finished run, else the
-/// reason it stopped.
-pub fn run(scene: &Scene, observer: &mut dyn Observer) -> Result<RunOutput, SolverError> {
-    integrate(scene, observer).into_result()
-}
-
-/// Run the event-driven integration of a scene, keeping what was computed before a cancel or
-/// a failure.
-pub fn integrate(scene: &Scene, observer: &mut dyn Observer) -> Run {
-    let mut it = match Integration::start(scene) {
-        Ok(it) => it,
-        Err(e) => return Run::new(RunOutput::new(scene), Err(e)),
-    };
-    let result = it.advance(observer, false).map(|_| ());
-    let complete = result.is_ok();
-    Run::new(it.finish(observer, complete), result)
-}
 
 /// A run in progress: the engine, the integrator's state between steps, reused storage.
 pub(super) struct Integration<'a> {
@@ -44,28 +27,40 @@ pub(super) struct Integration<'a> {
 /// The integrator's state between steps (cloned with the engine's state by a fork).
 #[derive(Clone)]
 pub(super) struct Clock {
-    breakpoints: Vec<f64>,
-    bp: usize,
+    pub(super) breakpoints: Vec<f64>,
+    pub(super) bp: usize,
     /// Index of the next output grid instant.
-    next_out: usize,
-    ctrl: Controller,
+    pub(super) next_out: usize,
+    pub(super) ctrl: Controller,
     /// f(t, y) at the current state (FSAL).
-    f0: DVector<f64>,
+    pub(super) f0: DVector<f64>,
     /// The next step size.
-    h: f64,
-    h_min: f64,
+    pub(super) h: f64,
+    pub(super) h_min: f64,
     /// The state at the start of the current step.
-    y0: DVector<f64>,
-    fns: Vec<EventFn>,
-    armed: Vec<bool>,
-    rhs_evals: usize,
+    pub(super) y0: DVector<f64>,
+    pub(super) fns: Vec<EventFn>,
+    pub(super) armed: Vec<bool>,
+    pub(super) rhs_evals: usize,
     /// Seconds spent so far.
-    wall: f64,
+    pub(super) wall: f64,
     /// Events located at `eng.state.t` (in `eng.state.cluster`) and not applied yet: the run
     /// paused there.
-    pending: bool,
+    pub(super) pending: bool,
     /// (start, events located since) of the current stall window.
-    stall: (f64, usize),
+    pub(super) stall: (f64, usize),
+    /// Where this advance ends (`t_end`, or the end of an island's window).
+    pub(super) stop: f64,
+    /// Pause at the first step end at or after this instant with every contact open (the
+    /// whole scene of an islands run, `islands.rs`).
+    pub(super) split_after: Option<f64>,
+    /// An island's integration (`islands.rs`): it keeps each accepted step (for the contacts
+    /// between islands: the current window's are `kept[..n_kept]`) and pauses at a key's
+    /// failure as at a contact event.
+    pub(super) island: bool,
+    /// (step, the laws along it).
+    pub(super) kept: Vec<(dopri::Step, Vec<Hysteretic>)>,
+    pub(super) n_kept: usize,
 }
 
 /// Located events within [`STALL_WINDOW`] × max(t_end, 1 s) that mean time has stopped
@@ -117,6 +112,11 @@ impl<'a> Integration<'a> {
             wall: wall.elapsed().as_secs_f64(),
             pending: false,
             stall: (0.0, 0),
+            stop: st.t_end,
+            split_after: None,
+            island: false,
+            kept: Vec::new(),
+            n_kept: 0,
         };
         Ok(Self {
             eng,
@@ -152,7 +152,7 @@ impl<'a> Integration<'a> {
                 self.clock.pending = false;
                 found = Some(self.eng.state.t);
             } else {
-                if self.eng.state.t >= st.t_end {
+                if self.eng.state.t >= self.clock.stop {
                     return Ok(false);
                 }
                 let stats = &self.eng.state.out.stats;
@@ -166,7 +166,9 @@ impl<'a> Integration<'a> {
                     Attempt::Rejected => continue,
                     Attempt::Accepted(f) => found = f,
                 }
-                let contact = self.eng.state.cluster.iter().any(|f| !f.is_branch());
+                let cluster = &self.eng.state.cluster;
+                let contact = cluster.iter().any(|f| !f.is_branch())
+                    || (self.clock.island && cluster.iter().any(|&f| self.key_fails(f)));
                 if found.is_some() && pause_at_contact && contact {
                     self.clock.pending = true;
                     return Ok(true);
@@ -200,13 +202,38 @@ impl<'a> Integration<'a> {
             }
             self.batcher
                 .maybe(&self.eng.state.out, self.eng.state.t, observer)?;
+            if self.splits_here() {
+                return Ok(true);
+            }
         }
+    }
+
+    /// Event `f` is the failure of a shear key (rule G5).
+    #[cold]
+    fn key_fails(&self, f: EventFn) -> bool {
+        match f {
+            EventFn::Upper(j) => {
+                let law = &self.eng.state.laws[j];
+                law.fails_at(law.branch().upper, 1.0)
+            }
+            _ => false,
+        }
+    }
+
+    /// At or after `split_after`, not at the end, no event pending, every contact open.
+    fn splits_here(&self) -> bool {
+        let t = self.eng.state.t;
+        self.clock.split_after.is_some_and(|ts| t >= ts)
+            && !self.clock.pending
+            && t < self.clock.stop
+            && (self.eng.state.contacts.iter()).all(|s| *s == ContactState::Open)
     }
 
     /// One DP5 step from the current state (to the next breakpoint at most), the event search
     /// on its dense output, the grid samples inside it and the move to its end or first event.
     /// The grid samples go to `observer` as they are made (a long step over a quiet stretch
     /// holds many).
+    #[inline(never)]
     fn attempt(&mut self, observer: &mut dyn Observer) -> Result<Attempt, SolverError> {
         let Integration {
             eng,
@@ -227,6 +254,10 @@ impl<'a> Integration<'a> {
             fns,
             armed,
             rhs_evals,
+            stop,
+            island,
+            kept,
+            n_kept,
             ..
         } = clock;
         let scene = eng.scene;
@@ -236,9 +267,9 @@ impl<'a> Integration<'a> {
             *bp += 1;
         }
         let t_stop = if *bp < breakpoints.len() {
-            breakpoints[*bp].min(st.t_end)
+            breakpoints[*bp].min(*stop)
         } else {
-            st.t_end
+            *stop
         };
         let mut hh = h.min(t_stop - eng.state.t);
         if st.h_max > 0.0 {
@@ -277,6 +308,9 @@ impl<'a> Integration<'a> {
             *c += 1;
         }
         *h = ctrl.next_h(hh, step.error, true);
+        if *island {
+            keep_step(kept, n_kept, step, &eng.state.laws);
+        }
         // event search on the dense output
         // the output instants inside the step
         let mut grid = [0.0; 16];
@@ -356,7 +390,7 @@ impl<'a> Integration<'a> {
     }
 
     /// f(t, y) at the current state, the event functions of the contact mode and their arming.
-    fn rearm(&mut self) -> Result<(), SolverError> {
+    pub(super) fn rearm(&mut self) -> Result<(), SolverError> {
         let (eng, clock) = (&mut self.eng, &mut self.clock);
         // the state is lent to the right-hand side (which does not read `state.y`), not cloned
         let y1 = std::mem::take(&mut eng.state.y);
@@ -398,6 +432,24 @@ impl<'a> Integration<'a> {
         eng.state.out.finish(eng.state.energy_scale);
         std::mem::replace(&mut eng.state.out, RunOutput::new(eng.scene))
     }
+}
+
+/// An island's accepted step and the laws along it, into `kept[n_kept]`.
+#[cold]
+#[inline(never)]
+fn keep_step(
+    kept: &mut Vec<(dopri::Step, Vec<Hysteretic>)>,
+    n_kept: &mut usize,
+    step: &dopri::Step,
+    laws: &[Hysteretic],
+) {
+    if *n_kept == kept.len() {
+        kept.push((step.clone(), laws.to_vec()));
+    } else {
+        kept[*n_kept].0.clone_from(step);
+        kept[*n_kept].1.clone_from_slice(laws);
+    }
+    *n_kept += 1;
 }
 
 /// The state at the event located at `eng.state.t` in `step`: a contact event from a step

@@ -12,7 +12,8 @@
 //! - [`resolve`]: at an event — impacts (eq. 5–7) with the accumulation rule, the contact phase
 //!   (eq. 8–10), transitions; [`project`]: the projection onto the closed constraints;
 //! - [`record`]: output samples, the energy ledger, peaks;
-//! - [`fork`]: friction sweeps sharing their motion up to the first contact.
+//! - [`fork`]: friction sweeps sharing their motion up to the first contact;
+//! - [`islands`]: islands of bodies on their own steps while every contact is open.
 
 mod driver;
 mod dynamics;
@@ -20,6 +21,7 @@ mod engine;
 mod event_fn;
 mod events;
 mod fork;
+mod islands;
 mod locate;
 mod project;
 mod record;
@@ -27,5 +29,33 @@ mod resolve;
 mod restep;
 mod workspace;
 
-pub use driver::{integrate, run};
 pub use fork::FrictionFork;
+
+use crate::output::RunOutput;
+use crate::run::{Observer, Run, SolverError};
+use crate::scene::Scene;
+use driver::Integration;
+
+/// Run the event-driven integration of a scene: the output of a finished run, else the
+/// reason it stopped.
+pub fn run(scene: &Scene, observer: &mut dyn Observer) -> Result<RunOutput, SolverError> {
+    integrate(scene, observer).into_result()
+}
+
+/// Run the event-driven integration of a scene, keeping what was computed before a cancel or
+/// a failure; by islands while every contact is open if the scene asks for it
+/// ([`islands`]).
+pub fn integrate(scene: &Scene, observer: &mut dyn Observer) -> Run {
+    let mut it = match Integration::start(scene) {
+        Ok(it) => it,
+        Err(e) => return Run::new(RunOutput::new(scene), Err(e)),
+    };
+    let result = if islands::eligible(scene) {
+        let split = islands::Split::new(scene);
+        islands::run_phases(&mut it, &split, observer)
+    } else {
+        it.advance(observer, false).map(|_| ())
+    };
+    let complete = result.is_ok();
+    Run::new(it.finish(observer, complete), result)
+}

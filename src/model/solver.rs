@@ -24,6 +24,8 @@ pub struct SolverSpec {
     pub max_events: Option<usize>,
     pub max_steps: Option<usize>,
     pub stop_at_samples: Option<bool>,
+    /// Islands on their own steps while every contact is open.
+    pub islands: Option<bool>,
     /// Window (s) within which hysteretic branch events are applied together.
     pub branch_window: Option<f64>,
     pub lemke_max_pivots: Option<usize>,
@@ -76,6 +78,9 @@ pub fn settings(s: &SolverSpec, ck: &Check) -> Result<Settings, ModelError> {
     }
     if let Some(b) = s.stop_at_samples {
         out.stop_at_samples = b;
+    }
+    if let Some(b) = s.islands {
+        out.islands = b;
     }
     if let Some(n) = s.max_events {
         out.max_events = n;

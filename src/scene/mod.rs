@@ -12,12 +12,14 @@ mod force_runs;
 mod forces;
 mod key;
 mod kinematics;
+mod restrict;
 mod settings;
 
 pub use crate::methods::Method;
 pub use forces::{ForceModel, LEDGER_TERMS, PowerTerms, smooth_forces, smooth_forces_in};
 pub use key::SceneKey;
 pub use kinematics::{BodyState, ContactKinematics, Deformation, Frame, cos_sin, perp, spread};
+pub use restrict::Restricted;
 pub use settings::Settings;
 
 use crate::excitation::GroundMotion;

@@ -62,6 +62,10 @@ pub struct Settings {
     pub branch_window: f64,
     /// Keep every output sample; off keeps only the running summary (sweeps) (all; on).
     pub keep_history: bool,
+    /// While every contact is open, integrate each island (bodies joined by elements) on its
+    /// own steps between output instants, the open contacts between islands watched on their
+    /// dense outputs (E; off; `event_driven::islands`).
+    pub islands: bool,
     /// Lemke's pivoting options of the impact, contact and Moreau–Jean LCPs (E, M).
     pub lemke: LemkeOptions,
 }
@@ -91,6 +95,7 @@ impl Default for Settings {
             stop_at_samples: false,
             branch_window: 0.0,
             keep_history: true,
+            islands: false,
             // the Moreau–Jean Delassus Wᵀ Ŵ⁻¹ W of light abutments on stiff actuators is badly
             // scaled: accept solutions whose relative residual is below 1e-7
             lemke: LemkeOptions {

@@ -1,0 +1,215 @@
+//! Islands on their own steps (`solver.islands`, `event_driven/islands.rs`): the islands of a
+//! scene, a closed form through an impact between two islands, and a bridge of frames in
+//! series against the whole scene integrated at once and a converged run.
+
+mod common;
+
+use deckspin::output::{EventKind, RunOutput, SampleKind};
+use std::path::Path;
+
+/// Two oscillators on a line, a (k = 1) and b (k = 4), unit masses, driven towards each other
+/// (q̇ = +1 and −1); a's corner meets b's face when x_a − x_b = 0.5 and the impact is elastic.
+fn two_oscillators(islands: bool) -> String {
+    format!(
+        r#"title = "two oscillators meeting"
+[solver]
+t_end = 1.2
+output_dt = 0.01
+rtol = 1e-10
+atol = 1e-13
+islands = {islands}
+
+[[body]]
+name = "a"
+mass = 1.0
+dofs = ["x"]
+initial_velocity = [1.0, 0.0, 0.0]
+
+[[body]]
+name = "b"
+mass = 1.0
+dofs = ["x"]
+position = [2.0, 0.0]
+initial_velocity = [-1.0, 0.0, 0.0]
+
+[[contact]]
+name = "ab"
+body = "a"
+face_body = "b"
+normal = [-1.0, 0.0]
+gap = 0.5
+restitution = 1.0
+
+[[spring]]
+name = "ka"
+body = "a"
+direction = [1.0, 0.0]
+stiffness = 1.0
+
+[[spring]]
+name = "kb"
+body = "b"
+direction = [1.0, 0.0]
+stiffness = 4.0
+"#
+    )
+}
+
+/// The closed form: x_a = sin t, x_b = −sin(2t)/2 until g = 0.5 − x_a + x_b reaches 0 (at t_c,
+/// by bisection), then the velocities exchange (equal masses, ε = 1) and each oscillator
+/// goes on freely. Returns (t_c, x_a(t), x_b(t)) at `t`.
+fn closed_form(t: f64) -> (f64, f64, f64) {
+    let g = |t: f64| 0.5 - t.sin() - (2.0 * t).sin() / 2.0;
+    let (mut lo, mut hi) = (0.0, 1.0);
+    for _ in 0..200 {
+        let m = 0.5 * (lo + hi);
+        if g(m) > 0.0 { lo = m } else { hi = m }
+    }
+    let tc = hi;
+    let (xa, xb) = (tc.sin(), -(2.0 * tc).sin() / 2.0);
+    let (va, vb) = (-(2.0 * tc).cos(), tc.cos());
+    let s = t - tc;
+    (
+        tc,
+        xa * s.cos() + va * s.sin(),
+        xb * (2.0 * s).cos() + vb * (2.0 * s).sin() / 2.0,
+    )
+}
+
+fn run_text(text: &str) -> RunOutput {
+    common::run_text(text, "two-oscillators.toml").unwrap_or_else(|e| panic!("{e}"))
+}
+
+#[test]
+fn an_impact_between_two_islands_follows_the_closed_form() {
+    let (tc, xa, xb) = closed_form(1.2);
+    // no second impact before the end: the gap of the closed form stays open after t_c
+    for k in 1..=1000 {
+        let t = tc + (1.2 - tc) * k as f64 / 1000.0;
+        let (_, a, b) = closed_form(t);
+        assert!(0.5 - a + b > 1e-3, "second impact near t = {t}");
+    }
+    let whole = run_text(&two_oscillators(false));
+    let split = run_text(&two_oscillators(true));
+    for (name, r) in [("whole", &whole), ("islands", &split)] {
+        let impacts: Vec<f64> = (r.events.iter())
+            .filter(|e| e.kind == EventKind::Impact)
+            .map(|e| e.t)
+            .collect();
+        assert_eq!(impacts.len(), 1, "{name}: {impacts:?}");
+        assert!(
+            (impacts[0] - tc).abs() < 1e-9,
+            "{name}: t_c {} vs {tc}",
+            impacts[0]
+        );
+        let q = &r.final_state.q;
+        assert!(
+            (q[0] - xa).abs() < 1e-8 && (q[1] - xb).abs() < 1e-8,
+            "{name}: {q:?} vs [{xa}, {xb}]"
+        );
+        assert!(r.summary.energy_closure_rel < 1e-8, "{name}");
+    }
+    // the islands took their own steps: more, counted over both
+    assert!(split.stats.steps_accepted > whole.stats.steps_accepted);
+}
+
+/// `models/three-frame.toml` with its frames and joints replaced by `n` frames of 40 m in
+/// series, joints of 25 mm without keys (as `examples/frames_cost`).
+fn frames(n: usize) -> String {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let template = std::fs::read_to_string(root.join("models/three-frame.toml")).unwrap();
+    let mut doc: toml_edit::DocumentMut = template.parse().unwrap();
+    doc.remove("frame");
+    doc.remove("joint");
+    let mut text = doc.to_string();
+    for k in 0..n {
+        let h = [8.0, 9.0, 10.0, 9.0][k % 4];
+        text.push_str(&format!(
+            "\n[[frame]]\nname = \"frame{}\"\nmass = 480.0\ninertia = 69760.0\nlength = 40.0\n\
+             width = 12.0\nskew = 30.0\n\n[[frame.bent]]\nname = \"bent{}\"\nx = 0.0\n\
+             height = {h}\n",
+            k + 1,
+            k + 1
+        ));
+    }
+    for _ in 1..n {
+        text.push_str("\n[[joint]]\ngaps = [0.025, 0.025]\n");
+    }
+    text
+}
+
+fn run_frames(n: usize, set: &[&str]) -> RunOutput {
+    let set: Vec<String> = set.iter().map(|s| s.to_string()).collect();
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("models/three-frame.toml");
+    let scene = deckspin::model::load_str(&frames(n), &path, &set).unwrap();
+    deckspin::run(&scene, &mut deckspin::Silent).unwrap()
+}
+
+#[test]
+fn islands_are_the_bodies_joined_by_elements() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("models/three-frame.toml");
+    let names = |text: &str| {
+        let scene = deckspin::model::load_str(text, &path, &[]).unwrap();
+        let islands = scene.islands();
+        let dofs: usize = islands.iter().map(|i| scene.restrict(i).dofs.len()).sum();
+        assert_eq!(dofs, scene.ndof());
+        (islands.iter())
+            .map(|i| {
+                i.iter()
+                    .map(|&b| scene.bodies[b].name.clone())
+                    .collect::<Vec<_>>()
+            })
+            .collect::<Vec<_>>()
+    };
+    // the shear keys of the joints join the frames
+    let keyed = names(&std::fs::read_to_string(&path).unwrap());
+    assert_eq!(keyed.len(), 3, "{keyed:?}");
+    assert_eq!(keyed[1], ["frame1", "frame2", "frame3"]);
+    // joints without keys: each frame alone
+    assert_eq!(names(&frames(3)).len(), 5);
+}
+
+#[test]
+fn frames_by_islands_agree_with_the_whole_scene_and_a_converged_run() {
+    let end = "solver.t_end=8.0";
+    let reference = run_frames(
+        3,
+        &[
+            end,
+            "solver.rtol=1e-9",
+            "solver.atol=1e-12",
+            "solver.branch_window=0",
+        ],
+    );
+    let whole = run_frames(3, &[end]);
+    let split = run_frames(3, &[end, "solver.islands=true"]);
+    assert!(split.stats.impacts > 10, "{:?}", split.stats);
+    assert_eq!(split.stats.impacts, whole.stats.impacts);
+    let peak = |r: &RunOutput, name: &str| {
+        (r.summary.peaks.iter())
+            .find(|p| p.name == name)
+            .unwrap()
+            .max_abs
+    };
+    for name in ["frame1.theta", "frame2.theta", "frame3.theta", "frame2.x"] {
+        let r = peak(&reference, name);
+        let (w, s) = (peak(&whole, name), peak(&split, name));
+        assert!(
+            ((s - r) / r).abs() < 3e-4 && ((w - r) / r).abs() < 3e-4,
+            "{name}: reference {r:e}, whole {w:e}, islands {s:e}"
+        );
+    }
+    assert!(
+        split.summary.energy_closure_rel < 1e-5,
+        "{}",
+        split.summary.energy_closure_rel
+    );
+    assert!(split.summary.max_penetration < 1e-9);
+    // the history has the whole scene's grid
+    let grid = |r: &RunOutput| {
+        (r.samples.iter())
+            .filter(|s| s.kind == SampleKind::Grid)
+            .count()
+    };
+    assert_eq!(grid(&split), grid(&whole));
+}
