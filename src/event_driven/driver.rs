@@ -54,13 +54,66 @@ pub(super) struct Clock {
     /// Pause at the first step end at or after this instant with every contact open (the
     /// whole scene of an islands run, `islands.rs`).
     pub(super) split_after: Option<f64>,
-    /// An island's integration (`islands.rs`): it keeps each accepted step (for the contacts
-    /// between islands: the current window's are `kept[..n_kept]`) and pauses at a key's
-    /// failure as at a contact event.
+    /// An island's integration (`islands.rs`): it keeps each accepted step of the current
+    /// window (`kept`) and pauses at a key's failure as at a contact event.
     pub(super) island: bool,
-    /// (step, the laws along it).
-    pub(super) kept: Vec<(dopri::Step, Vec<Hysteretic>)>,
-    pub(super) n_kept: usize,
+    pub(super) kept: Kept,
+}
+
+/// An island's accepted steps of the current window, with the laws along each.
+#[derive(Clone, Default)]
+pub(super) struct Kept {
+    /// (step, index in `laws`).
+    steps: Vec<(dopri::Step, usize)>,
+    n: usize,
+    /// The laws along the steps: a new entry after each event.
+    laws: Vec<Vec<Hysteretic>>,
+    n_laws: usize,
+    /// `fns_generation` of the last entry of `laws` (every event makes a new list).
+    generation: u64,
+}
+
+impl Kept {
+    /// A new window.
+    pub(super) fn clear(&mut self) {
+        (self.n, self.n_laws) = (0, 0);
+    }
+
+    /// The window's steps, each with the index of its laws.
+    pub(super) fn steps(&self) -> &[(dopri::Step, usize)] {
+        &self.steps[..self.n]
+    }
+
+    pub(super) fn laws(&self, k: usize) -> &[Hysteretic] {
+        &self.laws[k]
+    }
+
+    /// The step holding `t` (the last that starts at or before it).
+    pub(super) fn at(&self, t: f64) -> Option<&(dopri::Step, usize)> {
+        self.steps().iter().rev().find(|(s, _)| s.t0 <= t)
+    }
+
+    #[cold]
+    #[inline(never)]
+    fn push(&mut self, step: &dopri::Step, laws: &[Hysteretic], generation: u64) {
+        if self.n_laws == 0 || generation != self.generation {
+            if self.n_laws == self.laws.len() {
+                self.laws.push(laws.to_vec());
+            } else {
+                self.laws[self.n_laws].clone_from_slice(laws);
+            }
+            self.n_laws += 1;
+            self.generation = generation;
+        }
+        let k = self.n_laws - 1;
+        if self.n == self.steps.len() {
+            self.steps.push((step.clone(), k));
+        } else {
+            self.steps[self.n].0.clone_from(step);
+            self.steps[self.n].1 = k;
+        }
+        self.n += 1;
+    }
 }
 
 /// Located events within [`STALL_WINDOW`] × max(t_end, 1 s) that mean time has stopped
@@ -115,8 +168,7 @@ impl<'a> Integration<'a> {
             stop: st.t_end,
             split_after: None,
             island: false,
-            kept: Vec::new(),
-            n_kept: 0,
+            kept: Kept::default(),
         };
         Ok(Self {
             eng,
@@ -257,7 +309,6 @@ impl<'a> Integration<'a> {
             stop,
             island,
             kept,
-            n_kept,
             ..
         } = clock;
         let scene = eng.scene;
@@ -309,7 +360,7 @@ impl<'a> Integration<'a> {
         }
         *h = ctrl.next_h(hh, step.error, true);
         if *island {
-            keep_step(kept, n_kept, step, &eng.state.laws);
+            kept.push(step, &eng.state.laws, eng.state.fns_generation);
         }
         // event search on the dense output
         // the output instants inside the step
@@ -432,24 +483,6 @@ impl<'a> Integration<'a> {
         eng.state.out.finish(eng.state.energy_scale);
         std::mem::replace(&mut eng.state.out, RunOutput::new(eng.scene))
     }
-}
-
-/// An island's accepted step and the laws along it, into `kept[n_kept]`.
-#[cold]
-#[inline(never)]
-fn keep_step(
-    kept: &mut Vec<(dopri::Step, Vec<Hysteretic>)>,
-    n_kept: &mut usize,
-    step: &dopri::Step,
-    laws: &[Hysteretic],
-) {
-    if *n_kept == kept.len() {
-        kept.push((step.clone(), laws.to_vec()));
-    } else {
-        kept[*n_kept].0.clone_from(step);
-        kept[*n_kept].1.clone_from_slice(laws);
-    }
-    *n_kept += 1;
 }
 
 /// The state at the event located at `eng.state.t` in `step`: a contact event from a step

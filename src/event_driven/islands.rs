@@ -12,7 +12,7 @@
 //! window's end is a grid sample of the whole state; the peaks, statistics and energy ledger
 //! add the islands' own.
 
-use super::driver::{Clock, Integration};
+use super::driver::{Clock, Integration, Kept};
 use super::engine::{Engine, State};
 use super::events::arm;
 use super::locate::{hermite_min, hermite_stays_above};
@@ -143,7 +143,7 @@ fn separate(
                 break;
             }
             isl.clock.stop = tw;
-            isl.clock.n_kept = 0;
+            isl.clock.kept.clear();
             if !matches!(isl.advance(&mut Silent, true), Ok(false)) {
                 lost = Some(isl.eng.state.t);
             }
@@ -173,6 +173,7 @@ fn commit(
     tw: f64,
 ) -> Result<(), SolverError> {
     let dt = it.eng.scene.settings.output_dt;
+    let mut written = vec![usize::MAX; islands.len()];
     loop {
         let tg = (it.clock.next_out as f64) * dt;
         let at_end = (tg - tw).abs() <= 1e-12 * tw.max(1.0);
@@ -180,14 +181,14 @@ fn commit(
             break;
         }
         let tg = if at_end { tw } else { tg };
-        gather(it, split, islands, ledger, tg, at_end);
+        gather(it, split, islands, ledger, (tg, at_end), &mut written);
         it.eng.record_sample(SampleKind::Grid)?;
         it.clock.next_out += 1;
         if at_end {
             break;
         }
     }
-    gather(it, split, islands, ledger, tw, true);
+    gather(it, split, islands, ledger, (tw, true), &mut written);
     let n = it.eng.n;
     let state = &mut it.eng.state;
     if state.out.step_peaks.len() != n {
@@ -212,18 +213,15 @@ fn gather(
     split: &Split,
     islands: &[Integration],
     ledger: &[f64],
-    t: f64,
-    now: bool,
+    (t, now): (f64, bool),
+    written: &mut [usize],
 ) {
     let n = it.eng.n;
     let state = &mut it.eng.state;
     let mut sums = [0.0; LEDGER_TERMS];
-    for (r, isl) in split.subs.iter().zip(islands) {
+    for (i, (r, isl)) in split.subs.iter().zip(islands).enumerate() {
         let ni = isl.eng.n;
-        let ck = &isl.clock;
-        let along = (!now)
-            .then(|| ck.kept[..ck.n_kept].iter().rev().find(|(s, _)| s.t0 <= t))
-            .flatten();
+        let along = if now { None } else { isl.clock.kept.at(t) };
         let y_of = |i: usize| match along {
             Some((s, _)) => dense(s, ((t - s.t0) / s.h).clamp(0.0, 1.0), i),
             None => isl.eng.state.y[i],
@@ -235,9 +233,14 @@ fn gather(
         for (k, s) in sums.iter_mut().enumerate() {
             *s += y_of(2 * ni + k);
         }
-        let laws = along.map_or(&isl.eng.state.laws, |(_, l)| l);
-        for (k, &j) in r.hysteretic.iter().enumerate() {
-            state.laws[j].clone_from(&laws[k]);
+        // the laws along the step (copied again only when they changed), or the present ones
+        let index = along.map_or(usize::MAX, |&(_, l)| l);
+        if index == usize::MAX || written[i] != index {
+            let laws = along.map_or(&isl.eng.state.laws[..], |&(_, l)| isl.clock.kept.laws(l));
+            for (k, &j) in r.hysteretic.iter().enumerate() {
+                state.laws[j].clone_from(&laws[k]);
+            }
+            written[i] = index;
         }
     }
     for (k, s) in sums.iter().enumerate() {
@@ -304,11 +307,14 @@ impl Watch {
     ) -> Option<f64> {
         let mut first: Option<f64> = None;
         for c in &split.cross {
+            if self.clearly_open(scene, c, islands, (t, tw)) {
+                continue;
+            }
             self.times.clear();
             self.times.extend([t, tw]);
             for &(_, isl, _) in &c.dofs {
                 let ck = &islands[isl].clock;
-                for (s, _) in &ck.kept[..ck.n_kept] {
+                for (s, _) in ck.kept.steps() {
                     self.times.extend([s.t0 + 0.5 * s.h, s.t1().min(tw)]);
                 }
             }
@@ -350,6 +356,26 @@ impl Watch {
         first
     }
 
+    /// The window's ends alone show contact `c` open throughout: the cubic Hermite bound
+    /// holds with three times the rates' terms (a motion far from closing the gap, as a
+    /// joint's 25 mm against the frames' relative motion in 0.05 s).
+    fn clearly_open(
+        &mut self,
+        scene: &Scene,
+        c: &Cross,
+        islands: &[Integration],
+        (t, tw): (f64, f64),
+    ) -> bool {
+        let ((g0, r0), (g1, r1)) = (
+            self.gap(scene, c, islands, t),
+            self.gap(scene, c, islands, tw),
+        );
+        let dt = 3.0 * (tw - t);
+        let open =
+            |g0: f64, r0: f64, g1: f64, r1: f64| hermite_stays_above(g0, r0 * dt, g1, r1 * dt);
+        open(g0, r0, g1, r1) && c.edge.is_none_or(|e| open(e - g0, -r0, e - g1, -r1))
+    }
+
     /// (g_N, ġ_N) of contact `c` at `s` from its islands' dense outputs.
     fn gap(&mut self, scene: &Scene, c: &Cross, islands: &[Integration], s: f64) -> (f64, f64) {
         let n = scene.ndof();
@@ -357,8 +383,7 @@ impl Watch {
             let it = &islands[isl];
             let ni = it.eng.n;
             let ck = &it.clock;
-            let step = ck.kept[..ck.n_kept].iter().rev().find(|(st, _)| st.t0 <= s);
-            let (q, v) = match step {
+            let (q, v) = match ck.kept.at(s) {
                 Some((st, _)) => {
                     let th = ((s - st.t0) / st.h).clamp(0.0, 1.0);
                     (dense(st, th, k), dense(st, th, ni + k))
@@ -432,8 +457,7 @@ impl<'a> Integration<'a> {
             stop: st.t_end,
             split_after: None,
             island: true,
-            kept: Vec::new(),
-            n_kept: 0,
+            kept: Kept::default(),
         };
         Ok(Self {
             eng,
