@@ -213,3 +213,26 @@ fn frames_by_islands_agree_with_the_whole_scene_and_a_converged_run() {
     };
     assert_eq!(grid(&split), grid(&whole));
 }
+
+/// `models/three-frame.toml`: keys join its frames (three islands: the frames and each
+/// abutment), its abutments' keys fail. A key failing inside an island gives its window up, so
+/// the whole scene logs the failure with its samples, at the instant it logs without islands.
+#[test]
+fn keys_fail_by_islands_where_they_fail_in_the_whole_scene() {
+    let whole = common::run("models/three-frame.toml", &[]);
+    let split = common::run("models/three-frame.toml", &["solver.islands=true"]);
+    let failures = |r: &RunOutput| -> Vec<(f64, usize)> {
+        (r.events.iter())
+            .filter(|e| e.kind == EventKind::KeyFailure)
+            .map(|e| (e.t, e.contact))
+            .collect()
+    };
+    let (w, s) = (failures(&whole), failures(&split));
+    assert_eq!(w.len(), 3, "{w:?}");
+    assert_eq!(w.len(), s.len(), "{w:?} {s:?}");
+    for ((tw, kw), (ts, ks)) in w.iter().zip(&s) {
+        assert!(kw == ks && (tw - ts).abs() < 1e-5, "{w:?} {s:?}");
+    }
+    assert_eq!(whole.stats.impacts, split.stats.impacts);
+    assert!(split.stats.steps_accepted > whole.stats.steps_accepted);
+}
