@@ -70,7 +70,8 @@ fn root() -> PathBuf {
 }
 
 /// The model seeds: four-span.toml and every validation model, comments dropped; then the
-/// record scene with each AT2 file of `excitations/`, and the bridge driven by one of them.
+/// record scene with each AT2 file of `excitations/`, three-frame.toml by islands, and the
+/// bridge driven by one of them.
 pub fn seeds() -> Vec<Seed> {
     let mut out = Vec::new();
     let mut models = vec![root().join("models/four-span.toml")];
@@ -111,6 +112,19 @@ pub fn seeds() -> Vec<Seed> {
             "\"../excitations/NORTHR_MUL279.AT2\"",
             &format!("{:?}", transverse.display().to_string()),
         );
+    // islands on their own steps (`solver.islands`): the bridge of three frames, keys
+    // joining its frames, its abutments apart
+    let frames = root().join("models/three-frame.toml");
+    out.push(Seed {
+        name: format!("{} by islands", rel(&frames)),
+        model: strip_comments(&std::fs::read_to_string(&frames).unwrap()).replacen(
+            "[solver]",
+            "[solver]\nislands = true",
+            1,
+        ),
+        path: frames,
+        at2: None,
+    });
     out.push(Seed {
         name: format!("four-span + mutated {}", rel(&at2s[2])),
         model: bridge,
