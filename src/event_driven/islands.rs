@@ -1,16 +1,16 @@
 //! Islands on their own steps (`solver.islands`): while every contact is open, the bodies
 //! joined by elements (an island, [`Scene::islands`]) move independently of the others, so
 //! each is integrated on the scene restricted to it ([`Scene::restrict`]), with its own step
-//! size and its own events, from one output instant to the next (a *window*). The open
-//! contacts between islands are watched on the islands' dense outputs; a window in which one
-//! of them may close, or in which an island meets a contact event of its own, is given up and
+//! size and its own events, over windows of [`WINDOW`]. The open contacts between islands are
+//! watched on the islands' dense outputs; a window in which one of them may close, or in
+//! which an island meets a contact event or a key's failure of its own, is given up and
 //! integrated again by the whole scene, which locates and resolves the event as always. The
-//! whole scene goes on until its contacts are all open again, past the given-up window.
+//! whole scene goes on until its contacts are all open again, past that instant.
 //!
-//! An event of one island thus ends only that island's step: N frames in series cost N times
-//! one frame, not N² (`examples/frames_cost`). Outputs are those of the whole scene: each
-//! window's end is a grid sample of the whole state; the peaks, statistics and energy ledger
-//! add the islands' own.
+//! An event of one island thus ends only that island's step: N frames in series cost about N
+//! times one frame, not N² (`examples/frames_cost`, `docs/results.md`). Outputs are those of
+//! the whole scene: the grid samples of a kept window from the islands' dense outputs and the
+//! laws along their steps; the peaks, statistics and energy ledger add the islands' own.
 
 use super::driver::{Clock, Integration, Kept};
 use super::engine::{Engine, State};
