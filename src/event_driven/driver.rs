@@ -150,33 +150,51 @@ impl<'a> Integration<'a> {
         }
         let fns = eng.event_fns();
         let armed = arm(&mut eng, &fns)?;
+        let mut it = Self::with_clock(eng, f0, h, fns, armed);
+        it.clock.next_out = 1;
+        it.clock.wall = wall.elapsed().as_secs_f64();
+        Ok(it)
+    }
+
+    /// The integration of `eng` at its present state: f(t, y) = `f0`, the first step `h`, the
+    /// event functions `fns` and their arming; output from the first grid instant on
+    /// (`next_out` 0), the stall window from now.
+    pub(super) fn with_clock(
+        eng: Engine<'a>,
+        f0: DVector<f64>,
+        h: f64,
+        fns: Vec<EventFn>,
+        armed: Vec<bool>,
+    ) -> Self {
+        let scene = eng.scene;
+        let st = &scene.settings;
         let clock = Clock {
             breakpoints: scene.breakpoints(),
             bp: 0,
-            next_out: 1,
+            next_out: 0,
             ctrl: Controller::default(),
+            y0: DVector::zeros(f0.len()),
             f0,
             h,
             h_min: 1e-14 * st.t_end.max(1.0),
-            y0: DVector::zeros(y_len(n)),
             fns,
             armed,
             rhs_evals: 1,
-            wall: wall.elapsed().as_secs_f64(),
+            wall: 0.0,
             pending: false,
-            stall: (0.0, 0),
+            stall: (eng.state.t, 0),
             stop: st.t_end,
             split_after: None,
             island: false,
             kept: Kept::default(),
         };
-        Ok(Self {
+        Self {
             eng,
             clock,
             batcher: Batcher::new(),
             ws: dopri::Workspace::default(),
             ws_event: dopri::Workspace::default(),
-        })
+        }
     }
 
     /// Integrate to the end, or, with `pause_at_contact`, until a contact event is located

@@ -12,13 +12,13 @@
 //! the whole scene: the grid samples of a kept window from the islands' dense outputs and the
 //! laws along their steps; the peaks, statistics and energy ledger add the islands' own.
 
-use super::driver::{Clock, Integration, Kept};
+use super::driver::Integration;
 use super::engine::{Engine, State};
 use super::events::arm;
 use super::locate::{hermite_min, hermite_stays_above};
-use crate::dopri::{self, Controller};
+use crate::dopri;
 use crate::output::SampleKind;
-use crate::run::{Batcher, Observer, Silent, SolverError};
+use crate::run::{Observer, Silent, SolverError};
 use crate::scene::{BodyRef, Frame, LEDGER_TERMS, Restricted, Scene};
 use nalgebra::DVector;
 use std::time::Instant;
@@ -438,33 +438,10 @@ impl<'a> Integration<'a> {
         eng.rhs(state.t, &y, &mut f0)?;
         let fns = eng.event_fns();
         let armed = arm(&mut eng, &fns)?;
-        let st = &scene.settings;
-        let clock = Clock {
-            breakpoints: scene.breakpoints(),
-            bp: 0,
-            next_out: usize::MAX / 4,
-            ctrl: Controller::default(),
-            f0,
-            h,
-            h_min: 1e-14 * st.t_end.max(1.0),
-            y0: DVector::zeros(y.len()),
-            fns,
-            armed,
-            rhs_evals: 1,
-            wall: 0.0,
-            pending: false,
-            stall: (state.t, 0),
-            stop: st.t_end,
-            split_after: None,
-            island: true,
-            kept: Kept::default(),
-        };
-        Ok(Self {
-            eng,
-            clock,
-            batcher: Batcher::new(),
-            ws: dopri::Workspace::default(),
-            ws_event: dopri::Workspace::default(),
-        })
+        let mut it = Self::with_clock(eng, f0, h, fns, armed);
+        // no grid instant of its own: the whole scene samples
+        it.clock.next_out = usize::MAX / 4;
+        it.clock.island = true;
+        Ok(it)
     }
 }
