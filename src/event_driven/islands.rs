@@ -16,6 +16,7 @@ use super::driver::Integration;
 use super::engine::{Engine, State};
 use super::events::arm;
 use super::locate::{hermite_min, hermite_stays_above};
+use super::record::track_peaks;
 use crate::dopri;
 use crate::output::SampleKind;
 use crate::run::{Observer, Silent, SolverError};
@@ -148,11 +149,22 @@ fn separate(
                 lost = Some(isl.eng.state.t);
             }
         }
-        let lost = lost.or_else(|| watch.may_close(it.eng.scene, split, &islands, (t, tw)));
         if lost.is_some() {
             break lost;
         }
-        commit(it, split, &islands, &ledger, tw)?;
+        if let Some((safe, first)) = watch.may_close(it.eng.scene, split, &islands, (t, tw)) {
+            // the islands hold up to the last sample before the first that may close: that
+            // part of the window is kept, the whole scene goes on from there
+            if safe > t {
+                for isl in islands.iter_mut() {
+                    isl.peaks_until(safe);
+                }
+                commit(it, split, &islands, &ledger, (safe, false))?;
+                it.batcher.maybe(&it.eng.state.out, safe, observer)?;
+            }
+            break Some(first);
+        }
+        commit(it, split, &islands, &ledger, (tw, true))?;
         for isl in islands.iter_mut() {
             isl.eng.state.out.step_peaks.fill((0.0, 0.0));
         }
@@ -164,13 +176,14 @@ fn separate(
 
 /// The window (t, tw] into the whole scene: the grid samples inside it from the islands' dense
 /// outputs and the laws along their steps, then the state at `tw` (a grid sample if `tw` is
-/// an output instant), the peaks.
+/// an output instant; the islands' own state if they are `at_tw`, else their dense outputs),
+/// the peaks.
 fn commit(
     it: &mut Integration,
     split: &Split,
     islands: &[Integration],
     ledger: &[f64],
-    tw: f64,
+    (tw, at_tw): (f64, bool),
 ) -> Result<(), SolverError> {
     let dt = it.eng.scene.settings.output_dt;
     let mut written = vec![usize::MAX; islands.len()];
@@ -181,14 +194,21 @@ fn commit(
             break;
         }
         let tg = if at_end { tw } else { tg };
-        gather(it, split, islands, ledger, (tg, at_end), &mut written);
+        gather(
+            it,
+            split,
+            islands,
+            ledger,
+            (tg, at_end && at_tw),
+            &mut written,
+        );
         it.eng.record_sample(SampleKind::Grid)?;
         it.clock.next_out += 1;
         if at_end {
             break;
         }
     }
-    gather(it, split, islands, ledger, (tw, true), &mut written);
+    gather(it, split, islands, ledger, (tw, at_tw), &mut written);
     let n = it.eng.n;
     let state = &mut it.eng.state;
     if state.out.step_peaks.len() != n {
@@ -304,8 +324,9 @@ impl Watch {
         split: &Split,
         islands: &[Integration],
         (t, tw): (f64, f64),
-    ) -> Option<f64> {
+    ) -> Option<(f64, f64)> {
         let mut first: Option<f64> = None;
+        let mut safe = tw;
         for c in &split.cross {
             if self.clearly_open(scene, c, islands, (t, tw)) {
                 continue;
@@ -327,9 +348,10 @@ impl Watch {
                 let fns = [(g, rate)]
                     .into_iter()
                     .chain(c.edge.map(|e| (e - g, -rate)));
+                let mut fails = false;
                 for (m, (v, r)) in fns.enumerate() {
                     if v <= 0.0 || !v.is_finite() {
-                        first = Some(first.map_or(s, |f: f64| f.min(s)));
+                        fails = true;
                         break;
                     }
                     if let Some((s0, g0, r0)) = prev {
@@ -342,10 +364,14 @@ impl Watch {
                         if !hermite_stays_above(v0, r0 * dt, v, r * dt)
                             && hermite_min(v0, r0 * dt, v, r * dt).is_some_and(|(_, p)| p <= 0.0)
                         {
-                            first = Some(first.map_or(s, |f: f64| f.min(s)));
+                            fails = true;
                             break;
                         }
                     }
+                }
+                if fails {
+                    first = Some(first.map_or(s, |f: f64| f.min(s)));
+                    safe = safe.min(prev.map_or(t, |p| p.0));
                 }
                 if first.is_some_and(|f| f <= s) {
                     break;
@@ -353,7 +379,7 @@ impl Watch {
                 prev = Some((s, g, rate));
             }
         }
-        first
+        first.map(|f| (safe, f))
     }
 
     /// The window's ends alone show contact `c` open throughout: the cubic Hermite bound
@@ -411,6 +437,18 @@ fn dense(step: &dopri::Step, theta: f64, i: usize) -> f64 {
 }
 
 impl<'a> Integration<'a> {
+    /// The peaks of the window's steps up to `t` only.
+    fn peaks_until(&mut self, t: f64) {
+        let (n, out) = (self.eng.n, &mut self.eng.state.out);
+        out.step_peaks.fill((0.0, 0.0));
+        let mut y1 = DVector::zeros(self.eng.state.y.len());
+        for (s, _) in self.clock.kept.steps() {
+            if s.t0 < t {
+                track_peaks(out, s, t.min(s.t1()), n, &mut y1);
+            }
+        }
+    }
+
     /// An island's integration from the whole scene's `state` (its DOFs and laws through
     /// `r`'s indices, its ledger from 0), every contact open, `h` its first step.
     fn resume(
