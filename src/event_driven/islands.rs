@@ -3,12 +3,15 @@
 //! each is integrated on the scene restricted to it ([`Scene::restrict`]), with its own step
 //! size and its own events, over windows of [`WINDOW`]. The open contacts between islands are
 //! watched on the islands' dense outputs; a window in which one of them may close, or in
-//! which an island meets a contact event or a key's failure of its own, is given up and
-//! integrated again by the whole scene, which locates and resolves the event as always. The
-//! whole scene goes on until its contacts are all open again, past that instant.
+//! which an island meets a contact event or a key's failure of its own, is given up: its part
+//! before the last sample that held (if any) is kept, and the whole scene integrates the rest
+//! again, locating and resolving the event as always. The whole scene goes on until its
+//! contacts are all open again, past that instant.
 //!
-//! An event of one island thus ends only that island's step: N frames in series cost about N
-//! times one frame, not N² (`examples/frames_cost`, `docs/results.md`). Outputs are those of
+//! An event of one island thus ends only that island's step. Each island is held to the
+//! tolerance on its own, where the whole scene's step, set by its stiffest island and every
+//! island's events, holds the others closer: at equal accuracy the islands pay only with many
+//! frames (`scripts/islands-precision.sh`, `docs/results.md`). Outputs are those of
 //! the whole scene: the grid samples of a kept window from the islands' dense outputs and the
 //! laws along their steps; the peaks, statistics and energy ledger add the islands' own.
 
@@ -113,8 +116,8 @@ const WINDOW: f64 = 0.05;
 
 /// The islands from the whole scene's state, window after window: None at the run's end, else
 /// the instant from which a window was given up (an island's contact event, or the first
-/// sample of a contact between islands that may close); the whole scene, still at that
-/// window's start, goes on past it.
+/// sample of a contact between islands that may close); the whole scene, at that window's
+/// start or at the last sample before that instant, goes on past it.
 fn separate(
     it: &mut Integration,
     split: &Split,

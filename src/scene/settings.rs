@@ -64,7 +64,8 @@ pub struct Settings {
     pub keep_history: bool,
     /// While every contact is open, integrate each island (bodies joined by elements) on its
     /// own steps between output instants, the open contacts between islands watched on their
-    /// dense outputs (E; off; `event_driven::islands`).
+    /// dense outputs; each island is then held to rtol on its own, less closely than the
+    /// whole scene holds it (E; off; `event_driven::islands`).
     pub islands: bool,
     /// Lemke's pivoting options of the impact, contact and Moreau–Jean LCPs (E, M).
     pub lemke: LemkeOptions,
