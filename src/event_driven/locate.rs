@@ -89,12 +89,17 @@ pub(super) fn locate_event_in(
         (v_end, r_end),
     )?;
     // gaps (cheap, and a corner may graze through in part of a step) at θ = ¼, ½, ¾, 1;
-    // everything else at ½ and 1
+    // everything else at ½ and 1; the gaps' own samples (¼, ¾, output instants) are left out when the step's ends show
+    // every gap far from closing (the Hermite bound with three times the rates' terms)
+    let far = (gaps.iter()).all(|&k| {
+        let (a, b) = (shifted(v_prev[k], k, armed), shifted(v_end[k], k, armed));
+        stays_above(3.0 * step.h, (a, r_prev[k]), (b, r_end[k]))
+    });
     if y.len() != step.y0.len() {
         *y = DVector::zeros(step.y0.len());
     }
     for &(theta, full) in thetas.iter() {
-        if !full && gaps.is_empty() {
+        if !full && (gaps.is_empty() || far) {
             continue;
         }
         let t = step.t0 + theta * step.h;
