@@ -155,3 +155,73 @@ fn a_body_driven_in_y_keeps_its_dofs_in_x_and_theta() {
         s.deformation_rates(&fr, &el.attachment, el.support)
     );
 }
+
+/// ë of every hysteretic element (`Scene::deformation_acceleration`, the rate of a load
+/// reversal's function d·ė) against the central difference of ė along q(t ± δ) = q ± δq̇ +
+/// δ²q̈/2, q̇(t ± δ) = q̇ ± δq̈, the supports at t ± δ: elements on a point, a rotation and
+/// between two frames (keys), bodies on DOFs, driven by the ground in one axis and in both.
+#[test]
+fn deformation_accelerations_match_finite_differences() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut scenes: Vec<(String, deckspin::scene::Scene)> = [
+        "models/four-span.toml",
+        "models/four-span-rigid.toml",
+        "models/three-frame.toml",
+    ]
+    .iter()
+    .map(|m| (m.to_string(), deckspin::load(&root.join(m), &[]).unwrap()))
+    .collect();
+    // the backwall's element along x, and along a skew direction that sees the driven y
+    for (what, text) in [
+        ("backwall", BACKWALL.to_string()),
+        (
+            "skew backwall",
+            BACKWALL.replace("[1.0, 0.0]", "[0.6, 0.8]"),
+        ),
+    ] {
+        let mut wall = deckspin::model::load_str(&text, Path::new("wall.toml"), &[]).unwrap();
+        wall.bodies[0].drive = [None, Some(0)];
+        scenes.push((what.into(), wall));
+    }
+    // a fixed sequence in [−1, 1)
+    let mut seed = 0x9e3779b97f4a7c15u64;
+    let mut next = move || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+    };
+    let mut checked = 0;
+    for (name, s) in &scenes {
+        let n = s.ndof();
+        assert!(!s.hysteretic.is_empty(), "{name}");
+        for _ in 0..5 {
+            let t = 2.0 + next().abs() * 8.0;
+            let q = DVector::from_fn(n, |k, _| 0.02 * next() * if k % 3 == 2 { 0.1 } else { 1.0 });
+            let v = DVector::from_fn(n, |_, _| 0.3 * next());
+            let a = DVector::from_fn(n, |_, _| 5.0 * next());
+            let fr = s.frame(t, &q, &v);
+            let d = 1e-5;
+            let at = |h: f64| {
+                let qh = &q + &v * h + &a * (0.5 * h * h);
+                let vh = &v + &a * h;
+                s.frame(t + h, &qh, &vh)
+            };
+            let (plus, minus) = (at(d), at(-d));
+            for el in &s.hysteretic {
+                let acc = s.deformation_acceleration(&fr, &el.attachment, el.support, a.as_slice());
+                let rate = |f: &deckspin::scene::Frame| {
+                    s.deformation_rates(f, &el.attachment, el.support).1
+                };
+                let fd = (rate(&plus) - rate(&minus)) / (2.0 * d);
+                assert!(
+                    (acc - fd).abs() < 1e-6 * (1.0 + fd.abs()),
+                    "{name}, {}: ë {acc} against {fd} by differences at t = {t}",
+                    el.name
+                );
+                checked += 1;
+            }
+        }
+    }
+    assert!(checked > 100, "{checked}");
+}

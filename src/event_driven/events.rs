@@ -149,7 +149,21 @@ impl<'a> Engine<'a> {
                             rate = -ed;
                             b.upper - e
                         }
-                        _ => b.direction * ed,
+                        _ => {
+                            // where the dynamics were evaluated, q̈ gives the rate d·ë
+                            if held {
+                                let el = &scene.hysteretic[j];
+                                let qdd = d.qdd.as_slice();
+                                rate = b.direction
+                                    * scene.deformation_acceleration(
+                                        fr,
+                                        &el.attachment,
+                                        el.support,
+                                        qdd,
+                                    );
+                            }
+                            b.direction * ed
+                        }
                     }
                 }
             };

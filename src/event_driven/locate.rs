@@ -89,17 +89,20 @@ pub(super) fn locate_event_in(
         (v_end, r_end),
     )?;
     // gaps (cheap, and a corner may graze through in part of a step) at θ = ¼, ½, ¾, 1;
-    // everything else at ½ and 1; the gaps' own samples (¼, ¾, output instants) are left out when the step's ends show
-    // every gap far from closing (the Hermite bound with three times the rates' terms)
-    let far = (gaps.iter()).all(|&k| {
-        let (a, b) = (shifted(v_prev[k], k, armed), shifted(v_end[k], k, armed));
-        stays_above(3.0 * step.h, (a, r_prev[k]), (b, r_end[k]))
-    });
+    // everything else at ½ and 1. A function the step's ends show far from zero (armed, its
+    // rate known at both ends, the Hermite bound with three times the rates' terms) needs no
+    // sample inside: the gaps' own samples (¼, ¾, output instants) are left out when every
+    // gap is far, every sample inside the step when every function is.
+    let far = |k: usize| {
+        armed[k] && stays_above(3.0 * step.h, (v_prev[k], r_prev[k]), (v_end[k], r_end[k]))
+    };
+    let gaps_far = gaps.iter().all(|&k| far(k));
+    let all_far = gaps_far && (0..fns.len()).all(far);
     if y.len() != step.y0.len() {
         *y = DVector::zeros(step.y0.len());
     }
     for &(theta, full) in thetas.iter() {
-        if !full && (gaps.is_empty() || far) {
+        if theta < 1.0 && (all_far || (!full && (gaps.is_empty() || gaps_far))) {
             continue;
         }
         let t = step.t0 + theta * step.h;

@@ -383,6 +383,56 @@ impl Scene {
         self.deformation_value(att, &fr.poses[a], &fr.poses[b.unwrap_or(a)], sup)
     }
 
+    /// ë of an attachment at the poses and support motions of `fr`, with q̈ = `qdd`: d·P̈ − ü_g,
+    /// P̈ = a_c + α ρ⊥ − ω² ρ (ρ = R(θ) p; an axis without a DOF has the ground's a_c if
+    /// driven, else 0); θ̈ − ü_g for a rotation.
+    pub fn deformation_acceleration(
+        &self,
+        fr: &Frame,
+        att: &Attachment,
+        support: Option<usize>,
+        qdd: &[f64],
+    ) -> f64 {
+        let ag = support.map_or(0.0, |s| fr.supports[s].2);
+        let dof = |body: usize, axis: usize| self.bodies[body].dofs[axis].map(|k| qdd[k]);
+        match *att {
+            Attachment::Point {
+                body,
+                point,
+                direction: d,
+            } => d.dot(&self.point_acceleration(fr, body, point, qdd)) - ag,
+            Attachment::Rotation { body } => dof(body, 2).unwrap_or(0.0) - ag,
+            Attachment::Relative {
+                body,
+                point,
+                other,
+                other_point,
+                direction: d,
+            } => {
+                let pa = self.point_acceleration(fr, body, point, qdd);
+                let pb = self.point_acceleration(fr, other, other_point, qdd);
+                d.dot(&(pa - pb)) - ag
+            }
+        }
+    }
+
+    /// P̈ of a body point (see [`Scene::deformation_acceleration`]).
+    fn point_acceleration(
+        &self,
+        fr: &Frame,
+        body: usize,
+        point: Vector2<f64>,
+        qdd: &[f64],
+    ) -> Vector2<f64> {
+        let (b, s) = (&self.bodies[body], &fr.poses[body]);
+        let ground = fr.drive.get(body).map_or(Vector2::zeros(), |d| d.1);
+        let axis = |k: usize, g: f64| b.dofs[k].map_or(g, |k| qdd[k]);
+        let alpha = axis(2, 0.0);
+        let rho = s.rot(point);
+        Vector2::new(axis(0, ground.x), axis(1, ground.y)) + alpha * perp(rho)
+            - s.omega * s.omega * rho
+    }
+
     /// [`Scene::deformation`] from the pose `s` of the element's body, the pose `o` of the
     /// other body of a two-body element (ignored otherwise) and the motion (u_g, u̇_g, ü_g) of
     /// its support.
