@@ -123,8 +123,9 @@ impl<'a> Engine<'a> {
                 }
                 EventFn::Unseat(k) => {
                     let seat = &scene.seats[k];
-                    let c = &scene.contacts[seat.contact];
-                    seat.edge - scene.contact_rates(fr, c).0
+                    let (gap, gap_rate, _) = scene.contact_rates(fr, &scene.contacts[seat.contact]);
+                    rate = -gap_rate;
+                    seat.edge - gap
                 }
                 EventFn::SlideStop(i) => {
                     let s = match self.state.contacts[i] {
@@ -149,21 +150,7 @@ impl<'a> Engine<'a> {
                             rate = -ed;
                             b.upper - e
                         }
-                        _ => {
-                            // where the dynamics were evaluated, q̈ gives the rate d·ë
-                            if held {
-                                let el = &scene.hysteretic[j];
-                                let qdd = d.qdd.as_slice();
-                                rate = b.direction
-                                    * scene.deformation_acceleration(
-                                        fr,
-                                        &el.attachment,
-                                        el.support,
-                                        qdd,
-                                    );
-                            }
-                            b.direction * ed
-                        }
+                        _ => b.direction * ed,
                     }
                 }
             };
@@ -173,6 +160,34 @@ impl<'a> Engine<'a> {
         self.ws.gap_rates = rates;
         self.ws.defo = defo;
         Ok(())
+    }
+
+    /// The rates d·ë of the load-reversal functions among `fns` into `rates`, from the q̈ and
+    /// frame of the dynamics evaluated at (t, y); false (nothing written) if they were not.
+    pub(super) fn reversal_rates_into(
+        &self,
+        t: f64,
+        y: &DVector<f64>,
+        fns: &[EventFn],
+        rates: &mut [f64],
+    ) -> bool {
+        let d = &self.ws.dynamics;
+        if !d.holds(t, y, false) {
+            return false;
+        }
+        for (f, r) in fns.iter().zip(rates.iter_mut()) {
+            if let EventFn::Reversal(j) = *f {
+                let el = &self.scene.hysteretic[j];
+                let acc = (self.scene).deformation_acceleration(
+                    &d.fr,
+                    &el.attachment,
+                    el.support,
+                    d.qdd.as_slice(),
+                );
+                *r = self.state.laws[j].branch().direction * acc;
+            }
+        }
+        true
     }
 
     pub(super) fn threshold(&self, f: EventFn) -> f64 {
@@ -263,8 +278,12 @@ pub(super) fn arm_into(
             }
         }
     }));
-    // they are also the start values of the next step's event search
-    let rates = eng.ws.gap_rates.clone();
+    // they are also the start values of the next step's event search (with the load
+    // reversals' rates: the dynamics were evaluated here)
+    let mut rates = eng.ws.gap_rates.clone();
+    let y = std::mem::take(&mut eng.state.y);
+    eng.reversal_rates_into(eng.state.t, &y, fns, &mut rates);
+    eng.state.y = y;
     eng.state.last_event_values = Some((eng.state.t, vals.clone(), rates));
     eng.state.arm_values = vals;
     Ok(())

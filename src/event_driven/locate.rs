@@ -52,6 +52,7 @@ pub(super) fn locate_event_in(
     armed: &mut [bool],
     ls: &mut LocateScratch,
 ) -> Result<Option<f64>, SolverError> {
+    relist(ls, eng, fns);
     let LocateScratch {
         thr,
         v_prev,
@@ -66,19 +67,9 @@ pub(super) fn locate_event_in(
         y,
         roots,
         thetas,
-        listed,
+        near,
+        ..
     } = ls;
-    // thresholds and the gap subset change only with the list of functions
-    let fresh = *listed != eng.state.fns_generation || thr.len() != fns.len();
-    if fresh {
-        *listed = eng.state.fns_generation;
-        thr.clear();
-        thr.extend(fns.iter().map(|f| eng.threshold(*f)));
-        gaps.clear();
-        gaps.extend((0..fns.len()).filter(|&k| matches!(fns[k], EventFn::Gap(_))));
-        gap_fns.clear();
-        gap_fns.extend(gaps.iter().map(|&k| fns[k]));
-    }
     let shifted = |v: f64, k: usize, armed: &[bool]| if armed[k] { v } else { v + thr[k] };
     end_values(
         eng,
@@ -89,36 +80,38 @@ pub(super) fn locate_event_in(
         (v_end, r_end),
     )?;
     // gaps (cheap, and a corner may graze through in part of a step) at θ = ¼, ½, ¾, 1;
-    // everything else at ½ and 1. A function the step's ends show far from zero (armed, its
-    // rate known at both ends, the Hermite bound with three times the rates' terms) needs no
-    // sample inside: the gaps' own samples (¼, ¾, output instants) are left out when every
-    // gap is far, every sample inside the step when every function is.
-    let far = |k: usize| {
-        armed[k] && stays_above(3.0 * step.h, (v_prev[k], r_prev[k]), (v_end[k], r_end[k]))
-    };
-    let gaps_far = gaps.iter().all(|&k| far(k));
-    let all_far = gaps_far && (0..fns.len()).all(far);
+    // everything else at ½ and 1; the functions far from zero are left out
+    let (gaps_far, branch_only) = near_functions(
+        eng,
+        (step, fns, armed),
+        (v_prev, r_prev),
+        (v_end, r_end),
+        (gaps, near),
+    );
     if y.len() != step.y0.len() {
         *y = DVector::zeros(step.y0.len());
     }
     for &(theta, full) in thetas.iter() {
-        if theta < 1.0 && (all_far || (!full && (gaps.is_empty() || gaps_far))) {
+        let none = if full {
+            near.is_empty()
+        } else {
+            gaps.is_empty() || gaps_far
+        };
+        if theta < 1.0 && none {
             continue;
         }
+        let subset = full && theta < 1.0 && branch_only;
         let t = step.t0 + theta * step.h;
         if theta == 1.0 {
             std::mem::swap(vals, v_end);
             std::mem::swap(r_vals, r_end);
         } else {
-            step.dense_at_into(t, y);
-            if full {
-                eng.event_values_into(t, y, fns, vals)?;
-            } else {
-                eng.event_values_into(t, y, gap_fns, vals)?;
-            }
-            r_vals.clone_from(&eng.ws.gap_rates);
+            let list = if subset { Some(&near[..]) } else { None };
+            let fns = if full { fns } else { &gap_fns[..] };
+            sample_values(eng, step, (fns, list), t, y, (vals, r_vals))?;
         }
-        let index = |m: usize| if full { m } else { gaps[m] };
+        let list = if subset { &near[..] } else { &gaps[..] };
+        let index = |m: usize| if full && !subset { m } else { list[m] };
         roots.clear();
         for (m, &val) in vals.iter().enumerate() {
             let k = index(m);
@@ -166,6 +159,75 @@ pub(super) fn locate_event_in(
     let last = (step.t1(), std::mem::take(v_prev), std::mem::take(r_prev));
     eng.state.last_event_values = Some(last);
     Ok(None)
+}
+
+/// The thresholds, the gaps among `fns` and their list, made anew when the list of functions
+/// changed.
+fn relist(ls: &mut LocateScratch, eng: &Engine, fns: &[EventFn]) {
+    if ls.listed == eng.state.fns_generation && ls.thr.len() == fns.len() {
+        return;
+    }
+    ls.listed = eng.state.fns_generation;
+    ls.thr.clear();
+    ls.thr.extend(fns.iter().map(|f| eng.threshold(*f)));
+    ls.gaps.clear();
+    ls.gaps
+        .extend((0..fns.len()).filter(|&k| matches!(fns[k], EventFn::Gap(_))));
+    ls.gap_fns.clear();
+    ls.gap_fns.extend(ls.gaps.iter().map(|&k| fns[k]));
+}
+
+/// Values and rates at `t` on the step's dense output of `fns`, or of the branch functions
+/// `fns[k]`, k in `subset`, each from its element alone.
+fn sample_values(
+    eng: &mut Engine,
+    step: &dopri::Step,
+    (fns, subset): (&[EventFn], Option<&[usize]>),
+    t: f64,
+    y: &mut DVector<f64>,
+    (vals, rates): (&mut Vec<f64>, &mut Vec<f64>),
+) -> Result<(), SolverError> {
+    if let Some(near) = subset {
+        vals.clear();
+        rates.clear();
+        for &k in near {
+            let (v, r) = branch_value(eng, step, fns[k], t, y);
+            vals.push(v);
+            rates.push(r);
+        }
+    } else {
+        step.dense_at_into(t, y);
+        eng.event_values_into(t, y, fns, vals)?;
+        rates.clone_from(&eng.ws.gap_rates);
+    }
+    Ok(())
+}
+
+/// The functions that need a sample inside the step, into `near`: those its ends do not show
+/// far from zero (armed, the rate known at both ends, the Hermite bound with three times the
+/// rates' terms; a load reversal's rate d·ë where the dynamics were evaluated). Returns
+/// whether every gap is far (the gaps' own samples ¼, ¾ and output instants are left out) and
+/// whether the near functions are few branch functions (at ½ each is then evaluated from its
+/// element alone; none is when none is near).
+fn near_functions(
+    eng: &Engine,
+    (step, fns, armed): (&dopri::Step, &[EventFn], &[bool]),
+    (v_prev, r_prev): (&[f64], &[f64]),
+    (v_end, r_end): (&[f64], &mut [f64]),
+    (gaps, near): (&[usize], &mut Vec<usize>),
+) -> (bool, bool) {
+    if fns.iter().any(|f| matches!(f, EventFn::Reversal(_))) {
+        // at the step's end (at its start from the previous step's end, or the arming)
+        eng.reversal_rates_into(step.t1(), &step.y1, fns, r_end);
+    }
+    let far = |k: usize| {
+        armed[k] && stays_above(3.0 * step.h, (v_prev[k], r_prev[k]), (v_end[k], r_end[k]))
+    };
+    let gaps_far = gaps.iter().all(|&k| far(k));
+    near.clear();
+    near.extend((0..fns.len()).filter(|&k| !far(k)));
+    let branch_only = 4 * near.len() <= fns.len() && near.iter().all(|&k| fns[k].is_branch());
+    (gaps_far, branch_only)
 }
 
 /// The values (and rates) of the functions at both ends of the step: the end first (the last
@@ -388,28 +450,11 @@ pub(super) fn illinois(
     if y.len() != step.y0.len() {
         y = step.y0.clone();
     }
-    let n = eng.n;
     let r = bracket_root(ta, tb, fa, fb, tol, |tm| {
-        let theta = (tm - step.t0) / step.h;
-        let mut fm = match fns[k] {
-            // a branch function needs only its element: its bodies' poses, one support
-            EventFn::Lower(j) | EventFn::Upper(j) | EventFn::Reversal(j) => {
-                let (a, b) = eng.element_bodies(j);
-                for body in std::iter::once(a).chain(b) {
-                    for d in eng.scene.bodies[body].dofs.into_iter().flatten() {
-                        y[d] = step.dense_component(theta, d);
-                        y[n + d] = step.dense_component(theta, n + d);
-                    }
-                }
-                let (e, ed) = eng.element_deformation_in(j, tm, &y);
-                let b = eng.state.laws[j].branch();
-                match fns[k] {
-                    EventFn::Lower(_) => e - b.lower,
-                    EventFn::Upper(_) => b.upper - e,
-                    _ => b.direction * ed,
-                }
-            }
-            _ => one_value(eng, step, fns[k], tm)?,
+        let mut fm = if fns[k].is_branch() {
+            branch_value(eng, step, fns[k], tm, &mut y).0
+        } else {
+            one_value(eng, step, fns[k], tm)?
         };
         if !armed {
             fm += thr;
@@ -418,6 +463,36 @@ pub(super) fn illinois(
     });
     eng.ws.branch_y = y;
     Ok(r?.1)
+}
+
+/// (value, rate) of branch function `f` on the dense output at `t`, from its element alone:
+/// its bodies' entries of `y` (written), one support. The rate of a load reversal's d·ė is
+/// not known here (NaN).
+fn branch_value(
+    eng: &Engine,
+    step: &dopri::Step,
+    f: EventFn,
+    t: f64,
+    y: &mut DVector<f64>,
+) -> (f64, f64) {
+    let (EventFn::Lower(j) | EventFn::Upper(j) | EventFn::Reversal(j)) = f else {
+        return (f64::NAN, f64::NAN);
+    };
+    let (n, theta) = (eng.n, (t - step.t0) / step.h);
+    let (a, b) = eng.element_bodies(j);
+    for body in std::iter::once(a).chain(b) {
+        for d in eng.scene.bodies[body].dofs.into_iter().flatten() {
+            y[d] = step.dense_component(theta, d);
+            y[n + d] = step.dense_component(theta, n + d);
+        }
+    }
+    let (e, ed) = eng.element_deformation_in(j, t, y);
+    let b = eng.state.laws[j].branch();
+    match f {
+        EventFn::Lower(_) => (e - b.lower, ed),
+        EventFn::Upper(_) => (b.upper - e, -ed),
+        _ => (b.direction * ed, f64::NAN),
+    }
 }
 
 /// The value of one event function on the dense output at `t` (its rate in

@@ -154,4 +154,6 @@ pub(super) struct LocateScratch {
     pub(super) thetas: Vec<(f64, bool)>,
     /// `Engine::fns_generation` of the list `thr` and `gaps` were made for.
     pub(super) listed: u64,
+    /// The functions the step's ends do not show far from zero.
+    pub(super) near: Vec<usize>,
 }
