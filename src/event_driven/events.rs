@@ -163,17 +163,17 @@ impl<'a> Engine<'a> {
     }
 
     /// The rates d·ë of the load-reversal functions among `fns` into `rates`, from the q̈ and
-    /// frame of the dynamics evaluated at (t, y); false (nothing written) if they were not.
+    /// frame of the dynamics evaluated at (t, y); nothing written if they were not.
     pub(super) fn reversal_rates_into(
         &self,
         t: f64,
         y: &DVector<f64>,
         fns: &[EventFn],
         rates: &mut [f64],
-    ) -> bool {
+    ) {
         let d = &self.ws.dynamics;
         if !d.holds(t, y, false) {
-            return false;
+            return;
         }
         for (f, r) in fns.iter().zip(rates.iter_mut()) {
             if let EventFn::Reversal(j) = *f {
@@ -187,7 +187,6 @@ impl<'a> Engine<'a> {
                 *r = self.state.laws[j].branch().direction * acc;
             }
         }
-        true
     }
 
     pub(super) fn threshold(&self, f: EventFn) -> f64 {
@@ -258,6 +257,12 @@ pub(super) fn arm_into(
     let y = std::mem::take(&mut eng.state.y);
     let mut vals = std::mem::take(&mut eng.state.arm_values);
     let r = eng.event_values_into(eng.state.t, &y, fns, &mut vals);
+    // they are also the start values of the next step's event search, with the load
+    // reversals' rates (the dynamics were evaluated here)
+    let mut rates = eng.ws.gap_rates.clone();
+    if r.is_ok() {
+        eng.reversal_rates_into(eng.state.t, &y, fns, &mut rates);
+    }
     eng.state.y = y;
     r?;
     let scene = eng.scene;
@@ -278,12 +283,6 @@ pub(super) fn arm_into(
             }
         }
     }));
-    // they are also the start values of the next step's event search (with the load
-    // reversals' rates: the dynamics were evaluated here)
-    let mut rates = eng.ws.gap_rates.clone();
-    let y = std::mem::take(&mut eng.state.y);
-    eng.reversal_rates_into(eng.state.t, &y, fns, &mut rates);
-    eng.state.y = y;
     eng.state.last_event_values = Some((eng.state.t, vals.clone(), rates));
     eng.state.arm_values = vals;
     Ok(())

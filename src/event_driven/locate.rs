@@ -100,18 +100,18 @@ pub(super) fn locate_event_in(
         if theta < 1.0 && none {
             continue;
         }
-        let subset = full && theta < 1.0 && branch_only;
+        // the functions sampled: all, the near ones (branch functions alone) or the gaps
+        let subset = (full && theta < 1.0 && branch_only).then_some(&near[..]);
         let t = step.t0 + theta * step.h;
         if theta == 1.0 {
             std::mem::swap(vals, v_end);
             std::mem::swap(r_vals, r_end);
         } else {
-            let list = if subset { Some(&near[..]) } else { None };
             let fns = if full { fns } else { &gap_fns[..] };
-            sample_values(eng, step, (fns, list), t, y, (vals, r_vals))?;
+            sample_values(eng, step, (fns, subset), t, y, (vals, r_vals))?;
         }
-        let list = if subset { &near[..] } else { &gaps[..] };
-        let index = |m: usize| if full && !subset { m } else { list[m] };
+        let (every, list) = subset.map_or((full, &gaps[..]), |near| (false, near));
+        let index = |m: usize| if every { m } else { list[m] };
         roots.clear();
         for (m, &val) in vals.iter().enumerate() {
             let k = index(m);

@@ -394,14 +394,13 @@ impl Scene {
         qdd: &[f64],
     ) -> f64 {
         let ag = support.map_or(0.0, |s| fr.supports[s].2);
-        let dof = |body: usize, axis: usize| self.bodies[body].dofs[axis].map(|k| qdd[k]);
         match *att {
             Attachment::Point {
                 body,
                 point,
                 direction: d,
             } => d.dot(&self.point_acceleration(fr, body, point, qdd)) - ag,
-            Attachment::Rotation { body } => dof(body, 2).unwrap_or(0.0) - ag,
+            Attachment::Rotation { body } => self.bodies[body].dofs[2].map_or(0.0, |k| qdd[k]) - ag,
             Attachment::Relative {
                 body,
                 point,
