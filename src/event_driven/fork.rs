@@ -76,6 +76,8 @@ impl Engine<'_> {
             forces: ForceModel::new(scene),
             state: self.state.clone(),
             ws: Workspace::new(self.n),
+            light: super::free_flow::Light::of(scene),
+            span: None,
         }
     }
 }
