@@ -2,7 +2,6 @@
 //! (Hairer, Nørsett & Wanner, *Solving ODEs I*, §II.5–6, code DOPRI5).
 
 use nalgebra::DVector;
-use std::sync::Arc;
 
 const C: [f64; 7] = [0.0, 1.0 / 5.0, 3.0 / 10.0, 4.0 / 5.0, 8.0 / 9.0, 1.0, 1.0];
 const A: [[f64; 6]; 7] = [
@@ -59,90 +58,6 @@ const D: [f64; 7] = [
 /// A right-hand side f(t, y) → out.
 pub type Rhs<'a, E> = dyn FnMut(f64, &DVector<f64>, &mut DVector<f64>) -> Result<(), E> + 'a;
 
-/// A smooth reference motion y_ref(t) of some components over a step: the step integrates
-/// δ = y − y_ref, δ' = f(t, y) − y_ref'(t), so that what y_ref carries (a light body's free
-/// linear flow, `event_driven::free_flow`) does not set the step size.
-pub trait Reference: std::fmt::Debug + Send + Sync {
-    /// The components it covers (indices into y).
-    fn components(&self) -> &[usize];
-    /// y_ref(t) into `val` and, if asked, y_ref'(t) into `rate`, in the order of
-    /// [`Reference::components`]; values of components at or above `upto` may be left out.
-    fn eval(&self, t: f64, upto: usize, val: &mut [f64], rate: Option<&mut [f64]>);
-    /// y_ref(t) of the j-th component of [`Reference::components`].
-    fn eval_one(&self, t: f64, j: usize) -> f64 {
-        let mut val = [0.0; MAX_REFERENCED];
-        self.eval(t, usize::MAX, &mut val, None);
-        val[j]
-    }
-}
-
-/// A step's reference, with its values at the step's two ends and its rates at the last
-/// stage.
-#[derive(Clone, Debug)]
-struct Referenced {
-    flow: Arc<dyn Reference>,
-    at0: Vec<f64>,
-    at1: Vec<f64>,
-    rate: Vec<f64>,
-}
-
-impl Referenced {
-    /// The reference of a step from t0 (reusing `old`'s storage); f(t0) in `k0` becomes δ'.
-    fn start(
-        old: Option<Self>,
-        flow: Arc<dyn Reference>,
-        t0: f64,
-        n: usize,
-        k0: &mut DVector<f64>,
-    ) -> Self {
-        let m = flow.components().len();
-        assert!(
-            m <= MAX_REFERENCED,
-            "a reference covers at most {MAX_REFERENCED} components"
-        );
-        let mut r = match old {
-            Some(mut r) => {
-                r.flow = flow;
-                r
-            }
-            None => Referenced {
-                flow,
-                at0: Vec::new(),
-                at1: Vec::new(),
-                rate: Vec::new(),
-            },
-        };
-        for v in [&mut r.at0, &mut r.at1, &mut r.rate] {
-            v.resize(m, 0.0);
-        }
-        r.flow.eval(t0, n, &mut r.at0, Some(&mut r.rate));
-        r.to_delta(k0);
-        r
-    }
-
-    /// A stage's y from its δ (`ys`, built on y0): + y_ref(ts) − y_ref(t0); its rates kept.
-    /// Values at or above `upto` are left out, except at the `last` stage (t1).
-    fn stage(&mut self, ts: f64, last: bool, upto: usize, ys: &mut [f64]) {
-        let mut val = [0.0; MAX_REFERENCED];
-        let at = if last {
-            &mut self.at1[..]
-        } else {
-            &mut val[..]
-        };
-        self.flow.eval(ts, upto, at, Some(&mut self.rate));
-        for (j, &i) in self.flow.components().iter().enumerate() {
-            ys[i] += at[j] - self.at0[j];
-        }
-    }
-
-    /// f → δ' = f − y_ref' at the last stage's instant.
-    fn to_delta(&self, f: &mut DVector<f64>) {
-        for (j, &i) in self.flow.components().iter().enumerate() {
-            f[i] -= self.rate[j];
-        }
-    }
-}
-
 /// One attempted step with its dense output.
 #[derive(Clone, Debug)]
 pub struct Step {
@@ -158,8 +73,6 @@ pub struct Step {
     /// (`usize::MAX` without error control).
     pub worst: usize,
     cont: [DVector<f64>; 3],
-    /// The reference motion the step was taken around, if any.
-    reference: Option<Referenced>,
 }
 
 impl Step {
@@ -178,37 +91,11 @@ impl Step {
             let r2 = y1[i] - y0[i];
             *o = y0[i] + theta * (r2 + th1 * (r3[i] + theta * (r4[i] + th1 * r5[i])));
         }
-        if let Some(r) = &self.reference {
-            let comps = r.flow.components();
-            let mut val = [0.0; MAX_REFERENCED];
-            r.flow.eval(self.t0 + theta * self.h, n, &mut val, None);
-            let o = out.as_mut_slice();
-            for (j, &i) in comps.iter().enumerate().filter(|(_, i)| **i < n) {
-                o[i] = self.delta_dense(theta, i, r.at0[j], r.at1[j]) + val[j];
-            }
-        }
-    }
-
-    /// δ(t0 + θh) of a referenced component whose reference is `at0`, `at1` at the ends.
-    fn delta_dense(&self, theta: f64, i: usize, at0: f64, at1: f64) -> f64 {
-        let th1 = 1.0 - theta;
-        let [r3, r4, r5] = self.cont.each_ref().map(|r| r.as_slice()[i]);
-        let (d0, d1) = (self.y0[i] - at0, self.y1[i] - at1);
-        d0 + theta * (d1 - d0 + th1 * (r3 + theta * (r4 + th1 * r5)))
     }
 
     /// Component i of y(t0 + θh).
     #[inline]
     pub fn dense_component(&self, theta: f64, i: usize) -> f64 {
-        if let Some(r) = &self.reference
-            && let Some(j) = r.flow.components().iter().position(|&c| c == i)
-        {
-            if theta == 1.0 {
-                return self.y1[i];
-            }
-            let at = r.flow.eval_one(self.t0 + theta * self.h, j);
-            return self.delta_dense(theta, i, r.at0[j], r.at1[j]) + at;
-        }
         let th1 = 1.0 - theta;
         let [r3, r4, r5] = self.cont.each_ref().map(|r| r.as_slice()[i]);
         let (y0, y1) = (self.y0.as_slice()[i], self.y1.as_slice()[i]);
@@ -235,11 +122,6 @@ impl Step {
     pub fn t1(&self) -> f64 {
         self.t0 + self.h
     }
-
-    /// The reference motion the step was taken around, if any.
-    pub fn reference(&self) -> Option<Arc<dyn Reference>> {
-        self.reference.as_ref().map(|r| r.flow.clone())
-    }
 }
 
 /// Take one DP5 step of size h from (t0, y0) with f0 = f(t0, y0). The error norm uses the first
@@ -256,7 +138,7 @@ pub fn step<E>(
     n_err: usize,
 ) -> Result<Step, E> {
     let mut ws = Workspace::default();
-    step_into(&mut ws, rhs, t0, y0, f0, h, rtol, atol, n_err, None)?;
+    step_into(&mut ws, rhs, t0, y0, f0, h, rtol, atol, n_err)?;
     Ok(ws.step)
 }
 
@@ -281,18 +163,12 @@ impl Default for Workspace {
                 error: 0.0,
                 worst: usize::MAX,
                 cont: [z(), z(), z()],
-                reference: None,
             },
         }
     }
 }
 
-/// Most components a [`Reference`] covers.
-pub const MAX_REFERENCED: usize = 32;
-
-/// [`step`] without allocation: the result is `ws.step`. With a `reference`, its components
-/// are integrated as δ = y − y_ref (the error estimate is δ's, weighted by y); the reference
-/// must cover [t0, t0 + h] and components at or above `n_err` must not be read by `rhs`.
+/// [`step`] without allocation: the result is `ws.step`.
 #[allow(clippy::too_many_arguments)]
 pub fn step_into<E>(
     ws: &mut Workspace,
@@ -304,7 +180,6 @@ pub fn step_into<E>(
     rtol: f64,
     atol: f64,
     n_err: usize,
-    reference: Option<Arc<dyn Reference>>,
 ) -> Result<(), E> {
     let n = y0.len();
     let Workspace { k, step } = ws;
@@ -318,9 +193,6 @@ pub fn step_into<E>(
         step.cont = std::array::from_fn(|_| DVector::zeros(n));
     }
     k[0].as_mut_slice().copy_from_slice(f0.as_slice());
-    let mut refd =
-        reference.map(|flow| Referenced::start(step.reference.take(), flow, t0, n, &mut k[0]));
-    step.reference = None;
     let y = &mut step.y1;
     for s in 1..7 {
         let ys = y.as_mut_slice();
@@ -334,18 +206,8 @@ pub fn step_into<E>(
                 }
             }
         }
-        let ts = t0 + C[s] * h;
-        if let Some(r) = &mut refd {
-            r.stage(ts, s == 6, if s == 6 { n } else { n_err }, ys);
-        }
         let (_, rest) = k.split_at_mut(s);
-        rhs(ts, y, &mut rest[0])?;
-        if let Some(r) = &refd {
-            if s == 6 {
-                step.f1.as_mut_slice().copy_from_slice(rest[0].as_slice());
-            }
-            r.to_delta(&mut rest[0]);
-        }
+        rhs(t0 + C[s] * h, y, &mut rest[0])?;
     }
     // y (stage 7 argument) is the 5th-order solution y1 (FSAL: k[6] = f(t1, y1)).
     let y1 = step.y1.as_slice();
@@ -385,24 +247,7 @@ pub fn step_into<E>(
         }
         r5[i] = h * d;
     }
-    match &refd {
-        // δ's dense output: r₂ = δ₁ − δ₀
-        Some(r) => {
-            for (j, &i) in r
-                .flow
-                .components()
-                .iter()
-                .enumerate()
-                .filter(|(_, i)| **i < n)
-            {
-                let r2 = y1[i] - y0s[i] - (r.at1[j] - r.at0[j]);
-                r3[i] = h * ks[0][i] - r2;
-                r4[i] = r2 - h * ks[6][i] - r3[i];
-            }
-        }
-        None => step.f1.as_mut_slice().copy_from_slice(k[6].as_slice()),
-    }
-    step.reference = refd;
+    step.f1.as_mut_slice().copy_from_slice(k[6].as_slice());
     step.y0.as_mut_slice().copy_from_slice(y0.as_slice());
     step.t0 = t0;
     step.h = h;

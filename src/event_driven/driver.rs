@@ -340,16 +340,20 @@ impl<'a> Integration<'a> {
         } else {
             *stop
         };
-        let hh = step_size(eng, *h, t_stop);
+        let mut hh = h.min(t_stop - eng.state.t);
+        if st.h_max > 0.0 {
+            hh = hh.min(st.h_max);
+        }
+        if t_stop - eng.state.t - hh < 1e-12 * hh {
+            hh = t_stop - eng.state.t;
+        }
         y0.as_mut_slice().copy_from_slice(eng.state.y.as_slice());
         let t0 = eng.state.t;
-        let reference = free_flow(eng, t0, hh, y0);
         let mut rhs = |t: f64, y: &DVector<f64>, out: &mut DVector<f64>| {
             *rhs_evals += 1;
             eng.rhs(t, y, out)
         };
-        let (rtol, atol, e) = (st.rtol, st.atol, 2 * n);
-        dopri::step_into(ws, &mut rhs, t0, y0, f0, hh, rtol, atol, e, reference)?;
+        dopri::step_into(ws, &mut rhs, t0, y0, f0, hh, st.rtol, st.atol, 2 * n)?;
         let step = &ws.step;
         let finite = step.y1.as_slice().iter().all(|x| x.is_finite());
         if !finite || step.error > 1.0 {
@@ -497,36 +501,6 @@ impl<'a> Integration<'a> {
         eng.state.out.finish(eng.state.energy_scale);
         std::mem::replace(&mut eng.state.out, RunOutput::new(eng.scene))
     }
-}
-
-/// The light bodies' free flow for a step from (t0, y0) over h, if any (`free_flow.rs`).
-fn free_flow(
-    eng: &mut Engine,
-    t0: f64,
-    h: f64,
-    y0: &DVector<f64>,
-) -> Option<std::sync::Arc<dyn dopri::Reference>> {
-    let light = eng.light.as_ref()?;
-    let contacts = &eng.state.contacts;
-    let open = |c: usize| contacts[c] == ContactState::Open;
-    light.span(&mut eng.span, eng.scene, t0, h, y0, open)
-}
-
-/// The next step: `h` to `t_stop` at most (all of it when little is left), and `h_max` and
-/// the free flow's longest step at most.
-fn step_size(eng: &Engine, h: f64, t_stop: f64) -> f64 {
-    let st = &eng.scene.settings;
-    let mut hh = h.min(t_stop - eng.state.t);
-    if st.h_max > 0.0 {
-        hh = hh.min(st.h_max);
-    }
-    if let Some(l) = &eng.light {
-        hh = hh.min(l.max_step());
-    }
-    if t_stop - eng.state.t - hh < 1e-12 * hh {
-        hh = t_stop - eng.state.t;
-    }
-    hh
 }
 
 /// The state at the event located at `eng.state.t` in `step`: a contact event from a step

@@ -2,7 +2,6 @@
 //! the state's kinematic readings.
 
 use super::event_fn::EventFn;
-use super::free_flow::{Light, Span};
 use super::workspace::Workspace;
 use crate::hysteresis::Hysteretic;
 use crate::output::{ContactState, RunOutput};
@@ -22,10 +21,6 @@ pub(super) struct Engine<'a> {
     pub(super) forces: ForceModel,
     pub(super) state: State,
     pub(super) ws: Workspace,
-    /// The light bodies stepped around their free flow (`solver.free_flow`).
-    pub(super) light: Option<Arc<Light>>,
-    /// The last free-flow reference, which later steps may go on with.
-    pub(super) span: Option<Arc<Span>>,
 }
 
 /// Everything a run carries from one instant to the next: a fork of the run is a clone.
@@ -96,8 +91,6 @@ impl<'a> Engine<'a> {
                 fns_generation: 0,
             },
             ws: Workspace::new(n),
-            light: Light::of(scene),
-            span: None,
         };
         let (q, v) = (eng.q(), eng.v());
         let fr = scene.frame(0.0, &q, &v);

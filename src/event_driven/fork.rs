@@ -76,8 +76,6 @@ impl Engine<'_> {
             forces: ForceModel::new(scene),
             state: self.state.clone(),
             ws: Workspace::new(self.n),
-            light: super::free_flow::Light::of(scene),
-            span: None,
         }
     }
 }

@@ -6,8 +6,6 @@
 //! - [`driver`]: start, the step loop (DP5 step, event search, grid samples), finish;
 //! - [`engine`]: the physical state of a run (a fork is a clone); [`workspace`]: reused storage;
 //! - [`dynamics`]: the constrained right-hand side between events (eq. 1–4);
-//! - [`free_flow`]: light bodies (abutments on actuators) stepped around their free linear
-//!   flow while their contacts are open;
 //! - [`event_fn`], [`events`], [`locate`]: event functions, their arming, their location on the
 //!   dense output (Illinois); [`restep`]: the state at a located contact event (a DP5 step to
 //!   it, then Newton onto g_N = 0);
@@ -23,7 +21,6 @@ mod engine;
 mod event_fn;
 mod events;
 mod fork;
-mod free_flow;
 mod islands;
 mod locate;
 mod project;

@@ -44,19 +44,7 @@ impl Engine<'_> {
         }
         let n = self.n;
         let mut rhs = |t: f64, y: &DVector<f64>, out: &mut DVector<f64>| self.rhs(t, y, out);
-        let reference = step.reference();
-        dopri::step_into(
-            ws,
-            &mut rhs,
-            t0,
-            &step.y0,
-            f0,
-            tau,
-            st.rtol,
-            st.atol,
-            2 * n,
-            reference,
-        )?;
+        dopri::step_into(ws, &mut rhs, t0, &step.y0, f0, tau, st.rtol, st.atol, 2 * n)?;
         let rs = &ws.step;
         if rs.error.is_nan() || rs.error > 1.0 || rs.y1.iter().any(|x| !x.is_finite()) {
             return Ok(None);

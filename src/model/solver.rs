@@ -26,8 +26,6 @@ pub struct SolverSpec {
     pub stop_at_samples: Option<bool>,
     /// Islands on their own steps while every contact is open.
     pub islands: Option<bool>,
-    /// Light linear bodies stepped around their free flow.
-    pub free_flow: Option<bool>,
     /// Window (s) within which hysteretic branch events are applied together.
     pub branch_window: Option<f64>,
     pub lemke_max_pivots: Option<usize>,
@@ -83,9 +81,6 @@ pub fn settings(s: &SolverSpec, ck: &Check) -> Result<Settings, ModelError> {
     }
     if let Some(b) = s.islands {
         out.islands = b;
-    }
-    if let Some(b) = s.free_flow {
-        out.free_flow = b;
     }
     if let Some(n) = s.max_events {
         out.max_events = n;

@@ -67,10 +67,6 @@ pub struct Settings {
     /// dense outputs; each island is then held to rtol on its own, less closely than the
     /// whole scene holds it (E; off; `event_driven::islands`).
     pub islands: bool,
-    /// Step around the free linear flow of light bodies (only linear spring–dashpots to the
-    /// ground or supports: abutments on actuators) while their contacts are open, so that
-    /// their fast modes do not set the step size (E; on; `event_driven::free_flow`).
-    pub free_flow: bool,
     /// Lemke's pivoting options of the impact, contact and Moreau–Jean LCPs (E, M).
     pub lemke: LemkeOptions,
 }
@@ -101,7 +97,6 @@ impl Default for Settings {
             branch_window: 0.0,
             keep_history: true,
             islands: false,
-            free_flow: false,
             // the Moreau–Jean Delassus Wᵀ Ŵ⁻¹ W of light abutments on stiff actuators is badly
             // scaled: accept solutions whose relative residual is below 1e-7
             lemke: LemkeOptions {
