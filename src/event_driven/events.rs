@@ -189,13 +189,16 @@ impl<'a> Engine<'a> {
         }
     }
 
+    /// The band ε of f: f is armed once past it, and watched for v ≤ −ε until then, so that
+    /// a value resting at zero (an element on the kink of its law) is no crossing.
     pub(super) fn threshold(&self, f: EventFn) -> f64 {
         let s = &self.scene.settings;
         match f {
             EventFn::Gap(_) | EventFn::Unseat(_) => 1e-3 * s.gap_tol,
             EventFn::Release(_) | EventFn::StickSlip(_) => 1e-10 * self.state.force_scale,
             EventFn::SlideStop(_) | EventFn::Reversal(_) => 1e-3 * s.velocity_tol,
-            EventFn::Lower(_) | EventFn::Upper(_) => 1e-13,
+            // a deformation is held to atol: a bound is not crossed back and forth within it
+            EventFn::Lower(_) | EventFn::Upper(_) => (1e-3 * s.atol).max(1e-13),
         }
     }
 }
