@@ -86,7 +86,7 @@ pub(super) fn locate_event_in(
         (step, fns, armed),
         (v_prev, r_prev),
         (v_end, r_end),
-        (gaps, near),
+        near,
     );
     if y.len() != step.y0.len() {
         *y = DVector::zeros(step.y0.len());
@@ -214,20 +214,25 @@ fn near_functions(
     (step, fns, armed): (&dopri::Step, &[EventFn], &[bool]),
     (v_prev, r_prev): (&[f64], &[f64]),
     (v_end, r_end): (&[f64], &mut [f64]),
-    (gaps, near): (&[usize], &mut Vec<usize>),
+    near: &mut Vec<usize>,
 ) -> (bool, bool) {
     if fns.iter().any(|f| matches!(f, EventFn::Reversal(_))) {
         // at the step's end (at its start from the previous step's end, or the arming)
         eng.reversal_rates_into(step.t1(), &step.y1, fns, r_end);
     }
-    let far = |k: usize| {
-        armed[k] && stays_above(3.0 * step.h, (v_prev[k], r_prev[k]), (v_end[k], r_end[k]))
-    };
-    let gaps_far = gaps.iter().all(|&k| far(k));
+    let dt = 3.0 * step.h;
     near.clear();
-    near.extend((0..fns.len()).filter(|&k| !far(k)));
-    let branch_only = 4 * near.len() <= fns.len() && near.iter().all(|&k| fns[k].is_branch());
-    (gaps_far, branch_only)
+    let (mut gaps_far, mut branch_only) = (true, true);
+    let ends = (v_prev.iter().zip(r_prev.iter())).zip(v_end.iter().zip(r_end.iter()));
+    for (k, ((&f, &armed), ((&ga, &ra), (&gb, &rb)))) in fns.iter().zip(armed).zip(ends).enumerate()
+    {
+        if !(armed && stays_above(dt, (ga, ra), (gb, rb))) {
+            near.push(k);
+            gaps_far &= !matches!(f, EventFn::Gap(_));
+            branch_only &= f.is_branch();
+        }
+    }
+    (gaps_far, branch_only && 4 * near.len() <= fns.len())
 }
 
 /// The values (and rates) of the functions at both ends of the step: the end first (the last
