@@ -1,10 +1,5 @@
 //! Dormand–Prince 5(4) with FSAL and Hairer's 4th-order dense output
 //! (Hairer, Nørsett & Wanner, *Solving ODEs I*, §II.5–6, code DOPRI5).
-//!
-//! Experiment (reverted in the next commit), switched by environment variables read once:
-//! DECKSPIN_TSIT5 (Tsitouras' 5(4) tableau and interpolant instead of DP5's),
-//! DECKSPIN_SCALE=1 (each component's error relative to the largest |y| it has had) and
-//! DECKSPIN_QONLY (the positions' error alone).
 
 use nalgebra::DVector;
 
@@ -59,99 +54,6 @@ const D: [f64; 7] = [
     -1453857185.0 / 822651844.0,
     69997945.0 / 29380423.0,
 ];
-
-mod tsit5 {
-    pub const C: [f64; 7] = [0.0, 0.161, 0.327, 0.9, 0.9800255409045097, 1.0, 1.0];
-    pub const A: [[f64; 6]; 7] = [
-        [0.0; 6],
-        [0.161, 0.0, 0.0, 0.0, 0.0, 0.0],
-        [-0.008480655492356989, 0.335480655492357, 0.0, 0.0, 0.0, 0.0],
-        [
-            2.8971530571054935,
-            -6.359448489975075,
-            4.3622954328695815,
-            0.0,
-            0.0,
-            0.0,
-        ],
-        [
-            5.325864828439257,
-            -11.748883564062828,
-            7.4955393428898365,
-            -0.09249506636175525,
-            0.0,
-            0.0,
-        ],
-        [
-            5.86145544294642,
-            -12.92096931784711,
-            8.159367898576159,
-            -0.071584973281401,
-            -0.028269050394068383,
-            0.0,
-        ],
-        [
-            0.09646076681806523,
-            0.01,
-            0.4798896504144996,
-            1.379008574103742,
-            -3.290069515436081,
-            2.324710524099774,
-        ],
-    ];
-    pub const E: [f64; 7] = [
-        -0.0017800110522257771,
-        -0.0008164344596567469,
-        0.007880878010261995,
-        -0.1447110071732629,
-        0.5823571654525552,
-        -0.458082105929187,
-        1.0 / 66.0,
-    ];
-    pub const R: [[f64; 4]; 7] = [
-        [
-            1.0,
-            -2.763706197274826,
-            2.9132554618219126,
-            -1.0530884977290216,
-        ],
-        [0.0, 0.1317, -0.2234, 0.1017],
-        [
-            0.0,
-            3.9302962368947516,
-            -5.941033872131505,
-            2.490627285651253,
-        ],
-        [
-            0.0,
-            -12.411077166933676,
-            30.33818863028232,
-            -16.548102889244902,
-        ],
-        [0.0, 37.50931341651104, -88.1789048947664, 47.37952196281928],
-        [
-            0.0,
-            -27.896526289197286,
-            65.09189467479366,
-            -34.87065786149661,
-        ],
-        [0.0, 1.5, -4.0, 2.5],
-    ];
-}
-fn use_tsit5() -> bool {
-    static T: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
-    *T.get_or_init(|| std::env::var("DECKSPIN_TSIT5").is_ok())
-}
-
-fn exp_mode() -> u8 {
-    static T: std::sync::OnceLock<u8> = std::sync::OnceLock::new();
-    *T.get_or_init(|| {
-        std::env::var("DECKSPIN_SCALE")
-            .ok()
-            .and_then(|v| v.parse().ok())
-            .unwrap_or(0)
-    })
-}
 
 /// A right-hand side f(t, y) → out.
 pub type Rhs<'a, E> = dyn FnMut(f64, &DVector<f64>, &mut DVector<f64>) -> Result<(), E> + 'a;
@@ -245,7 +147,6 @@ pub fn step<E>(
 pub struct Workspace {
     k: [DVector<f64>; 7],
     pub step: Step,
-    pub scale: Vec<f64>,
 }
 
 impl Default for Workspace {
@@ -253,7 +154,6 @@ impl Default for Workspace {
         let z = || DVector::zeros(0);
         Self {
             k: std::array::from_fn(|_| z()),
-            scale: Vec::new(),
             step: Step {
                 t0: 0.0,
                 h: 0.0,
@@ -282,12 +182,7 @@ pub fn step_into<E>(
     n_err: usize,
 ) -> Result<(), E> {
     let n = y0.len();
-    let Workspace { k, step, scale } = ws;
-    let mode = exp_mode();
-    if scale.len() != n {
-        scale.clear();
-        scale.resize(n, 0.0);
-    }
+    let Workspace { k, step } = ws;
     if k[0].len() != n {
         for ks in k.iter_mut() {
             *ks = DVector::zeros(n);
@@ -298,18 +193,12 @@ pub fn step_into<E>(
         step.cont = std::array::from_fn(|_| DVector::zeros(n));
     }
     k[0].as_mut_slice().copy_from_slice(f0.as_slice());
-    let ts = use_tsit5();
-    let (ca, aa, ea) = if ts {
-        (&tsit5::C, &tsit5::A, &tsit5::E)
-    } else {
-        (&C, &A, &E)
-    };
     let y = &mut step.y1;
     for s in 1..7 {
         let ys = y.as_mut_slice();
         ys.copy_from_slice(y0.as_slice());
         for (j, kj) in k.iter().enumerate().take(s) {
-            let a = aa[s][j];
+            let a = A[s][j];
             if a != 0.0 {
                 let c = h * a;
                 for (yi, ki) in ys.iter_mut().zip(kj.as_slice()) {
@@ -318,7 +207,7 @@ pub fn step_into<E>(
             }
         }
         let (_, rest) = k.split_at_mut(s);
-        rhs(t0 + ca[s] * h, y, &mut rest[0])?;
+        rhs(t0 + C[s] * h, y, &mut rest[0])?;
     }
     // y (stage 7 argument) is the 5th-order solution y1 (FSAL: k[6] = f(t1, y1)).
     let y1 = step.y1.as_slice();
@@ -327,21 +216,12 @@ pub fn step_into<E>(
     let m = n_err.min(n);
     let mut err = 0.0;
     let (mut worst, mut worst_r2) = (usize::MAX, -1.0);
-    // experiment: the error of the positions alone (the first half of the controlled components)
-    let qonly = std::env::var("DECKSPIN_QONLY").is_ok();
     for i in 0..m {
-        if qonly && i >= m / 2 {
-            break;
-        }
         let mut e = 0.0;
         for (s, kk) in ks.iter().enumerate() {
-            e += ea[s] * kk[i];
+            e += E[s] * kk[i];
         }
-        let sc = if mode == 1 {
-            atol + rtol * y0s[i].abs().max(y1[i].abs()).max(scale[i])
-        } else {
-            atol + rtol * y0s[i].abs().max(y1[i].abs())
-        };
+        let sc = atol + rtol * y0s[i].abs().max(y1[i].abs());
         let r = h * e / sc;
         let r2 = r * r;
         if r2 > worst_r2 {
@@ -349,13 +229,7 @@ pub fn step_into<E>(
         }
         err += r2;
     }
-    let m = if qonly { m / 2 } else { m };
     step.error = if m == 0 { 0.0 } else { (err / m as f64).sqrt() };
-    if step.error <= 1.0 {
-        for i in 0..m {
-            scale[i] = scale[i].max(y1[i].abs());
-        }
-    }
     step.worst = worst;
     let [r3, r4, r5] = &mut step.cont;
     let (r3, r4, r5) = (
@@ -363,30 +237,15 @@ pub fn step_into<E>(
         &mut r4.as_mut_slice()[..n],
         &mut r5.as_mut_slice()[..n],
     );
-    if ts {
-        for i in 0..n {
-            let mut p = [0.0; 4];
-            for (s, kk) in ks.iter().enumerate() {
-                for m in 0..4 {
-                    p[m] += tsit5::R[s][m] * kk[i];
-                }
-            }
-            let p = p.map(|x| h * x);
-            r3[i] = -(p[1] + p[2] + p[3]);
-            r4[i] = -p[2] - 2.0 * p[3];
-            r5[i] = p[3];
+    for i in 0..n {
+        let r2 = y1[i] - y0s[i];
+        r3[i] = h * ks[0][i] - r2;
+        r4[i] = r2 - h * ks[6][i] - r3[i];
+        let mut d = 0.0;
+        for (s, kk) in ks.iter().enumerate() {
+            d += D[s] * kk[i];
         }
-    } else {
-        for i in 0..n {
-            let r2 = y1[i] - y0s[i];
-            r3[i] = h * ks[0][i] - r2;
-            r4[i] = r2 - h * ks[6][i] - r3[i];
-            let mut d = 0.0;
-            for (s, kk) in ks.iter().enumerate() {
-                d += D[s] * kk[i];
-            }
-            r5[i] = h * d;
-        }
+        r5[i] = h * d;
     }
     step.f1.as_mut_slice().copy_from_slice(k[6].as_slice());
     step.y0.as_mut_slice().copy_from_slice(y0.as_slice());
