@@ -26,4 +26,4 @@ done | awk '
     END {
         printf "%-6s %4s %10s %14s %12s %16s\n", "rtol", "runs", "mean steps", "history error", "peak error", "largest history"
         for (r in n) printf "%-6s %4d %10.0f %14.2e %12.2e %16.2e\n", r, n[r], steps[r] / n[r], exp(lr[r] / n[r]), exp(lp[r] / n[r]), mx[r]
-    }' | { read -r head; echo "$head"; sort -t e -k2 -n -r; }
+    }' | { read -r head; echo "$head"; sort -g -r -k1,1; }
