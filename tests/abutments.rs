@@ -325,3 +325,69 @@ fn the_three_frame_examples_keys_and_backfill_never_leave_their_laws() {
         "backfill halves, exterior keys, joint keys"
     );
 }
+
+/// A key that fails while a corner slides on its backwall (the three-frame example under
+/// Hector Mine, μ = 0.2: the right exterior key at 5.025 s, the left corner `left_bottom` in
+/// slide): its pre- and post-event samples are on the closed constraints (|g_N| ≤ 1e-4 gap_tol,
+/// ġ_N = 0 to `velocity_tol`), and after the force's jump every closed contact holds λ_N ≥ 0,
+/// |λ_T| ≤ μ λ_N (the contact LCP, eq. 8–10, decided anew). Before, the pre-event sample was the
+/// dense output's state, 4.95e-8 m inside the backwall.
+#[test]
+fn a_key_failing_while_a_corner_slides_leaves_the_corner_on_its_face() {
+    let rec = |c: &str| {
+        let p = model(&format!("excitations/far-field/HECTOR_HEC{c}.AT2"));
+        p.to_string_lossy().to_string()
+    };
+    let (l, t) = (rec("000"), rec("090"));
+    let set = [
+        format!("excitation.longitudinal={l}"),
+        format!("excitation.transverse={t}"),
+        "contacts.mu=0.2".to_string(),
+        "solver.t_end=5.1".to_string(),
+    ];
+    let set: Vec<&str> = set.iter().map(|s| s.as_str()).collect();
+    let scene = load("models/three-frame.toml", &set);
+    let r = deckspin::run(&scene, &mut deckspin::Silent).unwrap();
+    let st = &scene.settings;
+    let failures: Vec<f64> = (r.events.iter())
+        .filter(|e| e.kind == EventKind::KeyFailure)
+        .map(|e| e.t)
+        .collect();
+    assert!(!failures.is_empty(), "no key failed");
+    let mut closed_seen = 0;
+    for s in r.samples.iter().filter(|s| failures.contains(&s.t)) {
+        for (i, c) in s.contacts.iter().enumerate() {
+            if c.state == deckspin::output::ContactState::Open {
+                continue;
+            }
+            closed_seen += 1;
+            let name = &scene.contacts[i].name;
+            assert!(
+                c.gap.abs() <= 1e-4 * st.gap_tol,
+                "{name} at {}: g_N {:e}",
+                s.t,
+                c.gap
+            );
+            assert!(
+                c.gap_rate.abs() <= st.velocity_tol,
+                "{name}: ġ_N {:e}",
+                c.gap_rate
+            );
+            if s.kind == SampleKind::PostEvent {
+                let mu = scene.contacts[i].mu;
+                assert!(c.normal_force >= 0.0, "{name}: λ_N {}", c.normal_force);
+                let excess = c.tangential_force.abs() - mu * c.normal_force;
+                assert!(
+                    excess <= 1e-9 * c.normal_force,
+                    "{name}: |λ_T| − μλ_N = {excess:e}"
+                );
+            }
+        }
+    }
+    assert!(closed_seen >= 2, "no closed contact at a key failure");
+    assert!(
+        r.summary.max_penetration <= 1e-4 * st.gap_tol,
+        "{:e}",
+        r.summary.max_penetration
+    );
+}

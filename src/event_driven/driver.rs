@@ -647,8 +647,14 @@ fn process_event(eng: &mut Engine, f: EventFn) -> Result<(), SolverError> {
 }
 
 /// The plastic branch of key `j` ended at its failure point `e_at` (hysteresis rule G5): the
-/// force drops to 0 there, with a pre- and a post-event sample and a `key failure` event.
+/// force drops to 0 there, with a pre- and a post-event sample and a `key failure` event. As at
+/// a contact event, the state is first put back on the closed constraints, and the force's jump
+/// is followed by the contact LCP (eq. 8–10), which decides stick, slide or detachment anew.
 fn key_failure(eng: &mut Engine, j: usize, e_at: f64, dir: f64) -> Result<(), SolverError> {
+    let closed = eng.state.contacts.iter().any(|s| *s != ContactState::Open);
+    if closed {
+        eng.project();
+    }
     eng.record_sample(SampleKind::PreEvent)?;
     let law = &mut eng.state.laws[j];
     law.on_branch_end(e_at, dir);
@@ -658,6 +664,10 @@ fn key_failure(eng: &mut Engine, j: usize, e_at: f64, dir: f64) -> Result<(), So
     eng.log(EventRecord::key_failure(t, j))?;
     eng.state.out.note_key_failure(t, j, peak);
     eng.ws.dynamics.at = None;
+    if closed {
+        eng.resolve()?;
+        eng.ws.new_contact_mode();
+    }
     eng.record_sample(SampleKind::PostEvent)
 }
 
