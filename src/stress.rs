@@ -60,7 +60,8 @@ pub fn record_pairs(dir: &Path) -> std::io::Result<(Vec<RecordPair>, Vec<PathBuf
 /// The grid of a stress test.
 #[derive(Clone, Debug)]
 pub struct StressGrid {
-    /// Indices of the model's `[[run]]` table (1-based, as `excitation.run`).
+    /// Indices of the model's `[[run]]` table (1-based, as `excitation.run`); empty: every
+    /// run of the table.
     pub runs: Vec<usize>,
     pub restitution: Vec<f64>,
     pub mu: Vec<f64>,
@@ -74,13 +75,30 @@ pub struct StressGrid {
 impl Default for StressGrid {
     fn default() -> Self {
         Self {
-            runs: (1..=7).collect(),
+            runs: Vec::new(),
             restitution: vec![0.0, 0.5, 1.0],
             mu: vec![0.1, 0.5, 1.0],
             laws: vec!["takeda".into(), "bilinear".into()],
             tail: 2.0,
         }
     }
+}
+
+/// A stress test refused before any run.
+#[derive(Debug, thiserror::Error)]
+pub enum StressError {
+    #[error(transparent)]
+    Model(#[from] ModelError),
+    /// A run asked for that the model's `[[run]]` table does not have (`count` runs).
+    #[error("--runs: {}: no run {run} ({})", path.display(), match count {
+        0 => "the model has no [[run]] table".to_string(),
+        n => format!("its [[run]] table has 1..={n}"),
+    })]
+    NoRun {
+        path: PathBuf,
+        run: usize,
+        count: usize,
+    },
 }
 
 /// One run of a stress test.
@@ -213,7 +231,7 @@ pub fn stress(
     path: &Path,
     pairs: &[RecordPair],
     grid: &StressGrid,
-) -> Result<Vec<StressRow>, ModelError> {
+) -> Result<Vec<StressRow>, StressError> {
     stress_watched(path, pairs, grid, &Unwatched)
 }
 
@@ -223,15 +241,29 @@ pub fn stress_watched(
     pairs: &[RecordPair],
     grid: &StressGrid,
     progress: &dyn Progress,
-) -> Result<Vec<StressRow>, ModelError> {
+) -> Result<Vec<StressRow>, StressError> {
     let text = std::fs::read_to_string(path).map_err(|e| ModelError::Io {
         path: path.to_path_buf(),
         source: e,
     })?;
+    let count = crate::studies::run_count(&text);
+    let runs: Vec<usize> = if grid.runs.is_empty() {
+        (1..=count).collect()
+    } else {
+        grid.runs.clone()
+    };
+    let missing = runs.iter().find(|&&r| r == 0 || r > count);
+    if let Some(&run) = missing.or(runs.is_empty().then_some(&1)) {
+        return Err(StressError::NoRun {
+            path: path.to_path_buf(),
+            run,
+            count,
+        });
+    }
     let bilinear = bilinear_text(&text).unwrap_or_else(|_| text.clone());
     let mut jobs = Vec::new();
     for pair in pairs {
-        for &run in &grid.runs {
+        for &run in &runs {
             for &eps in &grid.restitution {
                 for &mu in &grid.mu {
                     for law in &grid.laws {

@@ -172,6 +172,67 @@ fn a_slice_of_the_record_stress_test_passes() {
     }
 }
 
+/// The three-frame example (keys that fail while corners slide) under the two pairs that put
+/// corners inside backwalls before a key's failure was projected (up to 1.9e-7 m), at every
+/// run of its table: no corner deeper than 1e-9 m, no contact left approaching; its ledger
+/// closes within rtol (0.43 rtol at worst over the whole grid, `docs/robustness.md`).
+#[test]
+fn the_three_frame_example_under_far_field_records_stays_out_of_its_faces() {
+    use deckspin::stress::{StressGrid, record_pairs, stress};
+    let (pairs, _) = record_pairs(&common::model("excitations/far-field")).unwrap();
+    let pick: Vec<_> = (pairs.into_iter())
+        .filter(|p| p.name == "HECTOR_HEC" || p.name == "LOMAP_CAP")
+        .collect();
+    let grid = StressGrid {
+        restitution: vec![0.0],
+        mu: vec![0.1, 0.2],
+        ..StressGrid::default()
+    };
+    let rows = stress(&common::model("models/three-frame.toml"), &pick, &grid).unwrap();
+    assert_eq!(rows.len(), 2 * 2 * 2, "every run of the table is run 1");
+    for r in &rows {
+        assert_eq!((r.status.as_str(), r.run), ("finished", 1), "{r:?}");
+        assert!(r.max_penetration <= 1e-9, "{r:?}");
+        assert_eq!(r.approaching, 0, "{r:?}");
+        assert!(r.closure_rel <= r.rtol, "{r:?}");
+    }
+}
+
+/// A run the model's `[[run]]` table does not have is refused before any run, by its argument.
+#[test]
+fn a_stress_run_beyond_the_models_table_is_refused_by_argument() {
+    use deckspin::stress::{StressError, StressGrid, record_pairs, stress};
+    let (pairs, _) = record_pairs(&common::model("excitations/far-field")).unwrap();
+    let grid = StressGrid {
+        runs: vec![1, 2],
+        ..StressGrid::default()
+    };
+    let err = stress(&common::model("models/three-frame.toml"), &pairs, &grid).unwrap_err();
+    assert!(
+        matches!(
+            err,
+            StressError::NoRun {
+                run: 2,
+                count: 1,
+                ..
+            }
+        ),
+        "{err:?}"
+    );
+    let text = err.to_string();
+    assert!(
+        text.starts_with("--runs: ") && text.ends_with("no run 2 (its [[run]] table has 1..=1)"),
+        "{text}"
+    );
+    let ball = common::model("models/validation/bouncing-ball.toml");
+    let err = stress(&ball, &pairs, &StressGrid::default()).unwrap_err();
+    assert!(
+        err.to_string()
+            .ends_with("no run 1 (the model has no [[run]] table)"),
+        "{err}"
+    );
+}
+
 #[test]
 fn stiff_dashpots_and_infinite_energy_are_refused_before_the_run() {
     // actuator dashpots of 5.7e6 kN·s/m on the 0.65 t abutments decay at ~1.8e7 1/s: DP5

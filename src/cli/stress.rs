@@ -12,8 +12,8 @@ pub struct StressArgs {
     /// component's last 3 characters).
     #[arg(long, default_value = "excitations/far-field")]
     pub records: PathBuf,
-    /// Runs of the model's [[run]] table (comma-separated).
-    #[arg(long, default_value = "1,2,3,4,5,6,7", value_delimiter = ',')]
+    /// Runs of the model's [[run]] table (comma-separated) [default: every run of the table]
+    #[arg(long, value_delimiter = ',')]
     pub runs: Vec<usize>,
     /// Restitution coefficients.
     #[arg(long, default_value = "0,0.5,1", value_delimiter = ',')]
