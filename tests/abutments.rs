@@ -391,3 +391,46 @@ fn a_key_failing_while_a_corner_slides_leaves_the_corner_on_its_face() {
         r.summary.max_penetration
     );
 }
+
+/// An impact located on the dense output just before an output instant and moved along the
+/// flow onto the face just after it (rigid abutments, run 6, ε = 0.5, μ = 0.1: the event at
+/// 4.2100053 s, the instant 4.21 s): the instant is sampled before the event, on the move.
+/// Before, it was sampled after the event, on the next step's dense output taken backwards
+/// through the impact: 1.14e-6 m inside the face, out of time order, and the run failed
+/// `solver.max_penetration`.
+#[test]
+fn an_output_instant_that_a_moved_impact_passes_is_sampled_before_the_impact() {
+    let set = [
+        "excitation.run=6",
+        "contacts.restitution=0.5",
+        "contacts.mu=0.1",
+        "solver.t_end=4.3",
+    ];
+    let scene = load("models/four-span-rigid.toml", &set);
+    let r = deckspin::run(&scene, &mut deckspin::Silent).unwrap();
+    let (te, tg) = (4.210005337839962, 4.21);
+    assert!(
+        (r.events.iter()).any(|e| e.kind == EventKind::Impact && (e.t - te).abs() < 1e-9),
+        "the impact moved"
+    );
+    for w in r.samples.windows(2) {
+        assert!(
+            w[1].t >= w[0].t,
+            "samples out of order: {} then {}",
+            w[0].t,
+            w[1].t
+        );
+    }
+    let grid = (r.samples.iter())
+        .position(|s| s.kind == SampleKind::Grid && (s.t - tg).abs() < 1e-12)
+        .unwrap();
+    let impact = (r.samples.iter())
+        .position(|s| s.kind == SampleKind::PreEvent && (s.t - te).abs() < 1e-9)
+        .unwrap();
+    assert!(grid < impact, "the instant after the impact");
+    assert!(
+        r.summary.max_penetration <= 1e-4 * scene.settings.gap_tol,
+        "{:e}",
+        r.summary.max_penetration
+    );
+}

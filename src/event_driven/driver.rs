@@ -6,6 +6,7 @@ use super::event_fn::EventFn;
 use super::events::{arm, arm_into, due_now};
 use super::locate::locate_event;
 use super::record::track_peaks;
+use super::restep::move_along_flow;
 use crate::dopri::{self, Controller};
 use crate::hysteresis::Hysteretic;
 use crate::output::{ContactState, EventRecord, FinalState, RunOutput, SampleKind};
@@ -417,7 +418,11 @@ impl<'a> Integration<'a> {
         }
         eng.state.t = t1;
         match found {
-            Some(_) => move_to_event(eng, ws_event, step, f0, t_min)?,
+            Some(_) => {
+                if move_to_event(eng, ws_event, step, f0, t_min)? {
+                    sample_before_moved_event(eng, ws_event, next_out, batcher, observer)?;
+                }
+            }
             None => (eng.state.y.as_mut_slice()).copy_from_slice(step.y1.as_slice()),
         }
         Ok(Attempt::Accepted(found))
@@ -513,7 +518,7 @@ fn move_to_event(
     step: &dopri::Step,
     f0: &DVector<f64>,
     t_min: f64,
-) -> Result<(), SolverError> {
+) -> Result<bool, SolverError> {
     let t1 = eng.state.t;
     let contact = match eng.state.cluster[..] {
         [f] if !f.is_branch() => Some(f),
@@ -529,9 +534,47 @@ fn move_to_event(
         Some((t, f)) => {
             eng.state.t = t;
             eng.state.cluster[0] = f;
+            Ok(true)
         }
-        None => step.dense_at_into(t1, &mut eng.state.y),
+        None => {
+            step.dense_at_into(t1, &mut eng.state.y);
+            Ok(false)
+        }
     }
+}
+
+/// The output instants a Newton move along the flow carried the event past (`restep.rs`):
+/// sampled on that move (from the re-step's end, `ws_event`), before the event. Without them
+/// an instant just before the event was sampled after it, on the next step's dense output
+/// taken backwards through the impact (a corner 1.1e-6 m inside a rigid abutment's face).
+fn sample_before_moved_event(
+    eng: &mut Engine,
+    ws_event: &dopri::Workspace,
+    next_out: &mut usize,
+    batcher: &mut Batcher,
+    observer: &mut dyn Observer,
+) -> Result<(), SolverError> {
+    let st = &eng.scene.settings;
+    let (t_ev, dt_out, t_end) = (eng.state.t, st.output_dt, st.t_end);
+    if (*next_out as f64) * dt_out > t_ev || t_ev >= t_end {
+        return Ok(());
+    }
+    let at_event = eng.state.y.clone();
+    let closed = eng.state.contacts.iter().any(|s| *s != ContactState::Open);
+    let rs = &ws_event.step;
+    while (*next_out as f64) * dt_out <= t_ev {
+        let tg = (*next_out as f64) * dt_out;
+        move_along_flow(rs, eng.n, tg - rs.t1(), &mut eng.state.y);
+        eng.state.t = tg;
+        if closed {
+            eng.project();
+        }
+        eng.record_sample(SampleKind::Grid)?;
+        batcher.maybe(&eng.state.out, tg, observer)?;
+        *next_out += 1;
+    }
+    eng.state.t = t_ev;
+    eng.state.y = at_event;
     Ok(())
 }
 

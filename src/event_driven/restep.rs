@@ -20,6 +20,20 @@ const SWITCHES: usize = 3;
 /// gap is grazing (ġ_N ≈ 0) and the dense output's state is kept.
 const MAX_MOVE: f64 = 1e-3;
 
+/// The state `dt` along the flow from the end of `rs` (n DOFs), into `y`: q + Δt q̇ + ½ Δt² q̈,
+/// q̇ + Δt q̈, and the ledger terms by their rates.
+pub(super) fn move_along_flow(rs: &dopri::Step, n: usize, dt: f64, y: &mut DVector<f64>) {
+    let (y1, f1) = (rs.y1.as_slice(), rs.f1.as_slice());
+    let ys = y.as_mut_slice();
+    for k in 0..n {
+        ys[k] = y1[k] + dt * f1[k] + 0.5 * dt * dt * f1[n + k];
+        ys[n + k] = y1[n + k] + dt * f1[n + k];
+    }
+    for k in 2 * n..ys.len() {
+        ys[k] = y1[k] + dt * f1[k];
+    }
+}
+
 impl Engine<'_> {
     /// The state at the event `f` located at `te` in `step` (started from `step.y0` with
     /// f(t0, y0) = `f0`), into `y`: returns the event's time and function, or None where the re-step is
@@ -120,15 +134,7 @@ impl Engine<'_> {
             if dt.is_nan() || dt.abs() > MAX_MOVE * tau {
                 return Ok(None);
             }
-            let (y1, f1) = (rs.y1.as_slice(), rs.f1.as_slice());
-            let ys = y.as_mut_slice();
-            for k in 0..n {
-                ys[k] = y1[k] + dt * f1[k] + 0.5 * dt * dt * f1[n + k];
-                ys[n + k] = y1[n + k] + dt * f1[n + k];
-            }
-            for k in 2 * n..ys.len() {
-                ys[k] = y1[k] + dt * f1[k];
-            }
+            move_along_flow(rs, n, dt, y);
         }
         Ok(None)
     }
