@@ -333,14 +333,7 @@ impl<'a> Integration<'a> {
         let scene = eng.scene;
         let st = &scene.settings;
         let n = eng.n;
-        while *bp < breakpoints.len() && breakpoints[*bp] <= eng.state.t * (1.0 + 1e-15) {
-            *bp += 1;
-        }
-        let t_stop = if *bp < breakpoints.len() {
-            breakpoints[*bp].min(*stop)
-        } else {
-            *stop
-        };
+        let t_stop = next_stop(breakpoints, bp, eng.state.t, *stop);
         let mut hh = h.min(t_stop - eng.state.t);
         if st.h_max > 0.0 {
             hh = hh.min(st.h_max);
@@ -576,6 +569,14 @@ fn sample_before_moved_event(
     eng.state.t = t_ev;
     eng.state.y = at_event;
     Ok(())
+}
+
+/// The next breakpoint after `t` (`bp` moved to it), or `stop` if that is earlier.
+fn next_stop(breakpoints: &[f64], bp: &mut usize, t: f64, stop: f64) -> f64 {
+    while *bp < breakpoints.len() && breakpoints[*bp] <= t * (1.0 + 1e-15) {
+        *bp += 1;
+    }
+    breakpoints.get(*bp).map_or(stop, |b| b.min(stop))
 }
 
 /// Explicit DP5 needs h ≤ 3.3/|λ| for the fastest eigenvalue of the linearised system: ω of the
