@@ -734,3 +734,20 @@ fn limit_states_in_a_model_file_are_checked_with_file_line_and_field() {
     );
     assert!(e.to_string().contains("threshold"), "{e}");
 }
+
+#[test]
+fn a_skew_of_60_degrees_or_more_is_refused_by_its_argument() {
+    let (e, msg) = load_err("models/three-frame.toml", &["frame.1.skew=60"]);
+    assert!(matches!(e, ModelError::OverrideInvalid { .. }), "{msg}");
+    assert!(
+        msg.ends_with("--set frame.1.skew=60: frame.1.skew: |skew| must be below 60°, got 60"),
+        "{msg}"
+    );
+    let (_, msg) = load_err(FOUR_SPAN, &["deck.skew=-75"]);
+    assert!(
+        msg.ends_with("deck.skew: |skew| must be below 60°, got -75"),
+        "{msg}"
+    );
+    let set = ["frame.1.skew=59.9".to_string()];
+    deckspin::load(&model("models/three-frame.toml"), &set).expect("59.9° loads");
+}

@@ -120,7 +120,7 @@ fn frame_tables(f: &BridgeFile, ck: &Check) -> Result<(), ModelError> {
 fn skew(ck: &Check, field: &str, s: f64) -> Result<f64, ModelError> {
     ck.finite(field, s)?;
     if s.abs() >= MAX_SKEW {
-        return Err(ck.err(field, format!("must be within ±{MAX_SKEW}°, got {s}")));
+        return Err(ck.err(field, format!("|skew| must be below {MAX_SKEW}°, got {s}")));
     }
     Ok(s)
 }
