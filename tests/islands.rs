@@ -280,3 +280,29 @@ fn a_backfill_at_rest_on_its_bound_is_not_crossed_back_and_forth() {
         assert!(e < 1e-3, "{}: {} against {}", p.name, p.max_abs, q.max_abs);
     }
 }
+
+/// The event limit a file does not set leaves the history within the default budget: 8 frames
+/// over the example's 31 s are run, not refused (1.55e6 events at 6.5 kB a row pair were
+/// 2.04e10 bytes, above 2e10); a limit the file sets is kept and judged as before.
+#[test]
+fn eight_frames_without_an_event_limit_are_not_refused_for_their_history() {
+    use deckspin::run::{LimitError, OutputBudget, check_output};
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("models/three-frame.toml");
+    let scene = deckspin::model::load_str(&frames(8), &path, &[]).unwrap();
+    assert_eq!(scene.settings.t_end, 31.0);
+    let est = check_output(&scene, &OutputBudget::default()).expect("not refused");
+    assert!(
+        est.bytes() <= 2e10 && est.bytes() > 0.999 * 2e10,
+        "{:e}",
+        est.bytes()
+    );
+    let limit = scene.settings.max_events;
+    assert!(limit > 1_500_000 && limit < 1_550_000, "{limit}");
+    let set = ["solver.max_events=1550000".to_string()];
+    let scene = deckspin::model::load_str(&frames(8), &path, &set).unwrap();
+    let refused = check_output(&scene, &OutputBudget::default());
+    assert!(
+        matches!(refused, Err(LimitError::History { .. })),
+        "{refused:?}"
+    );
+}

@@ -6,6 +6,7 @@ use super::check::{Check, ModelError};
 use super::warnings::ModelWarning;
 use crate::methods::Method;
 use crate::modal::{modes, omega_max, omega_max_closed};
+use crate::run::{OutputBudget, OutputEstimate};
 use crate::scene::{Motion, Scene};
 
 /// Free vibration after the end of the longest record when `solver.t_end` is absent, s: at
@@ -51,7 +52,7 @@ pub(super) fn finish(
 ) -> Result<(), ModelError> {
     run_length(scene, given, ck, warnings);
     if !given.max_events {
-        scene.settings.max_events = event_limit(scene.settings.t_end);
+        scene.settings.max_events = default_max_events(scene);
     }
     if !given.max_steps {
         scene.settings.max_steps = step_limit(scene.settings.t_end);
@@ -80,6 +81,23 @@ pub const EVENT_LIMIT: (usize, usize) = (200_000, 5_000_000);
 /// `solver.max_events` absent: [`EVENTS_PER_SECOND`] × `t_end` within [`EVENT_LIMIT`].
 pub fn event_limit(t_end: f64) -> usize {
     per_second(EVENTS_PER_SECOND, EVENT_LIMIT, t_end)
+}
+
+/// `solver.max_events` absent: [`event_limit`], and no more than the default history budget
+/// leaves for events (two rows each) after the output grid, so that the limit the file did not
+/// set never refuses a run (a bridge of 8 frames, 31 s: 1.55·10⁶ events of 6.5 kB rows would
+/// be 2.04·10¹⁰ bytes). A grid alone above the budget is refused by `run::check_output`.
+fn default_max_events(scene: &Scene) -> usize {
+    let limit = event_limit(scene.settings.t_end);
+    let est = OutputEstimate::of(scene);
+    let budget = OutputBudget::default();
+    let room =
+        ((budget.max_rows.min(budget.max_bytes / est.row_bytes) - est.grid_rows) / 2.0).floor();
+    if room >= 1.0 && room < limit as f64 {
+        room as usize
+    } else {
+        limit
+    }
 }
 
 /// Steps a run may take per simulated second when `solver.max_steps` is absent: the bridge
