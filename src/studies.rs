@@ -178,16 +178,73 @@ pub fn free_body_rotation(names: &[String]) -> Option<usize> {
     })
 }
 
+/// The bodies free in x, y and θ (the specimen's deck, a bridge's frames), as their (x, y, θ)
+/// DOFs.
+pub fn deck_bodies(names: &[String]) -> Vec<[usize; 3]> {
+    let dof = |n: String| names.iter().position(|m| *m == n);
+    (names.iter())
+        .filter_map(|n| n.strip_suffix(".theta"))
+        .filter_map(|b| {
+            Some([
+                dof(format!("{b}.x"))?,
+                dof(format!("{b}.y"))?,
+                dof(format!("{b}.theta"))?,
+            ])
+        })
+        .collect()
+}
+
+/// The deck's peaks over all its bodies ([`deck_bodies`]; without one, [`rotation_dof`] and
+/// no translations): max |θ|, the residual θ(t_end) largest in magnitude (signed), max |x|,
+/// max |y|.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DeckPeaks {
+    pub rotation: f64,
+    pub residual: f64,
+    pub x: f64,
+    pub y: f64,
+}
+
+impl DeckPeaks {
+    pub fn of(r: &RunOutput) -> Self {
+        let peaks = &r.summary.peaks;
+        let bodies = deck_bodies(&r.dof_names);
+        if bodies.is_empty() {
+            let k = rotation_dof(r);
+            let p = peaks.get(k);
+            return Self {
+                rotation: p.map_or(f64::NAN, |p| p.max_abs),
+                residual: p.map_or(f64::NAN, |p| p.residual),
+                x: f64::NAN,
+                y: f64::NAN,
+            };
+        }
+        let max = |axis: usize| {
+            (bodies.iter())
+                .map(|b| peaks[b[axis]].max_abs)
+                .fold(f64::NEG_INFINITY, f64::max)
+        };
+        let residual = (bodies.iter())
+            .map(|b| peaks[b[2]].residual)
+            .fold(0.0, |a: f64, r| if r.abs() > a.abs() { r } else { a });
+        Self {
+            rotation: max(2),
+            residual,
+            x: max(0),
+            y: max(1),
+        }
+    }
+}
+
 pub fn row_of(settings: Vec<(String, String)>, r: &RunOutput) -> Row {
-    let k = rotation_dof(r);
     let s = &r.summary;
-    let peak = |name: &str| r.dof(name).map_or(f64::NAN, |i| s.peaks[i].max_abs);
+    let deck = DeckPeaks::of(r);
     Row {
         settings,
-        peak_rotation: s.peaks[k].max_abs,
-        residual_rotation: s.peaks[k].residual,
-        peak_x: peak("deck.x"),
-        peak_y: peak("deck.y"),
+        peak_rotation: deck.rotation,
+        residual_rotation: deck.residual,
+        peak_x: deck.x,
+        peak_y: deck.y,
         impacts: s.stats.impacts,
         stick_time: s.contacts.iter().map(|c| c.stick_time).sum(),
         energy_closure_rel: s.energy_closure_rel,

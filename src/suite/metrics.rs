@@ -1,5 +1,5 @@
-//! What a suite records of a run, from its output: the deck's peak and residual rotation
-//! ([`crate::studies::rotation_dof`]) and the peak translations of the same body, the smallest
+//! What a suite records of a run, from its output: the deck's peak and residual rotation and
+//! peak translations over all its frames ([`crate::studies::DeckPeaks`]), the smallest
 //! seat margin, the failed shear keys, the impacts and the energy ledger's impact, friction
 //! and hysteretic terms at the end; and, watched sample by sample, the largest column drift
 //! ratio √(u_x² + u_y²)/h over the columns and the recorded samples (output grid and event
@@ -7,7 +7,7 @@
 
 use crate::output::{EventRecord, Sample};
 use crate::run::{Observer, Run};
-use crate::studies::rotation_dof;
+use crate::studies::DeckPeaks;
 
 /// The clear heights of a bridge file's bents by name (`[[bent]]` and `[[frame.bent]]`).
 pub fn bent_heights(text: &str) -> Vec<(String, f64)> {
@@ -112,20 +112,15 @@ impl Observer for DriftWatch {
 pub fn metrics(run: &Run, drift: Option<f64>) -> [Option<f64>; 11] {
     let out = &run.output;
     let s = &out.summary;
-    let k = rotation_dof(out);
-    let body = out.dof_names.get(k).and_then(|n| n.strip_suffix(".theta"));
-    let peak = |axis: &str| {
-        let i = out.dof(&format!("{}.{axis}", body?))?;
-        Some(s.peaks.get(i)?.max_abs)
-    };
-    let rotation = s.peaks.get(k);
+    let deck = DeckPeaks::of(out);
+    let finite = |x: f64| x.is_finite().then_some(x);
     let seats = (s.seats.iter()).map(|x| x.min_margin).reduce(f64::min);
     let e = &s.energy_final;
     [
-        rotation.map(|p| p.max_abs),
-        rotation.map(|p| p.residual.abs()),
-        peak("x"),
-        peak("y"),
+        finite(deck.rotation),
+        finite(deck.residual.abs()),
+        finite(deck.x),
+        finite(deck.y),
         seats,
         s.key_failures.as_ref().map(|k| k.len() as f64),
         drift,

@@ -69,12 +69,17 @@ fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
-/// The model seeds: four-span.toml and every validation model, comments dropped; then the
+/// The model seeds: four-span.toml, four-span-rigid.toml, three-frame.toml and every
+/// validation model, comments dropped; then the
 /// record scene with each AT2 file of `excitations/`, three-frame.toml by islands, and the
 /// bridge driven by one of them.
 pub fn seeds() -> Vec<Seed> {
     let mut out = Vec::new();
     let mut models = vec![root().join("models/four-span.toml")];
+    // bridges beyond the specimen: rigid abutments moving with the ground; frames, joints,
+    // keys that fail and backfill
+    models.push(root().join("models/four-span-rigid.toml"));
+    models.push(root().join("models/three-frame.toml"));
     let mut val: Vec<PathBuf> = std::fs::read_dir(root().join("models/validation"))
         .unwrap()
         .map(|e| e.unwrap().path())
