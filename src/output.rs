@@ -7,6 +7,7 @@ use serde::Serialize;
 use std::path::Path;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
+pub mod deck;
 mod history;
 pub mod number;
 
