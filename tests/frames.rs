@@ -489,3 +489,38 @@ fn history_has_each_seats_margin_over_time() {
         listed.min_margin
     );
 }
+
+/// A joint given no gap between skewed frames is closed, not a gap of rounding size to be
+/// resolved: its initial gap (3.1e-15 m, the pose arithmetic's rounding at 30° skew) is left
+/// out of the check that tolerances resolve the smallest gap, which refused the file asking
+/// for atol ≤ 3e-18. A joint's gap of 1 µm is still a gap, and refused at atol 1e-7.
+#[test]
+fn a_joint_without_a_gap_between_skewed_frames_is_closed_not_refused() {
+    let path = model("models/three-frame.toml");
+    let load = |set: &[&str]| {
+        let set: Vec<String> = set.iter().map(|s| s.to_string()).collect();
+        deckspin::load(&path, &set)
+    };
+    let scene = load(&["joint.0.gaps=[0,0]", "solver.t_end=6"]).unwrap_or_else(|e| panic!("{e}"));
+    let fr = scene.frame(0.0, &scene.q0, &scene.v0);
+    let gap = |name: &str| {
+        let c = scene.contacts.iter().find(|c| c.name == name).unwrap();
+        scene.contact_kinematics(&fr, c).gap
+    };
+    let g = gap("joint1_bottom");
+    assert!(g != 0.0 && g.abs() < 1e-13, "{g:e}");
+    let r = deckspin::run(&scene, &mut deckspin::Silent).unwrap();
+    assert!(
+        r.summary.max_penetration <= 1e-4 * scene.settings.gap_tol,
+        "{:e}",
+        r.summary.max_penetration
+    );
+    assert!(r.summary.stats.impacts > 0);
+    let msg = load(&["joint.0.gaps=[1e-6,1e-6]"]).unwrap_err().to_string();
+    assert!(
+        msg.contains(
+            "solver.atol: 0.0000001 is above 1e-3 × the smallest initial gap (1.0000e-6 m"
+        ),
+        "{msg}"
+    );
+}

@@ -309,9 +309,24 @@ fn tolerances(
         });
     }
     let fr = scene.frame(0.0, &scene.q0, &scene.v0);
+    // a gap within the rounding of its points' coordinates is a closed one (a joint given a
+    // gap of 0 between skewed frames is 3e-15 m open)
+    let rounding = |c: &crate::scene::Contact| {
+        let reach = |b, r: nalgebra::Vector2<f64>| fr.pose(b).position.norm() + r.norm();
+        ROUNDING_ULPS
+            * f64::EPSILON
+            * reach(c.point_body, c.point).max(reach(c.face_body, c.face_point))
+    };
     let smallest = (scene.contacts.iter())
-        .map(|c| (c.name.as_str(), scene.contact_kinematics(&fr, c).gap))
-        .filter(|(_, g)| *g > 0.0)
+        .map(|c| {
+            (
+                c.name.as_str(),
+                scene.contact_kinematics(&fr, c).gap,
+                rounding(c),
+            )
+        })
+        .filter(|(_, g, r)| *g > *r)
+        .map(|(name, g, _)| (name, g))
         .min_by(|a, b| a.1.total_cmp(&b.1));
     let Some((contact, gap)) = smallest else {
         return Ok(());
