@@ -766,3 +766,23 @@ fn at_60x18_with_the_event_list_the_labels_are_whole() {
         lines.join("\n")
     );
 }
+
+/// A bridge of several frames names its forces in its units as the one-deck specimen does
+/// (the force unit followed a body named `deck`, and the three-frame example's forces were
+/// bare numbers); a scene file's are its author's.
+#[test]
+fn a_bridge_of_several_frames_names_its_force_unit() {
+    let open = |rel: &str| {
+        let text = std::fs::read_to_string(common::model(rel)).unwrap();
+        App::with_options(&text, Path::new(rel), Options::default())
+    };
+    for (rel, unit) in [
+        ("models/three-frame.toml", "kN"),
+        ("models/four-span.toml", "kN"),
+        ("models/validation/block-on-plane.toml", ""),
+    ] {
+        let app = open(rel);
+        assert!(app.scene.is_some(), "{rel}");
+        assert_eq!(nav::force_unit(&app), unit, "{rel}");
+    }
+}

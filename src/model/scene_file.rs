@@ -218,6 +218,7 @@ pub fn compile(f: &SceneFile, ck: &Check, motions: &Motions) -> Result<Scene, Mo
     } = dofs;
     Ok(Scene {
         units: ck.units,
+        bridge: false,
         seats,
         title: f.title.clone().unwrap_or_else(|| {
             path.file_stem()

@@ -30,6 +30,7 @@ impl SceneKey {
         let Scene {
             title: _,
             units: _,
+            bridge: _,
             seats,
             bodies,
             contacts,

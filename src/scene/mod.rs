@@ -215,6 +215,9 @@ pub struct Scene {
     pub title: String,
     /// The model's unit system (names units; the engine itself is unit-free).
     pub units: crate::units::UnitSystem,
+    /// Compiled from a bridge file (its numbers in `units`); false for a scene file, whose
+    /// units are its author's.
+    pub bridge: bool,
     /// Seats under the deck ends (bridge files with `abutment.seat_width`): one per corner.
     pub seats: Vec<Seat>,
     pub bodies: Vec<Body>,

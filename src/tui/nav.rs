@@ -46,11 +46,12 @@ pub fn prev_time(run: &RunData, t: f64) -> Option<f64> {
         .map(|i| times[i])
 }
 
-/// Force unit of the model's numbers: a bridge model's (a `deck` body) from its `units` (kN in
-/// SI-kN, N in SI, kip in kip-in); none for a scene file, whose forces are its author's.
+/// Force unit of the model's numbers: a bridge file's from its `units` (kN in SI-kN, N in SI,
+/// kip in kip-in), one deck or several frames; none for a scene file, whose forces are its
+/// author's.
 pub fn force_unit(app: &App) -> &'static str {
     match &app.scene {
-        Some(s) if s.bodies.iter().any(|b| b.name == "deck") => s.units.unit(Quantity::Force),
+        Some(s) if s.bridge => s.units.unit(Quantity::Force),
         _ => "",
     }
 }

@@ -80,6 +80,7 @@ pub fn compile(f: &BridgeFile, ck: &Check, motions: &Motions) -> Result<Scene, M
     let mut scene = Scene {
         title: title(f),
         units: ck.units,
+        bridge: true,
         seats,
         bodies,
         contacts,
