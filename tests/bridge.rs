@@ -702,3 +702,40 @@ fn two_corners_of_one_end_chattering_while_sliding_are_held_closed() {
         "{worst} impacts of one corner within 1 µs of the one before"
     );
 }
+
+/// The deck jammed between both abutments by two diagonal corners at ε = 1, μ = 1 (Kocaeli
+/// Arcelik, run 7, the bents' tables and the right abutment lagging by 0.05–0.15 s): the impact
+/// passes' LCPs of that degenerate set return the corners approaching at their own accuracy
+/// (−3e-9 … −6e-9 m/s against velocity_tol 1e-9) pass after pass, and the contact phase then
+/// detached one while it approached (3 such contacts by 8 s; a debug build stopped). They are
+/// now held like slow separations: no contact hit is left approaching, no corner goes in.
+#[test]
+fn diagonal_corners_left_approaching_by_a_degenerate_impact_lcp_are_held() {
+    let path = |c: &str| common::model(&format!("excitations/far-field/KOCAELI_ARC{c}.AT2"));
+    let set = [
+        format!("excitation.longitudinal={}", path("000").to_string_lossy()),
+        format!("excitation.transverse={}", path("090").to_string_lossy()),
+        "excitation.lag_bents=[0.0, 0.05, 0.1]".to_string(),
+        "excitation.lag_abutments=[0.0, 0.15]".to_string(),
+        "excitation.run=7".to_string(),
+        "contacts.restitution=1".to_string(),
+        "contacts.mu=1".to_string(),
+        "solver.t_end=8.0".to_string(),
+    ];
+    let set: Vec<&str> = set.iter().map(|s| s.as_str()).collect();
+    let scene = load(&set);
+    let r = deckspin::run(&scene, &mut deckspin::Silent).unwrap();
+    let st = &r.summary.stats;
+    assert_eq!(st.approaching_after_impact, 0);
+    assert!(st.held_after_impact >= 3, "{st:?}");
+    assert!(
+        r.summary.max_penetration <= 1e-3 * scene.settings.gap_tol,
+        "{:e}",
+        r.summary.max_penetration
+    );
+    assert!(
+        r.summary.energy_closure_rel <= 1e-5,
+        "{:e}",
+        r.summary.energy_closure_rel
+    );
+}

@@ -24,17 +24,18 @@ impl Engine<'_> {
                 break;
             }
         }
-        self.check_left_approaching(&impacted);
         self.hold_slow_separations(&before, &impacted);
         self.contact_phase()?;
         self.project();
+        self.check_left_approaching(&impacted);
         self.log_transitions(&before, &impacted)
     }
 
     /// No contact leaves the impacts approaching: after the passes (each LCP's v_N ≥ 0 holds to
     /// its accuracy, and a contact an LCP of a degenerate set left approaching by 1e-9 m/s is
-    /// hit again by the next pass), every contact hit is at rest or separating
-    /// (`stats.approaching_after_impact` counts the exceptions; a debug build stops).
+    /// hit again by the next pass), the hold of slow ones and the contact phase, every contact
+    /// hit is at rest or separating (`stats.approaching_after_impact` counts the exceptions; a
+    /// debug build stops).
     fn check_left_approaching(&mut self, impacted: &[bool]) {
         if !impacted.contains(&true) {
             return;
@@ -58,7 +59,11 @@ impl Engine<'_> {
     /// acceleration LCP (eq. 8–10) decides whether one detaches. This ends the Zeno sequence of
     /// two corners of one end that no single contact's accumulation rule ends: each slow
     /// impact of one corner lifting the other, flights shrinking geometrically while the end
-    /// slides along its face. The velocity change is below `zeno_velocity`.
+    /// slides along its face. A contact the passes leave approaching slower than `zeno_velocity`
+    /// is held the same way: the passes' LCPs of a degenerate set (the deck jammed between both
+    /// abutments by two diagonal corners, ε = 1, μ = 1) return it at their own accuracy, a few
+    /// nm/s, pass after pass, and the contact phase then detached it while it approached. The
+    /// velocity change is below `zeno_velocity`.
     fn hold_slow_separations(&mut self, before: &[ContactState], impacted: &[bool]) {
         if !impacted.contains(&true) {
             return;
@@ -68,11 +73,14 @@ impl Engine<'_> {
         let near = |i: usize| kin[i].gap <= st.gap_tol;
         let lifted =
             |i: usize| before[i] != ContactState::Open && kin[i].gap_rate > st.velocity_tol;
+        let left = |i: usize| impacted[i] && kin[i].gap_rate < -st.velocity_tol;
         let held: Vec<usize> = (0..kin.len())
             .filter(|&i| near(i) && kin[i].gap_rate.abs() <= st.zeno_velocity)
-            .filter(|&i| lifted(i) || (impacted[i] && kin[i].gap_rate.abs() <= st.velocity_tol))
+            .filter(|&i| {
+                lifted(i) || left(i) || (impacted[i] && kin[i].gap_rate.abs() <= st.velocity_tol)
+            })
             .collect();
-        if !held.iter().any(|&i| lifted(i)) {
+        if !held.iter().any(|&i| lifted(i) || left(i)) {
             return;
         }
         let rows: Vec<&DVector<f64>> = held.iter().map(|&i| &kin[i].w_n).collect();
