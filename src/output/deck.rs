@@ -72,7 +72,13 @@ impl DeckPeaks {
         };
         let residual = (bodies.iter())
             .map(|b| peaks[b[2]].residual)
-            .fold(0.0, |a: f64, r| if r.abs() > a.abs() { r } else { a });
+            .fold(f64::NAN, |a: f64, r| {
+                if a.is_nan() || r.abs() > a.abs() {
+                    r
+                } else {
+                    a
+                }
+            });
         Self {
             rotation: max(2),
             residual,
