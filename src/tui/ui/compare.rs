@@ -61,9 +61,17 @@ pub(super) fn columns(app: &App) -> Vec<Column> {
 
 /// The symbol of a rotation or translation DOF in a row label (`θ` for `*.theta`).
 fn short(name: &str) -> String {
+    let axis = |a: &str| {
+        if a == "theta" {
+            "θ".to_string()
+        } else {
+            a.to_string()
+        }
+    };
     match name.rsplit_once('.') {
-        Some((_, "theta")) => "θ".into(),
-        Some((_, a)) if a == "x" || a == "y" => a.into(),
+        // the specimen's deck goes without its name; a frame of several keeps it
+        Some(("deck", a)) if ["theta", "x", "y"].contains(&a) => axis(a),
+        Some((b, a)) if ["theta", "x", "y"].contains(&a) => format!("{b} {}", axis(a)),
         _ if name.is_empty() => "θ".into(),
         _ => name.into(),
     }
@@ -188,4 +196,26 @@ pub(super) fn draw_compare(frame: &mut Frame, area: Rect, app: &App, th: &Theme)
         return;
     }
     frame.render_widget(table, area);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::short;
+
+    /// The specimen's deck is the rotation without a name; a bridge of several frames (or a
+    /// scene's body) names the body its rows follow.
+    #[test]
+    fn a_row_names_the_frame_it_follows() {
+        let cases = [
+            ("deck.theta", "θ"),
+            ("deck.x", "x"),
+            ("frame1.theta", "frame1 θ"),
+            ("frame3.y", "frame3 y"),
+            ("block.x", "block x"),
+            ("", "θ"),
+        ];
+        for (name, want) in cases {
+            assert_eq!(short(name), want, "{name}");
+        }
+    }
 }
