@@ -5,7 +5,7 @@
 use crate::methods::{Knob, Method};
 use crate::model;
 use crate::output::{EventKind, RunOutput, SampleKind};
-use crate::studies::{Failure, RunFailure, Study, failure_text, rotation_dof};
+use crate::studies::{Failure, RunFailure, Study, failure_text, largest_rotation_dof};
 use serde::Serialize;
 use std::fmt;
 use std::path::Path;
@@ -52,7 +52,9 @@ impl Point {
     }
 }
 
-/// The watched quantity: deck rotation, else the first θ, else DOF 0.
+/// The watched quantity: the rotation of the deck's body that turns most in the reference (the
+/// specimen's deck; of several frames, the one with the largest peak), else the first θ, else
+/// DOF 0.
 pub struct Reference {
     pub run: RunOutput,
     pub dof: usize,
@@ -117,7 +119,7 @@ impl Bench {
             format!("solver.atol={:e}", rtol * 1e-3),
             "solver.branch_window=0".into(),
         ])?;
-        let dof = rotation_dof(&run);
+        let dof = largest_rotation_dof(&run);
         let (t, y) = series(&run, dof);
         Ok(Reference {
             peak: run.summary.peaks[dof].max_abs,

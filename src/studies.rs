@@ -5,7 +5,9 @@
 use crate::FrictionFork;
 use crate::model::{self, ModelError};
 use crate::output::RunOutput;
-pub use crate::output::deck::{DeckPeaks, deck_bodies, free_body_rotation, rotation_dof};
+pub use crate::output::deck::{
+    DeckPeaks, deck_bodies, free_body_rotation, largest_rotation_dof, rotation_dof,
+};
 use crate::progress::{Progress, Unwatched};
 use crate::run::SolverError;
 use crate::scene::{Scene, SceneKey};

@@ -150,6 +150,9 @@ fn a_sweep_row_of_several_frames_gives_the_largest_over_the_frames() {
         .map(|f| peak(&format!("{f}.theta")).residual)
         .fold(0.0, |a: f64, r| if r.abs() > a.abs() { r } else { a });
     assert_eq!(row.residual_rotation, residual);
+    // a measure of one rotation (work–precision) follows the frame that turns most
+    let k = deckspin::studies::largest_rotation_dof(&out);
+    assert_eq!(out.dof_names[k], "frame3.theta");
     // the specimen's one deck: its own peaks
     let s = study(&["solver.t_end=3"]);
     let (out, _) = s.simulate(&[]).unwrap();

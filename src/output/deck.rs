@@ -13,6 +13,16 @@ pub fn rotation_dof(r: &RunOutput) -> usize {
         .unwrap_or(0)
 }
 
+/// The rotation DOF of the deck's body that turns most ([`deck_bodies`]: the frame whose peak
+/// |θ| is largest), else [`rotation_dof`]: what a measure of one rotation follows.
+pub fn largest_rotation_dof(r: &RunOutput) -> usize {
+    let peaks = &r.summary.peaks;
+    (deck_bodies(&r.dof_names).iter())
+        .map(|b| b[2])
+        .max_by(|&i, &j| peaks[i].max_abs.total_cmp(&peaks[j].max_abs))
+        .unwrap_or_else(|| rotation_dof(r))
+}
+
 /// The first `B.theta` whose body B also has `B.x` and `B.y`.
 pub fn free_body_rotation(names: &[String]) -> Option<usize> {
     names.iter().position(|n| {
