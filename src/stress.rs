@@ -252,8 +252,13 @@ pub fn stress_watched(
     } else {
         grid.runs.clone()
     };
-    let missing = runs.iter().find(|&&r| r == 0 || r > count);
-    if let Some(&run) = missing.or(runs.is_empty().then_some(&1)) {
+    // a model without a [[run]] table has not even run 1
+    let missing = if runs.is_empty() {
+        Some(1)
+    } else {
+        runs.iter().copied().find(|&r| r == 0 || r > count)
+    };
+    if let Some(run) = missing {
         return Err(StressError::NoRun {
             path: path.to_path_buf(),
             run,

@@ -399,14 +399,7 @@ impl<'a> Integration<'a> {
             }
             eng.state.t = tg.min(st.t_end);
             step.dense_at_into(eng.state.t, &mut eng.state.y);
-            if closed {
-                // projected like the step ends: between two of them the dense output leaves
-                // the closed constraints by its own error
-                eng.project();
-            }
-            eng.record_sample(SampleKind::Grid)?;
-            batcher.maybe(&eng.state.out, eng.state.t, observer)?;
-            *next_out += 1;
+            grid_sample(eng, closed, next_out, batcher, observer)?;
             t_min = eng.state.t;
         }
         eng.state.t = t1;
@@ -559,15 +552,29 @@ fn sample_before_moved_event(
         let tg = (*next_out as f64) * dt_out;
         move_along_flow(rs, eng.n, tg - rs.t1(), &mut eng.state.y);
         eng.state.t = tg;
-        if closed {
-            eng.project();
-        }
-        eng.record_sample(SampleKind::Grid)?;
-        batcher.maybe(&eng.state.out, tg, observer)?;
-        *next_out += 1;
+        grid_sample(eng, closed, next_out, batcher, observer)?;
     }
     eng.state.t = t_ev;
     eng.state.y = at_event;
+    Ok(())
+}
+
+/// The grid sample of the state at `eng.state.t` (from a step's dense output or a move along
+/// the flow), projected like the step ends when a contact is closed: both leave the closed
+/// constraints by their own error.
+fn grid_sample(
+    eng: &mut Engine,
+    closed: bool,
+    next_out: &mut usize,
+    batcher: &mut Batcher,
+    observer: &mut dyn Observer,
+) -> Result<(), SolverError> {
+    if closed {
+        eng.project();
+    }
+    eng.record_sample(SampleKind::Grid)?;
+    batcher.maybe(&eng.state.out, eng.state.t, observer)?;
+    *next_out += 1;
     Ok(())
 }
 

@@ -25,13 +25,7 @@ pub fn largest_rotation_dof(r: &RunOutput) -> usize {
 
 /// The first `B.theta` whose body B also has `B.x` and `B.y`.
 pub fn free_body_rotation(names: &[String]) -> Option<usize> {
-    names.iter().position(|n| {
-        n.strip_suffix(".theta").is_some_and(|b| {
-            ["x", "y"]
-                .iter()
-                .all(|a| names.iter().any(|m| *m == format!("{b}.{a}")))
-        })
-    })
+    deck_bodies(names).first().map(|b| b[2])
 }
 
 /// The bodies free in x, y and θ (the specimen's deck, a bridge's frames), as their (x, y, θ)
