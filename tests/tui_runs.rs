@@ -495,3 +495,39 @@ fn snapshot_charts_with_two_runs_overlaid_120x40() {
     assert_eq!(compare_row(&s, "impacts").len(), 3, "{s}");
     snapshot_settings().bind(|| insta::assert_snapshot!("charts_overlay_120x40", t.backend()));
 }
+
+/// A bridge of several frames: the runs compared give the frame that turns most and its peak,
+/// as the sweeps and suites report it (`output::deck::DeckPeaks`), beside the charted frame's.
+#[test]
+fn the_runs_compared_give_the_frame_that_turns_most() {
+    let path = root().join("models/three-frame.toml");
+    let text = std::fs::read_to_string(&path)
+        .unwrap()
+        .replace("t_end = 31.0", "t_end = 6.0");
+    let run = run_of(&text, &path, 1);
+    // the engine's answer for the same scene, without the workbench
+    let scene = deckspin::model::load_str(&text, &path, &[]).unwrap();
+    let out = deckspin::simulate::integrate(&scene, &mut deckspin::Silent).output;
+    let want = deckspin::output::deck::DeckPeaks::of(&out).rotation;
+    let k = deckspin::output::deck::largest_rotation_dof(&out);
+    let (peak, frame) = run.peak_rot_of_frames().expect("three frames");
+    assert_eq!(peak, want);
+    assert_eq!(format!("{frame}.theta"), out.dof_names[k]);
+    // the charted rotation is frame 1's, and here another frame turns more
+    assert_eq!(run.rot_name(), "frame1.theta");
+    assert!(peak > run.peak_rot().0, "{peak} {:?}", run.peak_rot());
+    // on screen (120×40)
+    let mut app = App::new_from_text(&text, &path);
+    app.runs.add(Entry::of_run(&run, text.clone()), &text);
+    app.current = Some(run.clone());
+    let s = screen(&render(&mut app, 120, 40));
+    let row = (s.lines())
+        .find(|l| l.contains("peak |θ| any frame"))
+        .unwrap_or_else(|| panic!("{s}"));
+    assert!(row.contains(&run_list::cell(Some(want))), "{row}");
+    let row = s.lines().find(|l| l.contains("│  frame ")).expect(&s);
+    assert!(row.contains(&frame), "{row}");
+    // the specimen has one deck: no such rows
+    let (one, _) = &bridge_runs()[0];
+    assert!(one.peak_rot_of_frames().is_none());
+}

@@ -257,6 +257,28 @@ impl RunData {
         p
     }
 
+    /// Over the deck's bodies when it has several (a bridge's frames,
+    /// [`crate::output::deck::deck_bodies`]): the largest peak |θ| and the body's name.
+    pub fn peak_rot_of_frames(&self) -> Option<(f64, String)> {
+        let bodies = crate::output::deck::deck_bodies(&self.dof_names);
+        if bodies.len() < 2 {
+            return None;
+        }
+        let peak = |k: usize| {
+            let engine = (self.summary.as_ref())
+                .and_then(|s| s.peaks.iter().find(|d| d.name == self.dof_names[k]))
+                .map_or(0.0, |d| d.max_abs);
+            self.q_peak(k).max(engine)
+        };
+        (bodies.iter())
+            .map(|b| (peak(b[2]), b[2]))
+            .max_by(|a, b| a.0.total_cmp(&b.0))
+            .map(|(p, k)| {
+                let name = &self.dof_names[k];
+                (p, name.strip_suffix(".theta").unwrap_or(name).to_string())
+            })
+    }
+
     /// Rotation at the last sample.
     pub fn residual_rot(&self) -> f64 {
         self.rot

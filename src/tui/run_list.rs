@@ -46,6 +46,9 @@ pub struct Results {
     pub translations: Vec<String>,
     pub peak_rot: Option<f64>,
     pub peak_rot_t: Option<f64>,
+    /// A bridge of several frames: the largest peak |θ| over them and that frame's name.
+    #[serde(default)]
+    pub peak_frames: Option<(f64, String)>,
     /// Rotation at the end of a finished run.
     pub residual_rot: Option<f64>,
     /// Peak |x|, |y| of the translations.
@@ -77,6 +80,7 @@ impl Results {
             translations: r.xy.iter().map(|&k| r.dof_names[k].clone()).collect(),
             peak_rot: has_rot.then_some(peak),
             peak_rot_t: has_rot.then_some(at),
+            peak_frames: r.peak_rot_of_frames(),
             residual_rot: (finished && has_rot).then(|| r.residual_rot()),
             peak_xy: r.xy.iter().map(|&k| finite(r.q_peak(k))).collect(),
             impacts: r.total_impacts(),

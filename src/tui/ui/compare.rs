@@ -105,6 +105,20 @@ pub(super) fn rows(cols: &[Column], len: &str) -> Vec<(String, Vec<String>)> {
                 }
             }),
         ),
+    ];
+    // a bridge of several frames: the frame that turns most, as sweeps and suites report it
+    if first.results.peak_frames.is_some() {
+        let frame = |c: &Column| c.results.peak_frames.clone();
+        defs.push((
+            "peak |θ| any frame".into(),
+            Box::new(move |c: &Column| cell(frame(c).map(|f| f.0))),
+        ));
+        defs.push((
+            "  frame".into(),
+            Box::new(move |c: &Column| frame(c).map_or("—".into(), |f| f.1)),
+        ));
+    }
+    defs.extend::<Vec<(String, Get)>>(vec![
         (
             "impacts".into(),
             Box::new(|c: &Column| c.results.impacts.to_string()),
@@ -117,7 +131,7 @@ pub(super) fn rows(cols: &[Column], len: &str) -> Vec<(String, Vec<String>)> {
             format!("min gap [{len}]"),
             Box::new(|c: &Column| cell(c.results.min_gap)),
         ),
-    ];
+    ]);
     for (i, name) in first.results.translations.iter().enumerate() {
         defs.push((
             format!("peak |{}| [{len}]", short(name)),
