@@ -239,17 +239,17 @@ impl RunData {
         self.tally.peaks.get(k).map_or(0.0, |p| p.0)
     }
 
-    /// Peak |rotation| and its time; once finished, the engine's peak if larger (it also sees
-    /// the dense output between samples).
+    /// Peak |rotation| and its time ([`RunData::dof_peak`] of the charted rotation).
     pub fn peak_rot(&self) -> (f64, f64) {
-        let mut p = self
-            .rot
-            .and_then(|r| self.tally.peaks.get(r))
-            .map_or((0.0, 0.0), |p| (p.0, p.1));
-        if let Some(d) = self
-            .summary
-            .as_ref()
-            .and_then(|s| s.peaks.iter().find(|d| d.name == self.rot_name()))
+        self.rot.map_or((0.0, 0.0), |r| self.dof_peak(r))
+    }
+
+    /// Peak |q| of DOF `k` and its time over the samples so far; once finished, the engine's
+    /// peak if larger (it also sees the dense output between samples).
+    pub fn dof_peak(&self, k: usize) -> (f64, f64) {
+        let mut p = self.tally.peaks.get(k).map_or((0.0, 0.0), |p| (p.0, p.1));
+        if let Some(d) = (self.summary.as_ref())
+            .and_then(|s| s.peaks.iter().find(|d| d.name == self.dof_names[k]))
             && d.max_abs > p.0
         {
             p = (d.max_abs, d.at);
@@ -264,14 +264,8 @@ impl RunData {
         if bodies.len() < 2 {
             return None;
         }
-        let peak = |k: usize| {
-            let engine = (self.summary.as_ref())
-                .and_then(|s| s.peaks.iter().find(|d| d.name == self.dof_names[k]))
-                .map_or(0.0, |d| d.max_abs);
-            self.q_peak(k).max(engine)
-        };
         (bodies.iter())
-            .map(|b| (peak(b[2]), b[2]))
+            .map(|b| (self.dof_peak(b[2]).0, b[2]))
             .max_by(|a, b| a.0.total_cmp(&b.0))
             .map(|(p, k)| {
                 let name = &self.dof_names[k];
