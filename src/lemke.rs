@@ -203,13 +203,7 @@ pub fn lemke_with_tie_break(
             *v = 0.0;
         }
     }
-    let mut w = m * &z + q;
-    let w_scale = q_max + m_max * max_abs(z.iter());
-    for v in w.iter_mut() {
-        if v.abs() <= tol * w_scale {
-            *v = 0.0;
-        }
-    }
+    let w = clean_w(m, q, &z, tol);
     let residual = lcp_residual(m, q, &z, &w);
     if residual <= opts.check_tolerance {
         Ok(LcpSolution { z, w, pivots })
@@ -239,7 +233,12 @@ pub fn lemke_regularized(
     opts: &LemkeOptions,
 ) -> Result<(LcpSolution, f64), LcpError> {
     let first = match lemke(m, q, opts) {
-        Ok(sol) => return Ok((refine(m, q, sol, opts.tolerance.max(0.0)), 0.0)),
+        Ok(sol) => {
+            // the refined point is checked like any candidate; the verified one stands if not
+            let refined = refined(m, q, &sol, opts.tolerance.max(0.0))
+                .filter(|r| lcp_residual(m, q, &r.z, &r.w) <= opts.check_tolerance);
+            return Ok((refined.unwrap_or(sol), 0.0));
+        }
         Err(e @ (LcpError::NonFinite | LcpError::DimensionMismatch { .. })) => return Err(e),
         Err(e) => e,
     };
@@ -262,12 +261,11 @@ pub fn lemke_regularized(
             sol.z = z;
         } else {
             // degenerate: also the rows where w vanishes or dips below zero
-            sol = refine(m, q, sol, tol);
+            if let Some(r) = refined(m, q, &sol, tol) {
+                sol = r;
+            }
         }
-        let w = m * &sol.z + q;
-        let w_scale = max_abs(q.iter()) + m_max * max_abs(sol.z.iter());
-        let tol = opts.tolerance.max(0.0);
-        let w = w.map(|v| if v.abs() <= tol * w_scale { 0.0 } else { v });
+        let w = clean_w(m, q, &sol.z, tol);
         if lcp_residual(m, q, &sol.z, &w) <= opts.check_tolerance {
             return Ok((
                 LcpSolution {
@@ -283,26 +281,23 @@ pub fn lemke_regularized(
 }
 
 /// A solution whose w = Mz + q dips below zero beyond rounding (nearly dependent rows, where
-/// pivoting loses digits) re-solved on the set of rows with z > 0 or w ≤ 0 ([`polish`]); else
-/// as it is.
-fn refine(m: &DMatrix<f64>, q: &DVector<f64>, sol: LcpSolution, tol: f64) -> LcpSolution {
+/// pivoting loses digits) re-solved on the set of rows with z > 0 or w ≤ 0 ([`polish`]); None
+/// when it needs no refinement or the re-solve fails.
+fn refined(m: &DMatrix<f64>, q: &DVector<f64>, sol: &LcpSolution, tol: f64) -> Option<LcpSolution> {
     let w = m * &sol.z + q;
     let scale = max_abs(q.iter()) + max_abs(m.iter()) * max_abs(sol.z.iter());
     let floor = 1e-12 * scale;
     if w.iter().all(|&v| v >= -floor) {
-        return sol;
+        return None;
     }
     let act = DVector::from_fn(q.len(), |i, _| sol.z[i] > 0.0 || w[i] <= floor);
-    let Some(z) = polish(m, q, &sol.z, &act, tol) else {
-        return sol;
-    };
-    let w = m * &z + q;
-    let w = w.map(|v| if v.abs() <= tol * scale { 0.0 } else { v });
-    LcpSolution {
+    let z = polish(m, q, &sol.z, &act, tol)?;
+    let w = clean_w(m, q, &z, tol);
+    Some(LcpSolution {
         z,
         w,
         pivots: sol.pivots,
-    }
+    })
 }
 
 /// z with its active set A (`active`: zᵢ > 0, or also the degenerate rows where wᵢ vanishes
@@ -344,11 +339,16 @@ fn polish(
     Some(out)
 }
 
-/// Residual of a candidate `(z, w)` for LCP(q, M): the largest of
-/// `|w − (Mz+q)|ᵢ / s`, `max(−wᵢ, 0) / s`, `max(−zᵢ, 0) / t` and
-/// `|wᵢ zᵢ| / (s t)`, where `s = 1 + max|q| + max|M|·max|z|` and
-/// `t = 1 + max|z|`. Returns `+∞` on a size mismatch or non-finite input,
-/// 0 for n = 0.
+/// Residual of a candidate `(z, w)` for LCP(q, M), on a scale that does not grow with the
+/// candidate: with v = Mz + q recomputed and rᵢ = γ (|M||z| + |q|)ᵢ, γ = 4(n + 2)u, the
+/// rounding of vᵢ in floating point (Higham 2002, §3.1), the largest of
+/// `(−vᵢ − rᵢ)⁺` (w ≥ 0), `max|M|·(−zᵢ)⁺` (z ≥ 0), `min((|vᵢ| − rᵢ)⁺, max|M|·zᵢ)`
+/// (complementarity: a positive zᵢ beside a positive wᵢ, counted by the smaller of wᵢ and the
+/// zᵢ's effect on w) and `(|wᵢ − vᵢ| − rᵢ)⁺` (w is Mz + q), each divided by max|q| (by
+/// max|M|·max|z| when q = 0, a homogeneous problem). A huge z cannot make it small: it only
+/// widens rᵢ, by u·|M||z|. Returns `+∞` on a size mismatch or non-finite input, 0 for n = 0.
+/// [`lemke`] and [`lemke_regularized`] accept a candidate when it is ≤
+/// [`LemkeOptions::check_tolerance`].
 pub fn lcp_residual(m: &DMatrix<f64>, q: &DVector<f64>, z: &DVector<f64>, w: &DVector<f64>) -> f64 {
     let n = q.len();
     if m.nrows() != n || m.ncols() != n || z.len() != n || w.len() != n {
@@ -362,22 +362,66 @@ pub fn lcp_residual(m: &DMatrix<f64>, q: &DVector<f64>, z: &DVector<f64>, w: &DV
     {
         return f64::INFINITY;
     }
-    let z_max = max_abs(z.iter());
-    let s = 1.0 + max_abs(q.iter()) + max_abs(m.iter()) * z_max;
-    let t = 1.0 + z_max;
-    let mut res = 0.0f64;
-    for i in 0..n {
-        let mut mz = q[i];
-        for j in 0..n {
-            mz += m[(i, j)] * z[j];
-        }
-        res = res
-            .max((w[i] - mz).abs() / s)
-            .max((-w[i]).max(0.0) / s)
-            .max((-z[i]).max(0.0) / t)
-            .max((w[i] * z[i]).abs() / (s * t));
+    if n == 0 {
+        return 0.0;
     }
+    let m_max = max_abs(m.iter());
+    let mut scale = max_abs(q.iter());
+    if scale == 0.0 {
+        scale = m_max * max_abs(z.iter());
+    }
+    let gamma = rounding_gamma(n);
+    let mut worst = 0.0f64;
+    for i in 0..n {
+        let (mut v, mut abs) = (q[i], q[i].abs());
+        for j in 0..n {
+            v += m[(i, j)] * z[j];
+            abs += (m[(i, j)] * z[j]).abs();
+        }
+        let r = gamma * abs;
+        let viol = (-v - r)
+            .max(-z[i] * m_max)
+            .max((v.abs() - r).max(0.0).min(m_max * z[i]));
+        // a wᵢ cleaned to 0 beside a positive zᵢ is judged by complementarity, on vᵢ
+        let viol = if w[i] == 0.0 && z[i] > 0.0 {
+            viol
+        } else {
+            viol.max((w[i] - v).abs() - r)
+        };
+        worst = worst.max(viol);
+    }
+    if worst <= 0.0 {
+        return 0.0;
+    }
+    let res = worst / scale;
     if res.is_finite() { res } else { f64::INFINITY }
+}
+
+/// γ = 4(n + 2)u: a bound on the relative rounding of an n-term dot product plus q.
+fn rounding_gamma(n: usize) -> f64 {
+    4.0 * (n as f64 + 2.0) * f64::EPSILON
+}
+
+/// w = Mz + q with the entries within their rounding (γ (|M||z| + |q|)ᵢ) set to 0, and those
+/// beside a positive zᵢ within `tol` of max|q| + max|M|·max|z| (complementary pairs: wᵢ is
+/// nonbasic there, the pivoting's error is no slack).
+fn clean_w(m: &DMatrix<f64>, q: &DVector<f64>, z: &DVector<f64>, tol: f64) -> DVector<f64> {
+    let n = q.len();
+    let gamma = rounding_gamma(n);
+    let pair = tol * (max_abs(q.iter()) + max_abs(m.iter()) * max_abs(z.iter()));
+    DVector::from_fn(n, |i, _| {
+        let (mut v, mut abs) = (q[i], q[i].abs());
+        for j in 0..n {
+            v += m[(i, j)] * z[j];
+            abs += (m[(i, j)] * z[j]).abs();
+        }
+        let paired = z[i] > 0.0 && v.abs() <= pair;
+        if v.abs() <= gamma * abs || paired {
+            0.0
+        } else {
+            v
+        }
+    })
 }
 
 enum Outcome {

@@ -285,6 +285,9 @@ pub struct ContactSummary {
     pub max_gap: f64,
     pub max_gap_at: f64,
     pub max_normal_force: f64,
+    /// The smallest normal force over the samples (0 if never below): below 0 a pull, which a
+    /// unilateral contact never exerts.
+    pub min_normal_force: f64,
     pub max_normal_impulse: f64,
     pub impacts: usize,
     pub stick_time: f64,
@@ -300,6 +303,8 @@ pub struct Summary {
     /// Empty without seats.
     pub seats: Vec<SeatSummary>,
     pub max_penetration: f64,
+    /// The largest pull of any contact at any sample, max(0, −min λ_N), in force units.
+    pub max_pull: f64,
     pub energy_final: EnergySample,
     pub energy_closure_abs: f64,
     pub energy_closure_rel: f64,
@@ -386,6 +391,7 @@ pub struct ContactTally {
     pub max_gap: f64,
     pub max_gap_at: f64,
     pub max_normal_force: f64,
+    pub min_normal_force: f64,
     pub stick_time: f64,
     pub slide_time: f64,
     /// State at the previous sample (it holds until the next one).
@@ -426,6 +432,7 @@ impl Tally {
                     max_gap: f64::NEG_INFINITY,
                     max_gap_at: 0.0,
                     max_normal_force: 0.0,
+                    min_normal_force: 0.0,
                     stick_time: 0.0,
                     slide_time: 0.0,
                     state: ContactState::Open,
@@ -438,6 +445,7 @@ impl Tally {
                 (c.max_gap, c.max_gap_at) = (x.gap, s.t);
             }
             c.max_normal_force = c.max_normal_force.max(x.normal_force);
+            c.min_normal_force = c.min_normal_force.min(x.normal_force);
             if let Some(t0) = self.last_t {
                 let dt = s.t - t0;
                 match c.state {
@@ -637,6 +645,7 @@ impl RunOutput {
                     max_gap: c.map_or(f64::NEG_INFINITY, |c| c.max_gap),
                     max_gap_at: c.map_or(0.0, |c| c.max_gap_at),
                     max_normal_force: c.map_or(0.0, |c| c.max_normal_force),
+                    min_normal_force: c.map_or(0.0, |c| c.min_normal_force),
                     max_normal_impulse: 0.0,
                     impacts: 0,
                     stick_time: c.map_or(0.0, |c| c.stick_time),
@@ -658,6 +667,9 @@ impl RunOutput {
             }
         }
         let max_penetration = contacts.iter().map(|c| -c.min_gap).fold(0.0f64, f64::max);
+        let max_pull = (contacts.iter())
+            .map(|c| -c.min_normal_force)
+            .fold(0.0f64, f64::max);
         let seats = (self.seats.iter())
             .map(|s| SeatSummary {
                 contact: contacts[s.contact].name.clone(),
@@ -676,6 +688,7 @@ impl RunOutput {
             contacts,
             seats,
             max_penetration,
+            max_pull,
             energy_final: tally.last_energy,
             energy_closure_abs: closure,
             energy_closure_rel: if energy_scale > 0.0 {

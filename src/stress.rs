@@ -101,6 +101,9 @@ pub enum StressError {
     },
 }
 
+/// The largest pull a stress run may show, relative to its largest normal force.
+pub const PULL_TOL: f64 = 1e-9;
+
 /// One run of a stress test.
 #[derive(Clone, Debug)]
 pub struct StressRow {
@@ -117,17 +120,21 @@ pub struct StressRow {
     pub rtol: f64,
     /// Contacts an impact left approaching (`stats.approaching_after_impact`): must be 0.
     pub approaching: usize,
+    /// The largest pull of a contact at a sample relative to the largest normal force
+    /// (`max_pull`, [`crate::output::Summary`]): a unilateral contact never pulls.
+    pub pull_rel: f64,
     pub wall: f64,
 }
 
 impl StressRow {
     /// Finished, no penetration above 1e-9 m, energy closure within rtol/10, no contact left
-    /// approaching by an impact.
+    /// approaching by an impact, no pull above 1e-9 of the largest normal force.
     pub fn passes(&self) -> bool {
         self.status == "finished"
             && self.max_penetration <= 1e-9
             && self.closure_rel <= self.rtol / 10.0
             && self.approaching == 0
+            && self.pull_rel <= PULL_TOL
     }
 }
 
@@ -183,6 +190,7 @@ fn stress_run(
         closure_rel: 0.0,
         rtol: 0.0,
         approaching: 0,
+        pull_rel: 0.0,
         wall: 0.0,
     };
     let mut set = vec![
@@ -214,6 +222,12 @@ fn stress_run(
             row.max_penetration = r.output.summary.max_penetration;
             row.closure_rel = r.output.summary.energy_closure_rel;
             row.approaching = r.output.summary.stats.approaching_after_impact;
+            let contacts = &r.output.summary.contacts;
+            let scale = (contacts.iter())
+                .map(|c| c.max_normal_force.max(-c.min_normal_force))
+                .fold(0.0f64, f64::max);
+            let pull = r.output.summary.max_pull;
+            row.pull_rel = if pull > 0.0 { pull / scale } else { 0.0 };
             row.status = match r.stop {
                 Stop::Finished => "finished".into(),
                 Stop::Cancelled { t } => format!("cancelled at {t}"),
@@ -307,23 +321,30 @@ pub fn tally(rows: &[StressRow]) -> String {
         )
     };
     let mut out = format!(
-        "{} runs: {finished} finished, {passing} pass (penetration ≤ 1e-9 m, closure ≤ rtol/10, no contact left approaching by an impact)\n",
+        "{} runs: {finished} finished, {passing} pass (penetration ≤ 1e-9 m, closure ≤ rtol/10, no contact left approaching by an impact, no pull above 1e-9 of the largest normal force)\n",
         rows.len()
     );
     let approaching: usize = rows.iter().map(|r| r.approaching).sum();
     out += &format!("contacts left approaching by an impact: {approaching}\n");
     for r in rows.iter().filter(|r| !r.passes()) {
         out += &format!(
-            "  {}: {} (penetration {:.3e} m, closure {:.3e}, left approaching {})\n",
+            "  {}: {} (penetration {:.3e} m, closure {:.3e}, left approaching {}, pull {:.3e})\n",
             label(r),
             r.status,
             r.max_penetration,
             r.closure_rel,
-            r.approaching
+            r.approaching,
+            r.pull_rel
         );
     }
     if let Some((p, r)) = worst(&|r| r.max_penetration) {
         out += &format!("worst penetration {p:.3e} m ({})\n", label(r));
+    }
+    if let Some((p, r)) = worst(&|r| r.pull_rel) {
+        out += &format!(
+            "worst pull {p:.3e} of the largest normal force ({})\n",
+            label(r)
+        );
     }
     if let Some((c, r)) = worst(&|r| r.closure_rel / r.rtol.max(1e-300)) {
         out += &format!(

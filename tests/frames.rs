@@ -510,8 +510,9 @@ fn a_joint_without_a_gap_between_skewed_frames_is_closed_not_refused() {
     let g = gap("joint1_bottom");
     assert!(g != 0.0 && g.abs() < 1e-13, "{g:e}");
     let r = deckspin::run(&scene, &mut deckspin::Silent).unwrap();
+    // within the gap's event threshold (1e-3 gap_tol): an impact's located state is no deeper
     assert!(
-        r.summary.max_penetration <= 1e-4 * scene.settings.gap_tol,
+        r.summary.max_penetration <= 1e-3 * scene.settings.gap_tol,
         "{:e}",
         r.summary.max_penetration
     );

@@ -646,3 +646,180 @@ fn degenerate_friction_rows_are_solved_by_the_regularised_retry() {
     assert_eq!(d2, 0.0);
     assert!((s2.z[0] - 1.0 / 3.0).abs() < 1e-15 && (s2.z[1] - 1.0 / 3.0).abs() < 1e-15);
 }
+
+// ------------------------------------- an answer is a solution or an error
+
+/// An independent check that z solves LCP(q, M) on a scale that does not grow with z: w = Mz + q
+/// ≥ −tol·max|q| and, where z > 0, |w| ≤ tol·max|q| — each beyond the rounding of w,
+/// 64 n u (|M||z|)ᵢ.
+fn solves(m: &DMatrix<f64>, q: &DVector<f64>, z: &DVector<f64>, tol: f64) -> Result<(), String> {
+    let n = q.len();
+    let qmax = q.amax();
+    for i in 0..n {
+        if z[i] < 0.0 {
+            return Err(format!("z[{i}] = {:e} < 0", z[i]));
+        }
+        let (mut w, mut abs) = (q[i], q[i].abs());
+        for j in 0..n {
+            w += m[(i, j)] * z[j];
+            abs += (m[(i, j)] * z[j]).abs();
+        }
+        let slack = tol * qmax + 64.0 * n as f64 * f64::EPSILON * abs;
+        if w < -slack {
+            return Err(format!("w[{i}] = {w:e} < 0 (z = {z})"));
+        }
+        if z[i] > 0.0 && w > slack && m.amax() * z[i] > slack {
+            return Err(format!("w[{i}] = {w:e} beside z[{i}] = {:e}", z[i]));
+        }
+    }
+    Ok(())
+}
+
+#[test]
+fn the_regularised_retry_returns_no_non_solution() {
+    let opts = LemkeOptions {
+        check_tolerance: 1e-7,
+        ..LemkeOptions::default()
+    };
+    let q2 = DVector::from_vec(vec![-1.0, -1.0]);
+    // w₂ ≡ −1: no solution; plain Lemke ends on a ray, the retry at δ = 1e-10 found z = (0, 1e10)
+    let m = DMatrix::from_row_slice(2, 2, &[0.0, 1.0, 0.0, 0.0]);
+    assert!(matches!(lemke(&m, &q2, &opts), Err(LcpError::Ray { .. })));
+    let r = lemke_regularized(&m, &q2, &opts);
+    assert!(r.is_err(), "{r:?}");
+    // copositive-plus, so its ray proves that no solution exists
+    let m = DMatrix::from_row_slice(2, 2, &[0.0, 1.0, -1.0, 0.0]);
+    let r = lemke_regularized(&m, &q2, &opts);
+    assert!(r.is_err(), "{r:?}");
+    // the residual of the old candidates, on the new scale
+    let z = DVector::from_vec(vec![0.0, 1e10]);
+    let m = DMatrix::from_row_slice(2, 2, &[0.0, 1.0, 0.0, 0.0]);
+    let w = &m * &z + &q2;
+    assert!(
+        lcp_residual(&m, &q2, &z, &w) >= 0.99,
+        "{}",
+        lcp_residual(&m, &q2, &z, &w)
+    );
+}
+
+/// A 4×4 bimatrix game of coordination in costs, A = B = [[1, 2], [2, 1]]: three equilibria
+/// (two pure, one mixed). Whatever Lemke's method with d = e does, an answer solves it.
+#[test]
+fn a_bimatrix_game_gets_a_solution_or_an_error() {
+    let opts = LemkeOptions {
+        check_tolerance: 1e-7,
+        ..LemkeOptions::default()
+    };
+    let a = [[1.0, 2.0], [2.0, 1.0]];
+    for (b, shift) in [(a, 0.0), ([[3.0, 1.0], [1.0, 3.0]], 0.5)] {
+        let mut m = DMatrix::zeros(4, 4);
+        for i in 0..2 {
+            for j in 0..2 {
+                m[(i, 2 + j)] = a[i][j] + shift;
+                m[(2 + j, i)] = b[i][j];
+            }
+        }
+        let q = DVector::from_element(4, -1.0);
+        match lemke_regularized(&m, &q, &opts) {
+            Ok((sol, _)) => solves(&m, &q, &sol.z, 1e-7).unwrap(),
+            Err(e) => assert!(matches!(
+                e,
+                LcpError::Ray { .. } | LcpError::CheckFailed { .. }
+            )),
+        }
+    }
+}
+
+#[test]
+fn murtys_example_through_the_regularised_entry() {
+    let n = 8;
+    let (m, q) = (murty_upper(n), murty_q_upper(n));
+    let (sol, delta) = lemke_regularized(&m, &q, &opts()).unwrap();
+    assert_eq!(delta, 0.0);
+    assert_eq!(sol.pivots, 1 << n);
+    solves(&m, &q, &sol.z, 1e-12).unwrap();
+}
+
+/// Copositive-plus M = A Aᵀ + (B − Bᵀ) (PSD plus skew) with q from a known complementary pair.
+fn copositive_plus_solvable() -> impl Strategy<Value = (DMatrix<f64>, DVector<f64>)> {
+    (1usize..=10).prop_flat_map(|n| {
+        (
+            1..=n,
+            prop::collection::vec(-1.0f64..1.0, n * n),
+            prop::collection::vec(-1.0f64..1.0, n * n),
+            prop::collection::vec(0.0f64..1.0, n),
+            prop::collection::vec(any::<bool>(), n),
+        )
+            .prop_map(move |(k, a, b, v, support)| {
+                let a = DMatrix::from_row_slice(n, n, &a).columns(0, k).into_owned();
+                let b = DMatrix::from_row_slice(n, n, &b);
+                let m = &a * a.transpose() + &b - b.transpose();
+                let z = DVector::from_fn(n, |i, _| if support[i] { v[i] } else { 0.0 });
+                let w = DVector::from_fn(n, |i, _| if support[i] { 0.0 } else { v[i] });
+                (m.clone(), w - m * z)
+            })
+    })
+}
+
+/// Infeasible LCPs: a rank-one PSD block v vᵀ with q < 0 at a row where v > 0 and one where
+/// v < 0 (w = v (vᵀz) + q cannot be ≥ 0 at both), or a row of M ≤ 0 with q < 0; the other
+/// entries random. No z ≥ 0 makes w ≥ 0.
+fn infeasible() -> impl Strategy<Value = (DMatrix<f64>, DVector<f64>)> {
+    (2usize..=8).prop_flat_map(|n| {
+        (
+            prop::collection::vec(0.1f64..1.0, n),
+            prop::collection::vec(-1.0f64..1.0, n * n),
+            prop::collection::vec(-1.0f64..1.0, n),
+            any::<bool>(),
+            prop::sample::select(vec![1e-6, 1.0, 1e6]),
+        )
+            .prop_map(move |(mag, noise, qr, rank_one, s)| {
+                let mut m = DMatrix::from_row_slice(n, n, &noise);
+                let mut q = DVector::from_vec(qr) * s;
+                if rank_one {
+                    // v: + at 0, − at 1, any sign elsewhere; M = v vᵀ everywhere
+                    let v = DVector::from_fn(n, |i, _| match i {
+                        0 => mag[0],
+                        1 => -mag[1],
+                        _ => mag[i] * noise[i].signum(),
+                    });
+                    m = &v * v.transpose();
+                    q[0] = -mag[0] * s;
+                    q[1] = -mag[1] * s;
+                } else {
+                    for j in 0..n {
+                        m[(0, j)] = -m[(0, j)].abs();
+                    }
+                    q[0] = -mag[0] * s;
+                }
+                (m, q)
+            })
+    })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(512))]
+
+    #[test]
+    fn copositive_plus_problems_with_a_solution_are_solved((m, q) in copositive_plus_solvable()) {
+        let opts = LemkeOptions { check_tolerance: 1e-7, ..LemkeOptions::default() };
+        let (sol, _) = lemke_regularized(&m, &q, &opts).expect("copositive-plus and feasible");
+        prop_assert!(solves(&m, &q, &sol.z, 1e-7).is_ok(), "{:?}", solves(&m, &q, &sol.z, 1e-7));
+        prop_assert!(lcp_residual(&m, &q, &sol.z, &sol.w) <= 1e-7);
+    }
+
+    #[test]
+    fn p_matrix_problems_are_solved_by_the_regularised_entry((m, q) in sdd_problem()) {
+        let (sol, delta) = lemke_regularized(&m, &q, &opts()).expect("P-matrix");
+        prop_assert_eq!(delta, 0.0);
+        prop_assert!(solves(&m, &q, &sol.z, 1e-9).is_ok());
+    }
+
+    #[test]
+    fn infeasible_problems_are_never_solved((m, q) in infeasible()) {
+        let opts = LemkeOptions { check_tolerance: 1e-7, ..LemkeOptions::default() };
+        let r = lemke_regularized(&m, &q, &opts);
+        prop_assert!(r.is_err(), "solved an infeasible LCP: {:?}", r.map(|s| s.0.z));
+        prop_assert!(lemke(&m, &q, &opts).is_err());
+    }
+}

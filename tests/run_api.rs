@@ -145,8 +145,9 @@ fn a_scene_too_stiff_for_the_step_budget_is_refused_before_it_runs() {
 }
 
 /// A slice of the stress test (`deckspin stress`): two real record pairs of different lengths
-/// at the strongest run, ε = 0 and 0.5, Takeda and bilinear columns. Every run finishes with no
-/// penetration above 1e-9 m and its energy closed within rtol/10.
+/// at the strongest run, ε = 0 and 0.5, μ = 0 and 0.5, Takeda and bilinear columns. Every run
+/// finishes with no penetration above 1e-9 m, its energy closed within rtol/10 and no contact
+/// pulling beyond 1e-9 of the largest normal force.
 #[test]
 fn a_slice_of_the_record_stress_test_passes() {
     use deckspin::stress::{StressGrid, record_pairs, stress};
@@ -160,13 +161,14 @@ fn a_slice_of_the_record_stress_test_passes() {
     let grid = StressGrid {
         runs: vec![7],
         restitution: vec![0.0, 0.5],
-        mu: vec![0.5],
+        mu: vec![0.0, 0.5],
         ..StressGrid::default()
     };
     let rows = stress(&common::model("models/four-span.toml"), &pick, &grid).unwrap();
-    assert_eq!(rows.len(), 8);
+    assert_eq!(rows.len(), 16);
     for r in &rows {
         assert!(r.passes(), "{r:?}");
+        assert!(r.pull_rel <= 1e-9, "{r:?}");
         // to the end of the longer component (time scale 0.5) and the 2 s tail
         assert!(r.t_end > 2.0 && r.t_end < 40.0, "{r:?}");
     }
@@ -194,6 +196,7 @@ fn the_three_frame_example_under_far_field_records_stays_out_of_its_faces() {
         assert_eq!((r.status.as_str(), r.run), ("finished", 1), "{r:?}");
         assert!(r.max_penetration <= 1e-9, "{r:?}");
         assert_eq!(r.approaching, 0, "{r:?}");
+        assert!(r.pull_rel <= 1e-9, "{r:?}");
         assert!(r.closure_rel <= r.rtol, "{r:?}");
     }
 }

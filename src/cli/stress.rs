@@ -60,11 +60,11 @@ pub fn cmd_stress(a: &StressArgs) -> Result<(), Box<dyn std::error::Error>> {
         std::fs::create_dir_all(dir)?;
     }
     let mut csv = String::from(
-        "record,run,restitution,mu,law,t_end,status,max_penetration,closure_rel,rtol,approaching_after_impact,wall_s\n",
+        "record,run,restitution,mu,law,t_end,status,max_penetration,closure_rel,rtol,approaching_after_impact,pull_rel,wall_s\n",
     );
     for r in &rows {
         csv += &format!(
-            "{},{},{},{},{},{},\"{}\",{:e},{:e},{:e},{},{:.4}\n",
+            "{},{},{},{},{},{},\"{}\",{:e},{:e},{:e},{},{:e},{:.4}\n",
             r.record,
             r.run,
             r.restitution,
@@ -76,6 +76,7 @@ pub fn cmd_stress(a: &StressArgs) -> Result<(), Box<dyn std::error::Error>> {
             r.closure_rel,
             r.rtol,
             r.approaching,
+            r.pull_rel,
             r.wall
         );
     }

@@ -29,6 +29,8 @@ pub(super) struct Integration<'a> {
 #[derive(Clone)]
 pub(super) struct Clock {
     pub(super) breakpoints: Vec<f64>,
+    /// The longest step while a contact is closed ([`crate::scene::Scene::closed_step_cap`]).
+    pub(super) closed_cap: f64,
     pub(super) bp: usize,
     /// Index of the next output grid instant.
     pub(super) next_out: usize,
@@ -171,6 +173,7 @@ impl<'a> Integration<'a> {
         let st = &scene.settings;
         let clock = Clock {
             breakpoints: scene.breakpoints(),
+            closed_cap: scene.closed_step_cap(),
             bp: 0,
             next_out: 0,
             ctrl: Controller::default(),
@@ -315,6 +318,7 @@ impl<'a> Integration<'a> {
         } = self;
         let Clock {
             breakpoints,
+            closed_cap,
             bp,
             next_out,
             ctrl,
@@ -337,6 +341,9 @@ impl<'a> Integration<'a> {
         let mut hh = h.min(t_stop - eng.state.t);
         if st.h_max > 0.0 {
             hh = hh.min(st.h_max);
+        }
+        if eng.state.contacts.iter().any(|s| *s != ContactState::Open) {
+            hh = hh.min(*closed_cap);
         }
         if t_stop - eng.state.t - hh < 1e-12 * hh {
             hh = t_stop - eng.state.t;
@@ -641,7 +648,7 @@ fn settle_initial(eng: &mut Engine) -> Result<(), SolverError> {
         r?;
         silent.samples.pop()
     };
-    eng.resolve()?;
+    eng.resolve(None)?;
     eng.ws.new_contact_mode();
     if eng.state.out.events.len() > n_events {
         if let Some(pre) = initial {
@@ -689,7 +696,7 @@ fn process_event(eng: &mut Engine, f: EventFn) -> Result<(), SolverError> {
                 eng.project();
             }
             eng.record_sample(SampleKind::PreEvent)?;
-            eng.resolve()?;
+            eng.resolve(Some(f))?;
             eng.ws.new_contact_mode();
             eng.record_sample(SampleKind::PostEvent)?;
         }
@@ -716,7 +723,7 @@ fn key_failure(eng: &mut Engine, j: usize, e_at: f64, dir: f64) -> Result<(), So
     eng.state.out.note_key_failure(t, j, peak);
     eng.ws.dynamics.at = None;
     if closed {
-        eng.resolve()?;
+        eng.resolve(None)?;
         eng.ws.new_contact_mode();
     }
     eng.record_sample(SampleKind::PostEvent)

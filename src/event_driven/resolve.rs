@@ -3,6 +3,7 @@
 //! ([`super::project`]) and the log of stick/slip/release transitions.
 
 use super::engine::Engine;
+use super::event_fn::EventFn;
 use crate::contact::{Decision, ImpactOutcome, solve_contact, solve_impact};
 use crate::lemke::LcpError;
 use crate::output::{ContactState, EventKind, EventRecord};
@@ -13,8 +14,10 @@ use nalgebra::DVector;
 impl Engine<'_> {
     /// Decide the contact states at the current instant: impacts (eq. 5–7) until no closed
     /// contact approaches, then the acceleration LCP (eq. 8–10) for the closed ones; project
-    /// onto their constraints; log the transitions.
-    pub(super) fn resolve(&mut self) -> Result<(), SolverError> {
+    /// onto their constraints; log the transitions. `event` is the function whose crossing
+    /// brought the run here, if any: it settles the LCP's degenerate answer for its contact
+    /// ([`Engine::settle_crossing`]).
+    pub(super) fn resolve(&mut self, event: Option<EventFn>) -> Result<(), SolverError> {
         self.ws.dynamics.at = None;
         self.ws.new_contact_mode();
         let before = self.state.contacts.clone();
@@ -25,7 +28,7 @@ impl Engine<'_> {
             }
         }
         self.hold_slow_separations(&before, &impacted);
-        self.contact_phase()?;
+        self.contact_phase(event)?;
         self.project();
         self.check_left_approaching(&impacted);
         self.log_transitions(&before, &impacted)
@@ -137,6 +140,12 @@ impl Engine<'_> {
                 st.zeno_velocity,
                 st.min_event_spacing,
             );
+            // a rebound slower than `zeno_velocity` (ε ġ⁻): its flight rises ġ⁺²/(2g̈) —
+            // 1.6e-18 m at 3e-9 m/s against 2.8 m/s² (ε = 1e-4) — below the gap's rounding,
+            // where no event can end it (the run stalled, locating it at its start again and
+            // again); the contact closes now, as it would at its next impact
+            let rule =
+                rule.or((-kin[i].gap_rate * eps[a] < st.zeno_velocity).then_some(self.state.t));
             // a burst of impacts closer than min_event_spacing closes the contact even when the
             // flights do not shrink geometrically
             let (last, count) = self.state.burst[i];
@@ -220,8 +229,10 @@ impl Engine<'_> {
     }
 
     /// The contact phase (eq. 8–10): contacts closed at position and velocity level get their
-    /// stick / slide / detach decision from the acceleration LCP; the others open.
-    fn contact_phase(&mut self) -> Result<(), SolverError> {
+    /// stick / slide / detach decision from the acceleration LCP; the others open. At the
+    /// crossing of `event` the decision for its contact follows the crossing where the LCP is
+    /// degenerate ([`Engine::settle_crossing`]).
+    fn contact_phase(&mut self, event: Option<EventFn>) -> Result<(), SolverError> {
         let scene = self.scene;
         let st = &scene.settings;
         let nc = scene.contacts.len();
@@ -258,7 +269,8 @@ impl Engine<'_> {
         self.state.out.stats.lcp_regularized += usize::from(outcome.regularization > 0.0);
         for (a, &i) in closed.iter().enumerate() {
             self.state.force_scale = self.state.force_scale.max(outcome.normal_force[a].abs());
-            self.state.contacts[i] = match outcome.decision[a] {
+            let decision = self.settle_crossing(event, i, &outcome, a);
+            self.state.contacts[i] = match decision {
                 Decision::Detach => ContactState::Open,
                 Decision::Stick => ContactState::Stick,
                 Decision::Slide(s) => ContactState::Slide(s),
@@ -289,6 +301,35 @@ impl Engine<'_> {
             }
         }
         Ok(())
+    }
+
+    /// The decision for contact `i` (row `a` of the contact LCP) at the crossing of `event`.
+    /// At the instant λ_N of a closed contact reaches zero ([`EventFn::Release`]) the LCP is
+    /// degenerate, λ_N = 0 = g̈_N, and closed or open are both its answers to first order;
+    /// the crossing says which follows: λ_N decreasing through 0 would pull, so the contact is
+    /// released unless the LCP gives it a force above the event's threshold (a force another
+    /// contact's change brought). (A stick on the cone's edge is left to the LCP: the friction
+    /// of two corners on one face is split by its regularisation, not by the crossing.)
+    fn settle_crossing(
+        &self,
+        event: Option<EventFn>,
+        i: usize,
+        outcome: &crate::contact::ContactOutcome,
+        a: usize,
+    ) -> Decision {
+        let decision = outcome.decision[a];
+        let Some(f) = event else {
+            return decision;
+        };
+        let lam_n = outcome.normal_force[a];
+        match f {
+            EventFn::Release(j)
+                if j == i && decision != Decision::Detach && lam_n <= self.threshold(f) =>
+            {
+                Decision::Detach
+            }
+            _ => decision,
+        }
     }
 
     /// A failed contact LCP: a ray with sliding contacts is a Painlevé configuration.

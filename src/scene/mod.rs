@@ -257,6 +257,24 @@ impl Scene {
         out
     }
 
+    /// The longest step while a contact is closed: its λ_N and stick margin are driven in t by
+    /// the supports even where the state rests (a body held against a fixed stop, whose error
+    /// estimate is then 0), and the event search samples them at ½ and 1 of a step. 1/16 of a
+    /// harmonic period, 8 samples of a record; ∞ without supports.
+    pub fn closed_step_cap(&self) -> f64 {
+        self.supports
+            .iter()
+            .map(|s| match &s.motion {
+                Motion::Harmonic { omega, .. } if *omega != 0.0 => {
+                    std::f64::consts::TAU / omega.abs() / 16.0
+                }
+                Motion::Harmonic { .. } => f64::INFINITY,
+                Motion::Record(g) => 8.0 * g.dt,
+            })
+            .filter(|h| *h > 0.0)
+            .fold(f64::INFINITY, f64::min)
+    }
+
     pub fn kinetic_energy(&self, v: &DVector<f64>) -> f64 {
         0.5 * v
             .iter()

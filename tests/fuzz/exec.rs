@@ -5,7 +5,7 @@ use deckspin::output::{EventRecord, Sample};
 use deckspin::run::{OutputBudget, Stop, check_output};
 use std::panic::AssertUnwindSafe;
 use std::path::{Path, PathBuf};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 /// Simulated time each input runs at most (longer `t_end` are cut to it).
 pub const T_END_MAX: f64 = 4.0;
@@ -44,7 +44,8 @@ pub enum Outcome {
     },
     /// Stopped with a typed `SolverError` (its kind).
     Failed(String),
-    /// Cancelled by the watchdog after the wall-time limit: a hang.
+    /// Cancelled by the watchdog past its CPU-time budget: a hang (an input that stops making
+    /// progress, whatever the machine's load).
     Hang(String),
     /// A panic, with its message.
     Panic(String),
@@ -99,9 +100,10 @@ impl Outcome {
     }
 }
 
-/// Cancels the run after `limit`; notes any non-finite value of the samples it is handed.
+/// Cancels the run once its thread has used `limit` of CPU time (time waiting for a core on a
+/// busy machine does not count); notes any non-finite value of the samples it is handed.
 struct Watchdog {
-    start: Instant,
+    cpu0: f64,
     limit: Duration,
     non_finite: bool,
 }
@@ -129,7 +131,7 @@ fn sample_finite(s: &Sample) -> bool {
 impl deckspin::Observer for Watchdog {
     fn batch(&mut self, samples: &[Sample], _: &[EventRecord], _: f64) -> bool {
         self.non_finite |= !samples.iter().all(sample_finite);
-        self.start.elapsed() < self.limit
+        deckspin::clock::thread_cpu_seconds() - self.cpu0 < self.limit.as_secs_f64()
     }
 
     fn keeps_samples(&self) -> bool {
@@ -175,7 +177,6 @@ pub fn run_input(model: &str, path: &Path, at2: Option<&str>, limit: Duration) -
 }
 
 fn load_and_run(model: &str, path: &Path, limit: Duration) -> Outcome {
-    let start = Instant::now();
     let mut scene = match deckspin::model::load_str(model, path, &[]) {
         Ok(s) => s,
         Err(e) => return Outcome::Refused(variant(&format!("{e:?}"))),
@@ -191,7 +192,7 @@ fn load_and_run(model: &str, path: &Path, limit: Duration) -> Outcome {
         return Outcome::OverBudget;
     }
     let mut dog = Watchdog {
-        start,
+        cpu0: deckspin::clock::thread_cpu_seconds(),
         limit,
         non_finite: false,
     };
@@ -211,9 +212,9 @@ fn load_and_run(model: &str, path: &Path, limit: Duration) -> Outcome {
             }
         }
         Stop::Cancelled { t } => Outcome::Hang(format!(
-            "cancelled at t = {t:.6e} s of {} s after {:.1} s",
+            "cancelled at t = {t:.6e} s of {} s after {:.1} s of CPU",
             scene.settings.t_end,
-            start.elapsed().as_secs_f64()
+            deckspin::clock::thread_cpu_seconds() - dog.cpu0
         )),
         Stop::Failed(e) => Outcome::Failed(e.kind().to_string()),
     }

@@ -23,7 +23,8 @@ const CI_SEED: u64 = 0xdec5_0001;
 /// asserted (empty: the two hangs it held, huge actuator damping and a tiny deck inertia, are
 /// refused before they run since the step budget counts dashpots).
 const KNOWN_CI: &[u64] = &[];
-/// Wall time one input may take before the watchdog cancels it.
+/// CPU time one input may take before the watchdog cancels it (a hang: no wall clock, so a
+/// busy machine makes no input a hang).
 const LIMIT: Duration = Duration::from_secs(10);
 
 fn env_u64(name: &str, default: u64) -> u64 {

@@ -122,6 +122,22 @@ impl Tally {
     }
 }
 
+/// A child that gains no CPU time for this long while not answering is blocked.
+const BLOCKED: Duration = Duration::from_secs(300);
+
+/// The CPU seconds (user + system) a child process has used, from `/proc/PID/stat`; None
+/// where that cannot be read.
+fn child_cpu_seconds(pid: u32) -> Option<f64> {
+    let stat = std::fs::read_to_string(format!("/proc/{pid}/stat")).ok()?;
+    // the fields after the command name, which may hold spaces, in parentheses
+    let rest = &stat[stat.rfind(')')? + 2..];
+    let f: Vec<&str> = rest.split_whitespace().collect();
+    let (utime, stime): (f64, f64) = (f.get(11)?.parse().ok()?, f.get(12)?.parse().ok()?);
+    // SAFETY: sysconf reads a constant of the system
+    let tick = unsafe { libc::sysconf(libc::_SC_CLK_TCK) } as f64;
+    (tick > 0.0).then(|| (utime + stime) / tick)
+}
+
 fn spawn(seed: u64, from: u64, to: u64, limit: Duration) -> Child {
     Command::new(std::env::current_exe().unwrap())
         .args([
@@ -142,8 +158,11 @@ fn spawn(seed: u64, from: u64, to: u64, limit: Duration) -> Child {
         .expect("fuzz child")
 }
 
-/// Inputs `from..to` through children, one after another; a child that hangs past the
-/// watchdog (`limit` + 30 s without an answer) is killed and one that dies is counted.
+/// Inputs `from..to` through children, one after another; a child that hangs is killed and
+/// one that dies is counted. A hang is judged by the child's CPU time, never by the wall clock:
+/// a child past `limit` + 30 s of CPU on one input (its own watchdog cancels at `limit`), or one
+/// that used no CPU at all for [`BLOCKED`] while not answering (blocked, e.g. on a FIFO; a child
+/// that only waits for a core on a busy machine still gains CPU).
 fn worker(seed: u64, from: u64, to: u64, limit: Duration) -> Tally {
     let mut tally = Tally::default();
     let mut next = from;
@@ -158,13 +177,19 @@ fn worker(seed: u64, from: u64, to: u64, limit: Duration) -> Tally {
                 }
             }
         });
+        let budget = (limit + Duration::from_secs(30)).as_secs_f64();
+        let mut input_cpu0 = child_cpu_seconds(child.id()).unwrap_or(0.0);
+        let mut idle = (std::time::Instant::now(), input_cpu0);
         let mut current = None;
         loop {
-            match rx.recv_timeout(limit + Duration::from_secs(30)) {
+            match rx.recv_timeout(Duration::from_secs(1)) {
                 Ok(l) => {
                     let f: Vec<&str> = l.splitn(7, '\t').collect();
                     match f.as_slice() {
-                        ["FUZZ", "start", c] => current = c.parse::<u64>().ok(),
+                        ["FUZZ", "start", c] => {
+                            current = c.parse::<u64>().ok();
+                            input_cpu0 = child_cpu_seconds(child.id()).unwrap_or(input_cpu0);
+                        }
                         ["FUZZ", "done", c, class, finds, secs, detail] => {
                             let c: u64 = c.parse().unwrap();
                             tally.add(c, class, finds, secs.parse().unwrap_or(0.0), detail);
@@ -173,13 +198,30 @@ fn worker(seed: u64, from: u64, to: u64, limit: Duration) -> Tally {
                         }
                         _ => {}
                     }
+                    idle = (
+                        std::time::Instant::now(),
+                        child_cpu_seconds(child.id()).unwrap_or(0.0),
+                    );
                 }
                 Err(mpsc::RecvTimeoutError::Timeout) => {
+                    let cpu = child_cpu_seconds(child.id()).unwrap_or(f64::NAN);
+                    if cpu > idle.1 + 1e-2 {
+                        idle = (std::time::Instant::now(), cpu);
+                    }
+                    let over = cpu - input_cpu0 > budget;
+                    let blocked = idle.0.elapsed() > BLOCKED;
+                    if !(over || blocked) {
+                        continue;
+                    }
                     let _ = child.kill();
                     let _ = child.wait();
                     let c = current.unwrap_or(next);
-                    let secs = (limit + Duration::from_secs(30)).as_secs_f64();
-                    tally.add(c, "hang", "hang", secs, "no answer: child killed");
+                    let why = if over {
+                        format!("child past {budget:.0} s of CPU: killed")
+                    } else {
+                        format!("child blocked (no CPU for {} s): killed", BLOCKED.as_secs())
+                    };
+                    tally.add(c, "hang", "hang", cpu - input_cpu0, &why);
                     next = c + 1;
                     break;
                 }
