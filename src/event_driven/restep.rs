@@ -14,10 +14,6 @@ use nalgebra::DVector;
 
 /// Newton moves along the flow at most; each needs the gap only.
 const NEWTON_MOVES: usize = 4;
-/// The largest move along the flow onto λ_N = 0 of a release, as a fraction of the step to
-/// the event: the force of a stiff element's contact falls steeply (2.5e4 kN/s), and the dense
-/// output's root lies 1.4e-3 of the re-step after the re-stepped one (three frames).
-const MAX_FORCE_MOVE: f64 = 0.05;
 /// Times the event may pass to a corner that crossed first.
 const SWITCHES: usize = 3;
 /// The largest move along the flow, as a fraction of the step to the event: beyond it the
@@ -80,11 +76,7 @@ impl Engine<'_> {
                     .filter(|(t, _)| *t > t_min && *t <= step.t1()));
             }
             EventFn::Release(i) => {
-                let dt = self.secant_on_force(rs, i, te, tau, y)?;
-                let t = te + dt;
-                return Ok(Some((te, f))
-                    .filter(|_| dt == 0.0)
-                    .or_else(|| (t > t_min && t <= step.t1()).then_some((t, f))));
+                return self.release_state(ws, step, f0, (i, te, t_min), y);
             }
             _ => return Ok(Some((te, f))),
         };
@@ -150,46 +142,67 @@ impl Engine<'_> {
         Ok(None)
     }
 
-    /// The re-step's state pulls at contact `i` (λ_N < −threshold once projected onto the
-    /// closed constraints, as the event will be: its root on the dense output lies after the
-    /// root on the re-stepped trajectory, by the dense output's error and the drift): the secant
-    /// method on that λ_N along the flow at the end of `rs` (the state in `y`) moves it back
-    /// onto λ_N = 0, so that the state before the release exerts no pull. Returns the move (0:
-    /// none needed, or none found within [`MAX_FORCE_MOVE`]; then `y` is the re-step's).
-    fn secant_on_force(
+    /// The state at the release of contact `i` located at `te`, after the re-step in `ws`
+    /// (its end in `y`). Where that state, projected onto the closed constraints as the event
+    /// will be, pulls (λ_N < −threshold/100: its root on the dense output lies after the
+    /// root of the re-stepped trajectory, by the dense output's error and the drift), the
+    /// secant method on that λ_N over the re-step's length, each iterate a DP5 step of its own
+    /// from the step's start, moves it back onto λ_N ∈ [−threshold/100, threshold]; so the state
+    /// before the release exerts no pull. Returns the event's time (`te` where no move was
+    /// needed or none was found after `t_min`, `y` then the first re-step's end).
+    fn release_state(
         &mut self,
-        rs: &dopri::Step,
-        i: usize,
-        te: f64,
-        tau: f64,
+        ws: &mut dopri::Workspace,
+        step: &dopri::Step,
+        f0: &DVector<f64>,
+        (i, te, t_min): (usize, f64, f64),
         y: &mut DVector<f64>,
-    ) -> Result<f64, SolverError> {
-        let thr = self.threshold(EventFn::Release(i));
-        let f0 = self.projected_force(i, te, y)?;
-        if f0 >= -thr || !f0.is_finite() {
-            return Ok(0.0);
+    ) -> Result<Option<(f64, EventFn)>, SolverError> {
+        let f = EventFn::Release(i);
+        let thr = self.threshold(f);
+        let ok = |v: f64| v <= thr && v >= -1e-2 * thr;
+        let fe = self.projected_force(i, te, y)?;
+        if fe >= -1e-2 * thr || !fe.is_finite() {
+            return Ok(Some((te, f)));
         }
-        // a probe back along the flow for the rate, then secant steps
-        let (mut a, mut fa) = (0.0, f0);
-        let mut b = -1e-6 * tau;
+        let (t0, tau) = (step.t0, te - step.t0);
+        let st = &self.scene.settings;
+        let (rtol, atol, n) = (st.rtol, st.atol, self.n);
+        // a probe along the flow at the re-step's end for the rate, then secant steps
         let mut moved = y.clone();
+        let probe = -1e-6 * tau;
+        move_along_flow(&ws.step, n, probe, &mut moved);
+        let (mut a, mut fa) = (te, fe);
+        let (mut b, mut fb) = (te + probe, self.projected_force(i, te + probe, &moved)?);
         for _ in 0..=NEWTON_MOVES {
-            move_along_flow(rs, self.n, b, &mut moved);
-            let fb = self.projected_force(i, te + b, &moved)?;
-            if fb.abs() <= thr {
+            if ok(fb) {
                 y.copy_from(&moved);
-                return Ok(b);
+                return Ok((b > t_min).then_some((b, f)));
             }
             if !fb.is_finite() || fb == fa {
                 break;
             }
             let next = b - fb * (b - a) / (fb - fa);
-            (a, fa, b) = (b, fb, next);
-            if next.is_nan() || next.abs() > MAX_FORCE_MOVE * tau {
+            if next.is_nan() || next <= t0.max(t_min) || next > te {
                 break;
             }
+            let mut rhs = |t: f64, y: &DVector<f64>, out: &mut DVector<f64>| self.rhs(t, y, out);
+            dopri::step_into(ws, &mut rhs, t0, &step.y0, f0, next - t0, rtol, atol, 2 * n)?;
+            let rs = &ws.step;
+            if rs.error.is_nan() || rs.error > 1.0 || rs.y1.iter().any(|x| !x.is_finite()) {
+                break;
+            }
+            moved.copy_from(&rs.y1);
+            (a, fa) = (b, fb);
+            (b, fb) = (next, self.projected_force(i, next, &moved)?);
         }
-        Ok(0.0)
+        // none found: the first re-step's end, and its step back in `ws` for the samples
+        // before the event
+        if b != te + probe {
+            let mut rhs = |t: f64, y: &DVector<f64>, out: &mut DVector<f64>| self.rhs(t, y, out);
+            dopri::step_into(ws, &mut rhs, t0, &step.y0, f0, tau, rtol, atol, 2 * n)?;
+        }
+        Ok(Some((te, f)))
     }
 
     /// λ_N of contact `i` at (t, y) projected onto the closed constraints ([`Engine::project`]);
