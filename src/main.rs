@@ -34,7 +34,7 @@ enum Command {
         #[arg(long = "set", value_name = "KEY=VALUE")]
         set: Vec<String>,
         /// Also print the state at this instant (velocities, contact states and forces).
-        #[arg(long)]
+        #[arg(long, value_parser = finite_time)]
         at: Option<f64>,
         /// Integration method (default: the model's).
         #[arg(long, help = format!("Integration method: {} (default: the model's)", Method::names(", ")))]
@@ -129,6 +129,27 @@ enum Command {
     Fragility(cli::fragility::FragilityArgs),
 }
 
+/// A standard output or error that cannot be written (`> /dev/full`, a closed descriptor) is an
+/// error with its own exit code (74, EX_IOERR), never a panic: `print!` panics on a failed write
+/// ("failed printing to stdout"), and this hook turns exactly that into one line and the exit.
+fn quiet_on_failed_output() {
+    let default = std::panic::take_hook();
+    std::panic::set_hook(Box::new(move |info| {
+        let msg = (info.payload().downcast_ref::<String>().map(String::as_str))
+            .or_else(|| info.payload().downcast_ref::<&str>().copied())
+            .unwrap_or("");
+        for stream in ["stdout", "stderr"] {
+            if let Some(why) = msg.strip_prefix(&format!("failed printing to {stream}: ")) {
+                use std::io::Write as _;
+                let line = format!("deckspin: cannot write to {stream}: {why}\n");
+                let _ = std::io::stderr().write_all(line.as_bytes());
+                std::process::exit(74);
+            }
+        }
+        default(info);
+    }));
+}
+
 fn main() -> ExitCode {
     // a closed pipe (`deckspin bench | head -1`) ends the process quietly, as for other tools,
     // instead of a panic in println!
@@ -137,7 +158,14 @@ fn main() -> ExitCode {
     unsafe {
         libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
+    quiet_on_failed_output();
     let cli = Cli::parse();
+    if matches!(
+        cli.command,
+        Some(Command::Run { .. } | Command::Sequence(_))
+    ) {
+        cli::signals::install();
+    }
     let result = match cli.command {
         Some(Command::Run {
             model,
@@ -212,6 +240,9 @@ fn main() -> ExitCode {
 /// else 1.
 fn exit_code(e: &(dyn std::error::Error + 'static)) -> ExitCode {
     use deckspin::suite::SuiteError;
+    if let Some(i) = e.downcast_ref::<cli::signals::Interrupted>() {
+        return ExitCode::from((128 + i.signal).clamp(0, 255) as u8);
+    }
     let suite_too_large =
         (e.downcast_ref::<SuiteError>()).is_some_and(|s| matches!(s, SuiteError::TooLarge(_)));
     if e.is::<deckspin::run::LimitError>()
@@ -229,6 +260,21 @@ type CliResult = Result<(), Box<dyn std::error::Error>>;
 /// Run a model, streaming its history to `out/history.csv`; events.csv and summary.json
 /// (with the run's status) are written however the run ends. Refused (exit 2) before it starts
 /// when its output would exceed the budget.
+/// A time argument: a finite number of seconds, not negative (`--at inf` printed t = 0).
+fn finite_time(s: &str) -> Result<f64, String> {
+    let t: f64 = s
+        .trim()
+        .parse()
+        .map_err(|e| format!("{s:?} is no number of seconds: {e}"))?;
+    if t.is_finite() && t >= 0.0 {
+        Ok(t)
+    } else {
+        Err(format!(
+            "{s:?}: a time must be a finite number of seconds ≥ 0"
+        ))
+    }
+}
+
 fn cmd_run(
     model: &std::path::Path,
     out: &std::path::Path,
@@ -244,6 +290,7 @@ fn cmd_run(
     check_output(&scene, &OutputBudget::default())?;
     let cannot = |e: std::io::Error| format!("{}: cannot write results: {e}", out.display());
     let mut files = RunFiles::create(out, &scene, at).map_err(cannot)?;
+    files.stop_when(|| cli::signals::requested().is_some());
     let run = deckspin::simulate::integrate(&scene, &mut files);
     let written = files.finish(&run).map_err(cannot)?;
     print_report(&run.output.summary, &scene);
@@ -263,7 +310,10 @@ fn cmd_run(
         }
         Stop::Cancelled { t } => {
             println!("  wrote {wrote} (up to t = {t:.9} s)");
-            Err(format!("t = {t:.9} s: cancelled").into())
+            match cli::signals::requested() {
+                Some(signal) => Err(Box::new(cli::signals::Interrupted { signal, t })),
+                None => Err(format!("t = {t:.9} s: cancelled").into()),
+            }
         }
     }
 }

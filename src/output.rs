@@ -8,6 +8,7 @@ use std::path::Path;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 pub mod deck;
+pub mod files;
 mod history;
 pub mod number;
 
@@ -735,11 +736,16 @@ impl RunOutput {
         std::fs::write(path, s)
     }
 
-    /// history.csv, events.csv, summary.json in `dir` (created).
+    /// history.csv, events.csv, summary.json in `dir` (created), as one transaction
+    /// ([`files::Staging`]).
     pub fn write_all(&self, dir: &Path) -> std::io::Result<()> {
-        std::fs::create_dir_all(dir)?;
-        self.write_history(&dir.join("history.csv"))?;
-        self.write_events(&dir.join("events.csv"))?;
-        self.write_summary(&dir.join("summary.json"))
+        let staging = files::Staging::begin(dir)?;
+        self.write_history(&staging.path("history.csv"))?;
+        self.write_events(&staging.path("events.csv"))?;
+        self.write_summary(&staging.path("summary.json"))?;
+        staging.commit(&format!(
+            "{{\n  \"status\": \"writing\",\n  \"pid\": {}\n}}\n",
+            std::process::id()
+        ))
     }
 }

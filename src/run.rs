@@ -9,7 +9,7 @@ use crate::scene::Scene;
 use serde::Serialize;
 use std::fs::File;
 use std::io::BufWriter;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::time::Instant;
 
 /// Why a run stopped early. Every variant names the time.
@@ -354,13 +354,17 @@ impl Run {
     }
 
     /// history.csv (the samples the output kept), events.csv and summary.json (with the status)
-    /// in `dir` (created).
+    /// in `dir` (created), as one transaction ([`crate::output::files::Staging`]).
     pub fn write_all(&self, dir: &Path) -> std::io::Result<()> {
-        std::fs::create_dir_all(dir)?;
-        self.output.write_history(&dir.join("history.csv"))?;
-        self.output.write_events(&dir.join("events.csv"))?;
+        let staging = crate::output::files::Staging::begin(dir)?;
+        self.output.write_history(&staging.path("history.csv"))?;
+        self.output.write_events(&staging.path("events.csv"))?;
         let json = self.summary_json().map_err(std::io::Error::other)?;
-        std::fs::write(dir.join("summary.json"), json)
+        std::fs::write(staging.path("summary.json"), json)?;
+        staging.commit(&format!(
+            "{{\n  \"status\": \"writing\",\n  \"pid\": {}\n}}\n",
+            std::process::id()
+        ))
     }
 }
 
@@ -368,13 +372,17 @@ impl Run {
 /// output keeps none of them: memory does not grow with the run's length), then, however the
 /// run ended, the last rows, events.csv and summary.json ([`RunFiles::finish`]).
 pub struct RunFiles {
-    dir: PathBuf,
+    /// The output folder, locked, and the staging folder the files are made in.
+    staging: crate::output::files::Staging,
     history: HistoryWriter<BufWriter<File>>,
     /// The first write error (the run is cancelled at it).
     error: Option<std::io::Error>,
     /// Keep the sample nearest to this instant.
     at: Option<f64>,
     nearest: Option<Sample>,
+    /// Asked at each batch whether to stop (a signal to the front end): the run is then
+    /// cancelled there.
+    stop: Option<fn() -> bool>,
 }
 
 /// What [`RunFiles::finish`] wrote.
@@ -387,18 +395,31 @@ pub struct Written {
 }
 
 impl RunFiles {
-    /// `dir` (created) with the header of `dir/history.csv` for `scene`'s columns; keeps the
-    /// sample nearest to `at`.
+    /// `dir` (created and locked: a second run on it is refused, naming the process that
+    /// holds it) with the header of history.csv for `scene`'s columns in a staging folder;
+    /// keeps the sample nearest to `at`. The previous result in `dir` stays whole until
+    /// [`RunFiles::finish`] moves the new one in ([`crate::output::files::Staging`]).
     pub fn create(dir: &Path, scene: &Scene, at: Option<f64>) -> std::io::Result<Self> {
-        std::fs::create_dir_all(dir)?;
-        let file = BufWriter::new(File::create(dir.join("history.csv"))?);
+        let staging = crate::output::files::Staging::begin(dir)?;
+        let file = BufWriter::new(
+            File::options()
+                .write(true)
+                .create_new(true)
+                .open(staging.path("history.csv"))?,
+        );
         Ok(Self {
-            dir: dir.to_path_buf(),
             history: HistoryWriter::new(file, &RunOutput::new(scene))?,
+            staging,
             error: None,
             at,
             nearest: None,
+            stop: None,
         })
+    }
+
+    /// The run is cancelled at the first batch at which `stop` says so.
+    pub fn stop_when(&mut self, stop: fn() -> bool) {
+        self.stop = Some(stop);
     }
 
     fn take(&mut self, samples: &[Sample]) -> std::io::Result<()> {
@@ -414,7 +435,9 @@ impl RunFiles {
     }
 
     /// The rows after the last batch, events.csv and summary.json of `run` (the run this
-    /// observed); the first write error, if any.
+    /// observed), moved into the output folder as one result whatever the run's status
+    /// (finished, failed, cancelled); the first write error, if any (the previous result then
+    /// stays).
     pub fn finish(mut self, run: &Run) -> std::io::Result<Written> {
         if let Some(e) = self.error.take() {
             return Err(e);
@@ -422,9 +445,14 @@ impl RunFiles {
         self.take(&run.output.samples)?;
         let rows = self.history.rows();
         self.history.finish()?;
-        run.output.write_events(&self.dir.join("events.csv"))?;
+        run.output.write_events(&self.staging.path("events.csv"))?;
         let json = run.summary_json().map_err(std::io::Error::other)?;
-        std::fs::write(self.dir.join("summary.json"), json)?;
+        std::fs::write(self.staging.path("summary.json"), json)?;
+        let interim = format!(
+            "{{\n  \"status\": \"writing\",\n  \"pid\": {}\n}}\n",
+            std::process::id()
+        );
+        self.staging.commit(&interim)?;
         Ok(Written {
             rows,
             nearest: self.nearest,
@@ -438,7 +466,7 @@ impl Observer for RunFiles {
             return false;
         }
         match self.take(samples) {
-            Ok(()) => true,
+            Ok(()) => !self.stop.is_some_and(|stop| stop()),
             Err(e) => {
                 self.error = Some(e);
                 false

@@ -27,15 +27,16 @@ fn deckspin(args: &[&str]) -> Output {
     };
     let stdout = drain(child.stdout.take().map(|r| Box::new(r) as _));
     let stderr = drain(child.stderr.take().map(|r| Box::new(r) as _));
-    let t0 = std::time::Instant::now();
+    // a hang by the child's CPU, not the wall clock (a busy machine is no hang)
+    let mut watch = common::HangWatch::new(child.id(), 120.0, 300);
     let status = loop {
         if let Some(status) = child.try_wait().unwrap() {
             break status;
         }
-        if t0.elapsed().as_secs() > 60 {
+        if let Some(why) = watch.hangs() {
             child.kill().unwrap();
             child.wait().unwrap();
-            panic!("deckspin {args:?} still running after 60 s");
+            panic!("deckspin {args:?} hangs: {why}");
         }
         std::thread::sleep(std::time::Duration::from_millis(20));
     };
@@ -226,7 +227,6 @@ fn runs_above_the_limits_are_refused_before_they_start() {
 fn sweeps_are_capped_by_the_product_of_their_axes() {
     let csv = dir("sweep-cap").join("sweep.csv");
     let c = csv.display().to_string();
-    let t0 = std::time::Instant::now();
     let r = deckspin(&[
         "sweep",
         &model("models/four-span.toml"),
@@ -244,7 +244,6 @@ fn sweeps_are_capped_by_the_product_of_their_axes() {
         "{e}"
     );
     assert!(!csv.exists());
-    assert!(t0.elapsed().as_secs_f64() < 5.0);
     // at the cap: every combination is counted, none run
     let axes = [
         deckspin::studies::parse_axis("a=1:1000:1").unwrap(),

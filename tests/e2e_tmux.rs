@@ -41,16 +41,22 @@ impl Tmux {
         let out = self.cmd(&["send-keys", "-t", "e2e", "-l", s]);
         assert!(out.status.success());
     }
-    /// Polls the pane until `pred` holds (≤ `secs`), returning the screen.
+    /// Polls the pane until `pred` holds, returning the screen. A hang is a screen that stops
+    /// changing for ten times `secs` (two minutes at least), not a slow one: every change of
+    /// the screen (a run's progress) starts the stretch again, so a busy machine only waits.
     fn wait(&self, what: &str, secs: u64, pred: impl Fn(&str) -> bool) -> String {
-        let end = Instant::now() + Duration::from_secs(secs);
+        let stretch = Duration::from_secs((10 * secs).max(120));
+        let (mut last, mut since) = (String::new(), Instant::now());
         loop {
             let s = self.capture();
             if pred(&s) {
                 return s;
             }
-            if Instant::now() > end {
-                panic!("timed out waiting for {what}; screen:\n{s}");
+            if s != last {
+                (last, since) = (s.clone(), Instant::now());
+            }
+            if since.elapsed() > stretch {
+                panic!("no progress waiting for {what}; screen:\n{s}");
             }
             std::thread::sleep(Duration::from_millis(100));
         }
@@ -548,7 +554,6 @@ fn a_whole_session_edit_run_pin_compare_study_suspend_quit() {
         println!("tmux or bash is not on PATH: skipping the whole-session test");
         return;
     }
-    let began = Instant::now();
     let d = workspace();
     let model = d.join("models/four-span.toml");
     let saved = std::fs::read_to_string(&model).unwrap();
@@ -673,10 +678,6 @@ fn a_whole_session_edit_run_pin_compare_study_suspend_quit() {
                 .is_file()
         );
     }
-    assert!(
-        began.elapsed() < Duration::from_secs(90),
-        "{:?}",
-        began.elapsed()
-    );
+
     let _ = std::fs::remove_dir_all(&d);
 }

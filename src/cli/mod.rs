@@ -7,6 +7,7 @@ pub mod progress;
 pub mod screen;
 pub mod sequence;
 pub mod show;
+pub mod signals;
 pub mod stress;
 pub mod suite;
 pub mod sweep;

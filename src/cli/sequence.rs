@@ -69,6 +69,7 @@ fn one_run(model: &BridgeSequence, seq: &mut Sequence, k: usize, dir: &Path) -> 
     check_output(&scene, &OutputBudget::default())?;
     let cannot = |e: std::io::Error| format!("{}: cannot write results: {e}", dir.display());
     let mut files = RunFiles::create(dir, &scene, None).map_err(cannot)?;
+    files.stop_when(|| super::signals::requested().is_some());
     let result = seq.run(&name, &scene, &mut files);
     if let Some(last) = seq.runs.last() {
         files.finish(&last.run).map_err(cannot)?;

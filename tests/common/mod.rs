@@ -5,6 +5,53 @@ use std::path::{Path, PathBuf};
 #[cfg(feature = "workbench")]
 pub mod tui;
 
+/// The CPU seconds (user + system) a child process has used, from `/proc/PID/stat`; None
+/// where that cannot be read. Watchdogs judge a hang by it, never by the wall clock: a child
+/// on a busy machine is slow, not stuck.
+pub fn child_cpu_seconds(pid: u32) -> Option<f64> {
+    let stat = std::fs::read_to_string(format!("/proc/{pid}/stat")).ok()?;
+    // the fields after the command name, which may hold spaces, in parentheses
+    let rest = &stat[stat.rfind(')')? + 2..];
+    let f: Vec<&str> = rest.split_whitespace().collect();
+    let (utime, stime): (f64, f64) = (f.get(11)?.parse().ok()?, f.get(12)?.parse().ok()?);
+    // SAFETY: sysconf reads a constant of the system
+    let tick = unsafe { libc::sysconf(libc::_SC_CLK_TCK) } as f64;
+    (tick > 0.0).then(|| (utime + stime) / tick)
+}
+
+/// Watches a child for a hang: past `cpu_budget` seconds of its CPU, or no CPU gained for
+/// `blocked` seconds of wall time (blocked on something, not waiting for a core).
+pub struct HangWatch {
+    pid: u32,
+    cpu_budget: f64,
+    blocked: std::time::Duration,
+    last: (std::time::Instant, f64),
+}
+
+impl HangWatch {
+    pub fn new(pid: u32, cpu_budget: f64, blocked_secs: u64) -> Self {
+        Self {
+            pid,
+            cpu_budget,
+            blocked: std::time::Duration::from_secs(blocked_secs),
+            last: (std::time::Instant::now(), 0.0),
+        }
+    }
+
+    /// Some(reason) once the child hangs.
+    pub fn hangs(&mut self) -> Option<String> {
+        let cpu = child_cpu_seconds(self.pid)?;
+        if cpu > self.last.1 + 1e-2 {
+            self.last = (std::time::Instant::now(), cpu);
+        }
+        if cpu > self.cpu_budget {
+            return Some(format!("past {} s of CPU", self.cpu_budget));
+        }
+        (self.last.0.elapsed() > self.blocked)
+            .then(|| format!("no CPU for {} s", self.blocked.as_secs()))
+    }
+}
+
 pub fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }

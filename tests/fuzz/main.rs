@@ -10,6 +10,8 @@
 //! - `fuzz_case` (ignored): `FUZZ_CASE=i` (and `FUZZ_SEED`): input i, its outcome, and a
 //!   smaller input with the same finding.
 
+#[path = "../common/mod.rs"]
+mod common;
 mod edits;
 mod exec;
 mod mutate;

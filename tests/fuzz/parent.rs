@@ -125,19 +125,6 @@ impl Tally {
 /// A child that gains no CPU time for this long while not answering is blocked.
 const BLOCKED: Duration = Duration::from_secs(300);
 
-/// The CPU seconds (user + system) a child process has used, from `/proc/PID/stat`; None
-/// where that cannot be read.
-fn child_cpu_seconds(pid: u32) -> Option<f64> {
-    let stat = std::fs::read_to_string(format!("/proc/{pid}/stat")).ok()?;
-    // the fields after the command name, which may hold spaces, in parentheses
-    let rest = &stat[stat.rfind(')')? + 2..];
-    let f: Vec<&str> = rest.split_whitespace().collect();
-    let (utime, stime): (f64, f64) = (f.get(11)?.parse().ok()?, f.get(12)?.parse().ok()?);
-    // SAFETY: sysconf reads a constant of the system
-    let tick = unsafe { libc::sysconf(libc::_SC_CLK_TCK) } as f64;
-    (tick > 0.0).then(|| (utime + stime) / tick)
-}
-
 fn spawn(seed: u64, from: u64, to: u64, limit: Duration) -> Child {
     Command::new(std::env::current_exe().unwrap())
         .args([
@@ -178,7 +165,7 @@ fn worker(seed: u64, from: u64, to: u64, limit: Duration) -> Tally {
             }
         });
         let budget = (limit + Duration::from_secs(30)).as_secs_f64();
-        let mut input_cpu0 = child_cpu_seconds(child.id()).unwrap_or(0.0);
+        let mut input_cpu0 = crate::common::child_cpu_seconds(child.id()).unwrap_or(0.0);
         let mut idle = (std::time::Instant::now(), input_cpu0);
         let mut current = None;
         loop {
@@ -188,7 +175,8 @@ fn worker(seed: u64, from: u64, to: u64, limit: Duration) -> Tally {
                     match f.as_slice() {
                         ["FUZZ", "start", c] => {
                             current = c.parse::<u64>().ok();
-                            input_cpu0 = child_cpu_seconds(child.id()).unwrap_or(input_cpu0);
+                            input_cpu0 =
+                                crate::common::child_cpu_seconds(child.id()).unwrap_or(input_cpu0);
                         }
                         ["FUZZ", "done", c, class, finds, secs, detail] => {
                             let c: u64 = c.parse().unwrap();
@@ -200,11 +188,11 @@ fn worker(seed: u64, from: u64, to: u64, limit: Duration) -> Tally {
                     }
                     idle = (
                         std::time::Instant::now(),
-                        child_cpu_seconds(child.id()).unwrap_or(0.0),
+                        crate::common::child_cpu_seconds(child.id()).unwrap_or(0.0),
                     );
                 }
                 Err(mpsc::RecvTimeoutError::Timeout) => {
-                    let cpu = child_cpu_seconds(child.id()).unwrap_or(f64::NAN);
+                    let cpu = crate::common::child_cpu_seconds(child.id()).unwrap_or(f64::NAN);
                     if cpu > idle.1 + 1e-2 {
                         idle = (std::time::Instant::now(), cpu);
                     }

@@ -1,0 +1,230 @@
+//! Every output a transaction (`run`): a killed rerun leaves the previous result whole, a
+//! second run on a folder is refused while the first holds it, SIGINT / SIGTERM / SIGHUP end
+//! a run as cancelled with consistent files, a symlink planted at an output's name is replaced
+//! and not followed; a full standard output is an error, not a panic.
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_deckspin"))
+}
+
+fn dir(name: &str) -> PathBuf {
+    let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
+        .join("transactions")
+        .join(name);
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(d.parent().unwrap()).unwrap();
+    d
+}
+
+fn model() -> String {
+    common::model("models/four-span.toml").display().to_string()
+}
+
+/// A run that writes a long history (a sample every 10 µs) into `out`.
+fn long_run(out: &Path) -> Child {
+    bin()
+        .args(["run", &model(), "--out", &out.display().to_string()])
+        .args(["--set", "solver.output_dt=1e-5"])
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap()
+}
+
+/// Waits until the child's staged history has grown past 1 MB (it is running and writing): a
+/// hang is judged by the child's CPU, not the wall clock.
+fn wait_writing(child: &mut Child, out: &Path) {
+    let mut watch = common::HangWatch::new(child.id(), 120.0, 300);
+    let staged = out.join(format!(".deckspin-staging-{}/history.csv", child.id()));
+    loop {
+        if std::fs::metadata(&staged).is_ok_and(|m| m.len() > 1 << 20) {
+            return;
+        }
+        assert!(
+            child.try_wait().unwrap().is_none(),
+            "the run ended before writing"
+        );
+        if let Some(why) = watch.hangs() {
+            panic!("the run hangs: {why}");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+}
+
+fn signal(child: &Child, sig: i32) {
+    // SAFETY: kill(2) on our own child's pid
+    assert_eq!(unsafe { libc::kill(child.id() as i32, sig) }, 0);
+}
+
+fn finish(child: Child) -> (Option<i32>, String) {
+    let out = child.wait_with_output().unwrap();
+    (
+        out.status.code(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+fn read(p: &Path) -> Vec<u8> {
+    std::fs::read(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
+}
+
+fn status(out: &Path) -> serde_json::Value {
+    serde_json::from_slice(&read(&out.join("summary.json"))).unwrap()
+}
+
+/// Every line of history.csv has the header's number of fields, and the last ends the file.
+fn assert_whole_csv(p: &Path) {
+    let text = String::from_utf8(read(p)).unwrap();
+    assert!(text.ends_with('\n'), "{} cut mid-line", p.display());
+    let mut lines = text.lines();
+    let n = lines.next().unwrap().split(',').count();
+    for (k, l) in lines.enumerate() {
+        assert_eq!(l.split(',').count(), n, "{} line {}", p.display(), k + 2);
+    }
+}
+
+#[test]
+fn a_killed_rerun_leaves_the_previous_result_whole() {
+    let out = dir("killed");
+    let o = out.display().to_string();
+    let first = bin()
+        .args(["run", &model(), "--out", &o, "--set", "solver.t_end=3"])
+        .output()
+        .unwrap();
+    assert!(first.status.success());
+    let before: Vec<Vec<u8>> = ["history.csv", "events.csv", "summary.json"]
+        .iter()
+        .map(|f| read(&out.join(f)))
+        .collect();
+    let mut child = long_run(&out);
+    wait_writing(&mut child, &out);
+    signal(&child, libc::SIGKILL);
+    let _ = child.wait();
+    for (f, old) in ["history.csv", "events.csv", "summary.json"]
+        .iter()
+        .zip(&before)
+    {
+        assert!(
+            read(&out.join(f)) == *old,
+            "{f} changed by the killed rerun"
+        );
+    }
+    assert_eq!(status(&out)["status"], "finished");
+    // the next run clears what the killed one left and writes its own result
+    let again = bin()
+        .args(["run", &model(), "--out", &o, "--set", "solver.t_end=2"])
+        .output()
+        .unwrap();
+    assert!(
+        again.status.success(),
+        "{}",
+        String::from_utf8_lossy(&again.stderr)
+    );
+    let left: Vec<String> = std::fs::read_dir(&out)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with('.'))
+        .collect();
+    assert!(left.is_empty(), "{left:?}");
+    assert_eq!(status(&out)["t_end"], 2.0);
+}
+
+#[test]
+fn a_second_run_is_refused_and_signals_cancel_with_consistent_files() {
+    for (sig, code) in [
+        (libc::SIGINT, 130),
+        (libc::SIGTERM, 143),
+        (libc::SIGHUP, 129),
+    ] {
+        let out = dir(&format!("signal-{sig}"));
+        let mut child = long_run(&out);
+        wait_writing(&mut child, &out);
+        if sig == libc::SIGINT {
+            let second = bin()
+                .args(["run", &model(), "--out", &out.display().to_string()])
+                .output()
+                .unwrap();
+            assert_eq!(second.status.code(), Some(1));
+            let e = String::from_utf8_lossy(&second.stderr);
+            assert!(
+                e.contains(&format!("is being written by process {}", child.id())),
+                "{e}"
+            );
+        }
+        signal(&child, sig);
+        let (code_got, stderr) = finish(child);
+        assert_eq!(code_got, Some(code), "{stderr}");
+        assert!(stderr.contains("cancelled by SIG"), "{stderr}");
+        let s = status(&out);
+        assert_eq!(s["status"], "cancelled", "{s}");
+        let t = s["cancelled_at"].as_f64().unwrap();
+        assert!(t > 0.0 && t < 16.0, "{t}");
+        assert_whole_csv(&out.join("history.csv"));
+        assert_whole_csv(&out.join("events.csv"));
+        assert!(!out.join(".deckspin.lock").exists());
+    }
+}
+
+#[cfg(unix)]
+#[test]
+fn a_symlink_planted_at_an_output_name_is_replaced_not_followed() {
+    let out = dir("symlink");
+    std::fs::create_dir_all(&out).unwrap();
+    let victim = out.with_file_name("symlink-victim.txt");
+    std::fs::write(&victim, "keep me").unwrap();
+    for f in ["summary.json", "history.csv", "events.csv"] {
+        std::os::unix::fs::symlink(&victim, out.join(f)).unwrap();
+    }
+    let r = bin()
+        .args(["run", &model(), "--out", &out.display().to_string()])
+        .args(["--set", "solver.t_end=1"])
+        .output()
+        .unwrap();
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    assert_eq!(std::fs::read_to_string(&victim).unwrap(), "keep me");
+    for f in ["summary.json", "history.csv", "events.csv"] {
+        let m = std::fs::symlink_metadata(out.join(f)).unwrap();
+        assert!(m.file_type().is_file(), "{f} is still a link");
+    }
+}
+
+#[test]
+fn a_full_standard_output_is_an_error_not_a_panic() {
+    let full = std::fs::File::options().write(true).open("/dev/full");
+    let Ok(full) = full else {
+        println!("no /dev/full here: skipped");
+        return;
+    };
+    for args in [vec!["modes", &model()[..]], vec!["excitation", "--help"]] {
+        let r = bin()
+            .args(&args)
+            .stdout(full.try_clone().unwrap())
+            .output()
+            .unwrap();
+        let e = String::from_utf8_lossy(&r.stderr);
+        assert!(!e.contains("panicked"), "{args:?}: {e}");
+        if args[0] == "modes" {
+            assert_eq!(r.status.code(), Some(74), "{e}");
+            assert!(e.contains("cannot write to stdout"), "{e}");
+        }
+    }
+}
+
+#[test]
+fn a_time_that_is_not_finite_is_refused() {
+    for at in ["inf", "nan", "-1"] {
+        let out = dir(&format!("at-{at}"));
+        let r = bin()
+            .args(["run", &model(), "--out", &out.display().to_string()])
+            .arg(format!("--at={at}"))
+            .output()
+            .unwrap();
+        assert_eq!(r.status.code(), Some(2), "--at {at}");
+        assert!(String::from_utf8_lossy(&r.stderr).contains("finite number of seconds"));
+        assert!(!out.exists(), "nothing written for --at {at}");
+    }
+}
