@@ -500,8 +500,8 @@ fn cmd_study(
     } else {
         "increase_vs_mu"
     };
-    std::fs::write(out.join(format!("{stem}.csv")), csv)?;
-    std::fs::write(out.join(format!("{stem}.txt")), text)?;
+    deckspin::output::files::write_atomic(out.join(format!("{stem}.csv")), csv)?;
+    deckspin::output::files::write_atomic(out.join(format!("{stem}.txt")), text)?;
     cli::show::chart(&figure, &out.join(format!("{stem}.svg")))?;
     println!("wrote {}/{stem}.{{csv,txt,svg}}", out.display());
     Ok(())
@@ -625,7 +625,7 @@ fn cmd_precision(
     let figure = deckspin::figures::work_precision(&points, &metric, tol);
     text += "\n";
     text += &deckspin::plot::text::render(&figure, 80, 30);
-    std::fs::write(out.join(format!("precision-{stem}.txt")), &text)?;
+    deckspin::output::files::write_atomic(out.join(format!("precision-{stem}.txt")), &text)?;
     cli::show::chart(&figure, &out.join(format!("precision-{stem}.svg")))?;
     println!("wrote {} and .txt, .svg", csv.display());
     Ok(())

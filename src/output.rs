@@ -728,12 +728,12 @@ impl RunOutput {
 
     pub fn write_events(&self, path: &Path) -> std::io::Result<()> {
         let csv = events_csv(&self.events, &self.contact_names, &self.element_names);
-        std::fs::write(path, csv)
+        files::write_atomic(path, csv)
     }
 
     pub fn write_summary(&self, path: &Path) -> std::io::Result<()> {
         let s = serde_json::to_string_pretty(&self.summary).map_err(std::io::Error::other)?;
-        std::fs::write(path, s)
+        files::write_atomic(path, s)
     }
 
     /// history.csv, events.csv, summary.json in `dir` (created), as one transaction

@@ -2,9 +2,13 @@
 //! ⌊(K−1)M/N⌋ … ⌊KM/N⌋ − 1, 0-based), each written as a part file that carries its run
 //! indices, and the parts merged into the CSV the unsharded job writes, byte for byte.
 //!
-//! A part file: the line `#deckspin-part kind=KIND shard=K/N runs=M`, then the job's CSV with a
-//! first column `run` (the run's index in the unsharded job). Rows are one line each (fields
-//! hold no line breaks), so merging is sorting lines by index and dropping that column.
+//! A part file: the line `#deckspin-part kind=KIND shard=K/N runs=M` followed by the job's
+//! fingerprint (`NAME=VALUE` fields, [`JobId`]: the model text's hash, the records' contents',
+//! the arguments', deckspin's version), then the job's CSV with a first column `run` (the run's
+//! index in the unsharded job), then the line `#deckspin-end rows=R`. Rows are one line each
+//! (fields hold no line breaks), so merging is sorting lines by index and dropping that column;
+//! parts of another job are refused by the field that differs, and a part cut short (no end
+//! line, or a row count that is not R) is refused.
 
 use std::ops::Range;
 use std::path::{Path, PathBuf};
@@ -82,19 +86,62 @@ pub fn csv_line<S: AsRef<str>>(fields: &[S]) -> String {
     String::from_utf8(bytes).unwrap_or_default()
 }
 
-/// The text of a part file: shard `shard` of a job of `kind` with `runs` runs; `header` the
-/// job's CSV header line, `rows` (index, CSV line) of the shard's runs.
+/// What makes two parts parts of one job: named values without spaces, compared field by
+/// field at the merge.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct JobId {
+    pub fields: Vec<(String, String)>,
+}
+
+impl JobId {
+    /// deckspin's version, the model text's hash and the arguments' (each an FNV-1a of its
+    /// bytes, [`fingerprint`]).
+    pub fn new(model_text: &str, arguments: &str) -> Self {
+        Self {
+            fields: vec![
+                ("version".into(), env!("CARGO_PKG_VERSION").into()),
+                ("model".into(), fingerprint(model_text.as_bytes())),
+                ("args".into(), fingerprint(arguments.as_bytes())),
+            ],
+        }
+    }
+
+    /// One more field, its value a fingerprint of `bytes`.
+    pub fn with(mut self, name: &str, bytes: &[u8]) -> Self {
+        self.fields.push((name.into(), fingerprint(bytes)));
+        self
+    }
+}
+
+/// A 64-bit FNV-1a hash of `bytes` as 16 hex digits (stable across builds and platforms).
+pub fn fingerprint(bytes: &[u8]) -> String {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for &b in bytes {
+        h ^= u64::from(b);
+        h = h.wrapping_mul(0x0100_0000_01b3);
+    }
+    format!("{h:016x}")
+}
+
+/// The text of a part file: shard `shard` of the job `job` of `kind` with `runs` runs;
+/// `header` the job's CSV header line, `rows` (index, CSV line) of the shard's runs.
 pub fn part_text(
     kind: &str,
+    job: &JobId,
     shard: Shard,
     runs: usize,
     header: &str,
     rows: &[(usize, String)],
 ) -> String {
-    let mut out = format!("#deckspin-part kind={kind} shard={shard} runs={runs}\nrun,{header}");
+    let mut out = format!("#deckspin-part kind={kind} shard={shard} runs={runs}");
+    for (name, value) in &job.fields {
+        out += &format!(" {name}={value}");
+    }
+    out += &format!("\nrun,{header}");
     for (i, line) in rows {
         out += &format!("{i},{line}");
     }
+    out += &format!("#deckspin-end rows={}\n", rows.len());
     out
 }
 
@@ -158,6 +205,8 @@ struct Part<'a> {
     kind: String,
     shard: Shard,
     runs: usize,
+    /// The job's fingerprint fields (all but kind, shard and runs).
+    job: Vec<(&'a str, &'a str)>,
     header: &'a str,
     rows: Vec<&'a str>,
 }
@@ -176,14 +225,47 @@ fn read_part<'a>(path: &'a Path, text: &'a str) -> Result<Part<'a>, MergeError> 
     };
     let shard = Shard::parse(field("shard")?).map_err(|_| not())?;
     let runs = field("runs")?.parse().map_err(|_| not())?;
+    let job = (rest.split(' '))
+        .filter_map(|f| f.split_once('='))
+        .filter(|(n, _)| !["kind", "shard", "runs"].contains(n))
+        .collect();
     let header = lines.next().and_then(|h| h.strip_prefix("run,"));
+    let mut rows: Vec<&str> = lines.collect();
+    // the end line: a part cut short (inside its last row or number) has none
+    let last_line = rows.len() + 2;
+    let cut = |reason: String| MergeError::Row {
+        path: path.to_path_buf(),
+        line: last_line,
+        reason,
+    };
+    let end = rows
+        .pop()
+        .ok_or_else(|| cut("no rows and no end line".into()))?;
+    let count = (end.strip_suffix('\n'))
+        .and_then(|e| e.strip_prefix("#deckspin-end rows="))
+        .and_then(|n| n.parse::<usize>().ok());
+    match count {
+        None => {
+            return Err(cut(
+                "the part ends without its `#deckspin-end` line: it was cut short".into(),
+            ));
+        }
+        Some(n) if n != rows.len() => {
+            return Err(cut(format!(
+                "the part holds {} rows, its end line says {n}",
+                rows.len()
+            )));
+        }
+        Some(_) => {}
+    }
     Ok(Part {
         path,
         kind: field("kind")?.to_string(),
         shard,
         runs,
+        job,
         header: header.ok_or_else(not)?,
-        rows: lines.collect(),
+        rows,
     })
 }
 
@@ -213,6 +295,24 @@ pub fn merge(parts: &[(PathBuf, String)]) -> Result<Merged, MergeError> {
         if p.runs != first.runs {
             let (a, b) = (p.runs.to_string(), first.runs.to_string());
             return Err(mismatch("the number of runs", a, b));
+        }
+        for (name, value) in &first.job {
+            let found = p.job.iter().find(|(n, _)| n == name).map(|(_, v)| *v);
+            if found != Some(*value) {
+                let what: &'static str = match *name {
+                    "model" => "the model text's fingerprint",
+                    "records" => "the records' fingerprint",
+                    "args" => "the arguments' fingerprint (measure, levels, --set, --fix, method)",
+                    "version" => "deckspin's version",
+                    _ => "a fingerprint field",
+                };
+                let found = found.unwrap_or("absent").to_string();
+                return Err(mismatch(what, found, format!("{name}={value}")));
+            }
+        }
+        if p.job.len() != first.job.len() {
+            let (a, b) = (p.job.len().to_string(), first.job.len().to_string());
+            return Err(mismatch("the number of fingerprint fields", a, b));
         }
         if p.header != first.header {
             let (a, b) = (p.header.trim_end().into(), first.header.trim_end().into());

@@ -582,7 +582,7 @@ pub fn csv_text(keys: &[String], rows: &[Row]) -> String {
 
 /// CSV of sweep rows ([`csv_text`]).
 pub fn write_csv(keys: &[String], rows: &[Row], path: &Path) -> std::io::Result<()> {
-    std::fs::write(path, csv_text(keys, rows))
+    crate::output::files::write_atomic(path, csv_text(keys, rows))
 }
 
 /// A plain text table of sweep rows.

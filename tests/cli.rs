@@ -387,6 +387,45 @@ fn a_sharded_sweep_merges_into_the_unsharded_output_byte_for_byte() {
     assert_eq!(w.lines().count(), 7);
     assert!(w.starts_with("contacts.mu,excitation.run,peak_rotation,"));
     assert!(!w.contains("wall"));
+    // a part of another job (another --fix) is refused, naming what differs
+    let other = d.join("other.csv");
+    let o = other.display().to_string();
+    let r = deckspin(&[
+        "sweep",
+        &model,
+        "--set",
+        "contacts.mu=0.1,0.5,0.9",
+        "--set",
+        "excitation.run=1,4",
+        "--fix",
+        "solver.t_end=3",
+        "--out",
+        &o,
+        "--shard",
+        "2/4",
+    ]);
+    assert!(r.status.success(), "{}", text(&r.stderr));
+    let merge = |ps: &[&PathBuf]| {
+        let mut a = vec!["merge".to_string(), merged.display().to_string()];
+        a.extend(ps.iter().map(|p| p.display().to_string()));
+        let a: Vec<&str> = a.iter().map(String::as_str).collect();
+        deckspin(&a)
+    };
+    let r = merge(&[&parts[0], &other, &parts[2], &parts[3]]);
+    assert_eq!(r.status.code(), Some(1));
+    let e = text(&r.stderr);
+    assert!(
+        e.contains("the arguments' fingerprint") && e.contains("parts of different jobs"),
+        "{e}"
+    );
+    // a part cut inside its last number is refused
+    let cut = d.join("cut.csv");
+    let p2 = std::fs::read_to_string(&parts[1]).unwrap();
+    let body = &p2[..p2.rfind("#deckspin-end").unwrap()];
+    std::fs::write(&cut, &body[..body.len() - 3]).unwrap();
+    let r = merge(&[&parts[0], &cut, &parts[2], &parts[3]]);
+    assert_eq!(r.status.code(), Some(1));
+    assert!(text(&r.stderr).contains("cut short"), "{}", text(&r.stderr));
 }
 
 /// The SVG at `path`, parsed back: the texts of its legend and its number of polylines.

@@ -314,7 +314,13 @@ fn a_sharded_suite_merges_into_the_unsharded_output_byte_for_byte() {
     for (k, p) in parts.iter().enumerate() {
         run(args(p, Some(&format!("{}/3", k + 1))));
     }
-    assert!(read(&parts[0]).starts_with("#deckspin-part kind=suite shard=1/3 runs=8\nrun,pair,"));
+    let first = read(&parts[0]);
+    assert!(first.starts_with("#deckspin-part kind=suite shard=1/3 runs=8 version="));
+    assert!(first.lines().nth(1).unwrap().starts_with("run,pair,"));
+    assert!(first.ends_with(&format!(
+        "#deckspin-end rows={}\n",
+        first.lines().count() - 3
+    )));
     let merged = d.join("merged.csv");
     let m = |ps: &[&PathBuf]| {
         let mut a = vec!["merge".to_string(), merged.display().to_string()];

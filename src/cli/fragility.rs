@@ -303,6 +303,6 @@ fn write_json(
         "curves": fits,
         "errors": errs,
     });
-    std::fs::write(path, serde_json::to_string_pretty(&doc)? + "\n")?;
+    deckspin::output::files::write_atomic(path, serde_json::to_string_pretty(&doc)? + "\n")?;
     Ok(())
 }

@@ -25,7 +25,7 @@ pub fn cmd_merge(a: &MergeArgs) -> Result<(), Box<dyn std::error::Error>> {
             super::suite::write_outputs(&a.out, &merged.csv, &keys, &rows)?
         }
         _ => {
-            std::fs::write(&a.out, &merged.csv)?;
+            deckspin::output::files::write_atomic(&a.out, &merged.csv)?;
             a.out.display().to_string()
         }
     };

@@ -86,14 +86,14 @@ pub fn cmd_screen(a: &ScreenArgs) -> Result<(), Box<dyn std::error::Error>> {
         "corners_face_body": blocks,
         "map": { "mu": mu, "restitution": eps, "cells": cells },
     });
-    std::fs::write(
+    deckspin::output::files::write_atomic(
         a.out.join("screen.json"),
         serde_json::to_string_pretty(&json)?,
     )?;
     write_map_csv(&cells, &a.out.join("screen-map.csv"))?;
     let [flush, corner] = map_grids(&cells, &lb, &skew, mark, mu, eps);
-    std::fs::write(a.out.join("screen-flush.svg"), render_grid(&flush))?;
-    std::fs::write(a.out.join("screen-corner.svg"), render_grid(&corner))?;
+    deckspin::output::files::write_atomic(a.out.join("screen-flush.svg"), render_grid(&flush))?;
+    deckspin::output::files::write_atomic(a.out.join("screen-corner.svg"), render_grid(&corner))?;
     println!(
         "wrote {}/screen.json, screen-map.csv, screen-flush.svg, screen-corner.svg",
         a.out.display()
@@ -191,7 +191,7 @@ fn write_map_csv(cells: &[MapCell], path: &std::path::Path) -> std::io::Result<(
             c.acute_spin
         ));
     }
-    std::fs::write(path, s)
+    deckspin::output::files::write_atomic(path, s)
 }
 
 /// The penalty method over k × h against the event-driven reference.
@@ -231,7 +231,7 @@ fn equivalence(a: &ScreenArgs) -> Result<(), Box<dyn std::error::Error>> {
             status.replace('"', "'")
         ));
     }
-    std::fs::write(a.out.join("equivalence.csv"), s)?;
+    deckspin::output::files::write_atomic(a.out.join("equivalence.csv"), s)?;
     println!("wrote {}/equivalence.csv", a.out.display());
     Ok(())
 }

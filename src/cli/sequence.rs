@@ -48,7 +48,7 @@ pub fn cmd_sequence(a: &SequenceArgs) -> CliResult {
     let rows = model.rows(&seq, &runs);
     print!("{}", table(&rows));
     let path = a.out.join("sequence.csv");
-    std::fs::write(&path, csv(&rows))?;
+    deckspin::output::files::write_atomic(&path, csv(&rows))?;
     println!(
         "wrote {}/run{{{}}}/{{history.csv,events.csv,summary.json}} and {}",
         a.out.display(),
@@ -104,8 +104,8 @@ fn study(model: &BridgeSequence, runs: &[usize], kind: &str, out: &Path) -> CliR
         "pga" => "sequence_rotation_vs_pga",
         _ => "sequence_increase_vs_mu",
     };
-    std::fs::write(out.join(format!("{stem}.csv")), csv)?;
-    std::fs::write(out.join(format!("{stem}.txt")), text)?;
+    deckspin::output::files::write_atomic(out.join(format!("{stem}.csv")), csv)?;
+    deckspin::output::files::write_atomic(out.join(format!("{stem}.txt")), text)?;
     super::show::chart(&figure, &out.join(format!("{stem}.svg")))?;
     println!("wrote {}/{stem}.{{csv,txt,svg}}", out.display());
     Ok(())

@@ -29,7 +29,7 @@ pub fn terminal_width() -> Option<usize> {
 
 /// Writes `chart` to `path` as SVG and draws it in the terminal.
 pub fn chart(chart: &Chart, path: &Path) -> std::io::Result<()> {
-    std::fs::write(path, svg::render(chart, SVG_SIZE.0, SVG_SIZE.1))?;
+    deckspin::output::files::write_atomic(path, svg::render(chart, SVG_SIZE.0, SVG_SIZE.1))?;
     if let Some(w) = terminal_width() {
         print!("\n{}", text::render(chart, w.min(120), TEXT_HEIGHT));
     }
@@ -38,7 +38,7 @@ pub fn chart(chart: &Chart, path: &Path) -> std::io::Result<()> {
 
 /// Writes `grid` to `path` as SVG and draws it in the terminal.
 pub fn grid(grid: &Grid, path: &Path) -> std::io::Result<()> {
-    std::fs::write(path, svg::render_grid(grid))?;
+    deckspin::output::files::write_atomic(path, svg::render_grid(grid))?;
     if let Some(w) = terminal_width() {
         print!("\n{}", text::render_grid(grid, w));
     }

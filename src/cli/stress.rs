@@ -80,7 +80,7 @@ pub fn cmd_stress(a: &StressArgs) -> Result<(), Box<dyn std::error::Error>> {
             r.wall
         );
     }
-    std::fs::write(&a.out, csv)?;
+    deckspin::output::files::write_atomic(&a.out, csv)?;
     print!("{}", tally(&rows));
     println!("wrote {}", a.out.display());
     if rows.iter().all(|r| r.passes()) {

@@ -50,6 +50,28 @@ pub struct SuiteArgs {
 
 type CliResult = Result<(), Box<dyn std::error::Error>>;
 
+/// The fingerprint of a suite's job: the model text, the records' names and contents in pair
+/// order, the measure, levels, damping, tail and swept and fixed keys, deckspin's version.
+fn suite_job(
+    a: &SuiteArgs,
+    pairs: &[deckspin::suite::records::SuitePair],
+) -> Result<deckspin::shard::JobId, Box<dyn std::error::Error>> {
+    let model_text = std::fs::read_to_string(&a.model)?;
+    let args = format!(
+        "measure={} damping={:?} levels={} tail={} set={:?} fix={:?}",
+        a.measure, a.damping, a.levels, a.tail, a.set, a.fix
+    );
+    let mut records = Vec::new();
+    for p in pairs {
+        for f in [&p.longitudinal, &p.transverse] {
+            let name = f.file_name().map(|n| n.to_string_lossy().into_owned());
+            records.extend(name.unwrap_or_default().bytes());
+            records.extend(std::fs::read(f)?);
+        }
+    }
+    Ok(deckspin::shard::JobId::new(&model_text, &args).with("records", &records))
+}
+
 pub fn cmd_suite(a: &SuiteArgs) -> CliResult {
     let shard = a.shard.as_deref().map(Shard::parse).transpose()?;
     let shard = shard.unwrap_or(Shard::ALL);
@@ -62,6 +84,7 @@ pub fn cmd_suite(a: &SuiteArgs) -> CliResult {
     for s in &single {
         eprintln!("deckspin: {}: no partner component, left out", s.display());
     }
+    let pairs_for_job = pairs.clone();
     let spec = SuiteSpec {
         measure,
         levels,
@@ -87,7 +110,9 @@ pub fn cmd_suite(a: &SuiteArgs) -> CliResult {
             .map(|(i, r)| (i, csv_line(&csv_fields(r))))
             .collect();
         let header = csv_line(&csv_header(&keys));
-        std::fs::write(&a.out, part_text("suite", shard, total, &header, &lines))?;
+        let job = suite_job(a, &pairs_for_job)?;
+        let text = part_text("suite", &job, shard, total, &header, &lines);
+        deckspin::output::files::write_atomic(&a.out, text)?;
         format!(
             "{} (shard {shard}: runs {}..{} of {total}; join the parts with `deckspin merge`)",
             a.out.display(),
@@ -136,11 +161,11 @@ pub fn write_outputs(
     keys: &[String],
     rows: &[SuiteRow],
 ) -> Result<String, std::io::Error> {
-    std::fs::write(out, csv)?;
+    deckspin::output::files::write_atomic(out, csv)?;
     let stats = level_stats(rows);
     let (stats_file, json) = stats_paths(out);
-    std::fs::write(&stats_file, stats_csv(keys, &stats))?;
-    std::fs::write(&json, stats_json(&stats))?;
+    deckspin::output::files::write_atomic(&stats_file, stats_csv(keys, &stats))?;
+    deckspin::output::files::write_atomic(&json, stats_json(&stats))?;
     print!("{}", stats_table(&stats));
     let svg = out.with_extension("svg");
     super::show::chart(&deckspin::suite::chart::ida_chart(rows, &stats), &svg)?;

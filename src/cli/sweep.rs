@@ -53,9 +53,13 @@ pub fn cmd_sweep(a: &SweepArgs) -> Result<(), Box<dyn std::error::Error>> {
         let lines: Vec<(usize, String)> = (range.clone().zip(&rows))
             .map(|(i, r)| (i, csv_line(&csv_fields(r))))
             .collect();
-        part_text("sweep", shard, total, &csv_line(&csv_header(&keys)), &lines)
+        let model_text = std::fs::read_to_string(&a.model)?;
+        let args = format!("set={:?} fix={:?}", a.set, a.fix);
+        let job = deckspin::shard::JobId::new(&model_text, &args);
+        let header = csv_line(&csv_header(&keys));
+        part_text("sweep", &job, shard, total, &header, &lines)
     };
-    std::fs::write(&a.out, text)?;
+    deckspin::output::files::write_atomic(&a.out, text)?;
     let what = if shard.is_all() {
         String::new()
     } else {

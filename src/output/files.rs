@@ -30,7 +30,8 @@ fn temp_beside(path: &Path) -> PathBuf {
 /// over `path` (a symlink planted at `path` is replaced, not followed). On any error the
 /// temporary file is removed and `path` keeps its old content (a full disk leaves no 0-byte
 /// file).
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+pub fn write_atomic(path: impl AsRef<Path>, bytes: impl AsRef<[u8]>) -> std::io::Result<()> {
+    let (path, bytes) = (path.as_ref(), bytes.as_ref());
     let tmp = temp_beside(path);
     let r = (|| {
         let mut f = File::options().write(true).create_new(true).open(&tmp)?;
@@ -161,7 +162,7 @@ impl Staging {
     /// the new result. The staging folder is removed and the lock released.
     pub fn commit(self, interim: &str) -> std::io::Result<()> {
         let summary = "summary.json";
-        write_atomic(&self.dir.join(summary), interim.as_bytes())?;
+        write_atomic(self.dir.join(summary), interim)?;
         let mut names: Vec<String> = std::fs::read_dir(&self.stage)?
             .flatten()
             .map(|e| e.file_name().to_string_lossy().into_owned())
