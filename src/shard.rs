@@ -449,7 +449,8 @@ mod tests {
                     .rev()
                     .map(|i| (i, rows[i].to_string()))
                     .collect();
-                let text = part_text("sweep", s, rows.len(), "a,b\n", &mine);
+                let job = JobId::new("model", "args");
+                let text = part_text("sweep", &job, s, rows.len(), "a,b\n", &mine);
                 (PathBuf::from(format!("p{k}.csv")), text)
             })
             .collect()
@@ -468,10 +469,33 @@ mod tests {
         let e = merge(&p[..2]).unwrap_err().to_string();
         assert_eq!(e, "shards missing: 3 of 3 (give every part of the job)");
         let mut cut = p.clone();
-        cut[1].1 = cut[1].1.replace("2,3,w\n", "");
+        cut[1].1 = (cut[1].1.replace("2,3,w\n", "")).replace("rows=2", "rows=1");
         let e = merge(&cut).unwrap_err().to_string();
         assert!(
             e.contains("shard 2/3 must hold runs 1..3, it holds 1 rows"),
+            "{e}"
+        );
+        // a row gone without the end line's count: the part is refused as it is
+        let mut short = p.clone();
+        short[1].1 = short[1].1.replace("2,3,w\n", "");
+        let e = merge(&short).unwrap_err().to_string();
+        assert!(
+            e.contains("the part holds 1 rows, its end line says 2"),
+            "{e}"
+        );
+        // cut inside its last number: no end line
+        let mut torn = p.clone();
+        let at = torn[1].1.rfind("#deckspin-end").unwrap() - 2;
+        torn[1].1.truncate(at);
+        let e = merge(&torn).unwrap_err().to_string();
+        assert!(e.contains("cut short"), "{e}");
+        // a part of another job: its model's fingerprint differs
+        let mut alien = p.clone();
+        let other = fingerprint(b"model 2");
+        alien[2].1 = alien[2].1.replacen(&fingerprint(b"model"), &other, 1);
+        let e = merge(&alien).unwrap_err().to_string();
+        assert!(
+            e.contains("the model text's fingerprint is") && e.contains(&other),
             "{e}"
         );
         let other = parts(2, &rows);
