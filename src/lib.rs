@@ -32,6 +32,7 @@ pub mod event_driven;
 pub mod excitation;
 pub mod figures;
 pub mod hysteresis;
+pub mod input;
 pub mod lemke;
 pub mod linalg;
 pub mod methods;

@@ -256,9 +256,11 @@ pub fn stress_watched(
     grid: &StressGrid,
     progress: &dyn Progress,
 ) -> Result<Vec<StressRow>, StressError> {
-    let text = std::fs::read_to_string(path).map_err(|e| ModelError::Io {
-        path: path.to_path_buf(),
-        source: e,
+    let text = crate::input::read_bounded(path, crate::input::MAX_MODEL_BYTES).map_err(|e| {
+        ModelError::Io {
+            path: path.to_path_buf(),
+            source: e,
+        }
     })?;
     let count = crate::studies::run_count(&text);
     let runs: Vec<usize> = if grid.runs.is_empty() {

@@ -751,3 +751,38 @@ fn a_skew_of_60_degrees_or_more_is_refused_by_its_argument() {
     let set = ["frame.1.skew=59.9".to_string()];
     deckspin::load(&model("models/three-frame.toml"), &set).expect("59.9° loads");
 }
+
+#[test]
+fn a_missing_damping_table_is_warned_and_absurd_ratios_are_refused() {
+    let without = |t: String| t.replace("[damping]\nratio = 0.02", "[damping_gone]\nratio = 0.02");
+    let drop_table = |t: String| {
+        let a = t.find("[damping]").unwrap();
+        let b = t[a..].find("[excitation]").unwrap() + a;
+        format!("{}{}", &t[..a], &t[b..])
+    };
+    assert!(
+        four_span(&without, &[]).is_err(),
+        "an unknown table is refused"
+    );
+    let loaded = four_span(&drop_table, &[]).unwrap();
+    let w: Vec<String> = loaded.warnings.iter().map(|w| w.to_string()).collect();
+    assert!(w.iter().any(|w| w.contains("no [damping] table")), "{w:?}");
+    let loaded = four_span(&same, &[]).unwrap();
+    assert!(
+        !loaded
+            .warnings
+            .iter()
+            .any(|w| w.to_string().contains("[damping]"))
+    );
+    for ratio in ["100", "1"] {
+        let e = set_err(&[&format!("damping.ratio={ratio}")]);
+        assert!(
+            e.contains("damping.ratio") && e.contains("allowed 0 ≤ ζ < 1"),
+            "{e}"
+        );
+        assert!(
+            e.contains(&format!(":{}:", line_of("ratio = 0.02"))) || e.contains("--set"),
+            "{e}"
+        );
+    }
+}

@@ -21,10 +21,53 @@ pub struct Record {
     pub accel_g: Vec<f64>,
 }
 
+/// The text of a record file: a regular file of at most [`crate::input::MAX_RECORD_BYTES`].
 fn read_text(path: &Path) -> Result<String> {
-    std::fs::read_to_string(path).map_err(|source| ExcitationError::Io {
+    read_limited(path, crate::input::MAX_RECORD_BYTES)
+}
+
+fn read_limited(path: &Path, limit: u64) -> Result<String> {
+    crate::input::read_bounded(path, limit).map_err(|source| ExcitationError::Io {
         path: path.to_path_buf(),
         source,
+    })
+}
+
+/// Bytes one AT2 value and its blank may take at most (`-0.123456789012345E-002` and more).
+const AT2_VALUE_BYTES: u64 = 40;
+
+/// The text of an AT2 file read no further than its header's count allows: the 4 header lines
+/// (from the first 64 KiB), then at most NPTS × [`AT2_VALUE_BYTES`] more; a longer file is
+/// refused by its count, without reading the rest.
+fn read_at2_text(path: &Path) -> Result<String> {
+    let io = |source| ExcitationError::Io {
+        path: path.to_path_buf(),
+        source,
+    };
+    let (head, _) = crate::input::read_prefix(path, 64 << 10).map_err(io)?;
+    let head = String::from_utf8_lossy(&head);
+    let Some(npts) = head
+        .lines()
+        .nth(3)
+        .and_then(|l| parse_npts_dt(l).ok())
+        .map(|(n, _)| n)
+    else {
+        // no count to bound it: the parser says what is wrong with the header
+        return read_limited(path, 64 << 10);
+    };
+    let limit = (64 << 10) + npts as u64 * AT2_VALUE_BYTES;
+    crate::input::read_bounded(path, limit).map_err(|e| match e.kind() {
+        std::io::ErrorKind::InvalidInput if !e.to_string().contains("regular") => {
+            ExcitationError::Header {
+                path: path.to_path_buf(),
+                line: 4,
+                reason: format!(
+                    "NPTS = {npts}, but the file is longer than {npts} values can be \
+                     ({limit} bytes): refused without reading the rest"
+                ),
+            }
+        }
+        _ => io(e),
     })
 }
 
@@ -40,7 +83,7 @@ fn parse_num(tok: &str) -> Option<f64> {
 
 /// Reads a PEER NGA `.AT2` file (4 header lines, 4th `NPTS= n, DT= dt SEC`; values in g).
 pub fn read_at2(path: &Path) -> Result<Record> {
-    parse_at2(path, &read_text(path)?)
+    parse_at2(path, &read_at2_text(path)?)
 }
 
 /// Text after `key` followed by optional blanks and `=` or `:`; `key` must not follow a letter.

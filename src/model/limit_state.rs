@@ -146,9 +146,11 @@ struct OnlyLimitStates {
 
 /// The limit states of the model file at `path` (none when it has no `[[limit_state]]`).
 pub fn read(path: &Path) -> Result<Vec<LimitState>, ModelError> {
-    let text = std::fs::read_to_string(path).map_err(|e| ModelError::Io {
-        path: path.to_path_buf(),
-        source: e,
+    let text = crate::input::read_bounded(path, crate::input::MAX_MODEL_BYTES).map_err(|e| {
+        ModelError::Io {
+            path: path.to_path_buf(),
+            source: e,
+        }
     })?;
     from_text(&text, path)
 }

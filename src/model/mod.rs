@@ -49,9 +49,11 @@ pub fn load(path: &Path, overrides: &[String]) -> Result<Scene, ModelError> {
 
 /// As [`load`], with the warnings.
 pub fn load_checked(path: &Path, overrides: &[String]) -> Result<Loaded, ModelError> {
-    let text = std::fs::read_to_string(path).map_err(|e| ModelError::Io {
-        path: path.to_path_buf(),
-        source: e,
+    let text = crate::input::read_bounded(path, crate::input::MAX_MODEL_BYTES).map_err(|e| {
+        ModelError::Io {
+            path: path.to_path_buf(),
+            source: e,
+        }
     })?;
     load_str_checked(&text, path, overrides, &Motions::default())
 }
@@ -124,6 +126,10 @@ fn compile_text(
         let file = bridge::BridgeFile::deserialize(Deserializer::from(doc)).map_err(located)?;
         let scene = bridge::compile(&file, &ck, motions)?;
         warnings.extend(bridge::warnings(&file, &ck));
+        if !table.contains_key("damping") {
+            let path = ck.path.to_path_buf();
+            warnings.push(ModelWarning::NoDamping { path });
+        }
         limit_state::check_specs(&file.limit_states, &ck)?;
         (scene, file.solver)
     } else {

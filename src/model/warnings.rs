@@ -15,6 +15,13 @@ pub enum ModelWarning {
         path.display()
     )]
     NoSolver { path: PathBuf, t_end: f64 },
+    /// A bridge file without a `[damping]` table: Rayleigh damping at its default.
+    #[error(
+        "{}: no [damping] table: Rayleigh damping of 2 % at modes 1 and 3 is used (the paper's; \
+         docs/bridges.md)",
+        path.display()
+    )]
+    NoDamping { path: PathBuf },
     /// `solver.t_end` absent: the end of the longest record plus the free-vibration tail.
     #[error(
         "{}: solver.t_end absent: {t_end:.3} s = end of the longest record ({record_end:.3} s, \

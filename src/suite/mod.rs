@@ -183,10 +183,13 @@ impl Suite {
             .chain(spec.axes.clone())
             .collect();
         sweep_size(&all, MAX_SWEEP_RUNS)?;
-        let text = std::fs::read_to_string(path).map_err(|e| ModelError::Io {
-            path: path.to_path_buf(),
-            source: e,
-        })?;
+        let text =
+            crate::input::read_bounded(path, crate::input::MAX_MODEL_BYTES).map_err(|e| {
+                ModelError::Io {
+                    path: path.to_path_buf(),
+                    source: e,
+                }
+            })?;
         Self::from_text(&text, path, fix, pairs, spec)
     }
 

@@ -47,7 +47,7 @@ pub fn suite_pairs(source: &Path) -> Result<(Vec<SuitePair>, Vec<PathBuf>), Reco
     let (pairs, single) = if source.is_dir() {
         folder_pairs(source).map_err(io)?
     } else {
-        let text = std::fs::read_to_string(source).map_err(io)?;
+        let text = crate::input::read_bounded(source, crate::input::MAX_MODEL_BYTES).map_err(io)?;
         (list_pairs(source, &text)?, Vec::new())
     };
     if pairs.is_empty() {

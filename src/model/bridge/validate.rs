@@ -51,6 +51,14 @@ pub(super) fn validate(f: &BridgeFile, frames: &[Frame], ck: &Check) -> Result<(
             Err(e)
         }
     })?;
+    // a ratio of critical damping: a bridge is underdamped (0 ≤ ζ < 1; the paper: 0.02)
+    if f.damping.ratio >= 1.0 {
+        let z = f.damping.ratio;
+        return Err(ck.err(
+            "damping.ratio",
+            format!("{z} is a ratio of critical damping: allowed 0 ≤ ζ < 1 (0.02 is 2 %)"),
+        ));
+    }
     for fr in frames {
         validate_layout(fr, f.column.offset, ck)?;
     }
