@@ -589,6 +589,15 @@ pub enum LimitError {
         step: f64,
         max_steps: usize,
     },
+    #[error(
+        "solver.t_end = {t_end} s / solver.h_max = {h_max} s is at least {steps:.3e} event-driven steps, more than solver.max_steps = {max_steps} (raise solver.h_max or solver.max_steps, or lower solver.t_end)"
+    )]
+    MaxStep {
+        steps: f64,
+        t_end: f64,
+        h_max: f64,
+        max_steps: usize,
+    },
 }
 
 /// Rows (output samples) a run that keeps its history in memory may hold: about 1 kB each for
@@ -625,6 +634,18 @@ pub fn check_output(scene: &Scene, budget: &OutputBudget) -> Result<OutputEstima
             step: st.step,
             max_steps: st.max_steps,
         });
+    }
+    // the event-driven method takes at least t_end / h_max steps
+    if st.method == Method::Event && st.h_max > 0.0 {
+        let steps = (st.t_end / st.h_max).ceil();
+        if !(steps <= st.max_steps as f64) {
+            return Err(LimitError::MaxStep {
+                steps,
+                t_end: st.t_end,
+                h_max: st.h_max,
+                max_steps: st.max_steps,
+            });
+        }
     }
     // negated: a NaN estimate is refused too
     if !(est.rows() <= budget.max_rows && est.bytes() <= budget.max_bytes) {

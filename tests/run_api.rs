@@ -265,3 +265,22 @@ fn stiff_dashpots_and_infinite_energy_are_refused_before_the_run() {
         );
     }
 }
+
+/// An event-driven `solver.h_max` whose steps alone exceed `solver.max_steps` is refused
+/// before the run, with the estimate (it ran 42 s before failing on max_steps).
+#[test]
+fn an_event_driven_h_max_beyond_the_step_budget_is_refused_up_front() {
+    let set = ["solver.h_max=1e-9".to_string()];
+    let scene = deckspin::load(&common::model("models/four-span.toml"), &set).unwrap();
+    let e = deckspin::run::check_output(&scene, &deckspin::run::OutputBudget::default())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("solver.h_max = 0.000000001 s") || e.contains("solver.h_max = 1e-9"),
+        "{e}"
+    );
+    assert!(e.contains("1.600e10 event-driven steps"), "{e}");
+    let ok = ["solver.h_max=1e-3".to_string()];
+    let scene = deckspin::load(&common::model("models/four-span.toml"), &ok).unwrap();
+    assert!(deckspin::run::check_output(&scene, &deckspin::run::OutputBudget::default()).is_ok());
+}
