@@ -638,7 +638,7 @@ pub fn check_output(scene: &Scene, budget: &OutputBudget) -> Result<OutputEstima
     // the event-driven method takes at least t_end / h_max steps
     if st.method == Method::Event && st.h_max > 0.0 {
         let steps = (st.t_end / st.h_max).ceil();
-        if !(steps <= st.max_steps as f64) {
+        if steps.is_nan() || steps > st.max_steps as f64 {
             return Err(LimitError::MaxStep {
                 steps,
                 t_end: st.t_end,
