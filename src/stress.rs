@@ -124,6 +124,8 @@ pub struct StressRow {
     /// (`max_pull`, [`crate::output::Summary`]): a unilateral contact never pulls.
     pub pull_rel: f64,
     pub wall: f64,
+    /// CPU seconds of the run's thread (waiting for a core not counted).
+    pub cpu: f64,
 }
 
 impl StressRow {
@@ -178,6 +180,7 @@ fn stress_run(
     tail: f64,
 ) -> StressRow {
     let wall = Instant::now();
+    let cpu0 = crate::clock::thread_cpu_seconds();
     let mut row = StressRow {
         record: pair.name.clone(),
         run,
@@ -192,6 +195,7 @@ fn stress_run(
         approaching: 0,
         pull_rel: 0.0,
         wall: 0.0,
+        cpu: 0.0,
     };
     let mut set = vec![
         format!(
@@ -236,6 +240,7 @@ fn stress_run(
         }
     }
     row.wall = wall.elapsed().as_secs_f64();
+    row.cpu = crate::clock::thread_cpu_seconds() - cpu0;
     row
 }
 
@@ -358,7 +363,8 @@ pub fn tally(rows: &[StressRow]) -> String {
     if let Some((w, r)) = worst(&|r| r.wall) {
         out += &format!("slowest {w:.2} s ({}, t_end {:.1} s)\n", label(r), r.t_end);
     }
-    let cpu: f64 = rows.iter().map(|r| r.wall).sum();
+    // the CPU time of the runs' threads, not a sum of their wall times
+    let cpu: f64 = rows.iter().map(|r| r.cpu).sum();
     out += &format!("CPU {cpu:.1} s in all\n");
     out
 }
