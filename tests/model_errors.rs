@@ -786,3 +786,15 @@ fn a_missing_damping_table_is_warned_and_absurd_ratios_are_refused() {
         );
     }
 }
+
+#[test]
+fn control_characters_in_titles_and_names_are_escaped() {
+    let text = std::fs::read_to_string(model("models/validation/bouncing-ball.toml")).unwrap();
+    let text = text.replacen("title = \"", "title = \"\\u001b[2J\\u0007", 1);
+    assert!(text.contains("\\u001b[2J"));
+    let path = model("models/validation/bouncing-ball.toml");
+    let loaded = load_str_checked(&text, &path, &[], &Motions::default()).unwrap();
+    let title = &loaded.scene.title;
+    assert!(!title.chars().any(char::is_control), "{title:?}");
+    assert!(title.starts_with("\\u{1b}[2J\\u{7}"), "{title:?}");
+}

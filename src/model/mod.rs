@@ -147,6 +147,40 @@ fn compile_text(
         step_limit,
     };
     scene.units = ck.units;
+    escape_controls_in(&mut scene);
     limits::finish(&mut scene, &given, &ck, &mut warnings)?;
     Ok(Loaded { scene, warnings })
+}
+
+/// `text` with each control character written as its escape (`\u{1b}`): a model's title and
+/// names go to terminals and CSV headers, where a raw escape sequence or line break would act.
+pub fn escape_controls(text: &str) -> String {
+    if !text.chars().any(char::is_control) {
+        return text.to_string();
+    }
+    text.chars()
+        .map(|c| {
+            if c.is_control() {
+                c.escape_unicode().to_string()
+            } else {
+                c.to_string()
+            }
+        })
+        .collect()
+}
+
+/// The scene's title and every name with their control characters escaped.
+fn escape_controls_in(scene: &mut Scene) {
+    scene.title = escape_controls(&scene.title);
+    let names = (scene.bodies.iter_mut().map(|b| &mut b.name))
+        .chain(scene.contacts.iter_mut().map(|c| &mut c.name))
+        .chain(scene.springs.iter_mut().map(|s| &mut s.name))
+        .chain(scene.hysteretic.iter_mut().map(|h| &mut h.name))
+        .chain(scene.supports.iter_mut().map(|s| &mut s.name))
+        .chain(scene.dof_names.iter_mut());
+    for n in names {
+        if n.chars().any(char::is_control) {
+            *n = escape_controls(n);
+        }
+    }
 }
