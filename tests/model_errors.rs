@@ -798,3 +798,17 @@ fn control_characters_in_titles_and_names_are_escaped() {
     assert!(!title.chars().any(char::is_control), "{title:?}");
     assert!(title.starts_with("\\u{1b}[2J\\u{7}"), "{title:?}");
 }
+
+#[test]
+fn an_initial_penetration_names_file_line_and_field() {
+    let text = "title = \"through\"\n[solver]\nt_end = 1.0\n[[body]]\nname = \"mass\"\nmass = 1.0\ndofs = [\"x\"]\ninitial_displacement = [0.05, 0.0, 0.0]\n[[spring]]\nname = \"spring\"\nbody = \"mass\"\ndirection = [1.0, 0.0]\nstiffness = 10.0\n[[contact]]\nname = \"stop\"\nbody = \"mass\"\nnormal = [-1.0, 0.0]\ngap = 0.02\n";
+    let path = std::path::Path::new("through.toml");
+    let e = deckspin::model::load_str(text, path, &[])
+        .unwrap_err()
+        .to_string();
+    assert!(e.starts_with("through.toml:18: contact.0.gap:"), "{e}");
+    assert!(
+        e.contains("'stop' starts 3.000000e-2 m through its face"),
+        "{e}"
+    );
+}

@@ -67,6 +67,7 @@ pub(super) fn finish(
     }
     tolerances(scene, ck, warnings)?;
     resolution(scene, given.bridge, ck)?;
+    initial_penetration(scene, given.bridge, ck)?;
     fixed_step(scene, given.step_limit, ck, warnings)
 }
 
@@ -440,4 +441,46 @@ fn fixed_step(
         }
     }
     Ok(())
+}
+
+/// A contact through its face at t = 0 (g_N < −`gap_tol`), refused at the field that sets its
+/// gap: `contact.I.gap` of a scene file, `contacts.gaps.I` or `joint.J.gaps.I` of a bridge (the
+/// engine's own check names the contact only).
+fn initial_penetration(scene: &Scene, bridge: bool, ck: &Check) -> Result<(), ModelError> {
+    let fr = scene.frame(0.0, &scene.q0, &scene.v0);
+    let tol = scene.settings.gap_tol;
+    for (i, c) in scene.contacts.iter().enumerate() {
+        let gap = scene.contact_kinematics(&fr, c).gap;
+        if gap.is_nan() || gap >= -tol {
+            continue;
+        }
+        let field = if !bridge {
+            format!("contact.{i}.gap")
+        } else if let Some(k) = super::bridge::schema::CORNERS
+            .iter()
+            .position(|n| *n == c.name)
+        {
+            format!("contacts.gaps.{k}")
+        } else {
+            bridge_joint_field(&c.name).unwrap_or_else(|| "contacts.gaps".into())
+        };
+        return Err(ck.err(
+            &field,
+            format!(
+                "contact '{}' starts {:.6e} m through its face (g_N < −solver.gap_tol = {tol:e} m \
+                 at t = 0): a larger gap, or initial displacements that keep it out",
+                c.name, -gap
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// `joint.J.gaps.I` of a joint corner named `jointN_top` / `jointN_bottom` (N = J + 1).
+fn bridge_joint_field(name: &str) -> Option<String> {
+    let rest = name.strip_prefix("joint")?;
+    let (n, side) = rest.split_once('_')?;
+    let j: usize = n.parse::<usize>().ok()?.checked_sub(1)?;
+    let i = ["top", "bottom"].iter().position(|s| *s == side)?;
+    Some(format!("joint.{j}.gaps.{i}"))
 }
