@@ -228,3 +228,54 @@ fn a_time_that_is_not_finite_is_refused() {
         assert!(!out.exists(), "nothing written for --at {at}");
     }
 }
+
+#[test]
+fn a_second_sweep_on_one_output_file_is_refused_and_a_killed_one_leaves_no_part() {
+    let d = dir("sweep-lock");
+    std::fs::create_dir_all(&d).unwrap();
+    let out = d.join("s.csv");
+    let o = out.display().to_string();
+    let args = |mu: &str| {
+        vec![
+            "sweep".to_string(),
+            model(),
+            "--set".into(),
+            format!("contacts.mu={mu}"),
+            "--set".into(),
+            "excitation.run=1:7:1".into(),
+            "--out".into(),
+            o.clone(),
+        ]
+    };
+    let mut first = bin()
+        .args(args("0:1:0.01"))
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let lock = d.join(".s.csv.lock");
+    let mut watch = common::HangWatch::new(first.id(), 120.0, 300);
+    while !lock.exists() {
+        assert!(first.try_wait().unwrap().is_none(), "the sweep ended first");
+        assert!(watch.hangs().is_none());
+        std::thread::sleep(std::time::Duration::from_millis(10));
+    }
+    let second = bin().args(args("0.3")).output().unwrap();
+    assert_eq!(second.status.code(), Some(1));
+    let e = String::from_utf8_lossy(&second.stderr);
+    assert!(
+        e.contains(&format!("is being written by process {}", first.id())),
+        "{e}"
+    );
+    signal(&first, libc::SIGKILL);
+    let _ = first.wait();
+    // the CSV is written whole at the end: a killed sweep leaves none
+    assert!(!out.exists());
+    let again = bin().args(args("0.3")).output().unwrap();
+    assert!(
+        again.status.success(),
+        "{}",
+        String::from_utf8_lossy(&again.stderr)
+    );
+    assert_eq!(std::fs::read_to_string(&out).unwrap().lines().count(), 8);
+}

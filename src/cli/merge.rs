@@ -16,6 +16,8 @@ pub struct MergeArgs {
 
 pub fn cmd_merge(a: &MergeArgs) -> Result<(), Box<dyn std::error::Error>> {
     let merged = deckspin::shard::merge_files(&a.parts)?;
+    // one job writes this file at a time
+    let _lock = deckspin::output::files::FolderLock::for_file(&a.out)?;
     if let Some(dir) = a.out.parent() {
         std::fs::create_dir_all(dir)?;
     }

@@ -39,6 +39,8 @@ pub fn cmd_stress(a: &StressArgs) -> Result<(), Box<dyn std::error::Error>> {
     for s in &single {
         eprintln!("deckspin: {}: no partner component, left out", s.display());
     }
+    // one job writes this file at a time
+    let _lock = deckspin::output::files::FolderLock::for_file(&a.out)?;
     if let Some(l) = a
         .laws
         .iter()

@@ -81,6 +81,8 @@ pub fn cmd_suite(a: &SuiteArgs) -> CliResult {
         .map(|s| parse_axis(s).map_err(|e| format!("--set {e}")))
         .collect::<Result<Vec<_>, _>>()?;
     let (pairs, single) = suite_pairs(&a.records)?;
+    // one job writes this file at a time
+    let _lock = deckspin::output::files::FolderLock::for_file(&a.out)?;
     for s in &single {
         eprintln!("deckspin: {}: no partner component, left out", s.display());
     }

@@ -35,6 +35,8 @@ pub fn cmd_sweep(a: &SweepArgs) -> Result<(), Box<dyn std::error::Error>> {
         .map(|s| parse_axis(s))
         .collect::<Result<Vec<_>, _>>()?;
     let total = sweep_size(&axes, MAX_SWEEP_RUNS)?;
+    // one job writes this file at a time
+    let _lock = deckspin::output::files::FolderLock::for_file(&a.out)?;
     let study = Study::open(&a.model, &a.fix)?;
     let range = shard.range(total);
     let t0 = std::time::Instant::now();

@@ -57,7 +57,23 @@ pub struct FolderLock {
 impl FolderLock {
     /// Locks `dir` (which must exist), or says who holds it.
     pub fn acquire(dir: &Path) -> std::io::Result<Self> {
-        let path = dir.join(LOCK_FILE);
+        Self::acquire_at(dir.join(LOCK_FILE), dir)
+    }
+
+    /// Locks the output file `file` (its folder created if needed) by `.NAME.lock` beside it:
+    /// a second job writing the same file is refused, naming the process that holds it.
+    pub fn for_file(file: &Path) -> std::io::Result<Self> {
+        let dir = file.parent().filter(|d| !d.as_os_str().is_empty());
+        if let Some(d) = dir {
+            std::fs::create_dir_all(d)?;
+        }
+        let name = file
+            .file_name()
+            .map_or_else(|| "out".into(), |n| n.to_string_lossy());
+        Self::acquire_at(file.with_file_name(format!(".{name}.lock")), file)
+    }
+
+    fn acquire_at(path: PathBuf, dir: &Path) -> std::io::Result<Self> {
         // no O_TRUNC before the lock is ours: the owner's pid stays readable
         let mut file = File::options()
             .read(true)
