@@ -15,23 +15,15 @@ pub const MAX_RECORD_BYTES: u64 = 512 << 20;
 /// file (after symlinks) or a file longer than `limit` is an error of kind `InvalidInput`
 /// saying which.
 pub fn read_bounded(path: &Path, limit: u64) -> std::io::Result<String> {
-    let bad = |msg: String| std::io::Error::new(std::io::ErrorKind::InvalidInput, msg);
-    let meta = std::fs::metadata(path)?;
-    if !meta.is_file() {
-        let what = file_kind(&meta);
-        return Err(bad(format!(
-            "not a regular file ({what}): refused before reading"
-        )));
-    }
-    let mut buf = Vec::new();
-    std::fs::File::open(path)?
-        .take(limit.saturating_add(1))
-        .read_to_end(&mut buf)?;
-    if buf.len() as u64 > limit {
-        return Err(bad(format!(
-            "larger than {} MiB: refused without reading the rest",
-            limit >> 20
-        )));
+    let (buf, more) = read_prefix(path, limit)?;
+    if more {
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            format!(
+                "larger than {} MiB: refused without reading the rest",
+                limit >> 20
+            ),
+        ));
     }
     String::from_utf8(buf).map_err(|e| std::io::Error::new(std::io::ErrorKind::InvalidData, e))
 }

@@ -377,10 +377,13 @@ fn a_sharded_sweep_merges_into_the_unsharded_output_byte_for_byte() {
         sweep(p, Some(&format!("{}/4", k + 1)));
     }
     let merged = d.join("merged.csv");
-    let mut a = vec!["merge".to_string(), merged.display().to_string()];
-    a.extend(parts.iter().rev().map(|p| p.display().to_string()));
-    let a: Vec<&str> = a.iter().map(String::as_str).collect();
-    let r = deckspin(&a);
+    let merge = |ps: &[&PathBuf]| {
+        let mut a = vec!["merge".to_string(), merged.display().to_string()];
+        a.extend(ps.iter().map(|p| p.display().to_string()));
+        let a: Vec<&str> = a.iter().map(String::as_str).collect();
+        deckspin(&a)
+    };
+    let r = merge(&parts.iter().rev().collect::<Vec<_>>());
     assert!(r.status.success(), "{}", text(&r.stderr));
     let w = std::fs::read_to_string(&whole).unwrap();
     assert_eq!(w, std::fs::read_to_string(&merged).unwrap());
@@ -405,12 +408,6 @@ fn a_sharded_sweep_merges_into_the_unsharded_output_byte_for_byte() {
         "2/4",
     ]);
     assert!(r.status.success(), "{}", text(&r.stderr));
-    let merge = |ps: &[&PathBuf]| {
-        let mut a = vec!["merge".to_string(), merged.display().to_string()];
-        a.extend(ps.iter().map(|p| p.display().to_string()));
-        let a: Vec<&str> = a.iter().map(String::as_str).collect();
-        deckspin(&a)
-    };
     let r = merge(&[&parts[0], &other, &parts[2], &parts[3]]);
     assert_eq!(r.status.code(), Some(1));
     let e = text(&r.stderr);
