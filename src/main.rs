@@ -162,7 +162,13 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     if matches!(
         cli.command,
-        Some(Command::Run { .. } | Command::Sequence(_))
+        Some(
+            Command::Run { .. }
+                | Command::Sequence(_)
+                | Command::Suite(_)
+                | Command::Sweep(_)
+                | Command::Stress(_)
+        )
     ) {
         cli::signals::install();
     }
@@ -241,6 +247,9 @@ fn main() -> ExitCode {
 fn exit_code(e: &(dyn std::error::Error + 'static)) -> ExitCode {
     use deckspin::suite::SuiteError;
     if let Some(i) = e.downcast_ref::<cli::signals::Interrupted>() {
+        return ExitCode::from((128 + i.signal).clamp(0, 255) as u8);
+    }
+    if let Some(i) = e.downcast_ref::<cli::jobs::JobInterrupted>() {
         return ExitCode::from((128 + i.signal).clamp(0, 255) as u8);
     }
     let suite_too_large =

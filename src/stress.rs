@@ -261,6 +261,21 @@ pub fn stress_watched(
     grid: &StressGrid,
     progress: &dyn Progress,
 ) -> Result<Vec<StressRow>, StressError> {
+    let rows = stress_listed(path, pairs, grid, &|_| false, progress, &|_, _| {})?;
+    Ok(rows.into_iter().map(|(_, r)| r).collect())
+}
+
+/// [`stress_watched`] without the runs `skip` names (by index in the grid's order: pair, run,
+/// ε, μ, law, the last varying fastest), `each` handed every row as it finishes; once
+/// [`Progress::go_on`] says no, the runs not started are left out. The rows by index, in order.
+pub fn stress_listed(
+    path: &Path,
+    pairs: &[RecordPair],
+    grid: &StressGrid,
+    skip: &(dyn Fn(usize) -> bool + Sync),
+    progress: &dyn Progress,
+    each: &(dyn Fn(usize, &StressRow) + Sync),
+) -> Result<Vec<(usize, StressRow)>, StressError> {
     let text = crate::input::read_bounded(path, crate::input::MAX_MODEL_BYTES).map_err(|e| {
         ModelError::Io {
             path: path.to_path_buf(),
@@ -299,16 +314,99 @@ pub fn stress_watched(
             }
         }
     }
-    progress.plan(jobs.len());
-    Ok(jobs
+    let todo: Vec<usize> = (0..jobs.len()).filter(|&i| !skip(i)).collect();
+    progress.plan(todo.len());
+    Ok(todo
         .par_iter()
-        .map(|&(pair, run, eps, mu, law)| {
+        .filter_map(|&i| {
+            // once told to stop, the runs not started are left for a resume
+            if !progress.go_on() {
+                return None;
+            }
+            let (pair, run, eps, mu, law) = jobs[i];
             let text = if law == "bilinear" { &bilinear } else { &text };
             let row = stress_run(text, path, pair, (run, eps, mu, law), grid.tail);
             progress.done(1);
-            row
+            each(i, &row);
+            Some((i, row))
         })
         .collect())
+}
+
+/// The number of runs of a stress test of `pairs` on a model of `run_count` runs.
+pub fn stress_size(pairs: usize, run_count: usize, grid: &StressGrid) -> usize {
+    let runs = if grid.runs.is_empty() {
+        run_count
+    } else {
+        grid.runs.len()
+    };
+    pairs * runs * grid.restitution.len() * grid.mu.len() * grid.laws.len()
+}
+
+/// The CSV header of a stress test's rows.
+pub const CSV_HEADER: &str = "record,run,restitution,mu,law,t_end,status,max_penetration,closure_rel,rtol,approaching_after_impact,pull_rel,wall_s,cpu_s";
+
+/// A stress row's CSV line (with its line break), [`CSV_HEADER`]'s columns; its numbers read
+/// back exactly ([`StressRow::from_csv`]) but for the times, given to 0.1 ms.
+pub fn csv_line(r: &StressRow) -> String {
+    format!(
+        "{},{},{},{},{},{},\"{}\",{:e},{:e},{:e},{},{:e},{:.4},{:.4}\n",
+        crate::shard::csv_line(&[&r.record]).trim_end(),
+        r.run,
+        r.restitution,
+        r.mu,
+        crate::shard::csv_line(&[&r.law]).trim_end(),
+        r.t_end,
+        r.status.replace('"', "'").replace(['\n', '\r'], " "),
+        r.max_penetration,
+        r.closure_rel,
+        r.rtol,
+        r.approaching,
+        r.pull_rel,
+        r.wall,
+        r.cpu
+    )
+}
+
+impl StressRow {
+    /// A row read back from its CSV line ([`csv_line`]).
+    pub fn from_csv(line: &str) -> Result<StressRow, String> {
+        let mut rd = csv::ReaderBuilder::new()
+            .has_headers(false)
+            .from_reader(line.as_bytes());
+        let rec = (rd.records().next())
+            .ok_or("an empty line")?
+            .map_err(|e| e.to_string())?;
+        let f: Vec<&str> = rec.iter().collect();
+        let columns = CSV_HEADER.split(',').count();
+        if f.len() != columns {
+            return Err(format!("{} fields, a stress row has {columns}", f.len()));
+        }
+        let num = |k: usize| -> Result<f64, String> {
+            (f[k].parse::<f64>())
+                .map_err(|_| format!("field {}: '{}' is not a number", k + 1, f[k]))
+        };
+        let whole = |k: usize| -> Result<usize, String> {
+            (f[k].parse::<usize>())
+                .map_err(|_| format!("field {}: '{}' is not a whole number", k + 1, f[k]))
+        };
+        Ok(StressRow {
+            record: f[0].into(),
+            run: whole(1)?,
+            restitution: num(2)?,
+            mu: num(3)?,
+            law: f[4].into(),
+            t_end: num(5)?,
+            status: f[6].into(),
+            max_penetration: num(7)?,
+            closure_rel: num(8)?,
+            rtol: num(9)?,
+            approaching: whole(10)?,
+            pull_rel: num(11)?,
+            wall: num(12)?,
+            cpu: num(13)?,
+        })
+    }
 }
 
 /// The tally of a stress test: runs, finished, passing, the failures by reason, the worst

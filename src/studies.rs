@@ -42,6 +42,9 @@ pub enum RunFailure {
     /// A run of a record suite that failed or was refused: its status (`crate::suite`).
     #[error("{0}")]
     Suite(String),
+    /// A failure read back from a CSV row (a resumed job's journal): its text.
+    #[error("{0}")]
+    Recorded(String),
 }
 
 impl From<SolverError> for RunFailure {
@@ -289,9 +292,25 @@ impl Study {
         range: Range<usize>,
         progress: &dyn Watch,
     ) -> SweepOutcome {
+        let size = (axes.iter()).fold(1usize, |p, a| p.saturating_mul(a.values.len()));
+        let indices: Vec<usize> = (range.start.min(size)..range.end.min(size)).collect();
+        self.sweep_listed(axes, &indices, progress)
+    }
+
+    /// [`Study::sweep_rows`] on the rows `indices` (those below the sweep's size), in their
+    /// order, `progress` told of each by its position in `indices`: what a resumed sweep has
+    /// left to run.
+    pub fn sweep_listed(
+        &self,
+        axes: &[Axis],
+        indices: &[usize],
+        progress: &dyn Watch,
+    ) -> SweepOutcome {
         let all = combinations(axes);
-        let range = range.start.min(all.len())..range.end.min(all.len());
-        let combos = &all[range];
+        let combos: Vec<Vec<(String, String)>> = (indices.iter())
+            .filter_map(|&i| all.get(i).cloned())
+            .collect();
+        let combos = &combos[..];
         progress.plan(combos.len());
         let compiled: Vec<Result<Scene, ModelError>> =
             combos.par_iter().map(|c| self.row_scene(c)).collect();
@@ -578,6 +597,44 @@ pub fn csv_text(keys: &[String], rows: &[Row]) -> String {
         out += &csv_line(&csv_fields(r));
     }
     out
+}
+
+/// A sweep row read back from its CSV line ([`csv_fields`] of the swept `keys`): its
+/// numbers as written (so written again they are the same text), no wall time.
+pub fn row_from_csv(keys: &[String], line: &str) -> Result<Row, String> {
+    let mut rd = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .from_reader(line.as_bytes());
+    let rec = (rd.records().next())
+        .ok_or("an empty line")?
+        .map_err(|e| e.to_string())?;
+    let f: Vec<&str> = rec.iter().collect();
+    let n = keys.len();
+    if f.len() != n + 8 {
+        return Err(format!(
+            "{} fields, a sweep row of {n} keys has {}",
+            f.len(),
+            n + 8
+        ));
+    }
+    let num = |k: usize| -> Result<f64, String> {
+        (f[k].parse::<f64>()).map_err(|_| format!("field {}: '{}' is not a number", k + 1, f[k]))
+    };
+    Ok(Row {
+        settings: (keys.iter().zip(&f))
+            .map(|(k, v)| (k.clone(), v.to_string()))
+            .collect(),
+        peak_rotation: num(n)?,
+        residual_rotation: num(n + 1)?,
+        peak_x: num(n + 2)?,
+        peak_y: num(n + 3)?,
+        impacts: (f[n + 4].parse())
+            .map_err(|_| format!("impacts: '{}' is not a whole number", f[n + 4]))?,
+        stick_time: num(n + 5)?,
+        energy_closure_rel: num(n + 6)?,
+        wall_time: f64::NAN,
+        error: (!f[n + 7].is_empty()).then(|| Arc::new(RunFailure::Recorded(f[n + 7].into()))),
+    })
 }
 
 /// CSV of sweep rows ([`csv_text`]).

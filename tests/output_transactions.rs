@@ -279,3 +279,228 @@ fn a_second_sweep_on_one_output_file_is_refused_and_a_killed_one_leaves_no_part(
     );
     assert_eq!(std::fs::read_to_string(&out).unwrap().lines().count(), 8);
 }
+
+/// Rows in a journal (its lines after the two header lines).
+fn journal_rows(journal: &Path) -> usize {
+    std::fs::read_to_string(journal).map_or(0, |t| t.lines().count().saturating_sub(2))
+}
+
+/// Starts `deckspin args`, waits until its journal holds `rows` rows, sends `sig`; returns the
+/// exit code and stderr. A hang is judged by the child's CPU.
+fn interrupt_when_journaled(
+    args: &[String],
+    journal: &Path,
+    rows: usize,
+    sig: i32,
+) -> (Option<i32>, String) {
+    let mut child = bin()
+        .args(args)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut watch = common::HangWatch::new(child.id(), 120.0, 300);
+    while journal_rows(journal) < rows {
+        assert!(
+            child.try_wait().unwrap().is_none(),
+            "the job ended before {rows} rows were journaled"
+        );
+        if let Some(why) = watch.hangs() {
+            panic!("the job hangs: {why}");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(2));
+    }
+    signal(&child, sig);
+    finish(child)
+}
+
+fn run_ok(args: &[String]) -> String {
+    let out = bin().args(args).output().unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
+fn strings(a: &[&str]) -> Vec<String> {
+    a.iter().map(|s| s.to_string()).collect()
+}
+
+/// Two short record pairs, listed with absolute paths.
+fn pair_list(d: &Path) -> String {
+    let r = |f: &str| common::root().join("excitations/far-field").join(f);
+    let list = d.join("pairs.txt");
+    let body = format!(
+        "{} {}\n{} {} pel\n",
+        r("NORTHR_LOS000.AT2").display(),
+        r("NORTHR_LOS270.AT2").display(),
+        r("SFERN_PEL090.AT2").display(),
+        r("SFERN_PEL180.AT2").display()
+    );
+    std::fs::write(&list, body).unwrap();
+    list.display().to_string()
+}
+
+#[test]
+fn an_interrupted_suite_resumes_to_the_uninterrupted_output_byte_for_byte() {
+    let d = dir("suite-resume");
+    std::fs::create_dir_all(&d).unwrap();
+    let list = pair_list(&d);
+    let args = |out: &Path| {
+        let mut a = strings(&["suite", &model(), "--records", &list, "--measure", "pga"]);
+        a.extend(strings(&[
+            "--levels",
+            "0.1:2.0:0.1",
+            "--set",
+            "contacts.mu=0.2,0.4,0.6,0.8",
+        ]));
+        a.extend(strings(&[
+            "--tail",
+            "1",
+            "--out",
+            &out.display().to_string(),
+        ]));
+        a
+    };
+    let whole = d.join("whole/suite.csv");
+    run_ok(&args(&whole));
+    let files = [
+        "suite.csv",
+        "suite-stats.csv",
+        "suite-stats.json",
+        "suite.svg",
+    ];
+    for (sig, name) in [(libc::SIGINT, "int"), (libc::SIGKILL, "kill")] {
+        let out = d.join(name).join("suite.csv");
+        let journal = d.join(name).join("suite.csv.journal");
+        let (code, err) = interrupt_when_journaled(&args(&out), &journal, 3, sig);
+        if sig == libc::SIGINT {
+            assert_eq!(code, Some(130), "{err}");
+            assert!(
+                err.contains("runs kept in") && err.contains("--resume"),
+                "{err}"
+            );
+        } else {
+            assert_eq!(code, None, "killed");
+            // a kill inside a row leaves it cut: that run is run again
+            let mut f = std::fs::File::options()
+                .append(true)
+                .open(&journal)
+                .unwrap();
+            std::io::Write::write_all(&mut f, b"159,NORTHR_LOS,cut").unwrap();
+        }
+        assert!(!out.exists(), "{name}: no output until the job is whole");
+        let kept = journal_rows(&journal);
+        assert!(kept >= 3 && kept < 160, "{name}: {kept} rows kept");
+        // not resumed: refused, the journal kept
+        let again = bin().args(args(&out)).output().unwrap();
+        let msg = String::from_utf8_lossy(&again.stderr);
+        assert!(!again.status.success() && msg.contains("--resume"), "{msg}");
+        assert!(journal.exists());
+        // resumed with other arguments: refused, naming what differs
+        let mut other = args(&out);
+        other.extend(strings(&["--fix", "contacts.restitution=0.3", "--resume"]));
+        let o = bin().args(&other).output().unwrap();
+        let msg = String::from_utf8_lossy(&o.stderr);
+        assert!(
+            !o.status.success() && msg.contains("another job") && msg.contains("arguments"),
+            "{msg}"
+        );
+        let mut resume = args(&out);
+        resume.push("--resume".into());
+        let out_text = bin().args(&resume).output().unwrap();
+        let msg = String::from_utf8_lossy(&out_text.stderr);
+        assert!(out_text.status.success(), "{msg}");
+        assert!(msg.contains("of them from the journal"), "{msg}");
+        for f in files {
+            assert!(
+                read(&whole.with_file_name(f)) == read(&out.with_file_name(f)),
+                "{name}: {f} differs from the uninterrupted job's"
+            );
+        }
+        assert!(
+            !journal.exists(),
+            "the journal is removed once the job is written"
+        );
+    }
+}
+
+#[test]
+fn an_interrupted_sweep_and_stress_resume_to_the_uninterrupted_output() {
+    let d = dir("sweep-resume");
+    std::fs::create_dir_all(&d).unwrap();
+    let sweep = |out: &Path| {
+        let mut a = strings(&["sweep", &model(), "--set", "contacts.restitution=0:1:0.25"]);
+        a.extend(strings(&[
+            "--set",
+            "contacts.mu=0.2,0.6",
+            "--out",
+            &out.display().to_string(),
+        ]));
+        a
+    };
+    let whole = d.join("sweep.csv");
+    run_ok(&sweep(&whole));
+    let out = d.join("sweep-r.csv");
+    let (code, err) = interrupt_when_journaled(
+        &sweep(&out),
+        &d.join("sweep-r.csv.journal"),
+        2,
+        libc::SIGTERM,
+    );
+    assert_eq!(code, Some(143), "{err}");
+    let mut resume = sweep(&out);
+    resume.push("--resume".into());
+    run_ok(&resume);
+    assert!(read(&whole) == read(&out), "the resumed sweep differs");
+
+    // stress: two pairs, byte for byte but for its two timing columns
+    let records = d.join("records");
+    std::fs::create_dir_all(&records).unwrap();
+    for f in [
+        "NORTHR_LOS000",
+        "NORTHR_LOS270",
+        "SFERN_PEL090",
+        "SFERN_PEL180",
+    ] {
+        let from = common::root().join(format!("excitations/far-field/{f}.AT2"));
+        std::fs::copy(from, records.join(format!("{f}.AT2"))).unwrap();
+    }
+    let stress = |out: &Path| {
+        let mut a = strings(&[
+            "stress",
+            &model(),
+            "--records",
+            &records.display().to_string(),
+        ]);
+        a.extend(strings(&[
+            "--runs", "1,2", "--eps", "0,0.5", "--mu", "0.3,0.7",
+        ]));
+        a.extend(strings(&["--out", &out.display().to_string()]));
+        a
+    };
+    let whole = d.join("stress.csv");
+    run_ok(&stress(&whole));
+    let out = d.join("stress-r.csv");
+    let (code, err) = interrupt_when_journaled(
+        &stress(&out),
+        &d.join("stress-r.csv.journal"),
+        3,
+        libc::SIGINT,
+    );
+    assert_eq!(code, Some(130), "{err}");
+    let mut resume = stress(&out);
+    resume.push("--resume".into());
+    run_ok(&resume);
+    let untimed = |p: &Path| -> Vec<String> {
+        let t = String::from_utf8(read(p)).unwrap();
+        t.lines()
+            .map(|l| l.rsplitn(3, ',').nth(2).unwrap().to_string())
+            .collect()
+    };
+    let (a, b) = (untimed(&whole), untimed(&out));
+    assert_eq!(a.len(), 2 * 2 * 2 * 2 * 2 + 1);
+    assert_eq!(a, b, "the resumed stress test differs");
+}

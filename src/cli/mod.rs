@@ -2,6 +2,7 @@
 
 pub mod bench;
 pub mod fragility;
+pub mod jobs;
 pub mod merge;
 pub mod progress;
 pub mod screen;

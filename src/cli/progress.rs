@@ -52,6 +52,11 @@ impl Progress for Bar {
     fn done(&self, runs: usize) {
         self.0.inc(runs as u64);
     }
+
+    /// Not once a signal asked the job to stop.
+    fn go_on(&self) -> bool {
+        super::signals::requested().is_none()
+    }
 }
 
 impl deckspin::studies::Watch for Bar {}

@@ -1,6 +1,7 @@
 //! SIGINT, SIGTERM and SIGHUP during a run stop it like a failure: the run ends at its next
-//! batch as cancelled and its files are written with that status; a second SIGINT ends the
-//! process at once (exit 130).
+//! batch as cancelled and its files are written with that status (`suite`, `sweep`, `stress`:
+//! the runs not started are left, the finished ones are in the journal); a second SIGINT ends
+//! the process at once (exit 130).
 
 use std::sync::atomic::{AtomicI32, Ordering};
 
@@ -49,12 +50,7 @@ pub struct Interrupted {
 
 impl std::fmt::Display for Interrupted {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        let name = match self.signal {
-            2 => "SIGINT",
-            15 => "SIGTERM",
-            1 => "SIGHUP",
-            _ => "a signal",
-        };
+        let name = name(self.signal);
         write!(
             f,
             "cancelled by {name} at t = {:.9} s (its files say \"cancelled\")",
@@ -64,3 +60,13 @@ impl std::fmt::Display for Interrupted {
 }
 
 impl std::error::Error for Interrupted {}
+
+/// SIGINT, SIGTERM, SIGHUP or "a signal".
+pub fn name(signal: i32) -> &'static str {
+    match signal {
+        2 => "SIGINT",
+        15 => "SIGTERM",
+        1 => "SIGHUP",
+        _ => "a signal",
+    }
+}

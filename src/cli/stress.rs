@@ -1,6 +1,11 @@
 //! `deckspin stress`: the bridge under every record pair of a folder (`stress` module).
 
+use super::jobs::{Recorder, joined, stop_if_signalled};
 use clap::Args;
+use deckspin::output::journal::Journal;
+use deckspin::shard::Shard;
+use deckspin::stress::{CSV_HEADER, StressRow, csv_line, stress_listed, tally};
+use std::collections::BTreeMap;
 use std::path::PathBuf;
 
 /// The bridge under every record pair of a folder × runs × ε × μ × column law.
@@ -27,10 +32,14 @@ pub struct StressArgs {
     /// CSV of every run.
     #[arg(long, default_value = "out/stress.csv")]
     pub out: PathBuf,
+    /// Finish a job that was stopped: the runs in its journal (OUT.journal, written as each
+    /// run finishes) are not run again.
+    #[arg(long)]
+    pub resume: bool,
 }
 
 pub fn cmd_stress(a: &StressArgs) -> Result<(), Box<dyn std::error::Error>> {
-    use deckspin::stress::{StressGrid, record_pairs, stress_watched, tally};
+    use deckspin::stress::{StressGrid, record_pairs, stress_size};
     let (pairs, single) = record_pairs(&a.records)
         .map_err(|e| format!("{}: cannot read the records: {e}", a.records.display()))?;
     if pairs.is_empty() {
@@ -55,39 +64,85 @@ pub fn cmd_stress(a: &StressArgs) -> Result<(), Box<dyn std::error::Error>> {
         laws: a.laws.clone(),
         ..StressGrid::default()
     };
-    let bar = super::progress::Bar::new();
-    let rows = stress_watched(&a.model, &pairs, &grid, &bar)?;
-    bar.clear();
+    let text = deckspin::input::read_bounded(&a.model, deckspin::input::MAX_MODEL_BYTES)
+        .map_err(|e| format!("{}: {e}", a.model.display()))?;
+    let total = stress_size(pairs.len(), deckspin::studies::run_count(&text), &grid);
+    let mut records = Vec::new();
+    for p in &pairs {
+        for f in [&p.longitudinal, &p.transverse] {
+            let name = f.file_name().map(|n| n.to_string_lossy().into_owned());
+            records.extend(name.unwrap_or_default().bytes());
+            records.extend(std::fs::read(f)?);
+        }
+    }
+    let args = format!(
+        "runs={:?} eps={:?} mu={:?} laws={:?}",
+        a.runs, a.eps, a.mu, a.laws
+    );
+    let job = deckspin::shard::JobId::new(&text, &args).with("records", &records);
     if let Some(dir) = a.out.parent() {
         std::fs::create_dir_all(dir)?;
     }
-    let mut csv = String::from(
-        "record,run,restitution,mu,law,t_end,status,max_penetration,closure_rel,rtol,approaching_after_impact,pull_rel,wall_s\n",
-    );
-    for r in &rows {
-        csv += &format!(
-            "{},{},{},{},{},{},\"{}\",{:e},{:e},{:e},{},{:e},{:.4}\n",
-            r.record,
-            r.run,
-            r.restitution,
-            r.mu,
-            r.law,
-            r.t_end,
-            r.status.replace('"', "'"),
-            r.max_penetration,
-            r.closure_rel,
-            r.rtol,
-            r.approaching,
-            r.pull_rel,
-            r.wall
-        );
+    let (journal, done) = super::jobs::open_journal(
+        &a.out,
+        "stress",
+        &job,
+        Shard::ALL,
+        total,
+        CSV_HEADER,
+        a.resume,
+    )?;
+    match finish(a, (&pairs, total), &grid, &journal, done) {
+        Ok(pass) => {
+            journal.finish()?;
+            if pass {
+                Ok(())
+            } else {
+                Err("some runs did not pass".into())
+            }
+        }
+        Err(e) => {
+            journal.abandon();
+            Err(e)
+        }
     }
+}
+
+/// The runs not in the journal's rows `done`, then the CSV and the tally; true when every run
+/// passes.
+fn finish(
+    a: &StressArgs,
+    (pairs, total): (&[deckspin::stress::RecordPair], usize),
+    grid: &deckspin::stress::StressGrid,
+    journal: &Journal,
+    mut done: BTreeMap<usize, String>,
+) -> Result<bool, Box<dyn std::error::Error>> {
+    let bar = super::progress::Bar::new();
+    let recorder = Recorder::new(journal);
+    let ran = stress_listed(
+        &a.model,
+        pairs,
+        grid,
+        &|i| done.contains_key(&i),
+        &bar,
+        &|i, row| recorder.record(i, &csv_line(row)),
+    )?;
+    bar.clear();
+    stop_if_signalled(journal, total)?;
+    let mut rows = BTreeMap::new();
+    for (i, line) in &done {
+        let row = StressRow::from_csv(line)
+            .map_err(|e| format!("{}: run {i}: {e}", journal.path().display()))?;
+        rows.insert(*i, row);
+    }
+    for (i, row) in ran {
+        done.insert(i, csv_line(&row));
+        rows.insert(i, row);
+    }
+    let csv = joined(&format!("{CSV_HEADER}\n"), &done);
     deckspin::output::files::write_atomic(&a.out, csv)?;
+    let rows: Vec<StressRow> = rows.into_values().collect();
     print!("{}", tally(&rows));
     println!("wrote {}", a.out.display());
-    if rows.iter().all(|r| r.passes()) {
-        Ok(())
-    } else {
-        Err("some runs did not pass".into())
-    }
+    Ok(rows.iter().all(|r| r.passes()))
 }

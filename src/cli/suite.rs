@@ -1,15 +1,18 @@
 //! `deckspin suite`: a record suite (incremental dynamic analysis, library `suite`), or a
 //! shard of it.
 
+use super::jobs::{Recorder, counted, joined, stop_if_signalled};
 use super::progress::Bar;
 use clap::Args;
+use deckspin::output::journal::Journal;
 use deckspin::shard::{Shard, csv_line, part_text};
 use deckspin::studies::parse_axis;
 use deckspin::suite::intensity::{parse_levels, parse_measure};
 use deckspin::suite::records::suite_pairs;
-use deckspin::suite::row::{Status, SuiteRow, csv_fields, csv_header, csv_text};
+use deckspin::suite::row::{Status, SuiteRow, csv_fields, csv_header, read_csv};
 use deckspin::suite::stats::{level_stats, stats_csv, stats_json, stats_table};
-use deckspin::suite::{DEFAULT_TAIL, Suite, SuiteSpec};
+use deckspin::suite::{CANCELLED, DEFAULT_TAIL, Suite, SuiteSpec};
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 /// A record suite: the bridge under every record pair scaled to each intensity level.
@@ -46,6 +49,10 @@ pub struct SuiteArgs {
     /// Run only shard K of N (contiguous blocks of runs), written with their run indices.
     #[arg(long, value_name = "K/N")]
     pub shard: Option<String>,
+    /// Finish a job that was stopped: the runs in its journal (OUT.journal, written as
+    /// each run finishes) are not run again.
+    #[arg(long)]
+    pub resume: bool,
 }
 
 type CliResult = Result<(), Box<dyn std::error::Error>>;
@@ -95,25 +102,78 @@ pub fn cmd_suite(a: &SuiteArgs) -> CliResult {
     };
     let suite = Suite::open(&a.model, &a.fix, pairs, spec)?;
     let total = suite.runs();
-    let range = shard.range(total);
-    let t0 = std::time::Instant::now();
-    let bar = Bar::new();
-    let rows = suite.run(range.clone(), &bar);
-    bar.clear();
-    let wall = t0.elapsed().as_secs_f64();
+    let keys = suite.keys();
+    let header = csv_line(&csv_header(&keys));
+    let job = suite_job(a, &pairs_for_job)?;
     if let Some(dir) = a.out.parent() {
         std::fs::create_dir_all(dir)?;
     }
-    let keys = suite.keys();
+    let (journal, mut done) = super::jobs::open_journal(
+        &a.out,
+        "suite",
+        &job,
+        shard,
+        total,
+        header.trim_end(),
+        a.resume,
+    )?;
+    let result = finish(
+        a,
+        &suite,
+        &journal,
+        &mut done,
+        (shard, total),
+        (&keys, &header),
+        &job,
+    );
+    match result {
+        Ok(()) => Ok(journal.finish()?),
+        Err(e) => {
+            journal.abandon();
+            Err(e)
+        }
+    }
+}
+
+/// The runs of the suite's shard not in the journal's rows `done`, then its outputs.
+fn finish(
+    a: &SuiteArgs,
+    suite: &Suite,
+    journal: &Journal,
+    done: &mut BTreeMap<usize, String>,
+    (shard, total): (Shard, usize),
+    (keys, header): (&[String], &str),
+    job: &deckspin::shard::JobId,
+) -> CliResult {
+    let range = shard.range(total);
+    let resumed = done.len();
+    let todo: Vec<usize> = range.clone().filter(|i| !done.contains_key(i)).collect();
+    let t0 = std::time::Instant::now();
+    let bar = Bar::new();
+    let recorder = Recorder::new(journal);
+    let fresh = std::sync::Mutex::new(Vec::new());
+    let cancelled = Status::Refused(CANCELLED.into());
+    suite.run_listed(&todo, &bar, &|i, row| {
+        if row.status != cancelled {
+            let line = csv_line(&csv_fields(row));
+            recorder.record(i, &line);
+            fresh
+                .lock()
+                .unwrap_or_else(|p| p.into_inner())
+                .push((i, line));
+        }
+    });
+    bar.clear();
+    stop_if_signalled(journal, range.len())?;
+    done.extend(fresh.into_inner().unwrap_or_else(|p| p.into_inner()));
+    let wall = t0.elapsed().as_secs_f64();
+    let text = joined(header, done);
+    let (_, rows) = read_csv(&text)?;
     let wrote = if shard.is_all() {
-        write_outputs(&a.out, &csv_text(&keys, &rows), &keys, &rows)?
+        write_outputs(&a.out, &text, keys, &rows)?
     } else {
-        let lines: Vec<(usize, String)> = (range.clone().zip(&rows))
-            .map(|(i, r)| (i, csv_line(&csv_fields(r))))
-            .collect();
-        let header = csv_line(&csv_header(&keys));
-        let job = suite_job(a, &pairs_for_job)?;
-        let text = part_text("suite", &job, shard, total, &header, &lines);
+        let lines: Vec<(usize, String)> = done.iter().map(|(i, l)| (*i, l.clone())).collect();
+        let text = part_text("suite", job, shard, total, header, &lines);
         deckspin::output::files::write_atomic(&a.out, text)?;
         format!(
             "{} (shard {shard}: runs {}..{} of {total}; join the parts with `deckspin merge`)",
@@ -124,8 +184,8 @@ pub fn cmd_suite(a: &SuiteArgs) -> CliResult {
     };
     println!("{}", tally(&rows));
     eprintln!(
-        "{} runs in {wall:.2} s wall on {} threads",
-        rows.len(),
+        "{} in {wall:.2} s wall on {} threads",
+        counted(rows.len(), resumed),
         rayon::current_num_threads()
     );
     println!("wrote {wrote}");

@@ -283,18 +283,33 @@ impl Suite {
         each: &(dyn Fn(usize, &SuiteRow) + Sync),
     ) -> Vec<SuiteRow> {
         let range = range.start.min(self.runs())..range.end.min(self.runs());
-        progress.plan(range.len());
-        // the (pair, point)s of the range, each once
+        let indices: Vec<usize> = range.collect();
+        self.run_listed(&indices, progress, each)
+    }
+
+    /// [`Suite::run_each`] on the runs `indices` (those below [`Suite::runs`]), in their
+    /// order: what a resumed job has left to run.
+    pub fn run_listed(
+        &self,
+        indices: &[usize],
+        progress: &dyn Progress,
+        each: &(dyn Fn(usize, &SuiteRow) + Sync),
+    ) -> Vec<SuiteRow> {
+        let indices: Vec<usize> = (indices.iter().copied())
+            .filter(|&i| i < self.runs())
+            .collect();
+        progress.plan(indices.len());
+        // the (pair, point)s of the runs, each once
         let mut seen = HashSet::new();
-        let needed: Vec<(usize, usize)> = (range.clone())
-            .map(|i| self.coordinates(i))
+        let needed: Vec<(usize, usize)> = (indices.iter())
+            .map(|&i| self.coordinates(i))
             .map(|(p, _, k)| (p, k))
             .filter(|x| seen.insert(*x))
             .collect();
         let prepared: HashMap<(usize, usize), Result<Prepared, String>> = (needed.par_iter())
             .map(|&(p, k)| ((p, k), self.prepare(p, k)))
             .collect();
-        range
+        indices
             .into_par_iter()
             .map(|i| {
                 let (p, l, k) = self.coordinates(i);
