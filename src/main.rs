@@ -480,6 +480,8 @@ fn cmd_study(
     use std::fmt::Write as _;
     let study = Study::open(model, set)?;
     std::fs::create_dir_all(out)?;
+    // one job writes this folder at a time
+    let _lock = deckspin::output::files::FolderLock::acquire(out)?;
     let t0 = std::time::Instant::now();
     let bar = cli::progress::Bar::new();
     let (mut text, csv, figure) = match kind {
@@ -580,6 +582,9 @@ fn cmd_precision(
     let methods = (methods.split(',').map(|s| s.trim()))
         .map(|m| Method::parse(m).ok_or_else(|| format!("unknown method '{m}'")))
         .collect::<Result<Vec<_>, _>>()?;
+    std::fs::create_dir_all(out)?;
+    // one job writes this folder at a time
+    let _lock = deckspin::output::files::FolderLock::acquire(out)?;
     let (reference, points) = precision_points(model, &methods, set, quick)?;
     let metric = metric.unwrap_or_else(|| {
         if reference.run.dof_names[reference.dof].ends_with("theta") {
@@ -591,7 +596,6 @@ fn cmd_precision(
     if !["peak", "rms", "impact"].contains(&metric.as_str()) {
         return Err(format!("unknown metric '{metric}' (peak, rms, impact)").into());
     }
-    std::fs::create_dir_all(out)?;
     let stem = model
         .file_stem()
         .map_or("model".into(), |s| s.to_string_lossy().into_owned());
@@ -648,6 +652,9 @@ fn cmd_stability(
     out: &std::path::Path,
 ) -> CliResult {
     use deckspin::precision::verdict;
+    std::fs::create_dir_all(out)?;
+    // one job writes this folder at a time
+    let _lock = deckspin::output::files::FolderLock::acquire(out)?;
     let (_, points) = precision_points(model, &Method::ALL, set, quick)?;
     println!(
         "{:<17} {:<22} verdict (inaccurate above {:.0} % peak or history error)",
@@ -658,7 +665,6 @@ fn cmd_stability(
     for p in &points {
         println!("{:<17} {:<22} {}", p.method, p.knob, verdict(p, tolerance));
     }
-    std::fs::create_dir_all(out)?;
     let stem = model
         .file_stem()
         .map_or("model".into(), |s| s.to_string_lossy().into_owned());

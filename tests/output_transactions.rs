@@ -504,3 +504,60 @@ fn an_interrupted_sweep_and_stress_resume_to_the_uninterrupted_output() {
     assert_eq!(a.len(), 2 * 2 * 2 * 2 * 2 + 1);
     assert_eq!(a, b, "the resumed stress test differs");
 }
+
+#[test]
+fn every_study_refuses_a_folder_another_process_writes() {
+    let d = dir("study-locks");
+    std::fs::create_dir_all(&d).unwrap();
+    // a suite CSV for fragility
+    let list = pair_list(&d);
+    let suite = d.join("suite.csv").display().to_string();
+    run_ok(&strings(&[
+        "suite",
+        &model(),
+        "--records",
+        &list,
+        "--measure",
+        "pga",
+        "--levels",
+        "0.2,0.4",
+        "--tail",
+        "1",
+        "--out",
+        &suite,
+    ]));
+    let out = d.join("held");
+    std::fs::create_dir_all(&out).unwrap();
+    let o = out.display().to_string();
+    // this process holds the folder
+    let _held = deckspin::output::files::FolderLock::acquire(&out).unwrap();
+    let m = model();
+    let jobs: Vec<Vec<&str>> = vec![
+        vec!["study", "pga", &m, "--out", &o],
+        vec!["precision", &m, "--quick", "--out", &o],
+        vec!["stability", &m, "--quick", "--out", &o],
+        vec!["screen", &m, "--out", &o],
+        vec![
+            "fragility",
+            &suite,
+            "--limit",
+            "peak_rotation>0.0005",
+            "--out",
+            &o,
+        ],
+        vec!["sequence", &m, "--out", &o],
+        vec!["run", &m, "--out", &o],
+    ];
+    for args in jobs {
+        let r = bin().args(&args).output().unwrap();
+        let e = String::from_utf8_lossy(&r.stderr);
+        assert_eq!(r.status.code(), Some(1), "{args:?}: {e}");
+        assert!(
+            e.contains(&format!(
+                "is being written by process {}",
+                std::process::id()
+            )),
+            "{args:?}: {e}"
+        );
+    }
+}

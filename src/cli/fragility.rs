@@ -70,6 +70,8 @@ pub fn cmd_fragility(a: &FragilityArgs) -> CliResult {
     };
     let suite = Suite::read(&a.suite)?;
     std::fs::create_dir_all(&a.out)?;
+    // one job writes this folder at a time
+    let _lock = deckspin::output::files::FolderLock::acquire(&a.out)?;
     let groups = suite.groups();
     let mut text = format!(
         "Fragility of {} ({} runs): {}, maximum likelihood; P(exceed | {} = x) = Φ(ln(x/θ)/β)\n",

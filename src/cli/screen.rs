@@ -79,6 +79,8 @@ pub fn cmd_screen(a: &ScreenArgs) -> Result<(), Box<dyn std::error::Error>> {
     let mark = point.map(|(l, s)| (nearest(l, &lb, true), nearest(s, &skew, false)));
     println!("\n{}", draw_map(&cells, &lb, &skew, mark, mu, eps));
     std::fs::create_dir_all(&a.out)?;
+    // one job writes this folder at a time
+    let _lock = deckspin::output::files::FolderLock::acquire(&a.out)?;
     let json = serde_json::json!({
         "model": a.model.display().to_string(),
         "ends": ends,

@@ -34,6 +34,8 @@ pub fn cmd_sequence(a: &SequenceArgs) -> CliResult {
     let model = BridgeSequence::open(&a.model, &a.set)?;
     let runs = model.parse_runs(a.runs.as_deref())?;
     std::fs::create_dir_all(&a.out)?;
+    // one job writes this folder at a time
+    let _lock = deckspin::output::files::FolderLock::acquire(&a.out)?;
     if let Some(kind) = &a.study {
         return study(&model, &runs, kind, &a.out);
     }
