@@ -681,3 +681,71 @@ fn a_whole_session_edit_run_pin_compare_study_suspend_quit() {
 
     let _ = std::fs::remove_dir_all(&d);
 }
+
+/// SIGKILL after an accepted edit: the swap file written within about a second holds it, and
+/// the next start offers it with the difference shown; `r` recovers it as an unsaved edit, `s`
+/// saves it and the swap file goes.
+#[test]
+fn a_killed_workbench_offers_its_unsaved_edit_at_the_next_start() {
+    if !have_tmux() {
+        println!("tmux is not on PATH: skipping the end-to-end terminal test");
+        return;
+    }
+    let d = workspace();
+    let model = d.join("models/four-span.toml");
+    let swap = d.join("models/.four-span.toml.swp");
+    let original = std::fs::read_to_string(&model).unwrap();
+    let tmux = Tmux {
+        socket: format!("deckspin-e2e-swap-{}", std::process::id()),
+    };
+    start(&tmux, &d, "");
+    tmux.wait("the workbench", 30, |s| s.contains("deck.theta ["));
+    tmux.keys(&["Tab"]);
+    tmux.wait("the form", 5, |s| s.contains("parameters"));
+    tmux.text("/gap 1");
+    tmux.keys(&["Enter"]);
+    tmux.wait("the gap field", 5, |s| {
+        s.contains("contacts gap 1 (left_top)")
+    });
+    tmux.keys(&["Enter", "C-u"]);
+    tmux.text("0.002");
+    tmux.wait("a valid value", 5, |s| s.contains("✓ valid"));
+    tmux.keys(&["Enter"]);
+    tmux.wait("the edit", 5, |s| s.contains("four-span.toml [+]"));
+    // the swap is written SETTLE after the edit; a hang is no swap while the screen is idle
+    let mut polls = 0;
+    while !std::fs::read_to_string(&swap).is_ok_and(|t| t.contains("0.002")) {
+        polls += 1;
+        assert!(polls < 1200, "no swap file with the edit after 120 s");
+        std::thread::sleep(Duration::from_millis(100));
+    }
+    kill(&d, "KILL");
+    tmux.wait("the shell", 10, |s| s.contains("stty-done"));
+    drop(tmux);
+    assert_eq!(std::fs::read_to_string(&model).unwrap(), original);
+    assert!(swap.exists(), "a killed workbench leaves its swap file");
+    let tmux = Tmux {
+        socket: format!("deckspin-e2e-swap2-{}", std::process::id()),
+    };
+    start(&tmux, &d, "");
+    let s = tmux.wait("the recovery question", 30, |s| {
+        s.contains("Unsaved edits of")
+    });
+    assert!(s.contains("0.002"), "the difference is shown:\n{s}");
+    tmux.keys(&["r"]);
+    let s = tmux.wait("the recovered edit", 10, |s| {
+        s.contains("four-span.toml [+]")
+    });
+    assert!(s.contains("recovered"), "{s}");
+    tmux.keys(&["s"]);
+    tmux.wait("the save", 30, |s| !s.contains("four-span.toml [+]"));
+    let saved = std::fs::read_to_string(&model).unwrap();
+    assert!(
+        saved.contains("gaps = [0.002, 0.0127, 0.0127, 0.0127]"),
+        "{saved}"
+    );
+    tmux.keys(&["q"]);
+    tmux.wait("the shell", 10, |s| s.contains("stty-done"));
+    assert!(!swap.exists(), "a clean save and quit leaves no swap file");
+    let _ = std::fs::remove_dir_all(&d);
+}

@@ -251,6 +251,22 @@ fn every_binding_is_handled_in_its_context() {
                         resume: None,
                     })
                 }
+                Ctx::Recover => {
+                    // a recovery file (k) goes beside the model: a scratch folder's
+                    app.path = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("keymap/x.toml");
+                    let mut text = app.text.clone();
+                    text.push_str("\n# an edit\n");
+                    app.mode = Mode::Confirm(Confirm::Recover {
+                        found: tui::swap::Found {
+                            path: PathBuf::from("/nonexistent/.x.toml.swp"),
+                            pid: 1,
+                            text,
+                            typing: None,
+                            older_than_model: false,
+                        },
+                        differences: vec![],
+                    })
+                }
                 Ctx::Help => app.mode = Mode::Help,
                 Ctx::Form => app.view = View::Form,
                 Ctx::Studies => app.view = View::Studies,
@@ -563,6 +579,103 @@ fn save_through_a_symlink_keeps_the_link() {
             .is_symlink()
     );
     assert_eq!(read(&real), "a = 2\n");
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+#[cfg(unix)]
+#[test]
+fn save_of_a_hard_linked_model_keeps_the_link() {
+    use std::os::unix::fs::MetadataExt;
+    let d = scratch("hardlink");
+    let a = d.join("models/a.toml");
+    let b = d.join("models/b.toml");
+    std::fs::write(&a, "a = 1\nlonger = \"than the new text\"\n").unwrap();
+    std::fs::hard_link(&a, &b).unwrap();
+    let inode = std::fs::metadata(&a).unwrap().ino();
+    tui::save_atomic(&a, "a = 2\n").unwrap();
+    // one file, two names, the new text (cut to its length), no backup left
+    assert_eq!(std::fs::metadata(&a).unwrap().ino(), inode);
+    assert_eq!(std::fs::metadata(&a).unwrap().nlink(), 2);
+    assert_eq!(read(&b), "a = 2\n");
+    let left: Vec<String> = std::fs::read_dir(d.join("models"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.contains("backup"))
+        .collect();
+    assert!(left.is_empty(), "{left:?}");
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+#[test]
+fn the_swap_file_holds_the_edits_and_the_value_being_typed() {
+    use deckspin::tui::swap;
+    let mut app = App::new_from_text(&read(&corner_path()), &corner_path());
+    assert_eq!(swap::content(&app), None, "nothing unsaved, no swap");
+    edit(&mut app, "contact.0.mu", "0.2");
+    let c = swap::content(&app).unwrap();
+    let (pid, text, typing) = swap::parse(&c).unwrap();
+    assert_eq!(pid, std::process::id());
+    assert_eq!(text, app.draft);
+    assert_eq!(typing, None);
+    // the swap is TOML: its header lines are comments
+    assert!(deckspin::tui::form::validate(&c, &corner_path()).is_ok());
+    // a value being typed, not valid yet: the draft kept, the typed text named
+    app.mode = Mode::Editing {
+        buffer: "0.3x".into(),
+        check: Err("not a number".into()),
+    };
+    let (_, text, typing) = swap::parse(&swap::content(&app).unwrap()).unwrap();
+    assert_eq!(text, app.draft);
+    let typing = typing.unwrap();
+    assert!(typing.ends_with("= 0.3x"), "{typing}");
+    // the differences shown at recovery name the field and both values
+    let diff = deckspin::tui::merge::differences(&app.text, &app.draft);
+    assert_eq!(diff.len(), 1, "{diff:?}");
+    assert!(diff[0].contains("0.2"), "{diff:?}");
+}
+
+#[test]
+fn the_swap_writer_writes_within_a_second_and_a_recovery_file_falls_back() {
+    use deckspin::tui::swap;
+    let d = scratch("swap-writer");
+    let model = d.join("models/m.toml");
+    std::fs::write(&model, read(&corner_path())).unwrap();
+    let mut app = App::new_from_text(&read(&model), &model);
+    let mut w = swap::Swapper::spawn(&model).unwrap();
+    edit(&mut app, "contact.0.mu", "0.2");
+    w.update(&app);
+    // the writer waits SETTLE (0.25 s) for more changes; a hang is no file after many of them
+    let at = swap::beside(&model);
+    let mut waited = 0;
+    while !at.exists() {
+        std::thread::sleep(std::time::Duration::from_millis(50));
+        waited += 1;
+        assert!(waited < 2400, "no swap file after 120 s");
+    }
+    let found = swap::find(&model).unwrap();
+    assert_eq!(found.text, app.draft);
+    assert_eq!(found.pid, std::process::id());
+    assert!(
+        !swap::alive(found.pid),
+        "this process is not another workbench"
+    );
+    // a clean quit removes it
+    w.finish(false);
+    assert!(!at.exists());
+    // the model's folder cannot take the recovery file: the state directory does
+    let state = d.join("state");
+    let blocked = d.join("blocked");
+    std::fs::write(&blocked, "a file, not a folder").unwrap();
+    let inside = blocked.join("m.toml");
+    // SAFETY: this test alone reads XDG_STATE_HOME in this process's tests of the swap
+    unsafe { std::env::set_var("XDG_STATE_HOME", &state) };
+    let p = deckspin::tui::signals::write_recovery(&inside, "a = 1\n").unwrap();
+    assert!(
+        p.starts_with(state.join("deckspin/recovered")),
+        "{}",
+        p.display()
+    );
+    assert_eq!(read(&p), "a = 1\n");
     let _ = std::fs::remove_dir_all(&d);
 }
 

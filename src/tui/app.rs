@@ -42,6 +42,12 @@ pub enum Confirm {
     Quit,
     /// Open another model (chosen in the list of models) and lose the unsaved edits.
     OpenModel { path: PathBuf },
+    /// A swap file of unsaved edits found at the start (`tui::swap`), with the values that
+    /// differ from the model.
+    Recover {
+        found: super::swap::Found,
+        differences: Vec<String>,
+    },
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -381,6 +387,7 @@ impl App {
             Mode::Editing { .. } => Some(Ctx::Edit),
             Mode::Confirm(Confirm::Merge { .. }) => Some(Ctx::Merge),
             Mode::Confirm(Confirm::Quit) => Some(Ctx::Quit),
+            Mode::Confirm(Confirm::Recover { .. }) => Some(Ctx::Recover),
             Mode::Search { .. } => Some(Ctx::Search),
             Mode::OpenModel { .. } => Some(Ctx::OpenModel),
             Mode::Confirm(_) => Some(Ctx::Confirm),

@@ -33,6 +33,14 @@ pub fn save_atomic(path: &Path, text: &str) -> io::Result<()> {
         .file_name()
         .ok_or_else(|| io::Error::other("no file name"))?
         .to_string_lossy();
+    // a file with other names (hard links) is written in place, so that they all see it
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        if std::fs::metadata(path).is_ok_and(|m| m.nlink() > 1) {
+            return save_in_place(path, dir, &name, text);
+        }
+    }
     let tmp = dir.join(format!(".{name}.deckspin-{}.tmp", std::process::id()));
     let result = (|| {
         let mut f = std::fs::File::create(&tmp)?;
@@ -51,6 +59,42 @@ pub fn save_atomic(path: &Path, text: &str) -> io::Result<()> {
         let _ = std::fs::remove_file(&tmp);
     }
     result
+}
+
+/// Writes `text` into the file `path` itself (its inode kept, as vim's `backupcopy=yes`): a
+/// backup copy is made beside it (else in the temp directory) first and removed after; when
+/// the write fails the backup is copied back, and if that fails too the error names it.
+fn save_in_place(path: &Path, dir: &Path, name: &str, text: &str) -> io::Result<()> {
+    let pid = std::process::id();
+    let backup = [
+        dir.join(format!(".{name}.deckspin-backup-{pid}")),
+        std::env::temp_dir().join(format!("deckspin-backup-{pid}-{name}")),
+    ]
+    .into_iter()
+    .find(|b| std::fs::copy(path, b).is_ok())
+    .ok_or_else(|| io::Error::other("no room for a backup copy before writing in place"))?;
+    let write = || -> io::Result<()> {
+        let mut f = std::fs::OpenOptions::new().write(true).open(path)?;
+        f.write_all(text.as_bytes())?;
+        f.set_len(text.len() as u64)?;
+        f.sync_all()
+    };
+    match write() {
+        Ok(()) => {
+            let _ = std::fs::remove_file(&backup);
+            Ok(())
+        }
+        Err(e) => match std::fs::copy(&backup, path) {
+            Ok(_) => {
+                let _ = std::fs::remove_file(&backup);
+                Err(e)
+            }
+            Err(_) => Err(io::Error::other(format!(
+                "{e}; the previous content is in {}",
+                backup.display()
+            ))),
+        },
+    }
 }
 
 /// A job for [`Host::background`]: its message is the result.

@@ -112,3 +112,40 @@ pub fn value_of(text: &str, path: &str) -> Option<Value> {
         .find(|(p, _)| p == path)
         .map(|(_, v)| v)
 }
+
+/// The values that differ between `disk` and `mine`, one line each (`label: on disk A, here
+/// B`), in `mine`'s order then those only on disk; the lines that differ when either is not
+/// valid TOML.
+pub fn differences(disk: &str, mine: &str) -> Vec<String> {
+    let (Ok((order, m)), Ok((disk_order, d))) = (leaves(mine, "mine"), leaves(disk, "disk")) else {
+        let (a, b): (Vec<&str>, Vec<&str>) = (disk.lines().collect(), mine.lines().collect());
+        return (0..a.len().max(b.len()))
+            .filter(|&i| a.get(i) != b.get(i))
+            .map(|i| {
+                let l = |x: Option<&&str>| x.map_or("(none)".to_string(), |s| format!("'{s}'"));
+                format!(
+                    "line {}: on disk {}, here {}",
+                    i + 1,
+                    l(a.get(i)),
+                    l(b.get(i))
+                )
+            })
+            .collect();
+    };
+    let none = || "(none)".to_string();
+    let mut out = Vec::new();
+    for p in order
+        .iter()
+        .chain(disk_order.iter().filter(|p| !m.contains_key(*p)))
+    {
+        if key(&d, p) != key(&m, p) {
+            out.push(format!(
+                "{}: on disk {}, here {}",
+                form::label_of(p),
+                shown(&d, p).unwrap_or_else(none),
+                shown(&m, p).unwrap_or_else(none)
+            ));
+        }
+    }
+    out
+}

@@ -31,6 +31,7 @@ pub mod signals;
 pub mod study;
 pub mod study_files;
 pub mod study_worker;
+pub mod swap;
 pub mod term;
 pub mod ui;
 pub mod units;

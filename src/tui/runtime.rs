@@ -4,14 +4,14 @@
 //! the input thread, and the loop that drains the message channel, feeds [`update`], executes
 //! effects through [`Threads`] and draws once per drain.
 
-use super::app::{App, Options};
+use super::app::{App, Confirm, Mode, Options, StatusKind};
 use super::effects::{Host, Job, perform};
 use super::msg::Msg;
 use super::study::StudySpec;
 use super::term::{ColorDepth, SgrFilter};
 use super::ui;
 use super::update::update;
-use super::{results_worker, signals, study_worker, watch, worker};
+use super::{results_worker, signals, study_worker, swap, watch, worker};
 use crate::scene::Scene;
 use crossterm::event::{self, Event};
 use crossterm::execute;
@@ -350,17 +350,55 @@ pub fn run(model: &Path) -> Result<(), Box<dyn std::error::Error>> {
     host.watch(&app.path);
     let fx = app.start();
     perform(&mut app, &mut host, fx);
-    let ended = event_loop(&mut terminal, &mut app, &mut host, &rx);
+    let mut swapper = offer_swap(&mut app);
+    let ended = event_loop(&mut terminal, &mut app, &mut host, &rx, &mut swapper);
     host.cancel_all();
     host.finish_writes();
     drop(terminal);
     drop(guard);
+    let owns_swap = swapper.is_some();
+    // a clean quit removes the swap; anything else keeps it until the edits are safe
+    let clean = matches!(ended, Ok(None)) && signals::received().is_none();
+    if let Some(s) = swapper {
+        s.finish(!clean);
+    }
     // a signal ends the loop, or the terminal went away after one (SIGHUP) and drawing failed
     match (ended, signals::received()) {
-        (Ok(Some(sig)), _) | (Err(_), Some(sig)) => signals::exit_after(sig, &app),
+        (Ok(Some(sig)), _) | (Err(_), Some(sig)) => signals::exit_after(sig, &app, owns_swap),
         (Ok(None), _) => Ok(()),
         (Err(e), None) => Err(e.into()),
     }
+}
+
+/// A swap file of the model found at the start: offered for recovery (its edits differ from
+/// the model), removed (they do not), or left to the live workbench that writes it. Returns
+/// this workbench's swap writer (none while another one writes the model's swap).
+fn offer_swap(app: &mut App) -> Option<swap::Swapper> {
+    if let Some(found) = swap::find(&app.path) {
+        if swap::alive(found.pid) {
+            app.set_status(
+                StatusKind::Warn,
+                format!(
+                    "process {} edits {} too (its swap file {}): this workbench keeps no swap file",
+                    found.pid,
+                    app.file_name(),
+                    found.path.display()
+                ),
+            );
+            return None;
+        }
+        if found.text == app.text && found.typing.is_none() {
+            let _ = std::fs::remove_file(&found.path);
+        } else {
+            let differences = crate::tui::merge::differences(&app.text, &found.text);
+            app.mode = Mode::Confirm(Confirm::Recover { found, differences });
+            app.set_status(
+                StatusKind::Warn,
+                "unsaved edits found in a swap file: r recovers them, k keeps them in a file, d deletes them",
+            );
+        }
+    }
+    swap::Swapper::spawn(&app.path).ok()
 }
 
 /// Draws, drains the channel into [`update`] and performs the effects until the app quits
@@ -370,6 +408,7 @@ fn event_loop(
     app: &mut App,
     host: &mut Threads,
     rx: &Receiver<Msg>,
+    swapper: &mut Option<swap::Swapper>,
 ) -> io::Result<Option<i32>> {
     let mut cache = ui::Cache::default();
     let mut first_frame = true;
@@ -414,6 +453,9 @@ fn event_loop(
             }
             let fx = update(app, m);
             perform(app, host, fx);
+        }
+        if let Some(s) = swapper.as_mut() {
+            s.update(app);
         }
         if std::mem::take(&mut host.suspend) {
             suspend(terminal, app)?;

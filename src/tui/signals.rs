@@ -91,13 +91,8 @@ pub fn unsaved(app: &App) -> Unsaved {
     }
 }
 
-/// `MODEL.toml.recovered` next to the model, or `MODEL.toml.recovered.N` (the first free N)
-/// when that exists already.
-pub fn recovery_path(model: &Path) -> PathBuf {
-    let name = model
-        .file_name()
-        .map_or("model.toml".into(), |n| n.to_string_lossy().into_owned());
-    let dir = model.parent().unwrap_or(Path::new(""));
+/// `NAME.recovered` in `dir`, or `NAME.recovered.N` (the first free N) when that exists.
+pub fn recovery_path_in(dir: &Path, name: &str) -> PathBuf {
     let first = dir.join(format!("{name}.recovered"));
     if !first.exists() {
         return first;
@@ -108,21 +103,60 @@ pub fn recovery_path(model: &Path) -> PathBuf {
         .expect("a free name")
 }
 
-/// Writes `text` to a new recovery file next to the model; returns its path.
-pub fn write_recovery(model: &Path, text: &str) -> io::Result<PathBuf> {
-    let path = recovery_path(model);
+/// `MODEL.toml.recovered` next to the model, or `MODEL.toml.recovered.N` (the first free N)
+/// when that exists already.
+pub fn recovery_path(model: &Path) -> PathBuf {
+    let name = model
+        .file_name()
+        .map_or("model.toml".into(), |n| n.to_string_lossy().into_owned());
+    recovery_path_in(model.parent().unwrap_or(Path::new("")), &name)
+}
+
+/// Where a recovery file may go, in order: next to the model, the state directory
+/// (`tui::swap::state_dir`/recovered), the temp directory; the last two under the model's
+/// whole path with `/` as `%`.
+pub fn recovery_places(model: &Path) -> Vec<PathBuf> {
+    let flat = super::swap::flattened(model);
+    vec![
+        recovery_path(model),
+        recovery_path_in(&super::swap::state_dir().join("recovered"), &flat),
+        recovery_path_in(&std::env::temp_dir(), &format!("deckspin-{flat}")),
+    ]
+}
+
+/// Writes `text` to a new file (never over one), flushed to disk; a file left half written
+/// (a full disk) is removed.
+fn write_new(path: &Path, text: &str) -> io::Result<()> {
+    if let Some(d) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(d)?;
+    }
     let mut f = std::fs::OpenOptions::new()
         .write(true)
         .create_new(true)
-        .open(&path)?;
-    f.write_all(text.as_bytes())?;
-    f.sync_all()?;
-    Ok(path)
+        .open(path)?;
+    let r = f.write_all(text.as_bytes()).and_then(|()| f.sync_all());
+    if r.is_err() {
+        let _ = std::fs::remove_file(path);
+    }
+    r
+}
+
+/// Writes `text` to a new recovery file, in the first of [`recovery_places`] that takes it
+/// whole; returns its path, or every place's error.
+pub fn write_recovery(model: &Path, text: &str) -> io::Result<PathBuf> {
+    let mut errors = Vec::new();
+    for path in recovery_places(model) {
+        match write_new(&path, text) {
+            Ok(()) => return Ok(path),
+            Err(e) => errors.push(format!("{}: {e}", path.display())),
+        }
+    }
+    Err(io::Error::other(errors.join("; ")))
 }
 
 /// After `sig` ended the loop and the terminal is restored: save the unsaved work to a recovery
 /// file, say so on stderr, and end the process as the signal would.
-pub fn exit_after(sig: i32, app: &App) -> ! {
+pub fn exit_after(sig: i32, app: &App, owns_swap: bool) -> ! {
     let u = unsaved(app);
     let mut err = io::stderr();
     let _ = writeln!(
@@ -132,15 +166,21 @@ pub fn exit_after(sig: i32, app: &App) -> ! {
     );
     if let Some(text) = &u.text {
         let _ = match write_recovery(&app.path, text) {
-            Ok(p) => writeln!(
-                err,
-                "deckspin: unsaved edits written to {} ({} is unchanged)",
-                p.display(),
-                app.path.display()
-            ),
+            Ok(p) => {
+                // the edits are safe: this workbench's swap file goes
+                if owns_swap {
+                    super::swap::remove_all(&app.path);
+                }
+                writeln!(
+                    err,
+                    "deckspin: unsaved edits written to {} ({} is unchanged)",
+                    p.display(),
+                    app.path.display()
+                )
+            }
             Err(e) => writeln!(
                 err,
-                "deckspin: unsaved edits lost: cannot write a recovery file: {e}"
+                "deckspin: cannot write a recovery file ({e}); the edits stay in the swap file, offered at the next start"
             ),
         };
     }

@@ -199,6 +199,31 @@ fn question(app: &App, c: &Confirm) -> (Vec<String>, Vec<(&'static str, &'static
                 ("n", "stay"),
             ],
         ),
+        Confirm::Recover { found, differences } => {
+            let mut q = vec![format!(
+                "Unsaved edits of {name} found in {} (process {}{}):",
+                found.path.display(),
+                found.pid,
+                if found.older_than_model {
+                    "; the model file is newer"
+                } else {
+                    ""
+                }
+            )];
+            let shown = 6;
+            q.extend(differences.iter().take(shown).map(|d| format!("  {d}")));
+            if differences.len() > shown {
+                q.push(format!("  ({} more)", differences.len() - shown));
+            }
+            if differences.is_empty() {
+                q.push("  (the same values as the model)".into());
+            }
+            if let Some(t) = &found.typing {
+                q.push(format!("  being typed: {t}"));
+            }
+            let keys = vec![("r", "recover"), ("k/Esc", "keep as file"), ("d", "delete")];
+            (q, keys)
+        }
         Confirm::OpenModel { path } => (
             vec![format!(
                 "Open {} and lose your unsaved edits of {name}?",

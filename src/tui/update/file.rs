@@ -178,3 +178,68 @@ pub(super) fn export(app: &mut App) -> Vec<Effect> {
     app.set_status(StatusKind::Info, "exporting…");
     fx
 }
+
+/// The answer to the swap file found at the start: its edits as the draft (`r`), kept in a
+/// recovery file with the model opened as on disk (`k`), or deleted (`d`).
+pub(super) fn answer_swap(app: &mut App, a: crate::tui::keymap::Action) -> Vec<Effect> {
+    use crate::tui::keymap::Action as A;
+    use crate::tui::swap;
+    let Mode::Confirm(Confirm::Recover { found, differences }) =
+        std::mem::replace(&mut app.mode, Mode::Normal)
+    else {
+        return Vec::new();
+    };
+    let typed = found
+        .typing
+        .as_ref()
+        .map_or(String::new(), |t| format!("; you were typing {t}"));
+    match a {
+        A::SwapRecover => {
+            let _ = std::fs::remove_file(&found.path);
+            if let Ok(scene) = form::validate(&found.text, &app.path) {
+                app.scene = Some(scene);
+            }
+            app.draft = found.text;
+            app.rebuild_form();
+            app.set_status(
+                StatusKind::Warn,
+                format!(
+                    "recovered {} unsaved change(s) from {} (s saves them){typed}",
+                    differences.len(),
+                    found.path.display()
+                ),
+            );
+        }
+        A::SwapKeep => match crate::tui::signals::write_recovery(&app.path, &found.text) {
+            Ok(p) => {
+                let _ = std::fs::remove_file(&found.path);
+                app.set_status(
+                    StatusKind::Info,
+                    format!(
+                        "the swap's edits kept in {}; {} opened as on disk{typed}",
+                        p.display(),
+                        app.file_name()
+                    ),
+                );
+            }
+            Err(e) => {
+                app.set_status(
+                    StatusKind::Error,
+                    format!(
+                        "cannot keep the swap's edits ({e}): {} is left as it is",
+                        found.path.display()
+                    ),
+                );
+            }
+        },
+        _ => {
+            swap::remove_all(&app.path);
+            let _ = std::fs::remove_file(&found.path);
+            app.set_status(
+                StatusKind::Info,
+                format!("deleted the swap file {}", found.path.display()),
+            );
+        }
+    }
+    Vec::new()
+}

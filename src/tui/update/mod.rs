@@ -148,6 +148,7 @@ fn on_action(app: &mut App, a: Action) -> Vec<Effect> {
         A::Save => file::save(app),
         A::Export => file::export(app),
         A::Yes | A::No => answer(app, a == A::Yes),
+        A::SwapRecover | A::SwapKeep | A::SwapDelete => file::answer_swap(app, a),
         A::KeepMine | A::KeepMineAll => reconcile::answer_conflict(app, true, a == A::KeepMineAll),
         A::TakeTheirs | A::TakeTheirsAll => {
             reconcile::answer_conflict(app, false, a == A::TakeTheirsAll)
@@ -281,7 +282,7 @@ fn answer(app: &mut App, yes: bool) -> Vec<Effect> {
         }
         (Confirm::SaveConflict { text }, yes) => reconcile::answer_save_conflict(app, text, yes),
         (Confirm::OpenModel { path }, yes) => open::answer(app, path, yes),
-        (c @ Confirm::Merge { .. }, _) => {
+        (c @ (Confirm::Merge { .. } | Confirm::Recover { .. }), _) => {
             // answered with m/t/M/T, not y/n
             app.mode = Mode::Confirm(c);
             Vec::new()
