@@ -393,7 +393,7 @@ fn an_interrupted_suite_resumes_to_the_uninterrupted_output_byte_for_byte() {
         }
         assert!(!out.exists(), "{name}: no output until the job is whole");
         let kept = journal_rows(&journal);
-        assert!(kept >= 3 && kept < 160, "{name}: {kept} rows kept");
+        assert!((3..160).contains(&kept), "{name}: {kept} rows kept");
         // not resumed: refused, the journal kept
         let again = bin().args(args(&out)).output().unwrap();
         let msg = String::from_utf8_lossy(&again.stderr);
