@@ -181,6 +181,11 @@ fn main() -> ExitCode {
             method,
         }) => {
             if let Some(m) = method {
+                if deckspin::methods::Method::parse(&m).is_none() {
+                    let names = deckspin::methods::Method::names(", ");
+                    eprintln!("deckspin: --method '{m}': unknown method ({names})");
+                    return ExitCode::from(2);
+                }
                 set.push(format!("solver.method=\"{m}\""));
             }
             cmd_run(&model, &out, &set, at)
@@ -252,6 +257,12 @@ fn exit_code(e: &(dyn std::error::Error + 'static)) -> ExitCode {
     if let Some(i) = e.downcast_ref::<cli::jobs::JobInterrupted>() {
         return ExitCode::from((128 + i.signal).clamp(0, 255) as u8);
     }
+    // a run that finished outside its accuracy bounds is told apart from a failure
+    if let Some(deckspin::run::SolverError::Inaccurate { .. }) =
+        e.downcast_ref::<deckspin::run::SolverError>()
+    {
+        return ExitCode::from(3);
+    }
     let suite_too_large =
         (e.downcast_ref::<SuiteError>()).is_some_and(|s| matches!(s, SuiteError::TooLarge(_)));
     if e.is::<deckspin::run::LimitError>()
@@ -295,13 +306,30 @@ fn cmd_run(
     for w in &loaded.warnings {
         eprintln!("deckspin: warning: {w}");
     }
-    let scene = loaded.scene;
+    let mut scene = loaded.scene;
     check_output(&scene, &OutputBudget::default())?;
     let cannot = |e: std::io::Error| format!("{}: cannot write results: {e}", out.display());
-    let mut files = RunFiles::create(out, &scene, at).map_err(cannot)?;
-    files.stop_when(|| cli::signals::requested().is_some());
-    let run = deckspin::simulate::integrate(&scene, &mut files);
-    let written = files.finish(&run).map_err(cannot)?;
+    // a step the method chose itself is refined while the judge finds the run outside its bounds
+    let mut refinements = 0;
+    let (run, written) = loop {
+        if let Some(why) = &scene.settings.step_chosen {
+            eprintln!("deckspin: {why}");
+        }
+        let mut files = RunFiles::create(out, &scene, at).map_err(cannot)?;
+        files.stop_when(|| cli::signals::requested().is_some());
+        let run = deckspin::simulate::integrate(&scene, &mut files);
+        if refinements < deckspin::simulate::MAX_REFINEMENTS
+            && cli::signals::requested().is_none()
+            && let Some(next) = deckspin::simulate::refined(&scene, &run)
+        {
+            drop(files);
+            refinements += 1;
+            scene = next;
+            continue;
+        }
+        let written = files.finish(&run).map_err(cannot)?;
+        break (run, written);
+    };
     print_report(&run.output.summary, &scene);
     if let (Some(t), Some(s)) = (at, &written.nearest) {
         print_state_at(&run.output, s, t);
@@ -312,8 +340,18 @@ fn cmd_run(
             println!("  wrote {wrote}");
             Ok(())
         }
+        // the reason goes to stderr once (main prints the error)
+        Stop::Failed(e @ deckspin::run::SolverError::Inaccurate { .. }) => {
+            println!("  finished outside the accuracy asked for (exit 3; why on stderr)");
+            println!("  wrote {wrote}");
+            Err(Box::new(e))
+        }
         Stop::Failed(e) => {
-            println!("  failed: {e}");
+            println!(
+                "  failed at t = {:.9} s ({}; why on stderr)",
+                e.time(),
+                e.kind()
+            );
             println!("  wrote {wrote} (up to t = {:.9} s)", e.time());
             Err(Box::new(e))
         }

@@ -95,18 +95,42 @@ pub enum SolverError {
         width: f64,
     },
     #[error(
-        "t = {t:.9} s: finished, but not to the accuracy asked for: {what} {value:.3e} above solver.{setting} = {limit:e} ({hint})"
+        "t = {t:.9} s: finished outside the accuracy asked for: {}",
+        Bound::list(bounds)
     )]
     Inaccurate {
         t: f64,
-        /// "energy closure" (relative) or "penetration" (m).
-        what: &'static str,
-        value: f64,
-        /// The setting that bounds it: "max_closure" or "max_penetration".
-        setting: &'static str,
-        limit: f64,
-        hint: String,
+        /// Every bound the run broke.
+        bounds: Vec<Bound>,
     },
+}
+
+/// A bound of the accuracy judge a finished run broke (`simulate::judge`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Bound {
+    /// "energy closure" (relative) or "penetration" (m).
+    pub what: &'static str,
+    pub value: f64,
+    /// The setting that bounds it: "max_closure" or "max_penetration".
+    pub setting: &'static str,
+    pub limit: f64,
+    /// A setting that would meet it and its estimated cost, or what else to do.
+    pub remedy: String,
+}
+
+impl Bound {
+    /// "what value above solver.setting = limit (remedy); …".
+    pub fn list(bounds: &[Bound]) -> String {
+        (bounds.iter())
+            .map(|b| {
+                format!(
+                    "{} {:.3e} above solver.{} = {:.3e} ({})",
+                    b.what, b.value, b.setting, b.limit, b.remedy
+                )
+            })
+            .collect::<Vec<_>>()
+            .join("; ")
+    }
 }
 
 /// Receives results while a run goes on (for live charts); return false to cancel.

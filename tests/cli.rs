@@ -211,6 +211,8 @@ fn runs_above_the_limits_are_refused_before_they_start() {
         "--method",
         "moreau",
         "--set",
+        "solver.step=1e-3",
+        "--set",
         "solver.t_end=1e6",
     ]);
     assert_eq!(r.status.code(), Some(2));

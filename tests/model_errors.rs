@@ -405,10 +405,13 @@ fn fixed_steps_are_judged_against_the_stability_limit() {
     let text = std::fs::read_to_string(&path).unwrap();
     let set = [explicit.to_string(), "solver.step=0.01".to_string()];
     assert!(load_str_with(&text, &path, &set, &Motions::default()).is_ok());
-    // above the limit with the contacts closed: accepted, said
-    let l = four_span(&same, &[explicit]).unwrap();
+    // above the limit with the contacts closed: accepted, said (a step the file sets; without
+    // one, the method chooses its own)
+    let comment = "# step: the fixed-step methods choose it from the model (see docs/engine.md) unless set here";
+    let with_step = |t: String| t.replace(comment, "step = 0.001");
+    let l = four_span(&with_step, &[explicit]).unwrap();
     let msg = l.warnings[0].to_string();
-    let line = line_of("step = 0.001");
+    let line = line_of(comment);
     assert!(
         matches!(l.warnings[0], ModelWarning::StepAboveStability { .. })
             && msg.contains(&format!(
@@ -418,15 +421,25 @@ fn fixed_steps_are_judged_against_the_stability_limit() {
         "{msg}"
     );
     // implicit: stable, the unresolved contact dynamics said
-    let l = four_span(&same, &["solver.method=\"penalty\""]).unwrap();
+    let l = four_span(&with_step, &["solver.method=\"penalty\""]).unwrap();
     let msg = l.warnings[0].to_string();
     assert!(
         matches!(l.warnings[0], ModelWarning::StepUnresolved { .. })
             && msg.contains("the penalty method stays stable"),
         "{msg}"
     );
-    let l = four_span(&same, &["solver.method=\"moreau\""]).unwrap();
+    let l = four_span(&with_step, &["solver.method=\"moreau\""]).unwrap();
     assert!(l.warnings.is_empty(), "{:?}", l.warnings);
+    // a step the method chooses is within every limit, and said
+    for m in ["moreau", "penalty", "penalty-explicit"] {
+        let l = four_span(&same, &[&format!("solver.method=\"{m}\"")]).unwrap();
+        assert!(l.warnings.is_empty(), "{m}: {:?}", l.warnings);
+        let chose = l.scene.settings.step_chosen.unwrap();
+        assert!(
+            chose.starts_with(&format!("{m} chose solver.step = ")),
+            "{chose}"
+        );
+    }
 }
 
 #[test]

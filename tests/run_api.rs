@@ -70,7 +70,10 @@ fn a_failed_run_keeps_its_output_and_reason() {
 #[test]
 fn a_fixed_step_run_that_fails_keeps_its_output() {
     // central differences with k = 1e6 kN/m and h = 1 ms exceed 2/ω of the stiffest contact
-    let set = ["solver.method=\"penalty-explicit\"".to_string()];
+    let set = [
+        "solver.method=\"penalty-explicit\"".to_string(),
+        "solver.step=1e-3".to_string(),
+    ];
     let scene = deckspin::load(&common::model("models/four-span.toml"), &set).unwrap();
     let run = deckspin::simulate::integrate(&scene, &mut deckspin::Silent);
     let Stop::Failed(deckspin::SolverError::Unstable { t, .. }) = run.stop else {

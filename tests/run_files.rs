@@ -116,7 +116,11 @@ fn a_failed_run_writes_its_files_up_to_the_failure() {
     // last batch)
     let cases: [(&[&str], &str, f64); 2] = [
         (&["solver.max_steps=2000"], "TooManySteps", f64::NAN),
-        (&["solver.method=\"penalty-explicit\""], "Unstable", 2.628),
+        (
+            &["solver.method=\"penalty-explicit\"", "solver.step=1e-3"],
+            "Unstable",
+            2.628,
+        ),
     ];
     for (i, (set, kind, t_fail)) in cases.iter().enumerate() {
         let s = scene("models/four-span.toml", set);
@@ -182,7 +186,11 @@ fn the_estimate_bounds_the_history_written() {
     // a fixed-step method: one row per step at most
     let m = scene(
         "models/four-span.toml",
-        &["solver.method=\"moreau\"", "solver.output_dt=1e-4"],
+        &[
+            "solver.method=\"moreau\"",
+            "solver.step=1e-3",
+            "solver.output_dt=1e-4",
+        ],
     );
     let est = OutputEstimate::of(&m);
     assert_eq!(
@@ -222,6 +230,7 @@ fn runs_above_the_budget_are_refused_with_their_estimate() {
         "models/validation/block-on-plane.toml",
         &[
             "solver.method=\"moreau\"",
+            "solver.step=1e-3",
             "solver.t_end=1e6",
             "solver.output_dt=100",
         ],

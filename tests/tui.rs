@@ -610,9 +610,13 @@ fn save_of_a_hard_linked_model_keeps_the_link() {
 fn the_swap_file_holds_the_edits_and_the_value_being_typed() {
     use deckspin::tui::swap;
     let mut app = App::new_from_text(&read(&corner_path()), &corner_path());
-    assert_eq!(swap::content(&app), None, "nothing unsaved, no swap");
+    assert_eq!(
+        deckspin::tui::signals::swap_content(&app),
+        None,
+        "nothing unsaved, no swap"
+    );
     edit(&mut app, "contact.0.mu", "0.2");
-    let c = swap::content(&app).unwrap();
+    let c = deckspin::tui::signals::swap_content(&app).unwrap();
     let (pid, text, typing) = swap::parse(&c).unwrap();
     assert_eq!(pid, std::process::id());
     assert_eq!(text, app.draft);
@@ -624,7 +628,8 @@ fn the_swap_file_holds_the_edits_and_the_value_being_typed() {
         buffer: "0.3x".into(),
         check: Err("not a number".into()),
     };
-    let (_, text, typing) = swap::parse(&swap::content(&app).unwrap()).unwrap();
+    let (_, text, typing) =
+        swap::parse(&deckspin::tui::signals::swap_content(&app).unwrap()).unwrap();
     assert_eq!(text, app.draft);
     let typing = typing.unwrap();
     assert!(typing.ends_with("= 0.3x"), "{typing}");
@@ -643,7 +648,7 @@ fn the_swap_writer_writes_within_a_second_and_a_recovery_file_falls_back() {
     let mut app = App::new_from_text(&read(&model), &model);
     let mut w = swap::Swapper::spawn(&model).unwrap();
     edit(&mut app, "contact.0.mu", "0.2");
-    w.update(&app);
+    w.update(deckspin::tui::signals::swap_content(&app));
     // the writer waits SETTLE (0.25 s) for more changes; a hang is no file after many of them
     let at = swap::beside(&model);
     let mut waited = 0;
@@ -738,7 +743,9 @@ fn run_starts_a_worker_and_batches_stream_in() {
 
 #[test]
 fn the_models_solver_method_is_used() {
-    let mut app = App::new_from_text(&read(&corner_path()), &corner_path());
+    // a step the model sets (without one, Moreau–Jean chooses a finer one and passes)
+    let text = read(&corner_path()).replace("[solver]", "[solver]\nstep = 1e-3");
+    let mut app = App::new_from_text(&text, &corner_path());
     edit(&mut app, "solver.method", "moreau");
     assert_eq!(app.mode, Mode::Normal, "{}", app.status);
     assert!(app.draft.contains("method = \"moreau\""), "{}", app.draft);
@@ -1717,7 +1724,7 @@ fn the_help_scrolls_when_taller_than_the_screen() {
     act(&mut app, Action::CloseHelp);
     act(&mut app, Action::Help);
     assert_eq!(app.help_scroll, 0);
-    assert_eq!(tui::help::max_scroll(Ctx::Charts, 60), 0);
+    assert_eq!(tui::help::max_scroll(Ctx::Charts, 80), 0);
     update(&mut app, code(KeyCode::PageDown));
     let t = render(&mut app, 80, 24);
     snapshot_settings().bind(|| insta::assert_snapshot!("help_80x24_scrolled", t.backend()));

@@ -38,6 +38,13 @@ pub(super) struct Given {
     pub max_events: bool,
     /// `solver.max_steps` is present.
     pub max_steps: bool,
+    /// `solver.step` is present.
+    pub step: bool,
+    /// `solver.contact_stiffness` is present.
+    pub contact_stiffness: bool,
+    /// `solver.max_closure` and `solver.max_penetration` are present.
+    pub max_closure: bool,
+    pub max_penetration: bool,
     /// A bridge file (else a scene file): the fields to blame.
     pub bridge: bool,
     pub step_limit: StepLimit,
@@ -68,7 +75,186 @@ pub(super) fn finish(
     tolerances(scene, ck, warnings)?;
     resolution(scene, given.bridge, ck)?;
     initial_penetration(scene, given.bridge, ck)?;
+    if scene.settings.method != Method::Event {
+        let penalty = matches!(
+            scene.settings.method,
+            Method::Penalty | Method::PenaltyExplicit
+        );
+        if penalty && !given.contact_stiffness {
+            if let Some(k) = chosen_contact_stiffness(scene) {
+                scene.settings.contact_stiffness = k;
+            }
+        }
+        if !given.step {
+            let (step, why) = chosen_step(scene);
+            scene.settings.step = step;
+            scene.settings.step_chosen = Some(why);
+        }
+        let (closure, penetration) = method_bounds(scene);
+        if !given.max_closure {
+            scene.settings.max_closure = closure;
+        }
+        if !given.max_penetration {
+            scene.settings.max_penetration = penetration;
+            // without a positive gap to measure it by: by the run's own motion
+            if scene.settings.method == Method::Moreau && smallest_positive_gap(scene).is_none() {
+                scene.settings.max_penetration_of_peak = Some(MOREAU_PENETRATION_OF_PEAK);
+            }
+        }
+    }
     fixed_step(scene, given.step_limit, ck, warnings)
+}
+
+/// Steps per period of the fastest dynamics a fixed-step method chooses when `solver.step` is
+/// absent: Moreau–Jean [`MOREAU_STEPS_PER_PERIOD`] of K₀'s shortest period (it is first order;
+/// contacts are impulses, not springs), Newmark [`PENALTY_STEPS_PER_PERIOD`] and the central
+/// difference [`EXPLICIT_STEPS_PER_PERIOD`] of the shortest period with every contact closed
+/// at `contact_stiffness` (well inside the explicit scheme's limit 2/ω, which is T/π). On the
+/// four-span bridge each lands within 1 % of the event-driven peak rotation
+/// (`docs/engine.md`, "Fixed-step methods by default").
+pub const MOREAU_STEPS_PER_PERIOD: f64 = 100.0;
+pub const PENALTY_STEPS_PER_PERIOD: f64 = 16.0;
+pub const EXPLICIT_STEPS_PER_PERIOD: f64 = 25.0;
+/// The implicit methods (Moreau–Jean, Newmark) take at most this many steps per output
+/// interval when they choose their step: they are stable at any step, and dynamics faster than
+/// that are not in the output.
+pub const IMPLICIT_STEPS_PER_OUTPUT: f64 = 50.0;
+/// Steps over the run when the scene has no stiffness to take a period from (at most one
+/// output interval each).
+pub const STEPS_WITHOUT_STIFFNESS: f64 = 5000.0;
+
+/// The step of a fixed-step method when the model sets none, and how it was chosen: from the
+/// fastest dynamics (`MOREAU_STEPS_PER_PERIOD`, `PENALTY_STEPS_PER_PERIOD`), at most the
+/// sample interval of a recorded support motion, at least `t_end`/10⁷.
+pub fn chosen_step(scene: &Scene) -> (f64, String) {
+    let st = &scene.settings;
+    let (omega, per, what) = match st.method {
+        Method::Moreau | Method::Event => (
+            omega_max(scene),
+            MOREAU_STEPS_PER_PERIOD,
+            "K₀'s shortest period".to_string(),
+        ),
+        Method::Penalty | Method::PenaltyExplicit => (
+            omega_max_closed(scene, st.contact_stiffness),
+            if st.method == Method::Penalty {
+                PENALTY_STEPS_PER_PERIOD
+            } else {
+                EXPLICIT_STEPS_PER_PERIOD
+            },
+            format!(
+                "the shortest period with every contact closed at contact_stiffness {:.4e}",
+                st.contact_stiffness
+            ),
+        ),
+    };
+    let (mut h, mut why) = if omega.is_finite() && omega > 0.0 {
+        let period = std::f64::consts::TAU / omega;
+        (period / per, format!("{what} {period:.4e} s / {per}"))
+    } else {
+        let h = (st.t_end / STEPS_WITHOUT_STIFFNESS).min(st.output_dt);
+        (
+            h,
+            format!(
+                "t_end / {STEPS_WITHOUT_STIFFNESS}, at most solver.output_dt (no stiffness to take a period from)"
+            ),
+        )
+    };
+    let dt = (scene.supports.iter())
+        .filter_map(|s| match &s.motion {
+            Motion::Record(g) => Some(g.dt),
+            Motion::Harmonic { .. } => None,
+        })
+        .fold(f64::INFINITY, f64::min);
+    if dt < h {
+        (h, why) = (dt, format!("the records' sample interval {dt:e} s"));
+    }
+    // the implicit methods are stable at any step: dynamics faster than the output's are left
+    // unresolved rather than paid for
+    let implicit = matches!(st.method, Method::Moreau | Method::Penalty);
+    let output_floor = st.output_dt / IMPLICIT_STEPS_PER_OUTPUT;
+    if implicit && h < output_floor {
+        (h, why) = (
+            output_floor,
+            format!("solver.output_dt / {IMPLICIT_STEPS_PER_OUTPUT}, above {why}"),
+        );
+    }
+    let floor = st.t_end / 1e7;
+    if h < floor {
+        (h, why) = (floor, "t_end / 10⁷".to_string());
+    }
+    // a step that divides t_end evenly is what the methods take
+    let n = (st.t_end / h).ceil().max(1.0);
+    let h = st.t_end / n;
+    (
+        h,
+        format!(
+            "{} chose solver.step = {h:.4e} s ({why}; {n} steps); set solver.step to choose another",
+            st.method.name()
+        ),
+    )
+}
+
+/// The contact frequency of the penalty methods' gap elements when `solver.contact_stiffness`
+/// is absent, in multiples of K₀'s highest frequency: the contacts' compliance then leaves the
+/// structure's modes alone.
+pub const CONTACT_FREQUENCY_RATIO: f64 = 10.0;
+/// Moreau–Jean's penetration bound when the scene has no positive gap: this fraction of the
+/// run's largest translation.
+pub const MOREAU_PENETRATION_OF_PEAK: f64 = 0.01;
+/// Moreau–Jean's penetration bound: this fraction of the smallest positive initial gap.
+pub const MOREAU_PENETRATION_OF_GAP: f64 = 0.05;
+
+/// The gap elements' stiffness when the model sets none: m_eff (CONTACT_FREQUENCY_RATIO ω_max)²
+/// with m_eff = 1/(W_Nᵀ M⁻¹ W_N) the lightest contact's effective mass and ω_max K₀'s highest
+/// frequency; none (the default stays) for a scene without stiffness.
+pub fn chosen_contact_stiffness(scene: &Scene) -> Option<f64> {
+    let omega = omega_max(scene);
+    if !(omega.is_finite() && omega > 0.0) {
+        return None;
+    }
+    let fr = scene.frame(0.0, &scene.q0, &scene.v0);
+    let m_eff = (scene.contacts.iter())
+        .map(|c| {
+            let w = &scene.contact_kinematics(&fr, c).w_n;
+            let inv: f64 = (w.iter().zip(scene.mass.iter()))
+                .map(|(w, m)| w * w / m)
+                .sum();
+            1.0 / inv
+        })
+        .filter(|m| m.is_finite() && *m > 0.0)
+        .min_by(f64::total_cmp)?;
+    let k = m_eff * (CONTACT_FREQUENCY_RATIO * omega).powi(2);
+    k.is_finite().then_some(k)
+}
+
+/// The accuracy bounds of a method when the model sets none: (max_closure, max_penetration).
+/// Event-driven: 10⁻³ and 10⁻⁶ m (the defaults). Moreau–Jean and the explicit penalty scheme are
+/// first order in energy (an impact's work is taken at the step's velocities; a gap element
+/// switches on and off inside a step): closure 10⁻¹; Moreau–Jean's penetration is O(h ġ_N):
+/// [`MOREAU_PENETRATION_OF_GAP`] of the smallest positive initial gap (without one,
+/// [`MOREAU_PENETRATION_OF_PEAK`] of the run's largest translation, judged after the run). Newmark's average acceleration is second order:
+/// closure 10⁻². The penalty methods are not judged on penetration (it is their contact law).
+pub fn method_bounds(scene: &Scene) -> (f64, f64) {
+    let st = &scene.settings;
+    match st.method {
+        Method::Event => (st.max_closure, st.max_penetration),
+        Method::Moreau => {
+            let gap = smallest_positive_gap(scene)
+                .map_or(st.max_penetration, |g| MOREAU_PENETRATION_OF_GAP * g);
+            (0.1, gap.max(st.max_penetration))
+        }
+        Method::PenaltyExplicit => (0.1, st.max_penetration),
+        Method::Penalty => (0.01, st.max_penetration),
+    }
+}
+
+/// The smallest positive initial gap of the scene's contacts.
+fn smallest_positive_gap(scene: &Scene) -> Option<f64> {
+    let fr = scene.frame(0.0, &scene.q0, &scene.v0);
+    (scene.contacts.iter())
+        .map(|c| scene.contact_kinematics(&fr, c).gap)
+        .filter(|g| *g > 0.0 && g.is_finite())
+        .min_by(f64::total_cmp)
 }
 
 /// Events a run may log per simulated second when `solver.max_events` is absent: a light

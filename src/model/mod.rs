@@ -143,6 +143,10 @@ fn compile_text(
         t_end: solver.t_end.is_some(),
         max_events: solver.max_events.is_some(),
         max_steps: solver.max_steps.is_some(),
+        step: solver.step.is_some(),
+        contact_stiffness: solver.contact_stiffness.is_some(),
+        max_closure: solver.max_closure.is_some(),
+        max_penetration: solver.max_penetration.is_some(),
         bridge,
         step_limit,
     };

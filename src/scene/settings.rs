@@ -10,8 +10,14 @@ use crate::methods::Method;
 pub struct Settings {
     /// The integration method (all).
     pub method: Method,
-    /// Fixed step h, s (M, P, X; default 1e-3).
+    /// Fixed step h, s (M, P, X; default 1e-3; a model without `solver.step` gets
+    /// `model::limits::chosen_step`).
     pub step: f64,
+    /// How the step was chosen when the model set none (said by the front ends).
+    pub step_chosen: Option<String>,
+    /// Moreau–Jean without a positive gap and without `max_penetration`: the penetration is
+    /// judged against this fraction of the run's largest translation.
+    pub max_penetration_of_peak: Option<f64>,
     /// θ of the Moreau–Jean θ-method for the smooth forces, in [0.5, 1] (M; 0.5).
     pub theta: f64,
     /// Penalty contact stiffness, normal and tangential stick spring, force/length (P, X; 1e6).
@@ -76,6 +82,8 @@ impl Default for Settings {
         Self {
             method: Method::Event,
             step: 1e-3,
+            step_chosen: None,
+            max_penetration_of_peak: None,
             theta: 0.5,
             contact_stiffness: 1e6,
             t_end: 1.0,

@@ -245,8 +245,8 @@ pub const KEYMAP: &[Binding] = &[
     b(Ctx::Confirm, &[K::Ch('y')], "y", A::Yes, "yes", Some(("y", "yes"))),
     b(Ctx::Confirm, &[K::Ch('n'), K::Code(KC::Esc)], "n/Esc", A::No, "no", Some(("n/Esc", "no"))),
     // a value changed both on disk and in the workbench
-    b(Ctx::Recover, &[K::Ch('r')], "r", A::SwapRecover, "recover the edits (unsaved: s saves them)", Some(("r", "recover"))),
-    b(Ctx::Recover, &[K::Ch('k'), K::Code(KC::Esc)], "k/Esc", A::SwapKeep, "keep them in a recovery file, open the model as on disk", Some(("k/Esc", "keep as file"))),
+    b(Ctx::Recover, &[K::Ch('r')], "r", A::SwapRecover, "recover the edits", Some(("r", "recover"))),
+    b(Ctx::Recover, &[K::Ch('k'), K::Code(KC::Esc)], "k/Esc", A::SwapKeep, "keep them in a file", Some(("k/Esc", "keep as file"))),
     b(Ctx::Recover, &[K::Ch('d')], "d", A::SwapDelete, "delete them", Some(("d", "delete"))),
     b(Ctx::Merge, &[K::Ch('m')], "m", A::KeepMine, "keep my value", Some(("m", "keep mine"))),
     b(Ctx::Merge, &[K::Ch('t')], "t", A::TakeTheirs, "take the value on disk", Some(("t", "take theirs"))),

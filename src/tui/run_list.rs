@@ -26,6 +26,8 @@ pub enum Ended {
     Finished,
     Cancelled,
     Failed(String),
+    /// Finished, but outside the accuracy bounds (`SolverError::Inaccurate`): its reason.
+    Inaccurate(String),
 }
 
 impl Ended {
@@ -34,8 +36,17 @@ impl Ended {
             Ended::Finished => "done",
             Ended::Cancelled => "cancelled",
             Ended::Failed(_) => "failed",
+            Ended::Inaccurate(_) => "inexact",
         }
     }
+}
+
+/// A failure that is a finished run outside its accuracy bounds.
+pub fn is_inaccurate(e: &super::run_data::RunFailure) -> bool {
+    matches!(
+        e,
+        super::run_data::RunFailure::Solver(crate::run::SolverError::Inaccurate { .. })
+    )
 }
 
 /// The key results of a run (None: not known, e.g. the residual of a run still going).
@@ -270,6 +281,7 @@ impl Entry {
     pub fn of_run(r: &RunData, model: String) -> Entry {
         let ended = match &r.status {
             RunStatus::Finished => Ended::Finished,
+            RunStatus::Failed(e) if is_inaccurate(e) => Ended::Inaccurate(e.to_string()),
             RunStatus::Failed(e) => Ended::Failed(e.to_string()),
             _ => Ended::Cancelled,
         };

@@ -252,7 +252,7 @@ fn read_run(dir: &Path, n: u64) -> Result<(Entry, bool), String> {
     // how it ended is the entry's `ended` (with a failure's reason); the series only says
     // whether they run to the end
     data.status = match &meta.ended {
-        Ended::Finished => RunStatus::Finished,
+        Ended::Finished | Ended::Inaccurate(_) => RunStatus::Finished,
         _ => RunStatus::Cancelled,
     };
     let e = Entry {

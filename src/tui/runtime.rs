@@ -455,7 +455,7 @@ fn event_loop(
             perform(app, host, fx);
         }
         if let Some(s) = swapper.as_mut() {
-            s.update(app);
+            s.update(signals::swap_content(app));
         }
         if std::mem::take(&mut host.suspend) {
             suspend(terminal, app)?;

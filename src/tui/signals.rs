@@ -91,6 +91,33 @@ pub fn unsaved(app: &App) -> Unsaved {
     }
 }
 
+/// The swap text of `app`'s unsaved work (`tui::swap`; None: nothing unsaved).
+pub fn swap_content(app: &App) -> Option<String> {
+    let typing = match &app.mode {
+        Mode::Editing { buffer, .. } => {
+            let field = app.form.selected().map_or("?", |f| f.path.as_str());
+            Some(format!("{field} = {}", buffer.replace(['\n', '\r'], " ")))
+        }
+        _ => None,
+    };
+    let u = unsaved(app);
+    if u.text.is_none() && typing.is_none() {
+        return None;
+    }
+    let text = u.text.unwrap_or_else(|| app.draft.clone());
+    let mut out = format!(
+        "{} pid={} model={}\n",
+        super::swap::HEADER,
+        std::process::id(),
+        app.path.display()
+    );
+    if let Some(t) = typing {
+        out += &format!("{}{t}\n", super::swap::TYPING);
+    }
+    out += &text;
+    Some(out)
+}
+
 /// `NAME.recovered` in `dir`, or `NAME.recovered.N` (the first free N) when that exists.
 pub fn recovery_path_in(dir: &Path, name: &str) -> PathBuf {
     let first = dir.join(format!("{name}.recovered"));

@@ -8,7 +8,6 @@
 //! Layout: TOML comments first (`# deckspin-swap pid=N model=PATH`, and `# deckspin-swap-typing
 //! FIELD = TEXT` while a value is being typed), then the model text with the edits.
 
-use super::app::{App, Mode};
 use std::io;
 use std::path::{Path, PathBuf};
 use std::sync::mpsc::{self, Receiver, RecvTimeoutError, Sender};
@@ -17,8 +16,10 @@ use std::time::Duration;
 /// How long the writer waits for more changes before it writes.
 pub const SETTLE: Duration = Duration::from_millis(250);
 
-const HEADER: &str = "# deckspin-swap";
-const TYPING: &str = "# deckspin-swap-typing ";
+/// The first line's start: `# deckspin-swap pid=N model=PATH`.
+pub const HEADER: &str = "# deckspin-swap";
+/// The line of the value being typed: `# deckspin-swap-typing FIELD = TEXT`.
+pub const TYPING: &str = "# deckspin-swap-typing ";
 
 /// `.NAME.swp` beside the model.
 pub fn beside(model: &Path) -> PathBuf {
@@ -70,32 +71,6 @@ pub struct Found {
     pub typing: Option<String>,
     /// The swap is older than the model file.
     pub older_than_model: bool,
-}
-
-/// The swap text of `app`'s unsaved work (None: nothing unsaved).
-pub fn content(app: &App) -> Option<String> {
-    let typing = match &app.mode {
-        Mode::Editing { buffer, .. } => {
-            let field = app.form.selected().map_or("?", |f| f.path.as_str());
-            Some(format!("{field} = {}", buffer.replace(['\n', '\r'], " ")))
-        }
-        _ => None,
-    };
-    let u = super::signals::unsaved(app);
-    if u.text.is_none() && typing.is_none() {
-        return None;
-    }
-    let text = u.text.unwrap_or_else(|| app.draft.clone());
-    let mut out = format!(
-        "{HEADER} pid={} model={}\n",
-        std::process::id(),
-        app.path.display()
-    );
-    if let Some(t) = typing {
-        out += &format!("{TYPING}{t}\n");
-    }
-    out += &text;
-    Some(out)
 }
 
 /// Reads a swap file's text: (pid, model text, typing).
@@ -203,9 +178,9 @@ impl Swapper {
         })
     }
 
-    /// The app's unsaved work now (nothing is sent when it has not changed).
-    pub fn update(&mut self, app: &App) {
-        let now = content(app);
+    /// The swap text of the unsaved work now (`tui::signals::swap_content`; None: nothing
+    /// unsaved); nothing is sent when it has not changed.
+    pub fn update(&mut self, now: Option<String>) {
         if self.last.as_ref() != Some(&now) {
             let _ = self.tx.send(Order::Set(now.clone()));
             self.last = Some(now);

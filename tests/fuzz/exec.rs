@@ -23,9 +23,6 @@ pub const MUST_BE_ZERO: &[&str] = &[
     "closure",
     "penetration",
 ];
-/// Largest energy closure (relative), penetration (m) a finished run may show.
-pub const CLOSURE_MAX: f64 = 1e-3;
-pub const PENETRATION_MAX: f64 = 1e-6;
 
 /// How one input ended.
 #[derive(Clone, Debug, PartialEq)]
@@ -41,6 +38,10 @@ pub enum Outcome {
         closure: f64,
         penetration: f64,
         non_finite: bool,
+        /// The judge's bounds for this scene and run (`solver.max_closure`,
+        /// `simulate::penetration_limit`).
+        max_closure: f64,
+        max_penetration: f64,
     },
     /// Stopped with a typed `SolverError` (its kind).
     Failed(String),
@@ -62,18 +63,21 @@ impl Outcome {
                 closure,
                 penetration,
                 non_finite,
+                max_closure,
+                max_penetration,
             } => {
                 let mut f = Vec::new();
                 if *non_finite || !closure.is_finite() || !penetration.is_finite() {
                     f.push("non-finite");
                 }
-                // every method's finished run is judged (`simulate::judge`): a closure above
-                // 1e-3, or a penetration above 1e-6 m, is a finding; the penalty methods'
-                // penetration is their gap elements' compression, counted apart
-                if *closure > CLOSURE_MAX {
+                // every method's finished run is judged (`simulate::judge`): a closure or a
+                // penetration above the scene's bounds is a finding (nothing escapes the judge);
+                // the penalty methods' penetration is their gap elements' compression, counted
+                // apart
+                if *closure > *max_closure {
                     f.push("closure");
                 }
-                if *penetration > PENETRATION_MAX {
+                if *penetration > *max_penetration {
                     let penalty = method.starts_with("Penalty");
                     f.push(if penalty {
                         "penetration:penalty"
@@ -208,6 +212,8 @@ fn load_and_run(model: &str, path: &Path, limit: Duration) -> Outcome {
                 method: format!("{:?}", scene.settings.method),
                 closure: s.energy_closure_rel,
                 penetration: s.max_penetration,
+                max_closure: scene.settings.max_closure,
+                max_penetration: deckspin::simulate::penetration_limit(&scene.settings, s),
                 non_finite: dog.non_finite || !rest || !peaks || !s.energy_final.is_finite(),
             }
         }

@@ -81,6 +81,14 @@ fn run_progress(app: &App, th: &Theme) -> Line<'static> {
                 th.status(StatusKind::Warn),
             ),
         ]),
+        RunStatus::Failed(e) if crate::tui::run_list::is_inaccurate(e) => Line::from(vec![
+            Span::styled(label, th.bold()),
+            Span::styled(
+                " done, outside its accuracy bounds",
+                th.status(StatusKind::Warn),
+            ),
+            Span::raw(th.text(&format!(" · {} s · {ev} events", fmt_t(r.t_sim)))),
+        ]),
         RunStatus::Failed(_) => Line::from(vec![
             Span::styled(label, th.bold()),
             Span::styled(
