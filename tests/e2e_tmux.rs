@@ -749,3 +749,42 @@ fn a_killed_workbench_offers_its_unsaved_edit_at_the_next_start() {
     assert!(!swap.exists(), "a clean save and quit leaves no swap file");
     let _ = std::fs::remove_dir_all(&d);
 }
+
+/// Ctrl-C while typing a value in the real terminal: the quit question comes, `n` stays with
+/// the value kept as an unsaved edit.
+#[test]
+fn ctrl_c_while_typing_asks_in_the_terminal() {
+    if !have_tmux() {
+        println!("tmux is not on PATH: skipping the end-to-end terminal test");
+        return;
+    }
+    let d = workspace();
+    let tmux = Tmux {
+        socket: format!("deckspin-e2e-ctrlc-{}", std::process::id()),
+    };
+    start(&tmux, &d, "");
+    tmux.wait("the workbench", 30, |s| s.contains("deck.theta ["));
+    tmux.keys(&["Tab"]);
+    tmux.wait("the form", 5, |s| s.contains("parameters"));
+    tmux.text("/gap 1");
+    tmux.keys(&["Enter"]);
+    tmux.wait("the gap field", 5, |s| {
+        s.contains("contacts gap 1 (left_top)")
+    });
+    tmux.keys(&["Enter", "C-u"]);
+    tmux.text("0.003");
+    tmux.wait("a valid value", 5, |s| s.contains("✓ valid"));
+    tmux.keys(&["C-c"]);
+    let s = tmux.wait("the quit question", 10, |s| s.contains("has unsaved edits"));
+    assert!(s.contains("four-span.toml"), "{s}");
+    tmux.keys(&["n"]);
+    let s = tmux.wait("the edit kept", 10, |s| s.contains("four-span.toml [+]"));
+    assert!(s.contains("0.003"), "{s}");
+    tmux.keys(&["q"]);
+    tmux.wait("the question again", 10, |s| {
+        s.contains("has unsaved edits")
+    });
+    tmux.keys(&["y"]);
+    tmux.wait("the shell", 10, |s| s.contains("stty-done"));
+    let _ = std::fs::remove_dir_all(&d);
+}

@@ -3056,3 +3056,46 @@ fn snapshot_studies_screen_120x40_ascii() {
     snapshot_settings()
         .bind(|| insta::assert_snapshot!("studies_screen_120x40_ascii", t.backend()));
 }
+
+/// Ctrl-C while typing a value: a valid value is kept (accepted into the draft) and the quit
+/// question asked; one not valid yet is given back on "stay", and named in the question.
+#[test]
+fn ctrl_c_while_typing_asks_and_keeps_the_typed_value() {
+    let mut app = corner_app();
+    let start_typing = |app: &mut App, value: &str| {
+        select_field(app, "contact.0.mu");
+        update(app, code(KeyCode::Enter));
+        update(
+            app,
+            Msg::Key(KeyEvent::new(KeyCode::Char('u'), KeyModifiers::CONTROL)),
+        );
+        type_str(app, value);
+    };
+    start_typing(&mut app, "0.25");
+    assert!(!app.dirty(), "typed, not accepted yet");
+    let fx = update(&mut app, ctrl('c'));
+    assert!(fx.is_empty() && !app.quit, "it asks");
+    assert_eq!(app.mode, Mode::Confirm(Confirm::Quit));
+    assert!(
+        app.draft.contains("0.25"),
+        "the typed value is in the draft"
+    );
+    update(&mut app, key('n'));
+    assert_eq!(app.mode, Mode::Normal);
+    assert!(app.dirty() && app.draft.contains("0.25"));
+    // not valid yet: the question names it, "n" gives the typing back
+    start_typing(&mut app, "0.3x");
+    update(&mut app, ctrl('c'));
+    assert_eq!(app.mode, Mode::Confirm(Confirm::Quit));
+    let s = screen(&render(&mut app, 80, 24));
+    assert!(s.contains("0.3x"), "{s}");
+    update(&mut app, key('n'));
+    match &app.mode {
+        Mode::Editing { buffer, .. } => assert_eq!(buffer, "0.3x"),
+        m => panic!("{m:?}"),
+    }
+    // and "y" quits without it
+    update(&mut app, ctrl('c'));
+    let fx = update(&mut app, key('y'));
+    assert!(app.quit, "{fx:?}");
+}

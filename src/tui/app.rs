@@ -215,6 +215,8 @@ pub struct App {
     // the form and the model file
     /// "save and quit" was answered: quit once the save is done.
     pub quit_after_save: bool,
+    /// The value being typed (not valid yet) when a quit was asked: given back on "stay".
+    pub typing_before_quit: Option<Mode>,
 }
 
 impl App {
@@ -258,6 +260,7 @@ impl App {
             help_scroll: 0,
             results: Results::default(),
             quit_after_save: false,
+            typing_before_quit: None,
         };
         match form::validate(text, path) {
             Ok(scene) => {

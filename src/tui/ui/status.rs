@@ -192,7 +192,20 @@ fn question(app: &App, c: &Confirm) -> (Vec<String>, Vec<(&'static str, &'static
             yes_no,
         ),
         Confirm::Quit => (
-            vec![format!("{name} has unsaved edits.")],
+            {
+                let mut q = Vec::new();
+                if app.dirty() {
+                    q.push(format!("{name} has unsaved edits."));
+                }
+                if let Some(crate::tui::app::Mode::Editing { buffer, .. }) = &app.typing_before_quit
+                {
+                    let field = app.form.selected().map_or("?".into(), |f| f.label.clone());
+                    q.push(format!(
+                        "You are typing {field} = '{buffer}', not valid yet: n goes back to it."
+                    ));
+                }
+                q
+            },
             vec![
                 ("s", "save and quit"),
                 ("y", "quit without saving"),

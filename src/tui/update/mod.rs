@@ -251,8 +251,27 @@ fn set_mode(app: &mut App, mode: Mode) -> Vec<Effect> {
     Vec::new()
 }
 
-/// Quit, or ask first when there are unsaved edits.
+/// Quit, or ask first when there are unsaved edits. A value being typed counts: a valid one is
+/// accepted into the draft first (so the question's `s` saves it and `n` keeps it); one that
+/// is not valid yet is given back on `n` (`App::typing_before_quit`).
 fn ask_quit(app: &mut App) -> Vec<Effect> {
+    if let Mode::Editing { buffer, .. } = &app.mode {
+        let buffer = buffer.clone();
+        if app.check_edit(&buffer).is_ok() {
+            edit::form_action(app, Action::EditCommit);
+        } else {
+            app.typing_before_quit = Some(app.mode.clone());
+            app.mode = Mode::Confirm(Confirm::Quit);
+            let field = app.form.selected().map_or("?".into(), |f| f.label.clone());
+            app.set_status(
+                StatusKind::Warn,
+                format!(
+                    "you are typing {field} = '{buffer}' (not valid yet): y quits without it, n goes back to it"
+                ),
+            );
+            return Vec::new();
+        }
+    }
     if app.dirty() {
         app.mode = Mode::Confirm(Confirm::Quit);
         app.set_status(
@@ -278,6 +297,10 @@ fn answer(app: &mut App, yes: bool) -> Vec<Effect> {
         (Confirm::Quit, true) => quit(app),
         (Confirm::Quit, false) => {
             app.set_status(StatusKind::Info, "not quitting");
+            if let Some(m) = app.typing_before_quit.take() {
+                app.mode = m;
+                edit::recheck(app);
+            }
             Vec::new()
         }
         (Confirm::SaveConflict { text }, yes) => reconcile::answer_save_conflict(app, text, yes),
