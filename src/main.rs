@@ -70,11 +70,14 @@ enum Command {
     Sweep(cli::sweep::SweepArgs),
     /// The paper's studies: `pga` (Fig. 7) or `mu` (Fig. 8).
     Study {
+        /// `pga`: peak rotation against PGA (Fig. 7); `mu`: its increase against μ (Fig. 8).
         #[arg(value_parser = ["pga", "mu"])]
         kind: String,
         model: PathBuf,
+        /// Override a scalar by its dotted TOML path (key.path=value); repeatable.
         #[arg(long = "set", value_name = "KEY=VALUE")]
         set: Vec<String>,
+        /// Output directory: the study's table as TEXT and CSV and its chart as SVG.
         #[arg(long, default_value = "out")]
         out: PathBuf,
     },

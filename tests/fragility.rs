@@ -417,6 +417,22 @@ fn degenerate_data_give_typed_errors() {
     for (counts, want) in cases {
         assert_eq!(fit_stripes(&counts), Err(want));
     }
+    // the messages say which levels are all safe, all exceed, or mixed
+    let mixed = fit_stripes(&[c(0.4, 19, 0), c(0.8, 19, 10)])
+        .unwrap_err()
+        .to_string();
+    assert!(
+        mixed.contains("every run below 0.8 is safe") && mixed.contains("mix only at 0.8"),
+        "{mixed}"
+    );
+    let apart = fit_stripes(&[c(0.4, 19, 0), c(0.8, 19, 19)])
+        .unwrap_err()
+        .to_string();
+    assert!(
+        apart.contains("every run at 0.4 or below is safe")
+            && apart.contains("every run at 0.8 or above exceeds"),
+        "{apart}"
+    );
     let cap = |level, censored| Capacity { level, censored };
     assert_eq!(fit_ida(&[]), Err(FitError::NoRuns));
     assert_eq!(

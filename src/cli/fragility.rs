@@ -117,11 +117,9 @@ pub fn cmd_fragility(a: &FragilityArgs) -> CliResult {
     }
     write_csv(&fits, &suite, &a.out.join("fragility.csv"))?;
     write_json(&fits, &errors, &suite, &opts, &a.out.join("fragility.json"))?;
-    println!(
-        "wrote {}/{{fragility.csv,fragility.json,{}}}",
-        a.out.display(),
-        wrote.join(",")
-    );
+    let mut files = vec!["fragility.csv".to_string(), "fragility.json".to_string()];
+    files.extend(wrote);
+    println!("wrote {}/{{{}}}", a.out.display(), files.join(","));
     if !errors.is_empty() {
         return Err(format!(
             "{} limit state(s) could not be fitted (see above)",

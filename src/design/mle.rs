@@ -72,6 +72,23 @@ pub fn probability(x: f64, theta: f64, beta: f64) -> f64 {
     }
 }
 
+/// The message of [`FitError::Separated`]: the levels where every run is safe and where every
+/// run exceeds, or the one level where they mix.
+fn separated_text(highest_safe: f64, lowest_exceeding: f64) -> String {
+    if highest_safe < lowest_exceeding {
+        format!(
+            "every run at {highest_safe} or below is safe and every run at {lowest_exceeding} \
+             or above exceeds: the likelihood grows as β → 0 (run levels in between)"
+        )
+    } else {
+        format!(
+            "every run below {highest_safe} is safe and every run above it exceeds, the runs \
+             mix only at {highest_safe}: the likelihood grows as β → 0 with θ → \
+             {highest_safe} (run levels around it)"
+        )
+    }
+}
+
 /// Why no fit.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum FitError {
@@ -90,10 +107,7 @@ pub enum FitError {
     NoExceedance { runs: usize },
     #[error("all {runs} runs exceed the limit state: the median lies below every level run")]
     AllExceed { runs: usize },
-    #[error(
-        "no run exceeds above {highest_safe} and none is safe below {lowest_exceeding}: \
-         the likelihood grows as β → 0 (run levels in between)"
-    )]
+    #[error("{}", separated_text(*highest_safe, *lowest_exceeding))]
     Separated {
         highest_safe: f64,
         lowest_exceeding: f64,
