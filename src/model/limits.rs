@@ -80,10 +80,11 @@ pub(super) fn finish(
             scene.settings.method,
             Method::Penalty | Method::PenaltyExplicit
         );
-        if penalty && !given.contact_stiffness {
-            if let Some(k) = chosen_contact_stiffness(scene) {
-                scene.settings.contact_stiffness = k;
-            }
+        if penalty
+            && !given.contact_stiffness
+            && let Some(k) = chosen_contact_stiffness(scene)
+        {
+            scene.settings.contact_stiffness = k;
         }
         if !given.step {
             let (step, why) = chosen_step(scene);
