@@ -430,12 +430,21 @@ fn print_report(s: &deckspin::output::Summary, scene: &deckspin::scene::Scene) {
 
 fn print_state_at(run: &deckspin::RunOutput, s: &deckspin::output::Sample, t: f64) {
     println!("  state at t = {:.4} s (nearest sample to {t}):", s.t);
+    // columns as wide as the longest name
+    let w = (run.dof_names.iter())
+        .map(|n| n.chars().count())
+        .max()
+        .unwrap_or(0);
     for (i, n) in run.dof_names.iter().enumerate() {
-        println!("    {n:<16} {:>13.6e}   rate {:>13.6e}", s.q[i], s.v[i]);
+        println!("    {n:<w$} {:>13.6e}   rate {:>13.6e}", s.q[i], s.v[i]);
     }
+    let wc = (run.contact_names.iter())
+        .map(|n| n.chars().count())
+        .max()
+        .unwrap_or(0);
     for (i, c) in s.contacts.iter().enumerate() {
         println!(
-            "    contact {:<10} {:<7} g_N {:>11.4e}  λ_N {:>11.4e}  λ_T {:>11.4e}  ġ_T {:>11.4e}",
+            "    contact {:<wc$} {:<7} g_N {:>11.4e}  λ_N {:>11.4e}  λ_T {:>11.4e}  ġ_T {:>11.4e}",
             run.contact_names[i],
             c.state.label(),
             c.gap,

@@ -561,3 +561,32 @@ fn every_study_refuses_a_folder_another_process_writes() {
         );
     }
 }
+
+#[test]
+fn the_state_at_a_time_is_aligned_whatever_the_names() {
+    let d = dir("at-aligned");
+    let r = bin()
+        .args([
+            "run",
+            &common::model("models/three-frame.toml")
+                .display()
+                .to_string(),
+        ])
+        .args(["--out", &d.display().to_string(), "--at", "5"])
+        .output()
+        .unwrap();
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let out = String::from_utf8_lossy(&r.stdout).into_owned();
+    // the value columns start at one column in every DOF row, and in every contact row
+    let column = |prefix: &str, field: &str| -> Vec<usize> {
+        (out.lines())
+            .filter(|l| l.starts_with(prefix) && l.contains(field))
+            .map(|l| l.find(field).unwrap())
+            .collect()
+    };
+    let rates = column("    ", " rate ");
+    let gaps = column("    contact ", " g_N ");
+    assert!(rates.len() > 10 && gaps.len() == 8, "{out}");
+    assert!(rates.windows(2).all(|w| w[0] == w[1]), "{out}");
+    assert!(gaps.windows(2).all(|w| w[0] == w[1]), "{out}");
+}
