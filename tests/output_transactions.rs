@@ -503,6 +503,18 @@ fn an_interrupted_sweep_and_stress_resume_to_the_uninterrupted_output() {
     let (a, b) = (untimed(&whole), untimed(&out));
     assert_eq!(a.len(), 2 * 2 * 2 * 2 * 2 + 1);
     assert_eq!(a, b, "the resumed stress test differs");
+    // cpu_s is the run's thread CPU time: never above its wall time (one thread a run)
+    let t = String::from_utf8(read(&whole)).unwrap();
+    assert!(t.lines().next().unwrap().ends_with("wall_s,cpu_s"));
+    for l in t.lines().skip(1) {
+        let f: Vec<f64> = l
+            .rsplitn(3, ',')
+            .take(2)
+            .map(|x| x.parse().unwrap())
+            .collect();
+        let (cpu, wall) = (f[0], f[1]);
+        assert!(cpu >= 0.0 && cpu <= wall + 2e-4, "{l}");
+    }
 }
 
 #[test]
