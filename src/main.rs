@@ -720,6 +720,39 @@ fn cmd_stability(
         .map_or("model".into(), |s| s.to_string_lossy().into_owned());
     let path = out.join(format!("stability-{stem}.svg"));
     cli::show::grid(&deckspin::figures::stability(&points, tolerance), &path)?;
-    println!("wrote {}", path.display());
+    // the grid's numbers: one line per method and knob
+    let mut n = deckspin::output::number::Numbers::new();
+    let mut csv = deckspin::shard::csv_line(&[
+        "method",
+        "knob",
+        "verdict",
+        "peak_error",
+        "history_error",
+        "steps",
+        "cpu_s",
+        "reason",
+    ]);
+    for p in &points {
+        let v = verdict(p, tolerance);
+        let word = v.to_string();
+        let word = word
+            .split([' ', ':'])
+            .next()
+            .unwrap_or_default()
+            .to_string();
+        csv += &deckspin::shard::csv_line(&[
+            p.method.name().to_string(),
+            p.knob.clone(),
+            word,
+            n.format(p.peak_error).to_string(),
+            n.format(p.rms_error).to_string(),
+            p.steps.to_string(),
+            n.format(p.cpu_s).to_string(),
+            p.failure.as_ref().map_or(String::new(), |f| f.to_string()),
+        ]);
+    }
+    let csv_path = out.join(format!("stability-{stem}.csv"));
+    deckspin::output::files::write_atomic(&csv_path, csv)?;
+    println!("wrote {}, {}", path.display(), csv_path.display());
     Ok(())
 }

@@ -489,6 +489,27 @@ fn studies_precision_and_stability_write_their_charts() {
         .count();
     // three knobs of each of the four methods (--quick)
     assert_eq!(cells, 12);
+    // the grid's numbers as CSV: a line per cell, its verdict matching the printed table
+    let csv = std::fs::read_to_string(out.join("stability-bouncing-ball.csv")).unwrap();
+    let mut lines = csv.lines();
+    assert_eq!(
+        lines.next(),
+        Some("method,knob,verdict,peak_error,history_error,steps,cpu_s,reason")
+    );
+    let rows: Vec<&str> = lines.collect();
+    assert_eq!(rows.len(), 12, "{csv}");
+    let printed = text(&r.stdout);
+    for row in &rows {
+        let f: Vec<&str> = row.split(',').collect();
+        assert!(
+            ["ok", "inaccurate", "unstable", "failed"].contains(&f[2]),
+            "{row}"
+        );
+        let line = (printed.lines())
+            .find(|l| l.starts_with(f[0]) && l.contains(f[1]))
+            .unwrap_or_else(|| panic!("{row} not printed:\n{printed}"));
+        assert!(line.contains(f[2]), "{row} vs {line}");
+    }
 }
 
 #[test]

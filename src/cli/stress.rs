@@ -117,7 +117,21 @@ fn finish(
     journal: &Journal,
     mut done: BTreeMap<usize, String>,
 ) -> Result<bool, Box<dyn std::error::Error>> {
-    let bar = super::progress::Bar::new();
+    let runs = pairs.len() * grid.restitution.len() * grid.mu.len() * grid.laws.len();
+    eprintln!(
+        "deckspin: stress: {total} runs ({} record pairs × {} model runs × {} ε × {} μ × {} laws){}",
+        pairs.len(),
+        total / runs.max(1),
+        grid.restitution.len(),
+        grid.mu.len(),
+        grid.laws.len(),
+        if done.is_empty() {
+            String::new()
+        } else {
+            format!(", {} of them in the journal", done.len())
+        }
+    );
+    let bar = super::progress::Bar::with_lines();
     let recorder = Recorder::new(journal);
     let ran = stress_listed(
         &a.model,
