@@ -268,6 +268,7 @@ fn every_binding_is_handled_in_its_context() {
                     })
                 }
                 Ctx::Help => app.mode = Mode::Help,
+                Ctx::Messages => app.mode = Mode::Messages,
                 Ctx::Form => app.view = View::Form,
                 Ctx::Studies => app.view = View::Studies,
                 Ctx::Pick => {
@@ -3098,4 +3099,58 @@ fn ctrl_c_while_typing_asks_and_keeps_the_typed_value() {
     update(&mut app, ctrl('c'));
     let fx = update(&mut app, key('y'));
     assert!(app.quit, "{fx:?}");
+}
+
+/// Every status message goes to the log (`M`), whole and with its time, however long.
+#[test]
+fn the_message_log_keeps_every_message_whole() {
+    let mut app = corner_app();
+    let before = app.messages.len();
+    let long = format!(
+        "#14 (unsaved edits) failed: t = 16.000000000 s: finished outside the accuracy asked for: {} the end",
+        "energy closure 2.713e-1 above solver.max_closure = 1e-1; ".repeat(3)
+    );
+    app.set_status(StatusKind::Error, long.clone());
+    app.set_status(StatusKind::Info, "merged from disk");
+    app.set_status(StatusKind::Info, "merged from disk");
+    assert_eq!(app.messages.len(), before + 2, "a repeat is one message");
+    update(&mut app, key('M'));
+    assert_eq!(app.mode, Mode::Messages);
+    let s = screen(&render(&mut app, 80, 24));
+    // the long message, wrapped, every word on screen
+    let shown: String = s.split_whitespace().collect::<Vec<_>>().join(" ");
+    for word in [
+        "#14",
+        "failed:",
+        "16.000000000",
+        "the",
+        "end",
+        "merged",
+        "disk",
+    ] {
+        assert!(shown.contains(word), "{word} not in\n{s}");
+    }
+    assert_eq!(shown.matches("2.713e-1").count(), 3, "{s}");
+    // a time before each message
+    assert!(
+        s.lines()
+            .any(|l| l.contains("merged from disk") && l.contains(':')),
+        "{s}"
+    );
+    update(&mut app, code(KeyCode::Esc));
+    assert_eq!(app.mode, Mode::Normal);
+    // scrolling stays within the log
+    for _ in 0..1100 {
+        app.set_status(StatusKind::Info, format!("m{}", app.messages.len()));
+    }
+    assert_eq!(app.messages.len(), deckspin::tui::messages::KEEP);
+    update(&mut app, key('M'));
+    update(&mut app, code(KeyCode::Home));
+    assert_eq!(app.log_scroll, 0);
+    update(&mut app, code(KeyCode::End));
+    let s = screen(&render(&mut app, 80, 24));
+    assert!(
+        s.contains(&format!("m{}", deckspin::tui::messages::KEEP - 1)),
+        "{s}"
+    );
 }

@@ -60,6 +60,8 @@ pub enum Mode {
     },
     Confirm(Confirm),
     Help,
+    /// The message log (`tui::messages`).
+    Messages,
     /// Choosing a study's CSV to reopen (the files found, newest first).
     Pick {
         files: Vec<PathBuf>,
@@ -217,6 +219,9 @@ pub struct App {
     pub quit_after_save: bool,
     /// The value being typed (not valid yet) when a quit was asked: given back on "stay".
     pub typing_before_quit: Option<Mode>,
+    /// Every status message said (`tui::messages`), and the first line of the log shown.
+    pub messages: Vec<super::messages::Said>,
+    pub log_scroll: usize,
 }
 
 impl App {
@@ -261,6 +266,8 @@ impl App {
             results: Results::default(),
             quit_after_save: false,
             typing_before_quit: None,
+            messages: Vec::new(),
+            log_scroll: 0,
         };
         match form::validate(text, path) {
             Ok(scene) => {
@@ -345,6 +352,7 @@ impl App {
     pub fn set_status(&mut self, kind: StatusKind, s: impl Into<String>) {
         self.status = s.into();
         self.status_kind = kind;
+        super::messages::push(&mut self.messages, kind, &self.status);
     }
 
     pub fn too_small(&self) -> bool {
@@ -395,6 +403,7 @@ impl App {
             Mode::OpenModel { .. } => Some(Ctx::OpenModel),
             Mode::Confirm(_) => Some(Ctx::Confirm),
             Mode::Help => Some(Ctx::Help),
+            Mode::Messages => Some(Ctx::Messages),
             Mode::Pick { .. } => Some(Ctx::Pick),
             Mode::Naming { .. } => Some(Ctx::Naming),
         };

@@ -89,6 +89,9 @@ pub enum Action {
     // any terminal: help scrolling, suspend
     HelpDown,
     HelpUp,
+    /// The message log: open, close.
+    Messages,
+    CloseMessages,
     HelpPageDown,
     HelpPageUp,
     HelpTop,
@@ -134,6 +137,8 @@ pub enum Ctx {
     Merge,
     /// A swap file of unsaved edits found at the start.
     Recover,
+    /// The message log.
+    Messages,
     Help,
     Runs,
     Naming,
@@ -157,6 +162,7 @@ impl Ctx {
             Ctx::Confirm => "answering a question",
             Ctx::Merge => "a value changed on disk and here",
             Ctx::Recover => "unsaved edits found in a swap file",
+            Ctx::Messages => "the message log",
             Ctx::Help => "this help",
             Ctx::Runs => "run list",
             Ctx::Naming => "naming a run",
@@ -333,6 +339,14 @@ pub const KEYMAP: &[Binding] = &[
     b(Ctx::Help, &[K::Code(KC::PageUp)], "PgUp", A::HelpPageUp, "page up", None),
     b(Ctx::Help, &[K::Code(KC::Home)], "Home", A::HelpTop, "to the top", None),
     b(Ctx::Help, &[K::Code(KC::End)], "End", A::HelpBottom, "to the end", None),
+    b(Ctx::Global, &[K::Ch('M')], "M", A::Messages, "the message log", None),
+    b(Ctx::Messages, &[K::Code(KC::Down), K::Ch('j')], "↓/j", A::HelpDown, "scroll the log down", None),
+    b(Ctx::Messages, &[K::Code(KC::Up), K::Ch('k')], "↑/k", A::HelpUp, "scroll the log up", None),
+    b(Ctx::Messages, &[K::Code(KC::PageDown)], "PgDn", A::HelpPageDown, "a page of the log down", None),
+    b(Ctx::Messages, &[K::Code(KC::PageUp)], "PgUp", A::HelpPageUp, "a page of the log up", None),
+    b(Ctx::Messages, &[K::Code(KC::Home)], "Home", A::HelpTop, "the first message", None),
+    b(Ctx::Messages, &[K::Code(KC::End)], "End", A::HelpBottom, "the last message", None),
+    b(Ctx::Messages, &[K::Code(KC::Esc), K::Ch('q'), K::Ch('M')], "Esc/q/M", A::CloseMessages, "close the log", Some(("Esc", "close"))),
     b(Ctx::Global, &[K::Ctrl('z')], "^Z", A::Suspend, "suspend (fg resumes)", Some(("^Z", "suspend"))),
     // the form: first/last field, search, folds
     b(Ctx::Form, &[K::Code(KC::Home), K::Ch('g')], "Home/g", A::FieldFirst, "first field", None),
@@ -421,6 +435,7 @@ pub fn help() -> Vec<(&'static str, Vec<(&'static str, &'static str)>)> {
         Ctx::Confirm,
         Ctx::Merge,
         Ctx::Recover,
+        Ctx::Messages,
         Ctx::Help,
         Ctx::Events,
         Ctx::Search,

@@ -17,6 +17,7 @@ pub mod help;
 pub mod keymap;
 pub mod list_edit;
 pub mod merge;
+pub mod messages;
 pub mod model_files;
 pub mod msg;
 pub mod nav;

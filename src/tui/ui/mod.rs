@@ -12,6 +12,7 @@ mod form;
 mod header;
 mod line_plot;
 mod loop_chart;
+mod messages;
 mod plan;
 mod precision;
 mod results;
@@ -75,6 +76,7 @@ fn draw_screen(frame: &mut Frame, app: &App, cache: &mut Cache) {
     status::draw_hints(frame, hints, app, &th);
     match &app.mode {
         Mode::Help => status::draw_help(frame, area, app, &th),
+        Mode::Messages => messages::draw_messages(frame, area, app, &th),
         Mode::Pick { files, selected } => studies::draw_picker(
             frame,
             area,

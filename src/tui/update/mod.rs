@@ -142,7 +142,12 @@ fn on_action(app: &mut App, a: Action) -> Vec<Effect> {
             app.help_scroll = 0;
             set_mode(app, Mode::Help)
         }
-        A::CloseHelp => set_mode(app, Mode::Normal),
+        A::CloseHelp | A::CloseMessages => set_mode(app, Mode::Normal),
+        A::Messages => {
+            // opened at the newest message
+            app.log_scroll = usize::MAX;
+            set_mode(app, Mode::Messages)
+        }
         A::Rerun => run::rerun(app),
         A::Cancel => run::cancel(app),
         A::Save => file::save(app),

@@ -36,10 +36,37 @@ pub(super) fn suspend(app: &mut App) -> Vec<Effect> {
 
 /// The help's scroll keys: a line, a page, the top, the end.
 pub(super) fn scroll_help(app: &mut App, a: Action) {
+    if app.mode == crate::tui::app::Mode::Messages {
+        return scroll_log(app, a);
+    }
     let max = help::max_scroll(app.view_ctx(), app.size.1);
     let page = help::rows(app.size.1).saturating_sub(1).max(1);
     let s = app.help_scroll.min(max);
     app.help_scroll = match a {
+        Action::HelpDown => s + 1,
+        Action::HelpUp => s.saturating_sub(1),
+        Action::HelpPageDown => s + page,
+        Action::HelpPageUp => s.saturating_sub(page),
+        Action::HelpTop => 0,
+        _ => max,
+    }
+    .min(max);
+}
+
+/// The message log's rows at the app's size (the frame's inside).
+pub fn log_rows(size: (u16, u16)) -> usize {
+    size.1.saturating_sub(2).max(1) as usize
+}
+
+/// Scrolls the message log (the same keys as the help's).
+fn scroll_log(app: &mut App, a: Action) {
+    let width = app.size.0.saturating_sub(2) as usize;
+    let total = crate::tui::messages::lines(&app.messages, width).len();
+    let rows = log_rows(app.size);
+    let max = crate::tui::messages::max_scroll(total, rows);
+    let page = rows.saturating_sub(1).max(1);
+    let s = app.log_scroll.min(max);
+    app.log_scroll = match a {
         Action::HelpDown => s + 1,
         Action::HelpUp => s.saturating_sub(1),
         Action::HelpPageDown => s + page,
