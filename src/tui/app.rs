@@ -86,13 +86,7 @@ pub enum Mode {
     },
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum StatusKind {
-    Info,
-    Ok,
-    Warn,
-    Error,
-}
+pub use super::messages::StatusKind;
 
 /// Presentation options (from the environment in the real terminal).
 #[derive(Clone, Copy, Debug)]

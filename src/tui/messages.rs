@@ -1,7 +1,14 @@
 //! The message log (as vim's `:messages`): every status message with the time it was said,
 //! kept whole (the last [`KEEP`]), shown wrapped and scrollable (`M`).
 
-use super::app::StatusKind;
+/// What a status message is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StatusKind {
+    Info,
+    Ok,
+    Warn,
+    Error,
+}
 
 /// Messages kept.
 pub const KEEP: usize = 1000;
