@@ -35,7 +35,13 @@ fn units_of(q: Quantity) -> Vec<(&'static str, f64)> {
             ("kg·m²", 1.0),
             ("kip·s²·in", kip_s2_in * M_PER_IN * M_PER_IN),
         ],
-        Q::Time => vec![("s", 1.0), ("ms", 1e-3), ("min", 60.0)],
+        Q::Time => vec![
+            ("s", 1.0),
+            ("ms", 1e-3),
+            ("us", 1e-6),
+            ("µs", 1e-6),
+            ("min", 60.0),
+        ],
         Q::Force => vec![
             ("kN", 1e3),
             ("N", 1.0),
@@ -266,6 +272,9 @@ mod tests {
         assert_eq!(f("1e4", Dim::Q(Q::Stiffness), si), Ok(Some(1e4)));
         assert_eq!(f("-3.5e-2 m", m, si), Ok(Some(-3.5e-2)));
         assert_eq!(f("50 ms", Dim::Q(Q::Time), si), Ok(Some(0.05)));
+        // microseconds, as `us` or `µs`: solver steps and tolerances are typed in them
+        assert_eq!(f("20 us", Dim::Q(Q::Time), si), Ok(Some(2e-5)));
+        assert_eq!(f("20 µs", Dim::Q(Q::Time), si), Ok(Some(2e-5)));
         assert_eq!(f("2 MN", Dim::Q(Q::Force), si), Ok(Some(2000.0)));
         let e = f("20 kg", m, si).unwrap_err();
         assert!(
