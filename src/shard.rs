@@ -86,6 +86,17 @@ pub fn csv_line<S: AsRef<str>>(fields: &[S]) -> String {
     String::from_utf8(bytes).unwrap_or_default()
 }
 
+/// The fields of one CSV line ([`csv_line`]'s inverse).
+pub fn csv_fields_of(line: &str) -> Result<Vec<String>, String> {
+    let mut rd = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .from_reader(line.as_bytes());
+    let rec = (rd.records().next())
+        .ok_or("an empty line")?
+        .map_err(|e| e.to_string())?;
+    Ok(rec.iter().map(String::from).collect())
+}
+
 /// What makes two parts parts of one job: named values without spaces, compared field by
 /// field at the merge.
 #[derive(Clone, Debug, Default, PartialEq)]

@@ -371,13 +371,8 @@ pub fn csv_line(r: &StressRow) -> String {
 impl StressRow {
     /// A row read back from its CSV line ([`csv_line`]).
     pub fn from_csv(line: &str) -> Result<StressRow, String> {
-        let mut rd = csv::ReaderBuilder::new()
-            .has_headers(false)
-            .from_reader(line.as_bytes());
-        let rec = (rd.records().next())
-            .ok_or("an empty line")?
-            .map_err(|e| e.to_string())?;
-        let f: Vec<&str> = rec.iter().collect();
+        let fields = crate::shard::csv_fields_of(line)?;
+        let f: Vec<&str> = fields.iter().map(String::as_str).collect();
         let columns = CSV_HEADER.split(',').count();
         if f.len() != columns {
             return Err(format!("{} fields, a stress row has {columns}", f.len()));

@@ -53,13 +53,8 @@ pub fn csv_text(keys: &[String], rows: &[Row]) -> String {
 /// A sweep row read back from its CSV line ([`csv_fields`] of the swept `keys`): its
 /// numbers as written (so written again they are the same text), no wall time.
 pub fn row_from_csv(keys: &[String], line: &str) -> Result<Row, String> {
-    let mut rd = csv::ReaderBuilder::new()
-        .has_headers(false)
-        .from_reader(line.as_bytes());
-    let rec = (rd.records().next())
-        .ok_or("an empty line")?
-        .map_err(|e| e.to_string())?;
-    let f: Vec<&str> = rec.iter().collect();
+    let fields = crate::shard::csv_fields_of(line)?;
+    let f: Vec<&str> = fields.iter().map(String::as_str).collect();
     let n = keys.len();
     if f.len() != n + 8 {
         return Err(format!(

@@ -41,8 +41,13 @@ pub(super) fn scroll_help(app: &mut App, a: Action) {
     }
     let max = help::max_scroll(app.view_ctx(), app.size.1);
     let page = help::rows(app.size.1).saturating_sub(1).max(1);
-    let s = app.help_scroll.min(max);
-    app.help_scroll = match a {
+    app.help_scroll = scrolled(app.help_scroll, a, page, max);
+}
+
+/// A scroll position moved by a help key (a line, a page, the top, the end), within 0..=max.
+fn scrolled(at: usize, a: Action, page: usize, max: usize) -> usize {
+    let s = at.min(max);
+    match a {
         Action::HelpDown => s + 1,
         Action::HelpUp => s.saturating_sub(1),
         Action::HelpPageDown => s + page,
@@ -50,7 +55,7 @@ pub(super) fn scroll_help(app: &mut App, a: Action) {
         Action::HelpTop => 0,
         _ => max,
     }
-    .min(max);
+    .min(max)
 }
 
 /// The message log's rows at the app's size (the frame's inside).
@@ -65,14 +70,5 @@ fn scroll_log(app: &mut App, a: Action) {
     let rows = log_rows(app.size);
     let max = crate::tui::messages::max_scroll(total, rows);
     let page = rows.saturating_sub(1).max(1);
-    let s = app.log_scroll.min(max);
-    app.log_scroll = match a {
-        Action::HelpDown => s + 1,
-        Action::HelpUp => s.saturating_sub(1),
-        Action::HelpPageDown => s + page,
-        Action::HelpPageUp => s.saturating_sub(page),
-        Action::HelpTop => 0,
-        _ => max,
-    }
-    .min(max);
+    app.log_scroll = scrolled(app.log_scroll, a, page, max);
 }
