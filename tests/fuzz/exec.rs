@@ -45,9 +45,13 @@ pub enum Outcome {
     },
     /// Stopped with a typed `SolverError` (its kind).
     Failed(String),
-    /// Cancelled by the watchdog past its CPU-time budget: a hang (an input that stops making
-    /// progress, whatever the machine's load).
+    /// Cancelled by the watchdog: its simulated time stood still for `limit` of CPU time, a
+    /// hang (an input that stops making progress, whatever the machine's load).
     Hang(String),
+    /// Cancelled by the watchdog past [`SLOW`] × `limit` of CPU time while its simulated time
+    /// still advanced: slow, not hung (counted, not asserted; its step count is bounded by
+    /// `solver.max_steps`, so it would end).
+    Slow(String),
     /// A panic, with its message.
     Panic(String),
 }
@@ -57,6 +61,7 @@ impl Outcome {
     pub fn findings(&self) -> Vec<&'static str> {
         match self {
             Outcome::Hang(_) => vec!["hang"],
+            Outcome::Slow(_) => vec!["slow"],
             Outcome::Panic(_) => vec!["panic"],
             Outcome::Finished {
                 method,
@@ -99,16 +104,25 @@ impl Outcome {
             Outcome::Finished { method, .. } => format!("finished:{method}"),
             Outcome::Failed(k) => format!("failed:{k}"),
             Outcome::Hang(_) => "hang".into(),
+            Outcome::Slow(_) => "slow".into(),
             Outcome::Panic(_) => "panic".into(),
         }
     }
 }
 
-/// Cancels the run once its thread has used `limit` of CPU time (time waiting for a core on a
-/// busy machine does not count); notes any non-finite value of the samples it is handed.
+/// How many times `limit` of CPU time a run whose simulated time advances may take.
+pub const SLOW: f64 = 6.0;
+
+/// Cancels the run once its thread has used `limit` of CPU time without its simulated time
+/// advancing (a hang), or [`SLOW`] × `limit` in all (slow); time waiting for a core on a busy
+/// machine does not count. Notes any non-finite value of the samples it is handed.
 struct Watchdog {
     cpu0: f64,
     limit: Duration,
+    /// The simulated time last seen and the CPU time when it last advanced.
+    progress: (f64, f64),
+    /// Cancelled while the simulated time advanced.
+    slow: bool,
     non_finite: bool,
 }
 
@@ -133,9 +147,15 @@ fn sample_finite(s: &Sample) -> bool {
 }
 
 impl deckspin::Observer for Watchdog {
-    fn batch(&mut self, samples: &[Sample], _: &[EventRecord], _: f64) -> bool {
+    fn batch(&mut self, samples: &[Sample], _: &[EventRecord], t: f64) -> bool {
         self.non_finite |= !samples.iter().all(sample_finite);
-        deckspin::clock::thread_cpu_seconds() - self.cpu0 < self.limit.as_secs_f64()
+        let now = deckspin::clock::thread_cpu_seconds();
+        if t > self.progress.0 {
+            self.progress = (t, now);
+        }
+        let limit = self.limit.as_secs_f64();
+        self.slow = now - self.cpu0 >= SLOW * limit;
+        !self.slow && now - self.progress.1 < limit
     }
 
     fn keeps_samples(&self) -> bool {
@@ -195,9 +215,12 @@ fn load_and_run(model: &str, path: &Path, limit: Duration) -> Outcome {
     if check_output(&scene, &BUDGET).is_err() {
         return Outcome::OverBudget;
     }
+    let cpu0 = deckspin::clock::thread_cpu_seconds();
     let mut dog = Watchdog {
-        cpu0: deckspin::clock::thread_cpu_seconds(),
+        cpu0,
         limit,
+        progress: (f64::NEG_INFINITY, cpu0),
+        slow: false,
         non_finite: false,
     };
     let run = deckspin::simulate::integrate(&scene, &mut dog);
@@ -217,11 +240,14 @@ fn load_and_run(model: &str, path: &Path, limit: Duration) -> Outcome {
                 non_finite: dog.non_finite || !rest || !peaks || !s.energy_final.is_finite(),
             }
         }
-        Stop::Cancelled { t } => Outcome::Hang(format!(
-            "cancelled at t = {t:.6e} s of {} s after {:.1} s of CPU",
-            scene.settings.t_end,
-            deckspin::clock::thread_cpu_seconds() - dog.cpu0
-        )),
+        Stop::Cancelled { t } => {
+            let why = format!(
+                "cancelled at t = {t:.6e} s of {} s after {:.1} s of CPU",
+                scene.settings.t_end,
+                deckspin::clock::thread_cpu_seconds() - dog.cpu0
+            );
+            if dog.slow { Outcome::Slow(why) } else { Outcome::Hang(why) }
+        }
         Stop::Failed(e) => Outcome::Failed(e.kind().to_string()),
     }
 }

@@ -25,8 +25,9 @@ const CI_SEED: u64 = 0xdec5_0001;
 /// asserted (empty: the two hangs it held, huge actuator damping and a tiny deck inertia, are
 /// refused before they run since the step budget counts dashpots).
 const KNOWN_CI: &[u64] = &[];
-/// CPU time one input may take before the watchdog cancels it (a hang: no wall clock, so a
-/// busy machine makes no input a hang).
+/// CPU time one input may spend without its simulated time advancing before the watchdog
+/// cancels it as a hang (no wall clock, so a busy machine makes no input a hang; an input that
+/// advances is cancelled as slow only past `exec::SLOW` times this).
 const LIMIT: Duration = Duration::from_secs(10);
 
 fn env_u64(name: &str, default: u64) -> u64 {

@@ -164,7 +164,7 @@ fn worker(seed: u64, from: u64, to: u64, limit: Duration) -> Tally {
                 }
             }
         });
-        let budget = (limit + Duration::from_secs(30)).as_secs_f64();
+        let budget = limit.as_secs_f64() * crate::exec::SLOW + 30.0;
         let mut input_cpu0 = crate::common::child_cpu_seconds(child.id()).unwrap_or(0.0);
         let mut idle = (std::time::Instant::now(), input_cpu0);
         let mut current = None;
