@@ -348,9 +348,10 @@ fn run_chunk(
     })
 }
 
-/// On the four-span bridge the three fixed-step methods land within 1.2 % of the event-driven
+/// On the four-span bridge the three fixed-step methods land within 1 % of the event-driven
 /// peak rotation with the step they choose (the penalty methods' own error is their contact
-/// stiffness: 1e6 kN/m moves the converged peak by 0.6–0.9 %).
+/// stiffness: 1e6 kN/m moves the converged peak by 0.6–0.9 %; the explicit scheme at a quarter
+/// of its chosen step moves by 6e-5 relative).
 #[test]
 fn the_chosen_steps_land_near_the_event_driven_peak_rotation() {
     let peak = |method: &str| {
@@ -379,10 +380,11 @@ fn the_chosen_steps_land_near_the_event_driven_peak_rotation() {
     for (method, tol) in [
         ("moreau", 0.01),
         ("penalty", 0.01),
-        ("penalty-explicit", 0.012),
+        ("penalty-explicit", 0.01),
     ] {
         let (p, h) = peak(method);
         let off = (p - event).abs() / event;
+        eprintln!("{method} at h = {h:e}: peak θ {p:e} vs {event:e} ({off:.4})");
         assert!(
             off < tol,
             "{method} at h = {h:e}: {p:e} vs {event:e} ({off:.4})"
