@@ -742,6 +742,52 @@ fn run_starts_a_worker_and_batches_stream_in() {
     assert!(s.contains("#1 done"), "{s}");
 }
 
+/// A step the method chose that leaves the run outside its bounds is refined in the workbench
+/// as in `deckspin run`: the worker says so and streams the run again from t = 0, and the run
+/// shown is the refined one, finished (the bouncing ball with the explicit penalty scheme is
+/// refined once on the command line too).
+#[test]
+fn the_workbench_refines_a_chosen_step_like_the_command_line() {
+    let path = root().join("models/validation/bouncing-ball.toml");
+    let mut app = App::new_from_text(&read(&path), &path);
+    edit(&mut app, "solver.method", "penalty-explicit");
+    assert_eq!(app.mode, Mode::Normal, "{}", app.status);
+    let fx = act(&mut app, Action::Rerun);
+    let Some(Effect::StartRun { id, scene }) = fx
+        .into_iter()
+        .find(|f| matches!(f, Effect::StartRun { .. }))
+    else {
+        panic!("no run started")
+    };
+    let first_step = scene.settings.step;
+    let msgs = tui::worker::run_blocking(id, &scene);
+    let refined: Vec<&String> = (msgs.iter())
+        .filter_map(|m| match m {
+            Msg::Refined { why, .. } => Some(why),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(refined.len(), 1, "{refined:?}");
+    assert!(refined[0].contains("refined to"), "{}", refined[0]);
+    for m in msgs {
+        update(&mut app, m);
+    }
+    let cur = app.current.as_ref().unwrap();
+    assert_eq!(cur.status, RunStatus::Finished, "{}", app.status);
+    assert_eq!(cur.t.first().copied(), Some(0.0));
+    assert!(
+        cur.t.windows(2).all(|w| w[1] > w[0]),
+        "one run's samples, not two"
+    );
+    let said: Vec<&str> = app.messages.iter().map(|m| m.text.as_str()).collect();
+    assert!(
+        said.iter()
+            .any(|m| m.contains("runs again") && m.contains("refined to")),
+        "{said:?}"
+    );
+    assert!(first_step > 0.0);
+}
+
 #[test]
 fn the_models_solver_method_is_used() {
     // a step the model sets (without one, Moreau–Jean chooses a finer one and passes)

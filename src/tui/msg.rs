@@ -62,6 +62,12 @@ pub enum Msg {
         run: u64,
         outcome: RunOutcome,
     },
+    /// Run `run` finished outside its accuracy bounds with a step its method chose: it starts
+    /// again at the finer step `why` names (`simulate::refined`); what it sent so far is void.
+    Refined {
+        run: u64,
+        why: String,
+    },
     /// The model file's content after a change on disk.
     FileChanged(String),
     FileUnreadable(String),

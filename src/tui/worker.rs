@@ -162,7 +162,7 @@ pub fn spawn(id: u64, scene: Scene, tx: Sender<Msg>) -> RunHandle {
                 if let Some(refused) = refuse(&scene) {
                     return (None, Some(refused));
                 }
-                let run = crate::simulate::integrate(&scene, &mut obs);
+                let run = integrate_refined(id, scene, &mut obs);
                 (Some((run, obs.full)), None)
             }));
             let outcome = match result {
@@ -203,7 +203,7 @@ pub fn run_blocking(id: u64, scene: &Scene) -> Vec<Msg> {
             rows: 0,
             full: None,
         };
-        let run = crate::simulate::integrate(scene, &mut obs);
+        let run = integrate_refined(id, scene.clone(), &mut obs);
         (run, obs.full)
     };
     msgs.push(Msg::RunDone {
@@ -211,6 +211,31 @@ pub fn run_blocking(id: u64, scene: &Scene) -> Vec<Msg> {
         outcome: outcome(r.0, r.1),
     });
     msgs
+}
+
+/// `simulate::integrate`, then again at a finer step while the judge finds a run of a step
+/// the method chose outside its bounds (`simulate::refined`, at most
+/// `simulate::MAX_REFINEMENTS` times, as `deckspin run` does); each restart is announced.
+fn integrate_refined<F: FnMut(Msg) -> bool>(id: u64, mut scene: Scene, obs: &mut Stream<F>) -> Run {
+    let mut refinements = 0;
+    loop {
+        let run = crate::simulate::integrate(&scene, obs);
+        if refinements < crate::simulate::MAX_REFINEMENTS
+            && !obs.cancelled()
+            && obs.full.is_none()
+            && let Some(next) = crate::simulate::refined(&scene, &run)
+        {
+            refinements += 1;
+            let why = next.settings.step_chosen.clone().unwrap_or_default();
+            if !(obs.sink)(Msg::Refined { run: id, why }) {
+                return run;
+            }
+            obs.rows = 0;
+            scene = next;
+            continue;
+        }
+        return run;
+    }
 }
 
 /// A run whose output grid alone (t_end / output_dt rows) is above [`MEMORY_ROWS`], refused

@@ -42,6 +42,7 @@ pub fn update(app: &mut App, msg: Msg) -> Vec<Effect> {
             t,
         } => run::on_batch(app, run, &samples, &events, t),
         Msg::RunDone { run, outcome } => run::on_done(app, run, outcome),
+        Msg::Refined { run, why } => run::on_refined(app, run, why),
         Msg::FileChanged(text) => file::on_file_changed(app, text),
         Msg::FileUnreadable(e) => {
             app.set_status(

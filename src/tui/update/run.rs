@@ -57,6 +57,20 @@ pub(super) fn on_batch(
     Vec::new()
 }
 
+/// The run starts again at a finer step: its samples and events so far are dropped.
+pub(super) fn on_refined(app: &mut App, run: u64, why: String) -> Vec<Effect> {
+    let Some(scene) = app.scene.clone() else {
+        return Vec::new();
+    };
+    if let Some(cur) = app.current.as_mut().filter(|c| c.id == run) {
+        let label = cur.label.clone();
+        *cur = RunData::for_scene(run, label.clone(), &scene);
+        app.generation += 1;
+        app.set_status(StatusKind::Info, format!("{label} runs again: {why}"));
+    }
+    Vec::new()
+}
+
 /// Starts a run of the current draft (a run still going is cancelled and kept in the run list
 /// with what it computed).
 pub(super) fn start_run(app: &mut App) -> Vec<Effect> {
