@@ -19,6 +19,12 @@ struct Cli {
     command: Option<Command>,
     /// Open the workbench on this model.
     model: Option<PathBuf>,
+    /// The workbench's characters: `ascii` (nothing above 0x7E) or `unicode` (Braille charts,
+    /// box drawing). Default: DECKSPIN_GLYPHS if set, else from TERM (dumb, linux, vt100,
+    /// vt102, vt220, ansi: ascii; others: unicode). The `m` key toggles them.
+    #[arg(long, value_name = "ascii|unicode", value_parser = ["ascii", "unicode"], ignore_case = true)]
+    #[cfg_attr(not(feature = "workbench"), allow(dead_code))]
+    glyphs: Option<String>,
 }
 
 #[derive(Subcommand)]
@@ -233,7 +239,13 @@ fn main() -> ExitCode {
         Some(Command::Fragility(a)) => cli::fragility::cmd_fragility(&a),
         None => match cli.model {
             #[cfg(feature = "workbench")]
-            Some(m) => deckspin::tui::run(&m),
+            Some(m) => {
+                let glyphs = cli
+                    .glyphs
+                    .as_deref()
+                    .and_then(deckspin::tui::term::Glyphs::parse);
+                deckspin::tui::run(&m, glyphs)
+            }
             #[cfg(not(feature = "workbench"))]
             Some(_) => Err(
                 "this deckspin was built without the workbench (cargo feature `workbench`)".into(),

@@ -788,3 +788,38 @@ fn ctrl_c_while_typing_asks_in_the_terminal() {
     tmux.wait("the shell", 10, |s| s.contains("stty-done"));
     let _ = std::fs::remove_dir_all(&d);
 }
+
+#[test]
+fn a_vt100_gets_ascii_and_the_override_gives_unicode_back() {
+    if !have_tmux() {
+        println!("tmux is not on PATH: skipping the end-to-end terminal test");
+        return;
+    }
+    let d = workspace();
+    // TERM=vt100: the whole screen ASCII, the zero line `-`
+    let tmux = Tmux {
+        socket: format!("deckspin-e2e-vt100-{}", std::process::id()),
+    };
+    start(&tmux, &d, "TERM=vt100");
+    let s = tmux.wait("#1 to finish", 30, |s| s.contains("#1 done"));
+    assert!(s.contains("deck.theta [urad]"), "{s}");
+    let wide: Vec<char> = s.chars().filter(|c| !c.is_ascii()).collect();
+    assert!(wide.is_empty(), "{wide:?}\n{s}");
+    assert!(s.contains("+ plan x"), "{s}");
+    tmux.keys(&["q"]);
+    let s = tmux.wait("the shell", 10, |s| s.contains("stty-done"));
+    assert!(s.contains("deckspin-exited-0"), "{s}");
+    drop(tmux);
+    // the same terminal with DECKSPIN_GLYPHS=unicode: Braille and box drawing again
+    let tmux = Tmux {
+        socket: format!("deckspin-e2e-unicode-{}", std::process::id()),
+    };
+    start(&tmux, &d, "TERM=vt100 DECKSPIN_GLYPHS=unicode");
+    let s = tmux.wait("#2 to finish", 30, |s| s.contains("#2 done"));
+    assert!(s.contains("deck.theta [µrad]"), "{s}");
+    assert!(s.contains('│'), "{s}");
+    tmux.keys(&["q"]);
+    tmux.wait("the shell", 10, |s| s.contains("stty-done"));
+    drop(tmux);
+    let _ = std::fs::remove_dir_all(&d);
+}

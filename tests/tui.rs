@@ -1666,8 +1666,9 @@ fn colours_are_written_as_the_terminal_shows_them() {
     // dumb: no colour at all, and the app draws without colours itself
     let dumb_vars: &[(&str, &str)] = &[("TERM", "dumb")];
     assert_eq!(depth(dumb_vars), ColorDepth::None);
-    let opts = Options::from_vars(&env(dumb_vars));
-    assert!(!opts.color && !opts.ascii);
+    let opts = Options::from_vars(&env(dumb_vars)).unwrap();
+    // and ASCII drawing: a dumb terminal shows no Braille or box drawing either
+    assert!(!opts.color && opts.ascii);
     let dumb = frame_bytes(&app, ColorDepth::None);
     for p in sgr_params(&dumb) {
         for c in p.split(';').filter_map(|c| c.parse::<u16>().ok()) {
@@ -1675,7 +1676,7 @@ fn colours_are_written_as_the_terminal_shows_them() {
             assert!(!colour, "colour {c} in ESC[{p}m");
         }
     }
-    let ascii = Options::from_vars(&env(&[("TERM", "xterm"), ("DECKSPIN_ASCII", "1")]));
+    let ascii = Options::from_vars(&env(&[("TERM", "xterm"), ("DECKSPIN_ASCII", "1")])).unwrap();
     assert!(ascii.color && ascii.ascii);
     // ASCII mode: every byte written is ASCII
     let mut app = ascii_app(true);

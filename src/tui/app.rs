@@ -8,7 +8,7 @@ use super::results::Results;
 use super::run_data::RunData;
 use super::run_list::Runs;
 use super::study::Studies;
-use super::term::ColorDepth;
+use super::term::{ColorDepth, Glyphs};
 use crate::scene::Scene;
 use std::hash::{Hash, Hasher};
 use std::path::{Path, PathBuf};
@@ -88,12 +88,13 @@ pub enum Mode {
 
 pub use super::messages::StatusKind;
 
-/// Presentation options (from the environment in the real terminal).
+/// Presentation options (from the environment and the command line in the real terminal).
 #[derive(Clone, Copy, Debug)]
 pub struct Options {
-    /// false when NO_COLOR is set: no colours at all.
+    /// false when the terminal shows no colour (`NO_COLOR`, `TERM=dumb`).
     pub color: bool,
-    /// Start with ASCII (Dot) chart markers instead of Braille (DECKSPIN_ASCII=1).
+    /// Start in ASCII mode: nothing above 0x7E on screen ([`Glyphs::Ascii`]: `TERM=dumb`,
+    /// `linux`, `vt100`, …, `DECKSPIN_GLYPHS=ascii` or `--glyphs ascii`); `m` toggles it.
     pub ascii: bool,
 }
 
@@ -107,18 +108,25 @@ impl Default for Options {
 }
 
 impl Options {
-    pub fn from_env() -> Self {
-        Self::from_vars(&|k| std::env::var(k).ok())
+    /// The options of this process's environment, the glyphs overridden by `glyphs` (the
+    /// command line's `--glyphs`) when given.
+    pub fn from_env(glyphs: Option<Glyphs>) -> Result<Self, String> {
+        let mut o = Self::from_vars(&|k| std::env::var(k).ok())?;
+        if let Some(g) = glyphs {
+            o.ascii = g == Glyphs::Ascii;
+        }
+        Ok(o)
     }
 
     /// The options told by environment variables read through `get`: no colour when the
-    /// terminal shows none ([`ColorDepth::None`]: `NO_COLOR`, `TERM=dumb`); ASCII with
-    /// `DECKSPIN_ASCII` set to anything but `0`.
-    pub fn from_vars(get: &dyn Fn(&str) -> Option<String>) -> Self {
-        Self {
+    /// terminal shows none ([`ColorDepth::None`]: `NO_COLOR`, `TERM=dumb`); ASCII when the
+    /// glyphs are ([`Glyphs::from_vars`]: `DECKSPIN_GLYPHS`, `DECKSPIN_ASCII`, `TERM`). An
+    /// unknown `DECKSPIN_GLYPHS` is an error naming it.
+    pub fn from_vars(get: &dyn Fn(&str) -> Option<String>) -> Result<Self, String> {
+        Ok(Self {
             color: ColorDepth::from_vars(get) != ColorDepth::None,
-            ascii: get("DECKSPIN_ASCII").is_some_and(|v| !v.is_empty() && v != "0"),
-        }
+            ascii: Glyphs::from_vars(get)? == Glyphs::Ascii,
+        })
     }
 }
 

@@ -8,7 +8,7 @@ use super::app::{App, Confirm, Mode, Options, StatusKind};
 use super::effects::{Host, Job, perform};
 use super::msg::Msg;
 use super::study::StudySpec;
-use super::term::{ColorDepth, SgrFilter};
+use super::term::{ColorDepth, Glyphs, SgrFilter};
 use super::ui;
 use super::update::update;
 use super::{results_worker, signals, study_worker, swap, watch, worker};
@@ -321,11 +321,12 @@ pub fn pace(rx: &Receiver<Msg>, until: Instant) -> Vec<Msg> {
     }
 }
 
-/// Open the workbench on a model file.
-pub fn run(model: &Path) -> Result<(), Box<dyn std::error::Error>> {
+/// Open the workbench on a model file, with the glyphs `glyphs` (`--glyphs`) or, when None,
+/// those the environment tells ([`Options::from_env`]).
+pub fn run(model: &Path, glyphs: Option<Glyphs>) -> Result<(), Box<dyn std::error::Error>> {
     let mut timing = Timing::from_env();
     timing.log("start");
-    let mut app = App::new_from_path(model, Options::from_env())?;
+    let mut app = App::new_from_path(model, Options::from_env(glyphs)?)?;
     let (tx, rx) = mpsc::channel::<Msg>();
     install_panic_hook();
     // before the terminal is taken: from here on a signal restores it

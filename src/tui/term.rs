@@ -1,5 +1,6 @@
-//! What the terminal can show: the colour depth told by the environment (`NO_COLOR`, `TERM`,
-//! `COLORTERM`), and [`SgrFilter`], the writer between the backend and the terminal that
+//! What the terminal can show: the glyphs ([`Glyphs`]: ASCII or Unicode, from `TERM` unless
+//! overridden), the colour depth told by the environment (`NO_COLOR`, `TERM`, `COLORTERM`), and
+//! [`SgrFilter`], the writer between the backend and the terminal that
 //! rewrites colours to that depth.
 //!
 //! The workbench draws with the 16 named colours only, but crossterm writes every named colour
@@ -49,6 +50,62 @@ impl ColorDepth {
     /// The depth of this process's environment.
     pub fn from_env() -> ColorDepth {
         Self::from_vars(&|k| std::env::var(k).ok())
+    }
+}
+
+/// The characters the workbench draws with.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Glyphs {
+    /// Nothing above 0x7E: `+ - |` borders, series by their marks, `-` for the zero line.
+    Ascii,
+    /// Braille charts, box drawing, blocks, Greek letters.
+    Unicode,
+}
+
+/// The environment variable that overrides the glyphs told by `TERM`.
+pub const GLYPHS_VAR: &str = "DECKSPIN_GLYPHS";
+
+impl Glyphs {
+    /// `ascii` or `unicode` (any case).
+    pub fn parse(s: &str) -> Option<Glyphs> {
+        match s.trim().to_ascii_lowercase().as_str() {
+            "ascii" => Some(Glyphs::Ascii),
+            "unicode" => Some(Glyphs::Unicode),
+            _ => None,
+        }
+    }
+
+    /// The glyphs a terminal of type `term` shows: ASCII for the terminals without Braille
+    /// or box drawing in their character set (`dumb`, the Linux console `linux`, the DEC
+    /// `vt52`, `vt100`, `vt102`, `vt220`, … and their variants such as `vt100-am`, `ansi`),
+    /// Unicode for the others (`xterm*`, `screen*`, `tmux*`, `rxvt*`, …) and when `TERM` is
+    /// unset.
+    pub fn of_term(term: &str) -> Glyphs {
+        let term = term.trim().to_ascii_lowercase();
+        let family = term.split(['-', '+', '.']).next().unwrap_or("");
+        let vt = family
+            .strip_prefix("vt")
+            .is_some_and(|n| n.starts_with(|c: char| c.is_ascii_digit()));
+        if vt || matches!(family, "dumb" | "linux" | "ansi") {
+            Glyphs::Ascii
+        } else {
+            Glyphs::Unicode
+        }
+    }
+
+    /// The glyphs told by the environment read through `get`: `DECKSPIN_GLYPHS`
+    /// (`ascii`/`unicode`) when set, else ASCII with `DECKSPIN_ASCII` set to anything but `0`,
+    /// else [`Glyphs::of_term`]. An unknown `DECKSPIN_GLYPHS` is an error naming it.
+    pub fn from_vars(get: &dyn Fn(&str) -> Option<String>) -> Result<Glyphs, String> {
+        let set = |k: &str| get(k).filter(|v| !v.trim().is_empty());
+        if let Some(v) = set(GLYPHS_VAR) {
+            return Glyphs::parse(&v)
+                .ok_or_else(|| format!("{GLYPHS_VAR}='{v}': expected ascii or unicode"));
+        }
+        if set("DECKSPIN_ASCII").is_some_and(|v| v.trim() != "0") {
+            return Ok(Glyphs::Ascii);
+        }
+        Ok(Glyphs::of_term(&set("TERM").unwrap_or_default()))
     }
 }
 
@@ -322,5 +379,63 @@ mod tests {
         // an empty NO_COLOR is not set
         let empty = [("TERM", "xterm-256color"), ("NO_COLOR", "")];
         assert_eq!(of(&empty), ColorDepth::Ansi256);
+    }
+
+    #[test]
+    fn the_glyphs_come_from_term_unless_overridden() {
+        let of = |vars: &[(&str, &str)]| {
+            let vars: Vec<(String, String)> = vars
+                .iter()
+                .map(|(k, v)| (k.to_string(), v.to_string()))
+                .collect();
+            Glyphs::from_vars(&|k| vars.iter().find(|(n, _)| n == k).map(|(_, v)| v.clone()))
+        };
+        for term in [
+            "dumb", "linux", "vt100", "vt102", "vt220", "vt52", "vt100-am", "ansi", "VT220",
+        ] {
+            assert_eq!(of(&[("TERM", term)]), Ok(Glyphs::Ascii), "{term}");
+        }
+        for term in [
+            "xterm-256color",
+            "xterm",
+            "screen",
+            "screen.xterm-256color",
+            "tmux-256color",
+            "rxvt-unicode",
+            "alacritty",
+            "xterm-kitty",
+            "foot",
+            "",
+        ] {
+            assert_eq!(of(&[("TERM", term)]), Ok(Glyphs::Unicode), "{term}");
+        }
+        assert_eq!(of(&[]), Ok(Glyphs::Unicode));
+        // NO_COLOR takes the colour away, not the glyphs
+        let no_color = [("TERM", "xterm-256color"), ("NO_COLOR", "1")];
+        assert_eq!(of(&no_color), Ok(Glyphs::Unicode));
+        // the override wins over TERM, either way
+        let forced = [("TERM", "vt100"), (GLYPHS_VAR, "unicode")];
+        assert_eq!(of(&forced), Ok(Glyphs::Unicode));
+        let forced = [("TERM", "xterm-256color"), (GLYPHS_VAR, "ASCII")];
+        assert_eq!(of(&forced), Ok(Glyphs::Ascii));
+        let forced = [("TERM", "xterm-256color"), ("DECKSPIN_ASCII", "1")];
+        assert_eq!(of(&forced), Ok(Glyphs::Ascii));
+        let both = [
+            ("TERM", "linux"),
+            ("DECKSPIN_ASCII", "1"),
+            (GLYPHS_VAR, "unicode"),
+        ];
+        assert_eq!(of(&both), Ok(Glyphs::Unicode));
+        // DECKSPIN_ASCII=0 and an empty override change nothing
+        let off = [("TERM", "xterm"), ("DECKSPIN_ASCII", "0"), (GLYPHS_VAR, "")];
+        assert_eq!(of(&off), Ok(Glyphs::Unicode));
+        // an unknown value is an error naming the variable and the value
+        let bad = of(&[("TERM", "xterm"), (GLYPHS_VAR, "braille")]);
+        assert_eq!(
+            bad,
+            Err("DECKSPIN_GLYPHS='braille': expected ascii or unicode".into())
+        );
+        assert_eq!(Glyphs::parse(" Unicode "), Some(Glyphs::Unicode));
+        assert_eq!(Glyphs::parse("utf8"), None);
     }
 }

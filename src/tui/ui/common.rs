@@ -3,6 +3,8 @@
 
 use crate::tui::app::{App, StatusKind};
 use crate::tui::run_data::RunData;
+use ratatui::buffer::Buffer;
+use ratatui::layout::Rect;
 use ratatui::style::{Color, Modifier, Style};
 use ratatui::symbols::{Marker, border};
 use ratatui::text::Line;
@@ -177,6 +179,8 @@ pub(super) fn overlay_run(app: &App) -> Option<&RunData> {
 const MARKS: [char; 8] = ['.', '+', 'o', 'x', '%', '@', '&', '$'];
 const PREVIOUS_MARK: char = ':';
 const CURSOR_MARK: char = '|';
+/// The zero line's character in ASCII mode: none of the series' marks.
+pub(super) const ZERO_MARK: char = '-';
 
 impl Theme {
     /// Series are told apart by their marks, not by colour: in ASCII mode and without colour
@@ -221,6 +225,22 @@ impl Theme {
             Marker::Custom(CURSOR_MARK)
         } else {
             Marker::Braille
+        }
+    }
+    /// The marker of a chart's zero line: Braille, in ASCII mode [`ZERO_MARK`] (a dot would
+    /// read as the first series).
+    pub(super) fn zero_marker(&self) -> Marker {
+        if self.ascii {
+            Marker::Custom(ZERO_MARK)
+        } else {
+            Marker::Braille
+        }
+    }
+    /// In ASCII mode, the ASCII stand-in ([`super::ascii_symbol`]) of every cell of `area`
+    /// above 0x7E: after a ratatui widget that draws its own lines (a chart's axes).
+    pub(super) fn own_ascii(&self, buf: &mut Buffer, area: Rect) {
+        if self.ascii {
+            super::ascii::ascii_only_in(buf, area);
         }
     }
     /// The marker of one point shown alone (the loop's point at the cursor).

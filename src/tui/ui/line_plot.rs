@@ -8,7 +8,6 @@ use crate::tui::chart::fmt_sig;
 use ratatui::Frame;
 use ratatui::layout::Rect;
 use ratatui::style::{Color, Style};
-use ratatui::symbols::Marker;
 use ratatui::text::{Line, Span};
 use ratatui::widgets::Paragraph;
 use ratatui::widgets::canvas::{Canvas, Context, Line as CLine};
@@ -234,11 +233,7 @@ pub(super) fn draw_line_plot(frame: &mut Frame, area: Rect, p: &LinePlot, th: &T
         Rect::new(area.x, top, area.width, rows + 2),
     );
     let canvas = Rect::new(area.x + LABEL_W + 1, top, cw, rows);
-    let marker = if th.ascii {
-        Marker::Dot
-    } else {
-        Marker::Braille
-    };
+    let marker = th.marker();
     let size = (cw as f64, rows as f64);
     let c = Canvas::default()
         .marker(marker)
@@ -248,11 +243,11 @@ pub(super) fn draw_line_plot(frame: &mut Frame, area: Rect, p: &LinePlot, th: &T
     frame.render_widget(c, canvas);
 }
 
-/// A segment: Braille line, or in ASCII mode a `.` in each cell it crosses.
+/// A segment: Braille line, or in ASCII mode `mark` in each cell it crosses.
 fn segment(
     ctx: &mut Context,
-    a: (f64, f64),
-    e: (f64, f64),
+    (a, e): ((f64, f64), (f64, f64)),
+    mark: &'static str,
     style: Style,
     scale: (f64, f64),
     th: &Theme,
@@ -266,7 +261,7 @@ fn segment(
             ctx.print(
                 a.0 + f * (e.0 - a.0),
                 a.1 + f * (e.1 - a.1),
-                Span::styled(".", style),
+                Span::styled(mark, style),
             );
         }
     } else {
@@ -293,7 +288,10 @@ fn paint(ctx: &mut Context, p: &LinePlot, b: [f64; 4], (w, h): (f64, f64), th: &
         } else {
             ((b[0], v), (b[1], v))
         };
-        segment(ctx, a, e, th.dim(), scale, th);
+        // in ASCII mode a horizontal line (the zero line) as `-`, a vertical one as `:`: neither
+        // is a curve's line (`.`) nor its mark
+        let mark = if l.vertical { ":" } else { "-" };
+        segment(ctx, (a, e), mark, th.dim(), scale, th);
         let at = if l.vertical { (v, b[3]) } else { (b[0], v) };
         ctx.print(at.0, at.1, Span::styled(th.text(&l.label), th.dim()));
     }
@@ -302,7 +300,7 @@ fn paint(ctx: &mut Context, p: &LinePlot, b: [f64; 4], (w, h): (f64, f64), th: &
     let y0 = on(0.0, p.log_y).unwrap_or(b[2]);
     for &(x, y) in &p.stems {
         if let Some((x, y)) = pt(x, y) {
-            segment(ctx, (x, y0), (x, y), th.series(5), scale, th);
+            segment(ctx, ((x, y0), (x, y)), ".", th.series(5), scale, th);
             ctx.print(
                 x,
                 y,
@@ -313,7 +311,7 @@ fn paint(ctx: &mut Context, p: &LinePlot, b: [f64; 4], (w, h): (f64, f64), th: &
     for c in &p.curves {
         let pts: Vec<(f64, f64)> = c.points.iter().filter_map(|&(x, y)| pt(x, y)).collect();
         for s in pts.windows(2) {
-            segment(ctx, s[0], s[1], c.style, scale, th);
+            segment(ctx, (s[0], s[1]), ".", c.style, scale, th);
         }
     }
     ctx.layer();

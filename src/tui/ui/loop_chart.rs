@@ -109,6 +109,7 @@ pub(super) fn draw_loop(
     let ds = datasets(&cur, prev_pts.as_ref(), here.as_ref(), th);
     let chart = with_axes(Chart::new(ds).block(block), &plot, th);
     frame.render_widget(chart, area);
+    th.own_ascii(frame.buffer_mut(), area);
 }
 
 /// The units of element `j`'s deformation and force in the model's units: m and kN (rad and

@@ -35,7 +35,8 @@ use crate::tui::app::{App, MIN_HEIGHT, MIN_WIDTH, Mode, View};
 use ratatui::Frame;
 use ratatui::layout::{Constraint, Layout, Rect};
 
-/// Renders the workbench (in ASCII mode, nothing above 0x7E: [`ascii_only`] last).
+/// Renders the workbench (in ASCII mode, nothing above 0x7E: [`ascii_only`] last, a safety
+/// net for what the panels did not draw in ASCII themselves).
 pub fn draw(frame: &mut Frame, app: &App, cache: &mut Cache) {
     draw_screen(frame, app, cache);
     if common::theme(app).ascii {
@@ -43,8 +44,9 @@ pub fn draw(frame: &mut Frame, app: &App, cache: &mut Cache) {
     }
 }
 
-/// Renders every panel and overlay.
-fn draw_screen(frame: &mut Frame, app: &App, cache: &mut Cache) {
+/// Renders every panel and overlay as they draw themselves, without the last ASCII pass (in
+/// ASCII mode every panel draws in ASCII alone: the tests check it with this).
+pub fn draw_screen(frame: &mut Frame, app: &App, cache: &mut Cache) {
     let area = frame.area();
     let th = common::theme(app);
     if area.width < MIN_WIDTH || area.height < MIN_HEIGHT {

@@ -299,7 +299,7 @@ fn draw_time_chart(
     let has_zero = yb[0] < 0.0 && yb[1] > 0.0;
     let mut ds: Vec<Dataset> = Vec::new();
     if has_zero {
-        ds.push(line(&zero).style(th.dim()));
+        ds.push(line(&zero).marker(th.zero_marker()).style(th.dim()));
     }
     // without colour, each series by its own mark (the overlaid runs', the k-th current one's)
     let mut k = 0;
@@ -325,6 +325,7 @@ fn draw_time_chart(
         .y_axis(Axis::default().bounds(yb).labels(labels).style(th.dim()))
         .legend_position(None);
     frame.render_widget(chart, body);
+    th.own_ascii(frame.buffer_mut(), body);
     if has_zero {
         zero_label(frame, body, yb, th);
     }

@@ -365,7 +365,7 @@ fn strip_line(
 ) -> Line<'static> {
     let lw = LABEL_W as usize - 1;
     let mut spans = vec![Span::styled(format!("{:>lw$} ", row_name(name, lw)), style)];
-    spans.push(Span::styled("│", th.dim()));
+    spans.push(Span::styled(if th.ascii { "|" } else { "│" }, th.dim()));
     let s: String = strip.iter().collect();
     match cur_col.filter(|&c| c < strip.len()) {
         Some(c) => {
@@ -408,6 +408,9 @@ fn time_axis(t0: f64, t1: f64, w: usize, per_cell: usize, th: &Theme) -> Line<'s
     let axis: String = axis.into_iter().collect();
     Line::from(vec![
         Span::raw(" ".repeat(LABEL_W as usize)),
-        Span::styled(format!("└{axis}"), th.dim()),
+        Span::styled(
+            format!("{}{axis}", if th.ascii { '+' } else { '└' }),
+            th.dim(),
+        ),
     ])
 }

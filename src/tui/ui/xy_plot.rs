@@ -8,7 +8,6 @@ use crate::tui::chart::{fmt_num, fmt_sig};
 use ratatui::Frame;
 use ratatui::layout::Rect;
 use ratatui::style::{Color, Style};
-use ratatui::symbols::Marker;
 use ratatui::text::{Line, Span};
 use ratatui::widgets::Paragraph;
 use ratatui::widgets::canvas::{Canvas, Context, Line as CLine};
@@ -123,11 +122,7 @@ pub(super) fn draw_plot(frame: &mut Frame, area: Rect, plot: &Plot, th: &Theme) 
         Paragraph::new(labels),
         Rect::new(area.x, top, area.width, rows + 2),
     );
-    let marker = if th.ascii {
-        Marker::Dot
-    } else {
-        Marker::Braille
-    };
+    let marker = th.marker();
     let (w, h) = (cw as f64, rows as f64);
     let c = Canvas::default()
         .marker(marker)

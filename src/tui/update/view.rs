@@ -26,8 +26,12 @@ pub(super) fn toggle(app: &mut App, a: Action) {
         Action::ToggleMarker => {
             app.ascii = !app.ascii;
             app.generation += 1;
-            let m = if app.ascii { "ASCII (dots)" } else { "Braille" };
-            app.set_status(StatusKind::Info, format!("chart markers: {m}"));
+            let m = if app.ascii {
+                "ASCII (nothing above 0x7E)"
+            } else {
+                "Unicode (Braille, box drawing)"
+            };
+            app.set_status(StatusKind::Info, format!("drawing: {m}"));
         }
         Action::ToggleOverlay => {
             app.overlay = !app.overlay;
