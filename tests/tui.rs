@@ -2142,6 +2142,14 @@ fn a_conflict_alone_is_asked_about_and_not_called_a_change_needing_no_merge() {
         app.status,
         "took the value on disk; merge done — rerunning (s saves)"
     );
+    // the run's end does not wipe it: it is said after it
+    tui::execute_blocking(&mut app, fx);
+    assert!(
+        app.status
+            .starts_with("took the value on disk; merge done — rerunning (s saves) · #2 finished"),
+        "{}",
+        app.status
+    );
 }
 
 /// The text inside the question's box on screen, its rows joined by spaces.
