@@ -823,3 +823,46 @@ fn a_vt100_gets_ascii_and_the_override_gives_unicode_back() {
     drop(tmux);
     let _ = std::fs::remove_dir_all(&d);
 }
+/// The message log in the real terminal: `M` shows every message said since the start with its
+/// time (the load, the run's start and end), `M` again closes it and the status line still says
+/// the last message.
+#[test]
+fn the_message_log_opens_and_closes_in_the_terminal() {
+    if !have_tmux() {
+        println!("tmux is not on PATH: skipping the end-to-end terminal test");
+        return;
+    }
+    let d = workspace();
+    let tmux = Tmux {
+        socket: format!("deckspin-e2e-log-{}", std::process::id()),
+    };
+    start(&tmux, &d, "");
+    tmux.wait("the workbench", 30, |s| s.contains("deck.theta ["));
+    tmux.wait("the first run's end", 60, |s| {
+        s.contains("#1 finished at t =")
+    });
+    tmux.keys(&["M"]);
+    let s = tmux.wait("the message log", 10, |s| s.contains(" messages ("));
+    for said in [
+        "loaded four-span.toml",
+        "#1 started",
+        "#1 finished at t = 3.000 s",
+    ] {
+        assert!(s.contains(said), "{said}:\n{s}");
+    }
+    // each with its time, HH:MM:SS
+    let timed = s
+        .lines()
+        .filter(|l| {
+            let t: Vec<char> = l.trim_start_matches(['│', ' ']).chars().take(8).collect();
+            t.len() == 8 && t[2] == ':' && t[5] == ':'
+        })
+        .count();
+    assert!(timed >= 3, "{s}");
+    tmux.keys(&["M"]);
+    let s = tmux.wait("the log closed", 10, |s| !s.contains(" messages ("));
+    assert!(s.contains("#1 finished at t = 3.000 s"), "{s}");
+    tmux.keys(&["q"]);
+    tmux.wait("the shell", 10, |s| s.contains("stty-done"));
+    let _ = std::fs::remove_dir_all(&d);
+}

@@ -891,7 +891,11 @@ fn cancel_a_run() {
         },
     );
     assert_eq!(app.current.as_ref().unwrap().status, RunStatus::Cancelled);
-    assert_eq!(app.status, "#1 cancelled at t = 0.250 s");
+    // said after what the run started after
+    assert_eq!(
+        app.status,
+        "loaded corner-impact.toml · #1 cancelled at t = 0.250 s"
+    );
     // kept in the run list as cancelled, not made the baseline
     assert_eq!(app.runs.list.len(), 1);
     assert_eq!(app.runs.list[0].ended, Ended::Cancelled);
@@ -2156,6 +2160,92 @@ fn an_unsaved_edit_and_an_outside_change_to_another_field_are_merged() {
     assert_eq!(read(&model), merged);
     assert!(!app.dirty(), "{}", app.status);
     let _ = std::fs::remove_dir_all(&d);
+}
+
+/// An unsaved edit of μ and a change of μ on disk: a conflict, asked about, and the status
+/// line says just that (not that the change "needed no merge").
+#[test]
+fn a_conflict_alone_is_asked_about_and_not_called_a_change_needing_no_merge() {
+    let mut app = corner_app();
+    edit(&mut app, "contact.0.mu", "0.3");
+    let disk = app.text.replace("mu = 0.5", "mu = 0.4");
+    let fx = update(&mut app, Msg::FileChanged(disk.clone()));
+    assert!(start_ids(&fx).is_empty(), "no run before the answer");
+    assert!(
+        matches!(app.mode, Mode::Confirm(Confirm::Merge { .. })),
+        "{:?}",
+        app.mode
+    );
+    assert_eq!(
+        app.status,
+        "contact 1 mu changed on disk and here: yours 0.3, on disk 0.4 — m keeps mine, \
+         t takes theirs, M/T for all"
+    );
+    // the answer says what was done
+    let fx = update(&mut app, key('t'));
+    assert_eq!(app.draft, disk);
+    assert_eq!(start_ids(&fx), vec![2]);
+    assert_eq!(
+        app.status,
+        "took the value on disk; merge done — rerunning (s saves)"
+    );
+    // the run's end does not wipe it: it is said after it
+    tui::execute_blocking(&mut app, fx);
+    assert!(
+        app.status
+            .starts_with("took the value on disk; merge done — rerunning (s saves) · #2 finished"),
+        "{}",
+        app.status
+    );
+}
+
+/// The text inside the question's box on screen, its rows joined by spaces.
+fn question_text(s: &str) -> String {
+    let rows: Vec<&str> = s.lines().collect();
+    let top = rows
+        .iter()
+        .position(|l| l.contains(" question "))
+        .unwrap_or_else(|| panic!("no question:\n{s}"));
+    let top_row: Vec<char> = rows[top].chars().collect();
+    let left = top_row.iter().position(|&c| c == '┌').unwrap();
+    let right = top_row.iter().rposition(|&c| c == '┐').unwrap();
+    let mut out = Vec::new();
+    for l in &rows[top + 1..] {
+        let row: Vec<char> = l.chars().collect();
+        if row[left] == '└' {
+            break;
+        }
+        let inner: String = row[left + 1..right].iter().collect();
+        out.push(inner.trim().to_string());
+    }
+    out.join(" ")
+        .split_whitespace()
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// A merge question with long values is whole at 80×24 (wrapped in its box, its keys too), and
+/// at 140 columns.
+#[test]
+fn a_long_merge_question_is_whole_at_80x24() {
+    let mut app = corner_app();
+    let mine = "the corner impact of a long deck against its abutment wall, as edited here";
+    let theirs = "the corner impact of a long deck against its abutment wall, as changed on disk";
+    edit(&mut app, "title", mine);
+    assert_eq!(app.mode, Mode::Normal, "{}", app.status);
+    let disk = app
+        .text
+        .replace("corner impact of a long deck\"", &format!("{theirs}\""));
+    update(&mut app, Msg::FileChanged(disk));
+    assert!(matches!(app.mode, Mode::Confirm(Confirm::Merge { .. })));
+    let want = format!(
+        "corner-impact.toml changed on disk, and so did this value here: title: yours {mine}, \
+         on disk {theirs} m keep mine t take theirs M mine for all T theirs for all"
+    );
+    for (w, h) in [(80, 24), (140, 40)] {
+        let s = screen(&render(&mut app, w, h));
+        assert_eq!(question_text(&s), want, "{w}×{h}:\n{s}");
+    }
 }
 
 /// mu and restitution edited here and on disk (differently), t_end changed on disk only.

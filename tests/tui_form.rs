@@ -235,6 +235,53 @@ fn every_number_has_a_unit_in_the_models_system() {
     assert_eq!(unit("solver.t_end"), "s");
 }
 
+/// The form's row (the left pane of the screen `s`) that holds `what`.
+fn row_with(s: &str, what: &str) -> String {
+    s.lines()
+        .map(|l| l.split('│').nth(1).unwrap_or_default().to_string())
+        .find(|l| l.contains(what))
+        .unwrap_or_else(|| panic!("no {what}:\n{s}"))
+}
+
+/// While typing, a value with its own unit is not followed by the field's (`20 mm_`), one
+/// without is (`20_ m`); atol's unit says it is mixed and the right pane names the units.
+#[test]
+fn a_value_typed_with_its_unit_shows_no_second_unit_and_atol_reads_mixed() {
+    let mut app = bridge_app();
+    app.form.selected = app.form.index_of("contacts.gaps.0").unwrap();
+    update(&mut app, code(KeyCode::Enter));
+    update(
+        &mut app,
+        Msg::Key(KeyEvent::new(KeyCode::Char('u'), KeyModifiers::CONTROL)),
+    );
+    keys(&mut app, "20");
+    let s = screen(&render(&mut app, 120, 40));
+    let row = row_with(&s, "20_");
+    assert!(row.contains("20_ m "), "{row}");
+    keys(&mut app, " mm");
+    let s = screen(&render(&mut app, 120, 40));
+    let row = row_with(&s, "20 mm_");
+    assert!(!row.contains("mm_ m"), "{row}");
+    assert!(row.contains("20 mm_ "), "{row}");
+    update(&mut app, code(KeyCode::Enter));
+    assert_eq!(app.mode, Mode::Normal, "{}", app.status);
+    assert!(app.draft.contains("gaps = [0.02"), "{}", app.draft);
+    // atol
+    app.form.selected = app.form.index_of("solver.atol").unwrap();
+    assert_eq!(app.form.selected().unwrap().unit, "mixed");
+    let s = screen(&render(&mut app, 120, 40));
+    let row = row_with(&s, "1e-7");
+    assert!(row.contains("1e-7 mixed"), "{row}");
+    for part in [
+        "state component",
+        "(displacements)",
+        "(rotations)",
+        "(velocities)",
+    ] {
+        assert!(s.contains(part), "{part}:\n{s}");
+    }
+}
+
 #[test]
 fn list_elements_are_numbered_from_one_in_every_label() {
     for model in ["models/four-span.toml", "models/three-frame.toml"] {

@@ -208,10 +208,9 @@ fn edit_run_pin_edit_run_compare_save_and_reopen() {
     let before = app.runs.clone();
     let mut again = App::new_from_path(&model, Options::default()).unwrap();
     assert!(
-        again.status.contains(&format!(
-            "4 runs reopened from {}, baseline #2",
-            dir.display()
-        )),
+        again
+            .status
+            .contains("4 runs reopened from four-span.runs/, baseline #2"),
         "{}",
         again.status
     );
@@ -298,7 +297,7 @@ fn corrupt_and_foreign_files_are_reported_and_skipped() {
     let again = App::new_from_path(&model, Options::default()).unwrap();
     assert_eq!(again.status_kind, StatusKind::Warn);
     let s = &again.status;
-    assert!(s.contains("1 runs reopened"), "{s}");
+    assert!(s.contains("1 run reopened"), "{s}");
     assert!(s.contains("notes.txt: not a run's file"), "{s}");
     assert!(s.contains("0007.json: "), "{s}");
     assert!(s.contains("0008.csv: no 0008.json"), "{s}");
@@ -530,4 +529,123 @@ fn the_runs_compared_give_the_frame_that_turns_most() {
     // the specimen has one deck: no such rows
     let (one, _) = &bridge_runs()[0];
     assert!(one.peak_rot_of_frames().is_none());
+}
+
+/// A run that failed on its energy closure ran to its end: the comparison gives the closure it
+/// reached, marked over its bound, and its residual; `—` only where there is no value.
+#[test]
+fn the_closure_of_a_run_failed_on_it_is_compared_over_its_bound() {
+    let text = short_bridge("0.004").replace("[solver]", "[solver]\nmax_closure = 1e-12");
+    let mut app = App::new_from_text(&text, &root().join("models/four-span.toml"));
+    let fx = app.start();
+    tui::execute_blocking(&mut app, fx);
+    let cur = app.current.as_ref().expect("a run");
+    assert!(
+        matches!(&cur.status, RunStatus::Failed(e) if run_list::is_inaccurate(e)),
+        "{}",
+        app.status
+    );
+    assert!(app.status.contains("energy closure"), "{}", app.status);
+    let closure = cur
+        .summary
+        .as_ref()
+        .expect("its summary")
+        .energy_closure_rel;
+    assert!(closure > 1e-12, "{closure}");
+    assert_eq!(app.runs.list.len(), 1);
+    assert!(matches!(app.runs.list[0].ended, Ended::Inaccurate(_)));
+    assert_eq!(app.runs.list[0].results.closure, Some(closure));
+    assert_eq!(app.runs.list[0].results.closure_over, Some(1e-12));
+    app.view = View::Runs;
+    let s = screen(&render(&mut app, 120, 40));
+    let sig = |v: f64| deckspin::tui::chart::fmt_sig(v * 100.0, 2);
+    let want = format!("{} % >{} %", sig(closure), sig(1e-12));
+    assert_eq!(sig(1e-12), "1.0e-10");
+    assert_eq!(compare_row(&s, "closure").join(" "), want, "{s}");
+    assert_ne!(compare_row(&s, "residual θ"), ["—"], "{s}");
+    assert_eq!(compare_row(&s, "status"), ["inexact"], "{s}");
+}
+
+/// A message about the overlay stays with no new event, in every view that shows runs, and
+/// goes when the overlay changes or in the studies view; it stays in the log.
+#[test]
+fn an_overlay_message_stays_until_the_overlay_changes_or_the_view_has_no_runs() {
+    let mut app = runs_app(Options::default());
+    app.runs.selected = 1;
+    update(&mut app, key(' '));
+    let said = "#2 overlaid on the charts and compared";
+    assert_eq!(app.status, said);
+    // no timer: frames and resizes without input leave it
+    for i in 0..50 {
+        update(&mut app, Msg::Resize(100 + i % 3, 30));
+        let s = screen(&render(&mut app, 100, 30));
+        assert!(s.contains(said), "frame {i}:\n{s}");
+    }
+    // the charts show the overlay: it stays
+    update(&mut app, code(KeyCode::Enter));
+    assert_eq!(app.view, View::Charts);
+    assert_eq!(app.status, said);
+    // the studies view has no runs: it goes
+    update(&mut app, code(KeyCode::Tab));
+    update(&mut app, code(KeyCode::Tab));
+    assert_eq!(app.view, View::Studies);
+    assert_eq!(app.status, "");
+    assert!(!screen(&render(&mut app, 100, 30)).contains(said));
+    assert!(app.messages.iter().any(|m| m.text == said), "in the log");
+    // said again, then the overlay changes (the run taken off): it goes
+    update(&mut app, key('#'));
+    app.runs.selected = 1;
+    update(&mut app, key(' '));
+    update(&mut app, key(' '));
+    assert_eq!(app.status, said);
+    app.runs.toggle_overlay(2).unwrap();
+    update(&mut app, Msg::Resize(100, 30));
+    assert_eq!(app.status, "");
+}
+
+/// "N runs reopened" is not wiped by the run that starts with the workbench: its start and
+/// its end are said after it.
+#[test]
+fn the_runs_reopened_are_still_said_when_the_first_run_ends() {
+    let model = scratch("reopened-said");
+    let mut app = App::new_from_path(&model, Options::default()).unwrap();
+    let fx = app.start();
+    run(&mut app, fx);
+    let mut app = App::new_from_path(&model, Options::default()).unwrap();
+    assert!(app.status.contains("1 run reopened"), "{}", app.status);
+    let fx = app.start();
+    assert!(
+        app.status.contains("1 run reopened") && app.status.ends_with("#2 started"),
+        "{}",
+        app.status
+    );
+    run(&mut app, fx);
+    assert!(
+        app.status
+            .starts_with("loaded four-span.toml · 1 run reopened")
+            && app.status.contains(" · #2 finished at t = 2.000 s"),
+        "{}",
+        app.status
+    );
+    // on screen whole at 80×24 (the status area takes two rows), and after any number of frames
+    for _ in 0..20 {
+        update(&mut app, Msg::Resize(80, 24));
+    }
+    let s = screen(&render(&mut app, 80, 24));
+    let flat: String = s.split_whitespace().collect::<Vec<_>>().join(" ");
+    assert!(flat.contains("1 run reopened"), "{s}");
+    assert!(flat.contains("#2 finished at t = 2.000 s"), "{s}");
+    // the log has each message once, without the ones before it
+    let texts: Vec<&str> = app.messages.iter().map(|m| m.text.as_str()).collect();
+    assert!(texts.contains(&"#2 started"), "{texts:?}");
+    assert!(
+        texts.iter().any(|t| t.starts_with("#2 finished")),
+        "{texts:?}"
+    );
+    // the next run is the user's: it is said alone
+    let fx = act(&mut app, Action::Rerun);
+    assert_eq!(app.status, "#3 started");
+    run(&mut app, fx);
+    assert!(app.status.starts_with("#3 finished"), "{}", app.status);
+    let _ = std::fs::remove_dir_all(model.parent().unwrap().parent().unwrap());
 }

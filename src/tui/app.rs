@@ -26,6 +26,20 @@ pub enum View {
     Runs,
 }
 
+/// What the status message is about: it stays until a newer one, or until that changes.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub enum About {
+    /// Stays until a newer message.
+    #[default]
+    Anything,
+    /// Run `id` started or ended; `lead`: what was said before it (a reload, a merge, the runs
+    /// reopened), kept in front of it until the run ends.
+    Run { id: u64, lead: String },
+    /// The runs overlaid and the baseline, as [`App::overlay_key`] gives them: gone when they
+    /// change, or in a view without runs (the studies).
+    Overlay(String),
+}
+
 #[derive(Clone, Debug, PartialEq)]
 pub enum Confirm {
     /// Values changed both on disk and in the workbench (the first is asked about; the draft
@@ -195,6 +209,7 @@ pub struct App {
     pub overlay: bool,
     pub status: String,
     pub status_kind: StatusKind,
+    pub status_about: About,
     /// The file on disk does not load (the last good model stays on screen).
     pub load_error: Option<LoadError>,
     pub size: (u16, u16),
@@ -255,6 +270,7 @@ impl App {
             overlay: true,
             status: String::new(),
             status_kind: StatusKind::Info,
+            status_about: About::Anything,
             load_error: None,
             size: (80, 24),
             quit: false,
@@ -312,10 +328,15 @@ impl App {
                 .runs
                 .baseline
                 .map_or(String::new(), |b| format!(", baseline #{b}"));
+            // the folder beside the model, by its name
+            let n = self.runs.list.len();
             notes.push(format!(
-                "{} runs reopened from {}{base}",
-                self.runs.list.len(),
-                dir.display()
+                "{n} run{} reopened from {}/{base}",
+                if n == 1 { "" } else { "s" },
+                dir.file_name().map_or_else(
+                    || dir.display().to_string(),
+                    |f| f.to_string_lossy().into_owned()
+                )
             ));
         }
         let kind = if loaded.skipped.is_empty() {
@@ -329,8 +350,8 @@ impl App {
             StatusKind::Warn
         };
         if !notes.is_empty() {
-            let s = format!("{} · {}", self.status, notes.join(" · "));
-            self.set_status(kind, s);
+            let lead = self.status.clone();
+            self.say(kind, &lead, notes.join(" · "), About::Anything);
         }
     }
 
@@ -351,10 +372,60 @@ impl App {
             .map_or_else(|| self.file_name(), |s| s.title.clone())
     }
 
+    /// A status message, in the log too; it stays until a newer one.
     pub fn set_status(&mut self, kind: StatusKind, s: impl Into<String>) {
-        self.status = s.into();
+        self.say(kind, "", s.into(), About::Anything);
+    }
+
+    /// A status message `text` about `about` (gone when that changes), after `lead` (which
+    /// the log has already).
+    pub fn say(&mut self, kind: StatusKind, lead: &str, text: String, about: About) {
+        super::messages::push(&mut self.messages, kind, &text);
+        self.status = if lead.is_empty() {
+            text
+        } else {
+            format!("{lead} · {text}")
+        };
         self.status_kind = kind;
-        super::messages::push(&mut self.messages, kind, &self.status);
+        self.status_about = about;
+    }
+
+    /// A message about the runs overlaid and the baseline.
+    pub fn say_overlay(&mut self, kind: StatusKind, text: String) {
+        let key = self.overlay_key();
+        self.say(kind, "", text, About::Overlay(key));
+    }
+
+    /// The runs overlaid and the baseline, and whether they are shown.
+    pub fn overlay_key(&self) -> String {
+        let on: Vec<String> = (self.runs.list.iter())
+            .filter(|e| e.overlay)
+            .map(|e| e.number.to_string())
+            .collect();
+        format!("{:?} {} {}", self.runs.baseline, on.join(","), self.overlay)
+    }
+
+    /// Drops a message whose state has changed or that the view shown has nothing to do with
+    /// (it stays in the log).
+    pub fn drop_stale_status(&mut self) {
+        let stale = match &self.status_about {
+            About::Overlay(key) => self.view == View::Studies || *key != self.overlay_key(),
+            _ => false,
+        };
+        if stale {
+            self.status.clear();
+            self.status_kind = StatusKind::Info;
+            self.status_about = About::Anything;
+        }
+    }
+
+    /// What a run's messages are said after: the message shown when it is about nothing in
+    /// particular (a reload, a merge, the runs reopened), kept in front of a run's start.
+    pub fn status_lead(&self) -> String {
+        match &self.status_about {
+            About::Anything => self.status.clone(),
+            _ => String::new(),
+        }
     }
 
     pub fn too_small(&self) -> bool {

@@ -67,7 +67,8 @@ impl Dim {
             Dim::Count => "#".into(),
             Dim::Choice(c) => c.into(),
             Dim::Methods => crate::methods::Method::names("|"),
-            Dim::State => "state".into(),
+            // an absolute tolerance on each state component, in that component's unit
+            Dim::State => "mixed".into(),
             Dim::Plain => String::new(),
         }
     }

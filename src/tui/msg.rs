@@ -18,8 +18,16 @@ use std::sync::Arc;
 #[derive(Debug)]
 pub enum RunOutcome {
     Finished(Box<RunOutput>),
-    Cancelled { t: f64 },
+    Cancelled {
+        t: f64,
+    },
     Failed(Arc<RunFailure>),
+    /// Finished outside its accuracy bounds (`SolverError::Inaccurate`): failed, its output
+    /// kept (the closure it reached is compared).
+    Inaccurate {
+        output: Box<RunOutput>,
+        failure: Arc<RunFailure>,
+    },
 }
 
 /// How a study ended: its table (rows not run marked so when cancelled), or why none ran.

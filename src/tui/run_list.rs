@@ -69,8 +69,12 @@ pub struct Results {
     pub stick_time: Option<f64>,
     /// Smallest gap of all contacts, m.
     pub min_gap: Option<f64>,
-    /// The engine's relative energy closure of a finished run.
+    /// The engine's relative energy closure of a run that ran to its end (finished, or
+    /// failed outside its accuracy bounds).
     pub closure: Option<f64>,
+    /// The bound `solver.max_closure` that closure broke (None: within it, or not judged).
+    #[serde(default)]
+    pub closure_over: Option<f64>,
     /// Simulated time reached, s.
     pub t_sim: f64,
     pub events: usize,
@@ -84,6 +88,18 @@ impl Results {
     /// The results of a run so far.
     pub fn of(r: &RunData) -> Results {
         let finished = r.status == RunStatus::Finished;
+        // a run outside its accuracy bounds ran to its end: its summary is whole
+        let bounds = match &r.status {
+            RunStatus::Failed(e) => match e.as_ref() {
+                super::run_data::RunFailure::Solver(crate::run::SolverError::Inaccurate {
+                    bounds,
+                    ..
+                }) => Some(bounds.as_slice()),
+                _ => None,
+            },
+            _ => None,
+        };
+        let ended = finished || bounds.is_some();
         let (peak, at) = r.peak_rot();
         let has_rot = r.rot.is_some();
         Results {
@@ -92,7 +108,7 @@ impl Results {
             peak_rot: has_rot.then_some(peak),
             peak_rot_t: has_rot.then_some(at),
             peak_frames: r.peak_rot_of_frames(),
-            residual_rot: (finished && has_rot).then(|| r.residual_rot()),
+            residual_rot: (ended && has_rot).then(|| r.residual_rot()),
             peak_xy: r.xy.iter().map(|&k| finite(r.q_peak(k))).collect(),
             impacts: r.total_impacts(),
             stick_time: (!r.contact_names.is_empty()).then(|| r.total_stick_time()),
@@ -100,8 +116,11 @@ impl Results {
             closure: r
                 .summary
                 .as_ref()
-                .filter(|_| finished)
+                .filter(|_| ended)
                 .and_then(|s| finite(s.energy_closure_rel)),
+            closure_over: (bounds.unwrap_or_default().iter())
+                .find(|b| b.setting == "max_closure")
+                .map(|b| b.limit),
             t_sim: r.t_sim,
             events: r.events.len(),
         }

@@ -162,6 +162,11 @@ pub(super) fn split_unit(t: &str) -> (&str, &str) {
     }
 }
 
+/// Whether what is being typed carries a unit of its own ("20 mm", not "20" nor "1e-4").
+pub fn carries_unit(typed: &str) -> bool {
+    !split_unit(typed.trim()).1.is_empty()
+}
+
 /// The factor from the `typed` unit to the field's unit (1 without a unit).
 pub(super) fn unit_factor(typed: &str, dim: Dim, sys: UnitSystem) -> Result<f64, String> {
     let own = dim.unit(sys);

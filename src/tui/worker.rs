@@ -94,6 +94,10 @@ fn outcome(r: Run, full: Option<f64>) -> RunOutcome {
     match r.stop {
         Stop::Finished => RunOutcome::Finished(Box::new(r.output)),
         Stop::Cancelled { t } => RunOutcome::Cancelled { t },
+        Stop::Failed(e @ crate::run::SolverError::Inaccurate { .. }) => RunOutcome::Inaccurate {
+            output: Box::new(r.output),
+            failure: Arc::new(RunFailure::Solver(e)),
+        },
         Stop::Failed(e) => RunOutcome::Failed(Arc::new(RunFailure::Solver(e))),
     }
 }

@@ -141,9 +141,15 @@ pub(super) fn rows(cols: &[Column], len: &str) -> Vec<(String, Vec<String>)> {
     defs.push((
         "closure".into(),
         Box::new(|c: &Column| {
-            c.results.closure.map_or("—".into(), |v| {
-                format!("{} %", chart::fmt_sig(v * 100.0, 2))
-            })
+            let Some(v) = c.results.closure else {
+                return "—".into();
+            };
+            let v = format!("{} %", chart::fmt_sig(v * 100.0, 2));
+            // over its bound (the run failed on it): the bound after `>`
+            match c.results.closure_over {
+                Some(max) => format!("{v} >{} %", chart::fmt_sig(max * 100.0, 2)),
+                None => v,
+            }
         }),
     ));
     defs.push((

@@ -123,7 +123,14 @@ fn list_lines<'a>(app: &App, area: Rect, th: &Theme) -> Vec<Line<'a>> {
                 };
                 let label = short_label(f, label_w, th);
                 let unit = unit_shown(f, th);
-                let unit = if count(&unit) > unit_w {
+                // a value typed with its own unit ("20 mm_") is not followed by the field's
+                let own_unit = match &app.mode {
+                    Mode::Editing { buffer, .. } if editing => {
+                        crate::tui::units::carries_unit(buffer)
+                    }
+                    _ => false,
+                };
+                let unit = if own_unit || count(&unit) > unit_w {
                     String::new()
                 } else {
                     unit
@@ -206,7 +213,12 @@ fn draw_field_detail(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
         .unwrap_or_else(|| form_system(app));
     let unit = match f.unit.as_str() {
         "" | "–" | "#" => String::new(),
-        "state" => ", in the unit of each state component".into(),
+        "mixed" => format!(
+            ", absolute, each state component in its own unit: {} (displacements), rad \
+             (rotations), {} and rad/s (velocities)",
+            sys.unit(crate::units::Quantity::Length),
+            sys.unit(crate::units::Quantity::Velocity)
+        ),
         u if u.contains('|') => format!(": {}", u.replace('|', ", ")),
         u => format!(", {u} ({sys})"),
     };

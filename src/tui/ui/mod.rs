@@ -53,10 +53,11 @@ pub fn draw_screen(frame: &mut Frame, app: &App, cache: &mut Cache) {
         status::draw_too_small(frame, area, &th);
         return;
     }
+    let status_h = status::status_height(app, area.width, area.height, &th);
     let [header, mut body, status, hints] = Layout::vertical([
         Constraint::Length(1),
         Constraint::Min(0),
-        Constraint::Length(1),
+        Constraint::Length(status_h),
         Constraint::Length(1),
     ])
     .areas(area);

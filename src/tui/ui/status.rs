@@ -8,7 +8,7 @@ use ratatui::Frame;
 use ratatui::layout::{Alignment, Constraint, Layout, Rect};
 use ratatui::style::Color;
 use ratatui::text::{Line, Span};
-use ratatui::widgets::{Clear, Paragraph, Wrap};
+use ratatui::widgets::{Clear, Paragraph};
 
 /// Draws the "terminal too small" screen.
 pub(super) fn draw_too_small(frame: &mut Frame, area: Rect, th: &Theme) {
@@ -24,22 +24,47 @@ pub(super) fn draw_too_small(frame: &mut Frame, area: Rect, th: &Theme) {
     frame.render_widget(Paragraph::new(lines).alignment(Alignment::Center), r);
 }
 
-/// Draws the status line and the watch mode.
-pub(super) fn draw_status(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
+/// The watch mode as shown, and the columns it takes at the right of the status area.
+fn watch_text(app: &App, width: u16) -> (String, u16) {
     let wm = if app.watch_mode.is_empty() {
         String::new()
     } else {
         format!("watch: {}", app.watch_mode)
     };
-    let ww = (wm.chars().count() as u16 + 1).min(area.width / 3);
+    let ww = (wm.chars().count() as u16 + 1).min(width / 3);
+    (wm, ww)
+}
+
+/// The status message in lines of the status area's width, at most `max` (the last cut with
+/// `…` when it needs more: the log `M` has it whole).
+fn status_lines(app: &App, width: u16, max: usize, th: &Theme) -> Vec<String> {
+    let (_, ww) = watch_text(app, width);
+    let room = width.saturating_sub(ww).max(1) as usize;
+    let mut lines = crate::tui::messages::wrap(&th.text(&app.status), room);
+    if lines.len() > max {
+        let rest = lines[max - 1..].join(" ");
+        lines.truncate(max - 1);
+        lines.push(cut_words(&rest, room, &th.text("…")));
+    }
+    lines
+}
+
+/// The rows the status area takes at `width` in a screen `height` rows tall: as many as the
+/// message needs, up to 2 (3 from 30 rows).
+pub(super) fn status_height(app: &App, width: u16, height: u16, th: &Theme) -> u16 {
+    let max = if height >= 30 { 3 } else { 2 };
+    status_lines(app, width, max, th).len().clamp(1, max) as u16
+}
+
+/// Draws the status message (wrapped) and the watch mode.
+pub(super) fn draw_status(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
+    let (wm, ww) = watch_text(app, area.width);
     let [l, r] = Layout::horizontal([Constraint::Min(0), Constraint::Length(ww)]).areas(area);
-    frame.render_widget(
-        Paragraph::new(Line::styled(
-            cut_words(&th.text(&app.status), l.width as usize, &th.text("…")),
-            th.status(app.status_kind),
-        )),
-        l,
-    );
+    let lines: Vec<Line> = status_lines(app, area.width, area.height.max(1) as usize, th)
+        .into_iter()
+        .map(|s| Line::styled(s, th.status(app.status_kind)))
+        .collect();
+    frame.render_widget(Paragraph::new(lines), l);
     frame.render_widget(
         Paragraph::new(Line::styled(wm, th.dim())).alignment(Alignment::Right),
         r,
@@ -247,36 +272,74 @@ fn question(app: &App, c: &Confirm) -> (Vec<String>, Vec<(&'static str, &'static
     }
 }
 
-/// Draws the pending question.
+/// The keys of a question laid out in rows of at most `room` characters, whole items only.
+fn key_rows(keys: &[(&str, &str)], room: usize) -> Vec<Vec<(String, String)>> {
+    let mut rows: Vec<Vec<(String, String)>> = vec![Vec::new()];
+    let mut used = 0;
+    for (k, what) in keys {
+        // " k " then " what", three spaces between items
+        let w = k.chars().count() + 2 + 1 + what.chars().count();
+        let row = rows.last_mut().expect("a row");
+        if !row.is_empty() && used + 3 + w > room {
+            rows.push(Vec::new());
+            used = 0;
+        }
+        let row = rows.last_mut().expect("a row");
+        used += if row.is_empty() { w } else { 3 + w };
+        row.push((k.to_string(), what.to_string()));
+    }
+    rows
+}
+
+/// Draws the pending question: its lines wrapped at words, whole, in a box as wide as the
+/// screen allows (up to 100 columns) and as tall as they need.
 pub(super) fn draw_confirm(frame: &mut Frame, area: Rect, app: &App, c: &Confirm, th: &Theme) {
     let (q, keys) = question(app, c);
-    let q: Vec<String> = q.iter().map(|l| th.text(l)).collect();
-    let w = (area.width.saturating_sub(8)).min(64);
-    // each line, wrapped to the inside width, then a blank line, the keys and the borders
-    let inside = w.saturating_sub(2).max(1) as usize;
-    let rows: usize = q
-        .iter()
-        .map(|l| l.chars().count().div_ceil(inside).max(1))
-        .sum();
-    let rect = centered(area, w, rows as u16 + 4);
+    let w = area.width.saturating_sub(4).min(100);
+    let inside = w.saturating_sub(2).max(10) as usize;
+    let mut text: Vec<String> = (q.iter())
+        .flat_map(|l| crate::tui::messages::wrap(&th.text(l), inside))
+        .collect();
+    // no wider than the longest line needs
+    let longest = text.iter().map(|l| l.chars().count()).max().unwrap_or(0);
+    let keys: Vec<(String, String)> = (keys.iter())
+        .map(|(k, what)| (th.text(k), th.text(what)))
+        .collect();
+    let key_refs: Vec<(&str, &str)> = keys.iter().map(|(k, w)| (k.as_str(), w.as_str())).collect();
+    let rows = key_rows(&key_refs, inside);
+    let keys_w = (rows.iter())
+        .map(|r| {
+            (r.iter())
+                .map(|(k, what)| k.chars().count() + 3 + what.chars().count())
+                .sum::<usize>()
+                + 3 * r.len().saturating_sub(1)
+        })
+        .max()
+        .unwrap_or(0);
+    let w = (longest.max(keys_w).max(20) as u16 + 2).min(w);
+    text.push(String::new());
+    let h = text.len() + rows.len() + 2;
+    let rect = centered(area, w, h as u16);
     let block = th
         .block(" question ")
         .border_style(th.status(StatusKind::Warn));
     let inner = block.inner(rect);
     frame.render_widget(Clear, rect);
     frame.render_widget(block, rect);
-    let mut lines: Vec<Line> = q.into_iter().map(Line::from).collect();
-    let mut row = Vec::new();
-    for (i, (k, what)) in keys.into_iter().enumerate() {
-        if i > 0 {
-            row.push(Span::raw("   "));
+    let mut lines: Vec<Line> = text.into_iter().map(Line::from).collect();
+    for r in rows {
+        let mut row = Vec::new();
+        for (i, (k, what)) in r.into_iter().enumerate() {
+            if i > 0 {
+                row.push(Span::raw("   "));
+            }
+            row.push(Span::styled(
+                format!(" {k} "),
+                th.selected().patch(th.bold()),
+            ));
+            row.push(Span::raw(format!(" {what}")));
         }
-        row.push(Span::styled(
-            format!(" {k} "),
-            th.selected().patch(th.bold()),
-        ));
-        row.push(Span::raw(format!(" {what}")));
+        lines.push(Line::from(row));
     }
-    lines.extend([Line::from(""), Line::from(row)]);
-    frame.render_widget(Paragraph::new(lines).wrap(Wrap { trim: true }), inner);
+    frame.render_widget(Paragraph::new(lines), inner);
 }

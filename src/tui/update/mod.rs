@@ -26,8 +26,15 @@ pub fn list_index(app: &App) -> usize {
     results::index(app)
 }
 
-/// Handles one message.
+/// Handles one message; then a status message whose state has changed goes (it stays in
+/// the log `M`).
 pub fn update(app: &mut App, msg: Msg) -> Vec<Effect> {
+    let fx = handle(app, msg);
+    app.drop_stale_status();
+    fx
+}
+
+fn handle(app: &mut App, msg: Msg) -> Vec<Effect> {
     match msg {
         Msg::Key(ev) => on_key(app, ev),
         Msg::Action(a) => on_action(app, a),

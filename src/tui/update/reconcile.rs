@@ -84,7 +84,7 @@ pub(super) fn merge_outside(app: &mut App, theirs: String) -> Vec<Effect> {
     app.load_error = None;
     set_scene(app);
     app.rebuild_form();
-    let mut note = describe(&merged.taken, &merged.failed);
+    let mut note = describe(&merged.taken, &merged.failed, !conflicts.is_empty());
     if let Some((path, _)) = &before.typing
         && merged.taken.contains(path)
     {
@@ -106,9 +106,12 @@ pub(super) fn merge_outside(app: &mut App, theirs: String) -> Vec<Effect> {
     finish(app, &note)
 }
 
-/// "merged a, b from disk into your edits" (and what could not be kept).
-fn describe(taken: &[String], failed: &[(String, String)]) -> String {
-    let mut s = if taken.is_empty() {
+/// "merged a, b from disk into your edits" (and what could not be kept); nothing said of the
+/// values taken when none was and `asking` (the question about the conflicts says it all).
+fn describe(taken: &[String], failed: &[(String, String)], asking: bool) -> String {
+    let mut s = if taken.is_empty() && asking {
+        String::new()
+    } else if taken.is_empty() {
         "the change on disk needed no merge".to_string()
     } else {
         let mut list = (taken.iter().take(3))
@@ -121,8 +124,11 @@ fn describe(taken: &[String], failed: &[(String, String)]) -> String {
         format!("merged {list} from disk into your edits")
     };
     for (p, e) in failed {
+        if !s.is_empty() {
+            s.push_str("; ");
+        }
         s.push_str(&format!(
-            "; your edit of {} could not be kept ({e}): the disk's stays",
+            "your edit of {} could not be kept ({e}): the disk's stays",
             form::label_of(p)
         ));
     }

@@ -2,7 +2,7 @@
 
 use super::runs::keep;
 use crate::output::{EventKind, EventRecord, Sample};
-use crate::tui::app::{App, StatusKind};
+use crate::tui::app::{About, App, StatusKind};
 use crate::tui::msg::{Effect, RunOutcome};
 use crate::tui::run_data::{RunData, RunStatus};
 
@@ -32,7 +32,16 @@ pub(super) fn cancel(app: &mut App) -> Vec<Effect> {
         Some(cur) if cur.status == RunStatus::Running => {
             cur.status = RunStatus::Cancelling;
             let id = cur.id;
-            app.set_status(StatusKind::Info, format!("cancelling #{id}…"));
+            // about the run: its end replaces it
+            let lead = match &app.status_about {
+                About::Run { id: r, lead } if *r == id => lead.clone(),
+                _ => String::new(),
+            };
+            let about = About::Run {
+                id,
+                lead: lead.clone(),
+            };
+            app.say(StatusKind::Info, &lead, format!("cancelling #{id}…"), about);
             vec![Effect::CancelRun { id }]
         }
         _ => {
@@ -96,7 +105,17 @@ pub(super) fn start_run(app: &mut App) -> Vec<Effect> {
     } else {
         format!("#{id}")
     };
-    app.set_status(StatusKind::Info, format!("{label} started"));
+    // what was said before (a reload, a merge, the runs reopened) stays in front of the run
+    let lead = app.status_lead();
+    app.say(
+        StatusKind::Info,
+        &lead,
+        format!("{label} started"),
+        About::Run {
+            id,
+            lead: lead.clone(),
+        },
+    );
     app.current = Some(RunData::for_scene(id, label, &scene));
     let end = app.t_end();
     if let Some((a, b)) = app.zoom
@@ -119,7 +138,17 @@ pub(super) fn on_done(app: &mut App, run: u64, outcome: RunOutcome) -> Vec<Effec
         return Vec::new();
     };
     let label = cur.label.clone();
-    match outcome {
+    // the message the run started after, or one said since (a merge or a reload rerunning)
+    let lead = match &app.status_about {
+        About::Run { id, lead } if *id == run => lead.clone(),
+        About::Run { .. } | About::Overlay(_) => String::new(),
+        About::Anything => app.status.clone(),
+    };
+    let about = About::Run {
+        id: run,
+        lead: lead.clone(),
+    };
+    let (kind, said) = match outcome {
         RunOutcome::Finished(out) => {
             cur.finish(*out);
             let (imp, st, sl, re) = (
@@ -133,29 +162,30 @@ pub(super) fn on_done(app: &mut App, run: u64, outcome: RunOutcome) -> Vec<Effec
                 k => format!(", {k} key failures"),
             };
             let t = cur.t_sim;
-            // a run started by a reload keeps saying so
-            let prefix = if app.status.starts_with("reloaded") {
-                format!("reloaded {} · ", app.file_name())
-            } else {
-                String::new()
-            };
-            app.set_status(
+            (
                 StatusKind::Ok,
-                format!("{prefix}{label} finished at t = {t:.3} s: {imp} impacts, {st} sticks, {sl} slips, {re} releases{keys}"),
-            );
+                format!(
+                    "{label} finished at t = {t:.3} s: {imp} impacts, {st} sticks, {sl} slips, {re} releases{keys}"
+                ),
+            )
         }
         RunOutcome::Cancelled { t } => {
             cur.status = RunStatus::Cancelled;
-            app.set_status(
+            (
                 StatusKind::Warn,
                 format!("{label} cancelled at t = {t:.3} s"),
-            );
+            )
+        }
+        RunOutcome::Inaccurate { output, failure } => {
+            cur.finish(*output);
+            cur.status = RunStatus::Failed(failure.clone());
+            (StatusKind::Error, format!("{label} failed: {failure}"))
         }
         RunOutcome::Failed(e) => {
             cur.status = RunStatus::Failed(e.clone());
-            app.set_status(StatusKind::Error, format!("{label} failed: {e}"));
+            (StatusKind::Error, format!("{label} failed: {e}"))
         }
-    }
+    };
     app.generation += 1;
     let (fx, note) = match app.current.take() {
         Some(cur) => {
@@ -165,10 +195,10 @@ pub(super) fn on_done(app: &mut App, run: u64, outcome: RunOutcome) -> Vec<Effec
         }
         None => (Vec::new(), None),
     };
-    if let Some(note) = note {
-        let s = format!("{} · {note}", app.status);
-        let kind = app.status_kind;
-        app.set_status(kind, s);
-    }
+    let said = match note {
+        Some(note) => format!("{said} · {note}"),
+        None => said,
+    };
+    app.say(kind, &lead, said, about);
     fx
 }

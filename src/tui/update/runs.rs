@@ -100,7 +100,7 @@ pub(super) fn runs_action(app: &mut App, a: Action) -> Vec<Effect> {
                     } else {
                         format!("#{n} taken off the overlay")
                     };
-                    app.set_status(StatusKind::Info, s);
+                    app.say_overlay(StatusKind::Info, s);
                 }
                 Err(e) => app.set_status(StatusKind::Warn, e),
             }
@@ -116,7 +116,7 @@ pub(super) fn runs_action(app: &mut App, a: Action) -> Vec<Effect> {
             }
             app.runs.pin(n);
             app.generation += 1;
-            app.set_status(
+            app.say_overlay(
                 StatusKind::Ok,
                 format!("#{n} is the baseline: diffs, overlay and comparison are against it"),
             );

@@ -37,7 +37,7 @@ pub(super) fn toggle(app: &mut App, a: Action) {
             app.overlay = !app.overlay;
             app.generation += 1;
             let m = if app.overlay { "shown" } else { "hidden" };
-            app.set_status(StatusKind::Info, format!("overlaid runs {m}"));
+            app.say_overlay(StatusKind::Info, format!("overlaid runs {m}"));
         }
         _ => {}
     }
