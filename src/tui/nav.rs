@@ -62,6 +62,21 @@ pub fn length_unit(app: &App) -> &'static str {
     sys.unit(Quantity::Length)
 }
 
+/// The model's units of length, force and energy for the time charts (a scene file's force
+/// and energy: none, its author's).
+pub fn units(app: &App) -> super::chart_prefs::Units {
+    let force = force_unit(app);
+    let energy = match &app.scene {
+        Some(s) if s.bridge => s.units.unit(Quantity::Energy),
+        _ => "",
+    };
+    super::chart_prefs::Units {
+        length: length_unit(app),
+        force,
+        energy,
+    }
+}
+
 /// Who an event is about: its contact, or for a key failure its element.
 pub fn subject(run: &RunData, e: &EventRecord) -> String {
     let names = if e.kind == EventKind::KeyFailure {
