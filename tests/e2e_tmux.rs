@@ -207,14 +207,14 @@ fn workbench_in_tmux() {
     // jump from event to event, open the event list, go to an event in it, close it
     tmux.keys(&["Home"]);
     tmux.text("]");
-    tmux.wait("the first event", 5, |s| s.contains("event 1/"));
+    tmux.wait("the first event", 5, |s| first_event(s));
     tmux.text("]");
-    tmux.wait("the second event", 5, |s| s.contains("event 2/"));
+    tmux.wait("the second event", 5, |s| later_event(s).is_some());
     tmux.text("E");
     tmux.wait("the event list", 5, |s| s.contains("t [s] contact"));
     tmux.keys(&["Down", "Enter"]);
     tmux.wait("the cursor on the selected event", 5, |s| {
-        s.contains("event 3/") || s.contains("event 2/")
+        later_event(s).is_some()
     });
     tmux.text("E");
     tmux.wait("the side panels back", 5, |s| s.contains("plan ×"));
@@ -616,17 +616,13 @@ fn a_whole_session_edit_run_pin_compare_study_suspend_quit() {
     // from event to event
     tmux.keys(&["Home"]);
     tmux.text("]");
-    tmux.wait("the first event", 5, |s| s.contains("event 1/"));
+    tmux.wait("the first event", 5, |s| first_event(s));
     tmux.text("]");
-    let s = tmux.wait("the second event", 5, |s| s.contains("event 2/"));
-    let t2 = s
-        .lines()
-        .find(|l| l.contains("event 2/"))
-        .unwrap()
-        .to_string();
+    let s = tmux.wait("the second event", 5, |s| later_event(s).is_some());
+    let t2 = later_event(&s).unwrap();
     assert!(t2.contains("at t = "), "{s}");
     tmux.text("[");
-    tmux.wait("back to the first event", 5, |s| s.contains("event 1/"));
+    tmux.wait("back to the first event", 5, |s| first_event(s));
 
     // the studies view: the work-precision study, run and drawn
     tmux.keys(&["Tab", "Tab"]);
@@ -865,4 +861,22 @@ fn the_message_log_opens_and_closes_in_the_terminal() {
     tmux.keys(&["q"]);
     tmux.wait("the shell", 10, |s| s.contains("stty-done"));
     let _ = std::fs::remove_dir_all(&d);
+}
+
+/// The status line after a jump to the first instant with events: `event 1/N …`, or
+/// `events 1–2/N …` when it holds several.
+fn first_event(s: &str) -> bool {
+    s.contains("event 1/") || s.contains("events 1–")
+}
+
+/// The status line after a jump to a later instant: `event k/N at t = …` (or `events k–m/N`)
+/// with k above 1.
+fn later_event(s: &str) -> Option<String> {
+    s.lines()
+        .find(|l| {
+            (l.contains("event ") || l.contains("events "))
+                && l.contains(" at t = ")
+                && !first_event(l)
+        })
+        .map(str::to_string)
 }

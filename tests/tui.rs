@@ -284,6 +284,13 @@ fn every_binding_is_handled_in_its_context() {
                     act(&mut app, Action::RunRename);
                 }
                 Ctx::Events => app.events_open = true,
+                Ctx::ChartPick => {
+                    app.mode = Mode::ChartPick {
+                        chart: 0,
+                        query: String::new(),
+                        selected: 0,
+                    }
+                }
                 Ctx::Charts | Ctx::Global => {}
             }
             let ev = match *k {

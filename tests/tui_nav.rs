@@ -118,14 +118,20 @@ fn jumps_visit_every_event_instant_once_in_order() {
         }
         assert!(!app.follow);
         visited.push(app.cursor_time());
-        // the status line says when, which contact, what
+        // the status line says which events (numbered as the event list numbers them),
+        // when, which contact, what
         let e = run.events.iter().find(|e| e.t == app.cursor).unwrap();
         let name = &run.contact_names[e.contact];
+        let before = run.events.iter().filter(|x| x.t < e.t).count();
+        let here = run.events.iter().filter(|x| x.t == e.t).count();
+        let which = match here {
+            1 => format!("event {}", before + 1),
+            n => format!("events {}–{}", before + 1, before + n),
+        };
         assert!(
             app.status.starts_with(&format!(
-                "event {}/{} at t = {} s: ",
-                visited.len(),
-                times.len(),
+                "{which}/{} at t = {} s: ",
+                run.events.len(),
                 nav::fmt_time(e.t)
             )) && app.status.contains(&format!("{name} {}", e.kind.label())),
             "{}",

@@ -98,6 +98,13 @@ pub enum Mode {
         files: Vec<PathBuf>,
         selected: usize,
     },
+    /// Choosing the series of time chart `chart` (0–2): the series whose name holds `query`,
+    /// the `selected` one of them.
+    ChartPick {
+        chart: usize,
+        query: String,
+        selected: usize,
+    },
 }
 
 pub use super::messages::StatusKind;
@@ -239,6 +246,8 @@ pub struct App {
     /// Every status message said (`tui::messages`), and the first line of the log shown.
     pub messages: Vec<super::messages::Said>,
     pub log_scroll: usize,
+    /// What the time charts show (series, y zoom, log scale, θ's unit), remembered per model.
+    pub charts: super::chart_prefs::ChartPrefs,
 }
 
 impl App {
@@ -286,6 +295,7 @@ impl App {
             typing_before_quit: None,
             messages: Vec::new(),
             log_scroll: 0,
+            charts: Default::default(),
         };
         match form::validate(text, path) {
             Ok(scene) => {
@@ -323,6 +333,10 @@ impl App {
         self.runs_older = loaded.older;
         self.next_run = self.next_run.max(self.runs.last_number() + 1);
         let mut notes = Vec::new();
+        let (charts, trouble) = super::chart_prefs::load(&self.path);
+        self.charts = charts;
+        let warn = trouble.is_some();
+        notes.extend(trouble);
         if !self.runs.list.is_empty() {
             let base = self
                 .runs
@@ -340,7 +354,11 @@ impl App {
             ));
         }
         let kind = if loaded.skipped.is_empty() {
-            self.status_kind
+            if warn {
+                StatusKind::Warn
+            } else {
+                self.status_kind
+            }
         } else {
             notes.push(format!(
                 "skipped in {}: {}",
@@ -479,6 +497,7 @@ impl App {
             Mode::Messages => Some(Ctx::Messages),
             Mode::Pick { .. } => Some(Ctx::Pick),
             Mode::Naming { .. } => Some(Ctx::Naming),
+            Mode::ChartPick { .. } => Some(Ctx::ChartPick),
         };
         let mut ctxs = keymap::active(mode, self.view_ctx());
         if mode.is_none() && self.view == View::Charts && self.events_open {

@@ -197,6 +197,9 @@ fn execute(app: &mut App, host: &mut impl Host, e: Effect) -> Vec<Msg> {
         Effect::StoreRuns { dir, jobs, remove } => host.in_order(Box::new(move || {
             Msg::RunsStored(run_store::store(&dir, &jobs, &remove))
         })),
+        Effect::StoreCharts { path, text } => host.in_order(Box::new(move || {
+            Msg::ChartsStored(super::chart_prefs::store(&path, &text))
+        })),
         Effect::StartResult { id, spec } => host.start_result(id, *spec),
         Effect::CancelResult { id } => {
             host.cancel_result(id);

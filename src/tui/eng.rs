@@ -139,6 +139,22 @@ impl Scale {
         Scale { e, decimals, unit }
     }
 
+    /// The scale of values in a unit that keeps no prefix and no exponent (θ in `mrad` or
+    /// `°`): [`SIG`] significant digits of `max_abs`, at most 6 decimals.
+    pub fn fixed(max_abs: f64, unit: &str) -> Scale {
+        let decimals = if max_abs.is_finite() && max_abs > 0.0 {
+            let int_digits = max_abs.log10().floor() as i32 + 1;
+            (SIG as i32 - int_digits).clamp(0, 6) as usize
+        } else {
+            SIG - 1
+        };
+        Scale {
+            e: 0,
+            decimals,
+            unit: unit.to_string(),
+        }
+    }
+
     /// `v` in this scale, without its unit.
     pub fn fmt(&self, v: f64) -> String {
         if !v.is_finite() {
@@ -186,5 +202,8 @@ mod tests {
         );
         assert_eq!(Scale::new(2000.0, "kN", false).unit, "MN");
         assert_eq!(Scale::new(2000.0, "kN/m", false).unit, "1e3 kN/m");
+        let s = Scale::fixed(0.01406, "°");
+        assert_eq!((s.unit.as_str(), s.fmt(-0.01406)), ("°", "-0.01406".into()));
+        assert_eq!(Scale::fixed(2.8134, "mrad").fmt(2.8134), "2.813");
     }
 }

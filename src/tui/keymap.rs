@@ -121,6 +121,24 @@ pub enum Action {
     ModelDown,
     ModelOpen,
     ModelClose,
+    // the time charts: focus, series, y axis, θ's unit
+    FocusChart1,
+    FocusChart2,
+    FocusChart3,
+    /// Open the list of series for the focused chart.
+    PickSeries,
+    YZoomIn,
+    YZoomOut,
+    LogScale,
+    ThetaUnit,
+    SeriesUp,
+    SeriesDown,
+    SeriesPageUp,
+    SeriesPageDown,
+    SeriesToggle,
+    SeriesClose,
+    SeriesBackspace,
+    SeriesDefaults,
 }
 
 /// Where a binding applies. Lookup order: the mode's own context first, then the view, then
@@ -148,6 +166,8 @@ pub enum Ctx {
     Search,
     Quit,
     OpenModel,
+    /// Choosing the series of a time chart.
+    ChartPick,
 }
 
 impl Ctx {
@@ -170,6 +190,7 @@ impl Ctx {
             Ctx::Search => "searching the form",
             Ctx::Quit => "quitting with unsaved edits",
             Ctx::OpenModel => "choosing a model to open",
+            Ctx::ChartPick => "choosing a chart's series",
         }
     }
 }
@@ -281,6 +302,24 @@ pub const KEYMAP: &[Binding] = &[
     b(Ctx::Charts, &[K::Ch(']')], "]", A::NextEvent, "cursor to the next event", None),
     b(Ctx::Charts, &[K::Ch('[')], "[", A::PrevEvent, "cursor to the previous event", None),
     b(Ctx::Charts, &[K::Ch('E')], "E", A::ToggleEvents, "event list: open/close", None),
+    // charts view: the time charts' series, y axis and θ's unit
+    b(Ctx::Charts, &[K::Ch('p')], "p", A::PickSeries, "pick the chart's series", Some(("p", "series"))),
+    b(Ctx::Charts, &[K::Ch('1')], "1", A::FocusChart1, "focus the top chart", None),
+    b(Ctx::Charts, &[K::Ch('2')], "2", A::FocusChart2, "focus the second chart", None),
+    b(Ctx::Charts, &[K::Ch('3')], "3", A::FocusChart3, "focus the third chart", None),
+    b(Ctx::Charts, &[K::Ch('Y')], "Y", A::YZoomIn, "y zoom in (focused chart)", None),
+    b(Ctx::Charts, &[K::Ch('y')], "y", A::YZoomOut, "y zoom out", None),
+    b(Ctx::Charts, &[K::Ch('g')], "g", A::LogScale, "log scale of |y| on/off", None),
+    b(Ctx::Charts, &[K::Ch('d')], "d", A::ThetaUnit, "θ in rad, mrad or degrees", None),
+    // choosing a chart's series
+    b(Ctx::ChartPick, &[K::Code(KC::Up)], "↑", A::SeriesUp, "previous series", None),
+    b(Ctx::ChartPick, &[K::Code(KC::Down)], "↓", A::SeriesDown, "next series", Some(("↑↓", "series"))),
+    b(Ctx::ChartPick, &[K::Code(KC::PageUp)], "PgUp", A::SeriesPageUp, "a page of series up", None),
+    b(Ctx::ChartPick, &[K::Code(KC::PageDown)], "PgDn", A::SeriesPageDown, "a page of series down", None),
+    b(Ctx::ChartPick, &[K::Ch(' ')], "Space", A::SeriesToggle, "show or hide the series", Some(("Space", "show/hide"))),
+    b(Ctx::ChartPick, &[K::Code(KC::Enter), K::Code(KC::Esc)], "Enter/Esc", A::SeriesClose, "close the list", Some(("Enter", "close"))),
+    b(Ctx::ChartPick, &[K::Code(KC::Backspace)], "Bksp", A::SeriesBackspace, "delete a filter character", Some(("type", "filter"))),
+    b(Ctx::ChartPick, &[K::Ctrl('d')], "^D", A::SeriesDefaults, "the chart's default series", None),
     // the event list
     b(Ctx::Events, &[K::Code(KC::Up), K::Ch('k')], "↑/k", A::EventUp, "previous event in the list", None),
     b(Ctx::Events, &[K::Code(KC::Down), K::Ch('j')], "↓/j", A::EventDown, "next event in the list", Some(("↑↓", "event"))),
@@ -441,6 +480,7 @@ pub fn help() -> Vec<(&'static str, Vec<(&'static str, &'static str)>)> {
         Ctx::Search,
         Ctx::Quit,
         Ctx::OpenModel,
+        Ctx::ChartPick,
     ]
     .iter()
     .map(|c| {

@@ -7,6 +7,7 @@
 
 pub mod app;
 pub mod chart;
+pub mod chart_prefs;
 pub mod effects;
 pub mod eng;
 pub mod export;
@@ -28,6 +29,7 @@ pub mod run_list;
 pub mod run_results;
 pub mod run_store;
 pub mod runtime;
+pub mod series;
 pub mod signals;
 pub mod study;
 pub mod study_files;

@@ -116,6 +116,8 @@ pub enum Msg {
     },
     /// Result of [`Effect::StoreRuns`].
     RunsStored(Result<(), String>),
+    /// Result of [`Effect::StoreCharts`].
+    ChartsStored(Result<(), String>),
     // -- the results pages and the work-precision study
     /// Point `index` of work-precision study `id` is final.
     StudyPoint {
@@ -200,6 +202,12 @@ pub enum Effect {
         dir: PathBuf,
         jobs: Vec<run_store::Job>,
         remove: Vec<u64>,
+    },
+    /// Write the time charts' preferences to `path` atomically
+    /// ([`super::chart_prefs::store`]), in order with the run list's files.
+    StoreCharts {
+        path: PathBuf,
+        text: String,
     },
     // -- the results pages
     /// Compute a results page's data in a worker ([`super::results_worker`]).

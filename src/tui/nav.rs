@@ -62,6 +62,21 @@ pub fn length_unit(app: &App) -> &'static str {
     sys.unit(Quantity::Length)
 }
 
+/// The model's units of length, force and energy for the time charts (a scene file's force
+/// and energy: none, its author's).
+pub fn units(app: &App) -> super::chart_prefs::Units {
+    let force = force_unit(app);
+    let energy = match &app.scene {
+        Some(s) if s.bridge => s.units.unit(Quantity::Energy),
+        _ => "",
+    };
+    super::chart_prefs::Units {
+        length: length_unit(app),
+        force,
+        energy,
+    }
+}
+
 /// Who an event is about: its contact, or for a key failure its element.
 pub fn subject(run: &RunData, e: &EventRecord) -> String {
     let names = if e.kind == EventKind::KeyFailure {
@@ -104,20 +119,27 @@ pub fn fmt_time(t: f64) -> String {
     chart::fmt_sig(t, 6)
 }
 
-/// The status line after a jump to the events at `t`: their number among the instants, the
-/// time, and each event in words.
+/// The status line after a jump to the events at `t`: their numbers among all the run's
+/// events in time order (as the event list and the header count them: `event 4/148`, or
+/// `events 4–5/148` for two at one instant), the time, and each event in words.
 pub fn jump_status(run: &RunData, t: f64, force: &str, ascii: bool) -> String {
-    let times = event_times(run);
-    let k = times.partition_point(|&x| x < t) + 1;
-    let what: Vec<String> = run
-        .events
+    let order = in_time_order(run);
+    let first = order.partition_point(|&i| run.events[i].t < t);
+    let here = order[first..]
         .iter()
-        .filter(|e| e.t == t)
-        .map(|e| describe(run, e, force, ascii))
+        .take_while(|&&i| run.events[i].t == t)
+        .count();
+    let what: Vec<String> = (order[first..first + here].iter())
+        .map(|&i| describe(run, &run.events[i], force, ascii))
         .collect();
+    let dash = if ascii { "-" } else { "–" };
+    let which = match here {
+        0 | 1 => format!("event {}", first + 1),
+        n => format!("events {}{dash}{}", first + 1, first + n),
+    };
     format!(
-        "event {k}/{} at t = {} s: {}",
-        times.len(),
+        "{which}/{} at t = {} s: {}",
+        run.events.len(),
         fmt_time(t),
         what.join(", ")
     )

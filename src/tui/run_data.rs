@@ -49,7 +49,14 @@ pub struct RunData {
     pub element_names: Vec<String>,
     pub t: Vec<f64>,
     pub q: Vec<Vec<f64>>,
+    /// Velocities per DOF (none in a kept run, [`super::run_list::thin`]).
+    pub v: Vec<Vec<f64>>,
     pub gap: Vec<Vec<f64>>,
+    /// Gap rate and slip rate per contact (none in a kept run).
+    pub gap_rate: Vec<Vec<f64>>,
+    pub slip_rate: Vec<Vec<f64>>,
+    /// (contact, gap at which it leaves its seat) of each seat.
+    pub seats: Vec<(usize, f64)>,
     pub state: Vec<Vec<ContactState>>,
     /// (deformation, force) columns per hysteretic element.
     pub el: Vec<(Vec<f64>, Vec<f64>)>,
@@ -119,7 +126,11 @@ impl RunData {
             id,
             label,
             q: vec![Vec::new(); dof_names.len()],
+            v: vec![Vec::new(); dof_names.len()],
             gap: vec![Vec::new(); nc],
+            gap_rate: vec![Vec::new(); nc],
+            slip_rate: vec![Vec::new(); nc],
+            seats: Vec::new(),
             state: vec![Vec::new(); nc],
             el: vec![(Vec::new(), Vec::new()); element_names.len()],
             el_range: vec![
@@ -150,14 +161,16 @@ impl RunData {
     }
 
     pub fn for_scene(id: u64, label: String, scene: &Scene) -> Self {
-        Self::new(
+        let mut d = Self::new(
             id,
             label,
             scene.dof_names.clone(),
             scene.contacts.iter().map(|c| c.name.clone()).collect(),
             scene.hysteretic.iter().map(|h| h.name.clone()).collect(),
             scene.settings.t_end,
-        )
+        );
+        d.seats = scene.seats.iter().map(|s| (s.contact, s.edge)).collect();
+        d
     }
 
     /// Appends samples and events (one observer batch).
@@ -169,9 +182,14 @@ impl RunData {
             for (k, col) in self.q.iter_mut().enumerate() {
                 col.push(s.q.get(k).copied().unwrap_or(f64::NAN));
             }
+            for (k, col) in self.v.iter_mut().enumerate() {
+                col.push(s.v.get(k).copied().unwrap_or(f64::NAN));
+            }
             for (i, c) in s.contacts.iter().enumerate().take(self.gap.len()) {
                 self.gap[i].push(c.gap);
                 self.state[i].push(c.state);
+                self.gap_rate[i].push(c.gap_rate);
+                self.slip_rate[i].push(c.slip_rate);
             }
             for (j, &(d, f)) in s.elements.iter().enumerate().take(self.el.len()) {
                 self.el[j].0.push(d);
@@ -207,6 +225,7 @@ impl RunData {
                 out.element_names.clone(),
                 self.t_end,
             );
+            fresh.seats = std::mem::take(&mut self.seats);
             fresh.push(&out.samples, &out.events, out.summary.t_end);
             *self = fresh;
         }

@@ -268,6 +268,11 @@ pub fn thin(r: &RunData) -> RunData {
     d.state = vec![Vec::new(); r.contact_names.len()];
     d.el = r.el.iter().map(|(a, b)| (pick(a), pick(b))).collect();
     d.el_range = r.el_range.clone();
+    d.seats = r.seats.clone();
+    // kept without velocities and rates: a kept run keeps what its charts need most
+    d.v = Vec::new();
+    d.gap_rate = Vec::new();
+    d.slip_rate = Vec::new();
     d.impacts = r.impacts.clone();
     d.t_sim = r.t_sim;
     d.status = r.status.clone();

@@ -13,6 +13,10 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
 
+/// The time charts' preferences, kept in the same folder ([`super::chart_prefs`]): not a
+/// run's file.
+pub const CHARTS_FILE: &str = "charts.json";
+
 /// The first line of every metadata file's `format` field.
 const FORMAT: &str = "deckspin run list 1";
 
@@ -276,7 +280,7 @@ pub fn load(dir: &Path) -> Loaded {
     if let Ok(entries) = std::fs::read_dir(dir) {
         for f in entries.flatten() {
             let name = f.file_name().to_string_lossy().into_owned();
-            if name.starts_with('.') {
+            if name.starts_with('.') || name == CHARTS_FILE {
                 continue;
             }
             let parsed = name.rsplit_once('.').and_then(|(n, ext)| {

@@ -3,7 +3,7 @@
 //! following the cursor until moved, kept in view.
 
 use super::common::{Theme, shown_run};
-use super::timeline::{kind_mark, row_name};
+use super::timeline::{kind_mark, row_names};
 use crate::tui::app::App;
 use crate::tui::nav;
 use crate::tui::run_data::RunData;
@@ -99,6 +99,19 @@ pub(super) fn draw_event_list(frame: &mut Frame, area: Rect, app: &App, th: &The
     }
     let rows = inner.height.saturating_sub(1) as usize;
     let first = scroll(sel.unwrap_or(0), rows, n);
+    // the rows' names as distinct as the strip's
+    let (contacts, elements) = (
+        row_names(&run.contact_names, cw),
+        row_names(&run.element_names, cw),
+    );
+    let label = |e: &crate::output::EventRecord| {
+        let names = if e.kind.of_contact() {
+            &contacts
+        } else {
+            &elements
+        };
+        (names.get(e.contact).cloned()).unwrap_or_else(|| nav::subject(run, e))
+    };
     for (r, &i) in order.iter().enumerate().skip(first).take(rows) {
         let e = &run.events[i];
         let imp = if iw > 0 {
@@ -115,7 +128,7 @@ pub(super) fn draw_event_list(frame: &mut Frame, area: Rect, app: &App, th: &The
         let text = format!(
             "{:>TIME_W$} {:<cw$} {kind:<kw$}{imp}",
             nav::fmt_time(e.t),
-            row_name(&nav::subject(run, e), cw),
+            label(e),
         );
         let style = if Some(r) == sel {
             th.selected()

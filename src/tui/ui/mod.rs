@@ -5,6 +5,8 @@
 
 mod ascii;
 mod cache;
+mod chart_head;
+mod chart_pick;
 mod common;
 mod compare;
 mod event_list;
@@ -29,7 +31,9 @@ mod xy_plot;
 pub use ascii::{ascii_only, ascii_symbol};
 pub use cache::{Cache, READOUT_PERIOD};
 pub use event_list::scroll;
-pub use timeline::{Cell, event_strip, key_failure_mark, key_strip, priority, strip_cells};
+pub use timeline::{
+    Cell, event_strip, key_failure_mark, key_strip, priority, row_names, strip_cells,
+};
 
 use crate::tui::app::{App, MIN_HEIGHT, MIN_WIDTH, Mode, View};
 use ratatui::Frame;
@@ -92,6 +96,11 @@ pub fn draw_screen(frame: &mut Frame, app: &App, cache: &mut Cache) {
             form::draw_model_picker(frame, area, app, files, *selected, &th)
         }
         Mode::Confirm(c) => status::draw_confirm(frame, area, app, c, &th),
+        Mode::ChartPick {
+            chart,
+            query,
+            selected,
+        } => chart_pick::draw_chart_picker(frame, body, app, (*chart, query, *selected), &th),
         _ => {}
     }
 }

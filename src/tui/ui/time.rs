@@ -1,33 +1,29 @@
-//! The time charts (rotation, gaps, x/y) with the previous run underneath and the time
-//! cursor, above the event strip.
+//! The time charts with the overlaid runs underneath and the time cursor, above the event
+//! strip: three charts of any series a run records (by default the rotation, the gaps, x and
+//! y; [`crate::tui::chart_prefs`]), each with its y zoom and log scale, θ in the unit chosen;
+//! the y axis is the shown run's, the overlaid runs' extremes beyond it are in the header.
 
 use super::cache::Cache;
+use super::chart_head::{Series, chart_header};
 use super::common::{LABEL_W, Overlay, Theme, overlay_runs, shown_run};
 use super::timeline::draw_timeline;
 use crate::output::EventKind;
 use crate::tui::app::App;
 use crate::tui::chart;
+use crate::tui::chart_prefs::{self, ChartSpec, ThetaUnit, Units};
 use crate::tui::eng::{self, Scale};
 use crate::tui::nav;
 use crate::tui::run_data::RunData;
+use crate::tui::series::{self, SeriesId};
 use ratatui::Frame;
 use ratatui::layout::{Constraint, Layout, Rect};
 use ratatui::style::Style;
 use ratatui::symbols::Marker;
-use ratatui::text::{Line, Span};
+use ratatui::text::Line;
 use ratatui::widgets::{Axis, Chart, Dataset, GraphType, Paragraph};
 
-struct Series {
-    name: String,
-    style: Style,
-    data: Vec<(f64, f64)>,
-    /// The number of the overlaid run it belongs to (None: the shown run).
-    overlay: Option<u64>,
-    /// Its value at the cursor.
-    now: Option<f64>,
-}
-
-/// What the series of one panel are drawn from: the runs, the time window, the columns.
+/// What the series of one panel are drawn from: the runs, the time window, the columns, the
+/// units.
 struct Window<'a> {
     run: &'a RunData,
     overlays: Vec<Overlay<'a>>,
@@ -36,12 +32,20 @@ struct Window<'a> {
     /// The time of the values at the cursor in the headers ([`super::Cache::readout_time`]).
     rt: f64,
     cols: u16,
-    /// The model's length unit (m, in).
-    len: &'static str,
+    /// The model's units, θ's.
+    units: Units,
+    theta: ThetaUnit,
 }
 
-/// One chart: title, unit, series.
-type TimeChart = (String, String, Vec<Series>);
+/// One chart: its number (0–2), title, unit (`fixed`: one that takes no prefix, θ in mrad or
+/// degrees), series.
+struct TimeChart {
+    k: usize,
+    title: String,
+    unit: String,
+    fixed: bool,
+    series: Vec<Series>,
+}
 
 /// Draws the time charts that fit and the event strip under them; the readouts at `rt`.
 pub(super) fn draw_time_panel(
@@ -87,117 +91,85 @@ pub(super) fn draw_time_panel(
         t1,
         rt,
         cols,
-        len: nav::length_unit(app),
+        units: nav::units(app),
+        theta: app.charts.theta,
     };
-    let mut charts: Vec<TimeChart> = Vec::new();
-    charts.extend(rotation_chart(&sp, cache, th));
-    charts.extend(gap_chart(&sp, cache, th));
-    charts.extend(xy_chart(&sp, cache, th));
+    let charts: Vec<TimeChart> = (0..chart_prefs::CHARTS)
+        .filter_map(|k| chart_of(&sp, cache, th, k, &app.charts.series(run, k)))
+        .collect();
     let n_charts = fit.min(charts.len()).max(1);
     let mut cons = vec![Constraint::Ratio(1, n_charts as u32); n_charts];
     cons.push(Constraint::Length(tl_h));
     let rects = Layout::vertical(cons).split(area);
-    for (i, (title, unit, series)) in charts.into_iter().take(n_charts).enumerate() {
-        draw_time_chart(frame, rects[i], (t0, t1, tc), &title, &unit, series, th);
+    for (i, c) in charts.into_iter().take(n_charts).enumerate() {
+        let spec = &app.charts.charts[c.k];
+        let focused = app.charts.focus == c.k;
+        draw_time_chart(frame, rects[i], (t0, t1, tc), c, (spec, focused), th);
     }
     let kn = nav::force_unit(app);
     draw_timeline(frame, rects[n_charts], run, (t0, t1, tc, rt), kn, cache, th);
 }
 
 /// One series of `r` (column `y`, cached as `what`) over the window, with its value at the
-/// cursor; `overlay`: the number of the overlaid run it belongs to.
+/// cursor, times `f` (to the chart's unit); `overlay`: the number of the overlaid run it
+/// belongs to.
 fn series(
     sp: &Window,
     cache: &mut Cache,
-    (r, what, y): (&RunData, String, &[f64]),
+    (r, what, y, f): (&RunData, String, &[f64], f64),
     (name, style): (String, Style),
     overlay: Option<u64>,
 ) -> Series {
+    let mut data = cache.decimated(r, &what, y, sp.t0, sp.t1, sp.cols);
+    if f != 1.0 {
+        data.iter_mut().for_each(|p| p.1 *= f);
+    }
     Series {
         name,
         style,
-        data: cache.decimated(r, &what, y, sp.t0, sp.t1, sp.cols),
+        data,
         overlay,
-        now: value_at(r, y, sp.rt),
+        now: value_at(r, y, sp.rt).map(|v| v * f),
     }
 }
 
-/// The rotation θ(t) (and the overlaid runs').
-fn rotation_chart(sp: &Window, cache: &mut Cache, th: &Theme) -> Option<TimeChart> {
-    let run = sp.run;
-    let r = run.rot?;
-    let name = run.dof_names[r].clone();
+/// Chart `k` of the series `ids` (and the overlaid runs' of the same names); None without
+/// series.
+fn chart_of(
+    sp: &Window,
+    cache: &mut Cache,
+    th: &Theme,
+    k: usize,
+    ids: &[SeriesId],
+) -> Option<TimeChart> {
+    let first = ids.first()?;
+    let (unit, f) = chart_prefs::unit_of(first.dim(), &sp.units, sp.theta, th.ascii);
     let mut s = Vec::new();
     for o in &sp.overlays {
-        let p = o.data;
-        if let Some(k) = p.dof(&name) {
-            let col = (p, format!("q{k}"), p.q[k].as_slice());
-            s.push(series(
-                sp,
-                cache,
-                col,
-                (name.clone(), o.style),
-                Some(o.number),
-            ));
-        }
-    }
-    let col = (run, format!("q{r}"), run.q[r].as_slice());
-    s.push(series(sp, cache, col, (name.clone(), th.series(0)), None));
-    Some((name.clone(), unit_of(&name, sp.len).into(), s))
-}
-
-/// The gaps g_N(t) of all contacts (and the overlaid runs').
-fn gap_chart(sp: &Window, cache: &mut Cache, th: &Theme) -> Option<TimeChart> {
-    let run = sp.run;
-    if run.contact_names.is_empty() {
-        return None;
-    }
-    let mut s = Vec::new();
-    for o in &sp.overlays {
-        let p = o.data;
-        for n in &run.contact_names {
-            if let Some(i) = p.contact_names.iter().position(|m| m == n) {
-                let col = (p, format!("g{i}"), p.gap[i].as_slice());
-                s.push(series(sp, cache, col, (n.clone(), o.style), Some(o.number)));
+        for id in ids {
+            if let Some(col) = series::column(o.data, id) {
+                let name = series::name_in(id, ids);
+                let c = (o.data, id.key(), col.as_ref(), f);
+                s.push(series(sp, cache, c, (name, o.style), Some(o.number)));
             }
         }
     }
-    for (i, n) in run.contact_names.iter().enumerate() {
-        let col = (run, format!("g{i}"), run.gap[i].as_slice());
-        s.push(series(sp, cache, col, (n.clone(), th.series(i)), None));
-    }
-    Some(("gaps g_N".into(), sp.len.into(), s))
-}
-
-/// x and y of the rotating body (and the overlaid runs').
-fn xy_chart(sp: &Window, cache: &mut Cache, th: &Theme) -> Option<TimeChart> {
-    let run = sp.run;
-    if run.xy.is_empty() {
-        return None;
-    }
-    let mut s = Vec::new();
-    for o in &sp.overlays {
-        let p = o.data;
-        for &k in &run.xy {
-            if let Some(pk) = p.dof(&run.dof_names[k]) {
-                let col = (p, format!("q{pk}"), p.q[pk].as_slice());
-                let name = run.dof_names[k].clone();
-                s.push(series(sp, cache, col, (name, o.style), Some(o.number)));
-            }
+    // the colours of the default charts: the gaps by contact, x and y after them
+    let offset = if k == 2 { 4 } else { 0 };
+    for (i, id) in ids.iter().enumerate() {
+        if let Some(col) = series::column(sp.run, id) {
+            let name = series::name_in(id, ids);
+            let c = (sp.run, id.key(), col.as_ref(), f);
+            s.push(series(sp, cache, c, (name, th.series(i + offset)), None));
         }
     }
-    for (i, &k) in run.xy.iter().enumerate() {
-        let col = (run, format!("q{k}"), run.q[k].as_slice());
-        let name = run.dof_names[k].clone();
-        s.push(series(sp, cache, col, (name, th.series(i + 4)), None));
-    }
-    let names: Vec<&str> = run.xy.iter().map(|&k| run.dof_names[k].as_str()).collect();
-    Some((names.join(" / "), sp.len.into(), s))
-}
-
-/// The unit of a DOF: rad for a rotation, else `len`.
-fn unit_of(dof: &str, len: &'static str) -> &'static str {
-    if dof.ends_with(".theta") { "rad" } else { len }
+    Some(TimeChart {
+        k,
+        title: series::title(ids),
+        unit,
+        fixed: first.angular() && sp.theta != ThetaUnit::Rad,
+        series: s,
+    })
 }
 
 /// Value of a column at the cursor.
@@ -255,38 +227,170 @@ pub(super) fn value_axis(
     ([lo - d, hi + d], vec![String::new(), label, String::new()])
 }
 
-/// Draws one time chart: header (title, legend, values at the cursor), series, zero line,
-/// cursor.
+/// A value on a chart's y axis: itself, or on a log scale log₁₀ |v| (None for 0 and
+/// non-finite values, which a log scale leaves out).
+fn on_axis(v: f64, log: bool) -> Option<f64> {
+    match (v.is_finite(), log) {
+        (false, _) => None,
+        (true, false) => Some(v),
+        (true, true) => (v != 0.0).then(|| v.abs().log10()),
+    }
+}
+
+/// The y axis of a chart: its bounds on the axis and its labels, low to high. `ext`: the
+/// extremes of the shown run's points on the axis; `centre`: where a y zoom centres (the
+/// first series' value at the cursor, on the axis); `zoom`: the range is the data's / 2^zoom;
+/// on a log scale the labels are the values 10^bound.
+fn y_axis(
+    ext: Option<[f64; 2]>,
+    (centre, zoom, log): (Option<f64>, u32, bool),
+    (unit, fixed): (&str, bool),
+    ascii: bool,
+) -> ([f64; 2], Vec<String>) {
+    let w = LABEL_W as usize - 1;
+    let Some([lo, hi]) = ext else {
+        return value_axis(None, unit, w, ascii);
+    };
+    let value_axis = |b: Option<[f64; 2]>, unit: &str, w: usize, ascii: bool| {
+        if fixed {
+            fixed_axis(b, unit, w)
+        } else {
+            value_axis(b, unit, w, ascii)
+        }
+    };
+    let bounds = if zoom == 0 {
+        [lo, hi]
+    } else {
+        let mid = centre
+            .filter(|c| (lo..=hi).contains(c))
+            .unwrap_or(0.5 * (lo + hi));
+        let half = 0.5 * (hi - lo) / f64::from(1u32 << zoom.min(30));
+        [mid - half, mid + half]
+    };
+    if !log {
+        return value_axis(Some(bounds), unit, w, ascii);
+    }
+    let lin = bounds.map(|b| 10f64.powf(b));
+    let (_, labels) = value_axis(Some(lin), unit, w, ascii);
+    let b = if bounds[1] > bounds[0] {
+        bounds
+    } else {
+        [bounds[0] - 0.05, bounds[1] + 0.05]
+    };
+    (b, labels)
+}
+
+/// [`value_axis`] in a unit that takes no prefix (θ in mrad or degrees): plain numbers.
+fn fixed_axis(ext: Option<[f64; 2]>, unit: &str, width: usize) -> ([f64; 2], Vec<String>) {
+    let Some([lo, hi]) = ext else {
+        return ([-1.0, 1.0], vec![String::new(), String::new()]);
+    };
+    let fmt = |v: f64| {
+        (1..=eng::SIG)
+            .rev()
+            .map(|sig| format!("{} {unit}", chart::fmt_sig(v, sig)))
+            .find(|s| s.chars().count() <= width)
+            .unwrap_or_default()
+    };
+    if hi > lo {
+        return ([lo, hi], vec![fmt(lo), fmt(hi)]);
+    }
+    let d = if lo != 0.0 { lo.abs() * 0.1 } else { 1e-6 };
+    (
+        [lo - d, hi + d],
+        vec![String::new(), fmt(lo), String::new()],
+    )
+}
+
+/// The extremes of each overlaid run's points that reach beyond the axis `yb` (in the chart's
+/// unit, not on the axis): (run number, [low, high]).
+fn beyond(series: &[Series], yb: [f64; 2], log: bool) -> Vec<(u64, [f64; 2])> {
+    let mut out: Vec<(u64, [f64; 2])> = Vec::new();
+    for s in series {
+        let Some(n) = s.overlay else { continue };
+        let Some(e) = extremes(s.data.iter().map(|p| &p.1)) else {
+            continue;
+        };
+        match out.iter_mut().find(|o| o.0 == n) {
+            Some(o) => o.1 = [o.1[0].min(e[0]), o.1[1].max(e[1])],
+            None => out.push((n, e)),
+        }
+    }
+    let outside = |v: f64| on_axis(v, log).is_some_and(|a| a < yb[0] || a > yb[1]);
+    out.retain(|(_, [lo, hi])| outside(*lo) || outside(*hi));
+    out
+}
+
+/// Draws one time chart: header (title, legend, values at the cursor, the overlaid runs'
+/// extremes beyond the axis), series, zero line, cursor. `spec`: its y zoom and log scale;
+/// `focused`: the chart the keys `p`, `Y`, `y`, `g` act on (its title in reverse video).
 fn draw_time_chart(
     frame: &mut Frame,
     area: Rect,
     (t0, t1, tc): (f64, f64, f64),
-    title: &str,
-    unit: &str,
-    series: Vec<Series>,
+    c: TimeChart,
+    (spec, focused): (&ChartSpec, bool),
     th: &Theme,
 ) {
     if area.height < 2 {
         return;
     }
+    let (log, unit, series) = (spec.log, c.unit.as_str(), c.series);
     let [head, body] = Layout::vertical([Constraint::Length(1), Constraint::Min(0)]).areas(area);
-    let ext = extremes(series.iter().flat_map(|s| s.data.iter().map(|p| &p.1)));
+    // the axis is the shown run's (the overlaid runs' when it shows nothing yet)
+    let shown = |s: &&Series| s.overlay.is_none();
+    let values = |all: bool| -> Vec<f64> {
+        (series.iter().filter(|s| all || shown(s)))
+            .flat_map(|s| s.data.iter().map(|p| p.1))
+            .collect()
+    };
+    let mut raw = values(false);
+    if extremes(&raw).is_none() {
+        raw = values(true);
+    }
+    let ext = extremes(&raw);
     let big = ext.map_or(0.0, |[a, b]| a.abs().max(b.abs()));
-    let scale = Scale::new(big, unit, th.ascii);
-    frame.render_widget(
-        Paragraph::new(chart_header(
-            title,
-            &scale,
-            &series,
-            head.width as usize,
-            th,
-        )),
-        head,
+    let scale = if c.fixed {
+        Scale::fixed(big, unit)
+    } else {
+        Scale::new(big, unit, th.ascii)
+    };
+    let on: Vec<f64> = raw.iter().filter_map(|&v| on_axis(v, log)).collect();
+    let centre = (series.iter().find(shown))
+        .and_then(|s| s.now)
+        .and_then(|v| on_axis(v, log));
+    let axis = (centre, spec.y_zoom, log);
+    let (yb, labels) = y_axis(extremes(&on), axis, (unit, c.fixed), th.ascii);
+    let title = if log {
+        format!("log|{}|", c.title)
+    } else {
+        c.title.clone()
+    };
+    let style = if focused {
+        th.bold().patch(th.selected())
+    } else {
+        th.bold()
+    };
+    let far = beyond(&series, yb, log);
+    let line = chart_header(
+        (&title, style),
+        &scale,
+        &series,
+        &far,
+        head.width as usize,
+        th,
     );
+    frame.render_widget(Paragraph::new(line), head);
     if body.height == 0 {
         return;
     }
-    let (yb, labels) = value_axis(ext, unit, LABEL_W as usize - 1, th.ascii);
+    let data: Vec<Vec<(f64, f64)>> = (series.iter())
+        .map(|s| {
+            (s.data.iter())
+                .filter_map(|&(t, y)| on_axis(y, log).map(|y| (t, y)))
+                .collect()
+        })
+        .collect();
     let zero = [(t0, 0.0), (t1, 0.0)];
     let cursor = [(tc, yb[0]), (tc, yb[1])];
     let marker = th.marker();
@@ -296,21 +400,21 @@ fn draw_time_chart(
             .graph_type(GraphType::Line)
             .data(data)
     };
-    let has_zero = yb[0] < 0.0 && yb[1] > 0.0;
+    let has_zero = !log && yb[0] < 0.0 && yb[1] > 0.0;
     let mut ds: Vec<Dataset> = Vec::new();
     if has_zero {
         ds.push(line(&zero).marker(th.zero_marker()).style(th.dim()));
     }
     // without colour, each series by its own mark (the overlaid runs', the k-th current one's)
     let mut k = 0;
-    ds.extend(series.iter().map(|s| {
+    ds.extend(series.iter().zip(&data).map(|(s, d)| {
         let marker = if s.overlay.is_some() {
             th.previous_marker()
         } else {
             k += 1;
             th.series_marker(k - 1)
         };
-        line(&s.data).marker(marker).style(s.style)
+        line(d).marker(marker).style(s.style)
     }));
     if tc >= t0 && tc <= t1 {
         ds.push(line(&cursor).marker(th.cursor_marker()).style(th.cursor()));
@@ -351,122 +455,4 @@ fn zero_label(frame: &mut Frame, body: Rect, yb: [f64; 2], th: &Theme) {
         Paragraph::new(Line::styled(format!("{:>w$}", "0"), th.dim())),
         Rect::new(body.x, body.y + row, LABEL_W, 1),
     );
-}
-
-/// The chart's header line: title [unit of the readouts], and the value of each series at the
-/// cursor in that unit, with one precision — named when they fit, the earlier run's values
-/// after them; what does not fit whole is left out.
-fn chart_header(
-    title: &str,
-    scale: &Scale,
-    series: &[Series],
-    width: usize,
-    th: &Theme,
-) -> Line<'static> {
-    let head = Span::styled(format!("{title} [{}]", scale.unit), th.bold());
-    // in ASCII a dash would read as a minus sign: the values alone, in the legend's order
-    let (glyph, dotted) = if th.ascii { ("", "") } else { ("━", "┈") };
-    let current: Vec<&Series> = series.iter().filter(|s| s.overlay.is_none()).collect();
-    let value = |s: &Series| s.now.map_or("—".to_string(), |v| scale.fmt(v));
-    let named = current.len() > 1;
-    // without colour, the series' own mark (as drawn) before its value
-    let sample = |k: usize| {
-        if th.marks() {
-            format!(" [{}]", th.legend_mark(k))
-        } else {
-            format!(" {glyph}")
-        }
-    };
-    // names: 2 whole, 1 their initials (left_top: lt), 0 none, 3 the initials alone
-    let item = |(k, s): (usize, &&Series), names: u8| -> Vec<Span<'static>> {
-        let mut v = vec![Span::styled(sample(k), s.style)];
-        match names {
-            2 => v.push(Span::raw(format!("{} ", s.name))),
-            1 => v.push(Span::raw(format!("{} ", initials(&s.name)))),
-            // without colour a series needs its name more than its value
-            3 => {
-                v.push(Span::raw(initials(&s.name)));
-                return v;
-            }
-            _ => {}
-        }
-        v.push(Span::styled(value(s), th.cursor()));
-        v
-    };
-    // one item per overlaid run: its number and its values
-    let mut numbers: Vec<(u64, Style)> = Vec::new();
-    for s in series {
-        if let Some(n) = s.overlay
-            && !numbers.iter().any(|(m, _)| *m == n)
-        {
-            numbers.push((n, s.style));
-        }
-    }
-    let prev_items: Vec<Vec<Span<'static>>> = (numbers.iter())
-        .map(|&(n, style)| {
-            let vals: Vec<String> = (series.iter())
-                .filter(|s| s.overlay == Some(n))
-                .map(value)
-                .collect();
-            let dotted = if th.marks() {
-                format!("[{}]", th.previous_mark())
-            } else {
-                dotted.to_string()
-            };
-            vec![Span::styled(
-                format!(" {dotted}#{n} {}", vals.join(" ")),
-                style,
-            )]
-        })
-        .collect();
-    let items = |names: u8, with_prev: bool| -> Vec<Vec<Span<'static>>> {
-        let mut v: Vec<Vec<Span>> = current
-            .iter()
-            .enumerate()
-            .map(|ks| item(ks, names))
-            .collect();
-        if with_prev {
-            v.extend(prev_items.iter().cloned());
-        }
-        v
-    };
-    let wide = |it: &[Span]| it.iter().map(|s| s.content.chars().count()).sum::<usize>();
-    let room = width.saturating_sub(wide(std::slice::from_ref(&head)));
-    let total = |v: &Vec<Vec<Span>>| v.iter().map(|i| wide(i)).sum::<usize>();
-    let mut variants = Vec::new();
-    if named {
-        variants.extend([
-            items(2, true),
-            items(2, false),
-            items(1, true),
-            items(1, false),
-        ]);
-        if th.marks() {
-            variants.extend([items(3, true), items(3, false)]);
-        }
-    }
-    variants.extend([items(0, true), items(0, false)]);
-    let chosen = variants.iter().find(|v| total(v) <= room).cloned();
-    let mut spans = vec![head];
-    match chosen {
-        Some(v) => spans.extend(v.into_iter().flatten()),
-        None => {
-            let mut used = 0;
-            for it in items(0, false) {
-                if used + wide(&it) > room {
-                    break;
-                }
-                used += wide(&it);
-                spans.extend(it);
-            }
-        }
-    }
-    Line::from(spans)
-}
-
-/// A series name by its initials: the first letter of each `_`-separated word of its last
-/// dotted part (`left_top` → `lt`, `deck.x` → `x`).
-fn initials(name: &str) -> String {
-    let last = name.rsplit('.').next().unwrap_or(name);
-    last.split('_').filter_map(|w| w.chars().next()).collect()
 }

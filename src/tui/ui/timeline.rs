@@ -243,9 +243,9 @@ pub(super) fn draw_timeline(
         v
     });
     let cur_col = column_of(tc, t0, t1, w, per_cell);
+    let labels = row_names(&run.contact_names, LABEL_W as usize - 1);
     for (i, strip) in strips.iter().enumerate().take(rows) {
-        let name = run.contact_names[i].as_str();
-        lines.push(strip_line(name, th.series(i), strip, cur_col, th));
+        lines.push(strip_line(&labels[i], th.series(i), strip, cur_col, th));
     }
     if let Some(strip) = strips.get(nc).filter(|_| keys && room > 0) {
         lines.push(strip_line(KEYS_LABEL, th.cursor(), strip, cur_col, th));
@@ -355,7 +355,66 @@ pub(super) fn row_name(name: &str, w: usize) -> String {
     name.chars().take(w).collect()
 }
 
-/// One row: its name (in `style`), the strip, the cursor column in reverse video.
+/// A word cut to its first letter and its digits (`joint12` → `j12`, `left` → `l`).
+fn initial_and_digits(word: &str) -> String {
+    let mut c = word.chars();
+    let first = c.next().map(String::from).unwrap_or_default();
+    first + &c.filter(char::is_ascii_digit).collect::<String>()
+}
+
+/// Labels of the rows `names` in `w` columns, each distinct from the others: a name as
+/// [`row_name`] shortens it; where two come out the same (`joint1_bottom` and `joint2_bottom`
+/// both `j_bottom`), each word but the last cut to its first letter and its digits
+/// (`j1_bottom`), else the name's last `w` characters, else its first characters and its
+/// number among the rows (`joint~3`).
+pub fn row_names(names: &[String], w: usize) -> Vec<String> {
+    if w == 0 {
+        return vec![String::new(); names.len()];
+    }
+    let level = |k: usize, i: usize| -> String {
+        let name = names[i].as_str();
+        match k {
+            0 => row_name(name, w),
+            1 => {
+                let parts: Vec<&str> = name.split('_').collect();
+                let Some((last, first)) = parts.split_last() else {
+                    return row_name(name, w);
+                };
+                let mut s: String = first.iter().map(|p| initial_and_digits(p) + "_").collect();
+                s.push_str(last);
+                if s.chars().count() <= w {
+                    s
+                } else {
+                    row_name(name, w)
+                }
+            }
+            2 => {
+                let n = name.chars().count();
+                name.chars().skip(n.saturating_sub(w)).collect()
+            }
+            _ => {
+                let tail = format!("~{}", i + 1);
+                let keep = w.saturating_sub(tail.chars().count());
+                name.chars().take(keep).collect::<String>() + &tail
+            }
+        }
+    };
+    let mut labels: Vec<String> = (0..names.len()).map(|i| level(0, i)).collect();
+    for k in 1..=3 {
+        let dups: Vec<usize> = (0..labels.len())
+            .filter(|&i| labels.iter().filter(|l| **l == labels[i]).count() > 1)
+            .collect();
+        if dups.is_empty() {
+            break;
+        }
+        for i in dups {
+            labels[i] = level(k, i);
+        }
+    }
+    labels
+}
+
+/// One row: its label (in `style`, [`row_names`]), the strip, the cursor column in reverse video.
 fn strip_line(
     name: &str,
     style: Style,
@@ -364,7 +423,7 @@ fn strip_line(
     th: &Theme,
 ) -> Line<'static> {
     let lw = LABEL_W as usize - 1;
-    let mut spans = vec![Span::styled(format!("{:>lw$} ", row_name(name, lw)), style)];
+    let mut spans = vec![Span::styled(format!("{name:>lw$} "), style)];
     spans.push(Span::styled(if th.ascii { "|" } else { "│" }, th.dim()));
     let s: String = strip.iter().collect();
     match cur_col.filter(|&c| c < strip.len()) {

@@ -2,6 +2,7 @@
 //! cancel a run, save, export, quit) for [`super::effects::perform`]; nothing here touches the
 //! terminal, threads or (except for validating model text) the file system.
 
+mod charts;
 mod edit;
 mod file;
 mod find;
@@ -74,6 +75,7 @@ fn handle(app: &mut App, msg: Msg) -> Vec<Effect> {
         Msg::StudyFiles(r) => study::on_files(app, r),
         Msg::StudyLoaded { path, result } => study::on_loaded(app, path, result),
         Msg::RunsStored(r) => runs::on_stored(app, r),
+        Msg::ChartsStored(r) => charts::on_stored(app, r),
         Msg::StudyPoint { id, index, point } => results::on_point(app, id, index, *point),
         Msg::ResultProgress { id, done, all } => results::on_progress(app, id, done, all),
         Msg::ResultDone { id, outcome } => results::on_done(app, id, outcome),
@@ -137,6 +139,12 @@ fn on_key(app: &mut App, ev: KeyEvent) -> Vec<Effect> {
         && !ev.modifiers.contains(KeyModifiers::CONTROL)
     {
         find::type_char(app, c);
+    }
+    if let Mode::ChartPick { .. } = app.mode
+        && let KeyCode::Char(c) = ev.code
+        && !ev.modifiers.contains(KeyModifiers::CONTROL)
+    {
+        charts::type_char(app, c);
     }
     Vec::new()
 }
@@ -256,6 +264,8 @@ fn on_action(app: &mut App, a: Action) -> Vec<Effect> {
         A::OpenModel | A::ModelUp | A::ModelDown | A::ModelOpen | A::ModelClose => {
             open::open_action(app, a)
         }
+        // the rest: the time charts' focus, list of series, y axis and θ's unit
+        _ => charts::chart_action(app, a),
     }
 }
 
