@@ -9,8 +9,13 @@ use crate::plot::{Axis, Category, Cell, Chart, Grid, GridRow, Marker, RefLine, S
 use crate::precision::{Point, Verdict, knob_family, knob_step, verdict};
 use crate::studies::{MuStudy, Row};
 
+/// Fig. 7's mark of the runs without contact, in the CLI's text charts and the workbench's.
+pub const FIG7_WITHOUT_CONTACT: char = 'o';
+/// Fig. 7's mark of the runs with contact (a square in the SVG), in both.
+pub const FIG7_WITH_CONTACT: char = '#';
+
 /// Fig. 7: rows (run, PGA x, PGA y, without contact, with contact) against the longitudinal
-/// target PGA.
+/// target PGA; marked [`FIG7_WITHOUT_CONTACT`] and [`FIG7_WITH_CONTACT`].
 pub fn rotation_vs_pga(rows: &[(usize, f64, f64, Row, Row)]) -> Chart {
     let mut c = Chart::new(
         "Peak deck rotation vs target PGA (Fig. 7 analog)",
@@ -26,13 +31,13 @@ pub fn rotation_vs_pga(rows: &[(usize, f64, f64, Row, Row)]) -> Chart {
         Series::line("without contact", pts(|a, _| a.peak_rotation))
             .marker(Marker::Circle)
             .color(0)
-            .glyph('o'),
+            .glyph(FIG7_WITHOUT_CONTACT),
     );
     c.series.push(
         Series::line("with contact", pts(|_, b| b.peak_rotation))
             .marker(Marker::Square)
             .color(3)
-            .glyph('#'),
+            .glyph(FIG7_WITH_CONTACT),
     );
     c
 }

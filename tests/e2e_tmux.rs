@@ -280,10 +280,10 @@ fn workbench_in_tmux() {
     tmux.keys(&["Enter"]);
     let s = tmux.wait("the PGA study", 60, |s| s.contains(">PGA (Fig. 7): done"));
     assert!(
-        s.contains("o with contact") && s.contains("PGA x [g]"),
+        s.contains("# with contact") && s.contains("PGA x [g]"),
         "{s}"
     );
-    let csv = d.join("models/four-span.studies/pga-1.csv");
+    let csv = d.join("models/four-span.out/pga-1.csv");
     tmux.wait("its CSV", 10, |_| csv.is_file());
 
     // quit: back to the shell on the normal screen

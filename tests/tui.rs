@@ -1233,7 +1233,7 @@ fn quit_asks_when_there_are_unsaved_edits() {
 // export
 
 #[test]
-fn export_writes_chart_and_event_csv() {
+fn export_writes_chart_history_and_event_csv_into_the_output_folder_never_over_a_file() {
     let d = scratch("export");
     let model = d.join("models/corner.toml");
     std::fs::write(&model, read(&corner_path())).unwrap();
@@ -1243,17 +1243,20 @@ fn export_writes_chart_and_event_csv() {
     let fx = update(&mut app, key('e'));
     assert!(matches!(fx.as_slice(), [Effect::Export { .. }]));
     tui::execute_blocking(&mut app, fx);
-    let chart = d.join("models/corner-chart.csv");
-    let events = d.join("models/corner-events.csv");
+    let out = d.join("models/corner.out");
+    let chart = out.join("export-1-chart.csv");
+    let history = out.join("export-1-history.csv");
+    let events = out.join("export-1-events.csv");
+    for p in [&chart, &history, &events] {
+        assert!(
+            app.status.contains(&p.display().to_string()),
+            "{}",
+            app.status
+        );
+    }
     assert!(
-        app.status.contains(&chart.display().to_string()),
-        "{}",
-        app.status
-    );
-    assert!(
-        app.status.contains(&events.display().to_string()),
-        "{}",
-        app.status
+        !d.join("models/corner-chart.csv").exists(),
+        "not beside the model"
     );
     let c = read(&chart);
     let mut lines = c.lines();
@@ -1261,20 +1264,59 @@ fn export_writes_chart_and_event_csv() {
         lines.next().unwrap(),
         "t,deck.theta,corner.gap,deck.x,deck.y"
     );
-    assert_eq!(lines.count(), app.current.as_ref().unwrap().t.len());
+    let samples = app.current.as_ref().unwrap().t.len();
+    assert_eq!(lines.count(), samples);
     let e = read(&events);
     assert!(e.starts_with("t,contact,kind,normal_impulse"));
     assert_eq!(
         e.lines().filter(|l| l.contains(",corner,impact,")).count(),
         1
     );
-    // zoomed: only the visible window
+    // zoomed: the chart holds the visible window, the history the whole run
     act(&mut app, Action::CursorHome);
     act(&mut app, Action::ZoomIn);
     let (a, b) = app.window();
     assert!(b - a < 0.3);
-    let (c2, _) = tui::export::export_csv(app.current.as_ref().unwrap(), app.window(), 0);
-    assert!(c2.lines().count() < c.lines().count());
+    let fx = update(&mut app, key('e'));
+    tui::execute_blocking(&mut app, fx);
+    let chart2 = out.join("export-2-chart.csv");
+    let history2 = out.join("export-2-history.csv");
+    assert!(
+        app.status.contains(&chart2.display().to_string()) && app.status.contains("export-1 kept"),
+        "{}",
+        app.status
+    );
+    // the first export is untouched
+    assert_eq!(read(&chart), c);
+    let windowed = read(&chart2).lines().count() - 1;
+    assert!(windowed < samples, "{windowed} of {samples}");
+    let run = app.current.as_ref().unwrap();
+    let w = tui::chart::window(&run.t, a, b).count();
+    assert_eq!(windowed, w);
+    let h = read(&history2);
+    let mut hl = h.lines();
+    let header = hl.next().unwrap();
+    assert!(header.starts_with("t,"), "{header}");
+    assert_eq!(
+        header.split(',').count(),
+        1 + run.dof_names.len() + run.contact_names.len() + 2 * run.element_names.len()
+    );
+    assert_eq!(
+        hl.count(),
+        samples,
+        "every sample of the run, not the window"
+    );
+    // the last sample's time, as the run holds it
+    let last = h.lines().last().unwrap();
+    let t_last: f64 = last.split(',').next().unwrap().parse().unwrap();
+    assert_eq!(t_last.to_bits(), run.t[samples - 1].to_bits());
+    // a file planted at the next number's name is not overwritten: the number after it
+    std::fs::write(out.join("export-3-events.csv"), "mine\n").unwrap();
+    let fx = update(&mut app, key('e'));
+    tui::execute_blocking(&mut app, fx);
+    assert_eq!(read(&out.join("export-3-events.csv")), "mine\n");
+    assert!(out.join("export-4-chart.csv").is_file(), "{}", app.status);
+    assert!(!out.join("export-3-chart.csv").exists());
     let _ = std::fs::remove_dir_all(&d);
 }
 
@@ -2634,7 +2676,8 @@ fn frames_bents_and_keys_are_added_and_removed_as_lists() {
 use deckspin::study_csv::to_csv;
 use deckspin::study_table::{PointStatus, StudyKind, StudyTable};
 use deckspin::tui::msg::StudyOutcome;
-use deckspin::tui::study::{Phase, Source, study_dirs};
+use deckspin::tui::out_folder::out_dirs;
+use deckspin::tui::study::{Phase, Source};
 
 fn study_index(kind: StudyKind) -> usize {
     StudyKind::ALL.iter().position(|k| *k == kind).unwrap()
@@ -2681,7 +2724,7 @@ fn study_tables() -> &'static [StudyTable; 5] {
 }
 
 /// The bridge app in the studies view with `kind` finished (as if its CSV were written to
-/// `models/four-span.studies/<kind>-1.csv`).
+/// `models/four-span.out/<kind>-1.csv`).
 fn studies_app(kind: StudyKind) -> App {
     let mut app = bridge_app();
     let (id, _) = start_study(&mut app, kind);
@@ -2692,7 +2735,7 @@ fn studies_app(kind: StudyKind) -> App {
         matches!(fx.as_slice(), [Effect::WriteStudy { .. }]),
         "{fx:?}"
     );
-    let csv = PathBuf::from(format!("models/four-span.studies/{}-1.csv", kind.key()));
+    let csv = PathBuf::from(format!("models/four-span.out/{}-1.csv", kind.key()));
     update(
         &mut app,
         Msg::StudyWritten {
@@ -2841,8 +2884,8 @@ fn study_rows_arrive_as_progress_and_the_end_writes_its_csv() {
             panic!("{fx:?}")
         };
         assert_eq!(*w, id);
-        assert_eq!(*dirs, study_dirs(Path::new("models/four-span.toml")));
-        assert_eq!(dirs[0], PathBuf::from("models/four-span.studies"));
+        assert_eq!(*dirs, out_dirs(Path::new("models/four-span.toml")));
+        assert_eq!(dirs[0], PathBuf::from("models/four-span.out"));
         assert_eq!(to_csv(table), to_csv(&study_tables()[0]));
     }
     let e = app.studies.entry(StudyKind::Pga).unwrap();
@@ -2973,7 +3016,7 @@ fn a_finished_study_is_written_and_reopened_from_its_csv_exactly() {
     for n in 1..=2 {
         let fx = act(&mut app, Action::StudyRun);
         tui::execute_blocking(&mut app, fx);
-        let csv = d.join(format!("models/four-span.studies/mu-{n}.csv"));
+        let csv = d.join(format!("models/four-span.out/mu-{n}.csv"));
         assert!(csv.is_file(), "{}", app.status);
         assert!(
             app.status.ends_with(&format!("; CSV {}", csv.display())),
@@ -2999,7 +3042,7 @@ fn a_finished_study_is_written_and_reopened_from_its_csv_exactly() {
     assert!(
         files
             .iter()
-            .all(|f| f.starts_with(d.join("models/four-span.studies")))
+            .all(|f| f.starts_with(d.join("models/four-span.out")))
     );
     let s = screen(&render(&mut app, 80, 24));
     assert!(
@@ -3137,7 +3180,7 @@ fn studies_in_ascii_mode_and_without_colour() {
             }
         }
     }
-    // without colour the series differ by their marks: o with contact, x without
+    // without colour the series differ by their marks: o without contact, # with (as the CLI)
     let mut app = studies_app(StudyKind::Pga);
     app.opts.color = false;
     let t = render(&mut app, 80, 24);
@@ -3146,9 +3189,9 @@ fn studies_in_ascii_mode_and_without_colour() {
     }
     let s = screen(&t);
     let plot: String = s.lines().skip(5).take(14).collect();
-    assert!(plot.contains('o') && plot.contains('x'), "{s}");
+    assert!(plot.contains('o') && plot.contains('#'), "{s}");
     assert!(
-        s.contains("x without contact") && s.contains("o with contact"),
+        s.contains("o without contact") && s.contains("# with contact"),
         "{s}"
     );
 }

@@ -341,7 +341,7 @@ fn precision_app() -> App {
         matches!(fx.as_slice(), [Effect::WriteStudy { .. }]),
         "{fx:?}"
     );
-    let csv = PathBuf::from("models/four-span.studies/precision-1.csv");
+    let csv = PathBuf::from("models/four-span.out/precision-1.csv");
     update(
         &mut app,
         Msg::StudyWritten {

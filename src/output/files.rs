@@ -45,6 +45,32 @@ pub fn write_atomic(path: impl AsRef<Path>, bytes: impl AsRef<[u8]>) -> std::io:
     r
 }
 
+/// `bytes` to `path` as one transaction that never replaces a file: written to a temporary
+/// file beside it and flushed, then linked to `path` (refused with `AlreadyExists` when a
+/// file is there, whatever wrote it in the meantime), the temporary name removed. Where the
+/// file system has no hard links, renamed to `path` if nothing is there. On any error `path`
+/// is left as it was.
+pub fn write_new(path: impl AsRef<Path>, bytes: impl AsRef<[u8]>) -> std::io::Result<()> {
+    let (path, bytes) = (path.as_ref(), bytes.as_ref());
+    let tmp = temp_beside(path);
+    let r = (|| {
+        let mut f = File::options().write(true).create_new(true).open(&tmp)?;
+        f.write_all(bytes)?;
+        f.sync_all()?;
+        match std::fs::hard_link(&tmp, path) {
+            Ok(()) => Ok(()),
+            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => Err(e),
+            Err(_) if std::fs::symlink_metadata(path).is_ok() => Err(std::io::Error::new(
+                std::io::ErrorKind::AlreadyExists,
+                "a file is already there",
+            )),
+            Err(_) => std::fs::rename(&tmp, path),
+        }
+    })();
+    let _ = std::fs::remove_file(&tmp);
+    r
+}
+
 /// An advisory lock on an output folder (`flock` on its [`LOCK_FILE`], which holds the owner's
 /// process id), held until dropped. A second process is refused, naming the folder and the
 /// owner.

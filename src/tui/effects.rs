@@ -170,12 +170,11 @@ fn execute(app: &mut App, host: &mut impl Host, e: Effect) -> Vec<Msg> {
         }
         Effect::Export {
             dirs,
-            stem,
             run,
             window,
             element,
         } => host.background(Box::new(move || {
-            let files = export::export_files(&stem, &run, window, element);
+            let files = export::export_files(&run, window, element);
             Msg::Exported(export::write_exports(&dirs, &files))
         })),
         Effect::StartStudy { id, spec } => host.start_study(id, *spec),

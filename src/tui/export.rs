@@ -1,9 +1,12 @@
-//! CSV export of the charted data and the event log.
+//! CSV export of the charted data in the window, of the whole run and of the event log, into
+//! the model's output folder ([`super::out_folder`]) under a new number each time.
 
 use super::chart;
+use super::out_folder::EXPORT_PREFIX;
 use super::run_data::RunData;
+use crate::output::files::write_new;
 use crate::output::number::Numbers;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// CSV of what is charted (full resolution, in the time window) and of the event log (the
 /// engine's `events.csv` columns).
@@ -46,38 +49,84 @@ pub fn export_csv(run: &RunData, window: (f64, f64), element: usize) -> (String,
     (chart, ev)
 }
 
-/// The export files of an [`super::msg::Effect::Export`]: (file name, content).
-pub fn export_files(
-    stem: &str,
-    run: &RunData,
-    window: (f64, f64),
-    element: usize,
-) -> Vec<(String, String)> {
+/// CSV of the whole run: every sample (not only the window), every DOF, every contact's gap
+/// and every element's deformation and force, in the model's order.
+pub fn history_csv(run: &RunData) -> String {
+    let mut cols: Vec<(String, &Vec<f64>)> = Vec::new();
+    for (k, n) in run.dof_names.iter().enumerate() {
+        cols.push((n.clone(), &run.q[k]));
+    }
+    for (i, n) in run.contact_names.iter().enumerate() {
+        cols.push((format!("{n}.gap"), &run.gap[i]));
+    }
+    for (j, n) in run.element_names.iter().enumerate() {
+        cols.push((format!("{n}.deformation"), &run.el[j].0));
+        cols.push((format!("{n}.force"), &run.el[j].1));
+    }
+    let mut out = String::from("t");
+    for (n, _) in &cols {
+        out.push(',');
+        out.push_str(n);
+    }
+    out.push('\n');
+    let mut n = Numbers::new();
+    for (i, &t) in run.t.iter().enumerate() {
+        n.push(&mut out, t);
+        for (_, c) in &cols {
+            out.push(',');
+            n.push(&mut out, c.get(i).copied().unwrap_or(f64::NAN));
+        }
+        out.push('\n');
+    }
+    out
+}
+
+/// The export files of an [`super::msg::Effect::Export`]: (kind, content) — `chart` the
+/// charted columns in the window, `history` the whole run, `events` the event log; written as
+/// `export-<n>-<kind>.csv`.
+pub fn export_files(run: &RunData, window: (f64, f64), element: usize) -> Vec<(String, String)> {
     let (chart, events) = export_csv(run, window, element);
     vec![
-        (format!("{stem}-chart.csv"), chart),
-        (format!("{stem}-events.csv"), events),
+        ("chart".into(), chart),
+        ("history".into(), history_csv(run)),
+        ("events".into(), events),
     ]
 }
 
-/// Writes export files into the first directory that accepts all of them.
+/// Writes export files `export-<n>-<kind>.csv` into the first directory of `dirs` that
+/// accepts them (created if need be), `n` the first number none of them has: an earlier export
+/// is never overwritten. Each file is a transaction ([`write_new`]).
 pub fn write_exports(dirs: &[PathBuf], files: &[(String, String)]) -> Result<Vec<PathBuf>, String> {
     let mut last = String::from("no directory");
     for d in dirs {
-        let mut written = Vec::new();
-        let mut ok = true;
-        for (name, content) in files {
-            let p = d.join(name);
-            if let Err(e) = std::fs::write(&p, content) {
-                last = format!("{}: {e}", p.display());
-                ok = false;
-                break;
-            }
-            written.push(p);
-        }
-        if ok {
-            return Ok(written);
+        match write_in(d, files) {
+            Ok(p) => return Ok(p),
+            Err(e) => last = e,
         }
     }
     Err(last)
+}
+
+fn write_in(d: &Path, files: &[(String, String)]) -> Result<Vec<PathBuf>, String> {
+    std::fs::create_dir_all(d).map_err(|e| format!("{}: {e}", d.display()))?;
+    'numbers: for n in 1..100_000 {
+        let paths: Vec<PathBuf> = (files.iter())
+            .map(|(kind, _)| d.join(format!("{EXPORT_PREFIX}{n}-{kind}.csv")))
+            .collect();
+        if paths.iter().any(|p| std::fs::symlink_metadata(p).is_ok()) {
+            continue;
+        }
+        for (k, (p, (_, content))) in paths.iter().zip(files).enumerate() {
+            match write_new(p, content) {
+                Ok(()) => {}
+                // taken in the meantime: the next number
+                Err(e) if k == 0 && e.kind() == std::io::ErrorKind::AlreadyExists => {
+                    continue 'numbers;
+                }
+                Err(e) => return Err(format!("{}: {e}", p.display())),
+            }
+        }
+        return Ok(paths);
+    }
+    Err(format!("{}: no free export number", d.display()))
 }

@@ -58,6 +58,9 @@ pub enum Action {
     /// The record suite with one pair more / fewer.
     StudyMore,
     StudyFewer,
+    /// The study's cursor to the previous / next point of its table.
+    StudyPointPrev,
+    StudyPointNext,
     PickUp,
     PickDown,
     PickLoad,
@@ -343,6 +346,8 @@ pub const KEYMAP: &[Binding] = &[
     b(Ctx::Studies, &[K::Ch('f')], "f", A::StudyReopen, "reopen a study from its CSV", Some(("f", "reopen CSV"))),
     b(Ctx::Studies, &[K::Ch('+'), K::Ch('=')], "+", A::StudyMore, "suite: one record pair more", None),
     b(Ctx::Studies, &[K::Ch('-')], "-", A::StudyFewer, "suite: one record pair fewer", None),
+    b(Ctx::Studies, &[K::Ch('[')], "[", A::StudyPointPrev, "cursor to the previous point", None),
+    b(Ctx::Studies, &[K::Ch(']')], "]", A::StudyPointNext, "cursor to the next point", Some(("[ ]", "point"))),
     // the run list
     b(Ctx::Runs, &[K::Code(KC::Up), K::Ch('k')], "Up/k", A::RunUp, "previous run", None),
     b(Ctx::Runs, &[K::Code(KC::Down), K::Ch('j')], "Down/j", A::RunDown, "next run", Some(("j/k", "run"))),

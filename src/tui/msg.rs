@@ -163,12 +163,11 @@ pub enum Effect {
         text: String,
         base: Option<u64>,
     },
-    /// Format the charted columns of `run` in `window` and its event log as CSV (off the UI
-    /// thread) and write `<stem>-chart.csv`, `<stem>-events.csv` into the first directory of
-    /// `dirs` that accepts them.
+    /// Format the charted columns of `run` in `window`, the whole run and its event log as
+    /// CSV (off the UI thread) and write them as `export-<n>-chart.csv`, `-history.csv`,
+    /// `-events.csv` (the first free n) into the first directory of `dirs` that accepts them.
     Export {
         dirs: Vec<PathBuf>,
-        stem: String,
         run: Box<RunData>,
         window: (f64, f64),
         element: usize,

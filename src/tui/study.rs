@@ -84,6 +84,9 @@ pub struct Studies {
     /// The record suite's subset (None: [`SuiteSubset::near`] the model); `+`/`-` change its
     /// number of pairs.
     pub suite: Option<SuiteSubset>,
+    /// The cursor of each study (in [`StudyKind::ALL`]'s order): a row of its table of
+    /// points (`super::study_points`), moved by `[` and `]`.
+    pub cursor: Vec<usize>,
 }
 
 impl Default for Studies {
@@ -95,6 +98,7 @@ impl Default for Studies {
             overrides: Vec::new(),
             mus: crate::studies::fig8_mus(),
             suite: None,
+            cursor: vec![0; StudyKind::ALL.len()],
         }
     }
 }
@@ -125,6 +129,11 @@ impl Studies {
         self.entries[Self::index_of(kind)].as_mut()
     }
 
+    /// The selected study's cursor.
+    pub fn cursor(&self) -> usize {
+        self.cursor.get(self.selected).copied().unwrap_or(0)
+    }
+
     /// The entry whose worker has this id.
     pub fn by_id(&mut self, id: u64) -> Option<&mut Entry> {
         (self.entries.iter_mut().flatten()).find(|e| e.id == id)
@@ -134,25 +143,6 @@ impl Studies {
     pub fn running(&self) -> Option<(StudyKind, &Entry)> {
         (StudyKind::ALL.iter().zip(&self.entries))
             .find_map(|(k, e)| e.as_ref().filter(|e| e.running()).map(|e| (*k, e)))
-    }
-}
-
-/// The folders of a model's study CSVs: `<model stem>.studies/` beside the model, then in the
-/// current directory (where they go when the model's folder is not writable).
-pub fn study_dirs(model: &Path) -> Vec<PathBuf> {
-    let stem = model
-        .file_stem()
-        .map_or("model".into(), |s| s.to_string_lossy().into_owned());
-    let name = format!("{stem}.studies");
-    let beside = match model.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d.join(&name),
-        _ => PathBuf::from(&name),
-    };
-    let here = PathBuf::from(&name);
-    if beside == here {
-        vec![beside]
-    } else {
-        vec![beside, here]
     }
 }
 

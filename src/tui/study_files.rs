@@ -1,9 +1,12 @@
 //! The study CSVs on disk: written as `<study>-<n>.csv` (the first free n, never over an
-//! earlier file) in the first folder that accepts them, listed newest first, read back.
+//! earlier file, each a transaction) in the first folder that accepts them (the model's
+//! output folder, [`super::out_folder`]), listed newest first (the exports beside them left
+//! out), read back.
 
+use super::out_folder::is_export;
+use crate::output::files::write_new;
 use crate::study_csv::{read_file, to_csv};
 use crate::study_table::StudyTable;
-use std::io::Write;
 use std::path::{Path, PathBuf};
 
 /// Writes `table` into the first of `dirs` that accepts it (the folder created if need be).
@@ -24,18 +27,11 @@ fn write_in(dir: &Path, key: &str, text: &str) -> Result<PathBuf, String> {
     std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     for n in 1..100_000 {
         let p = dir.join(format!("{key}-{n}.csv"));
-        let file = std::fs::OpenOptions::new()
-            .write(true)
-            .create_new(true)
-            .open(&p);
-        match file {
-            Ok(mut f) => {
-                return f
-                    .write_all(text.as_bytes())
-                    .and_then(|_| f.sync_all())
-                    .map(|_| p.clone())
-                    .map_err(|e| format!("{}: {e}", p.display()));
-            }
+        if p.exists() {
+            continue;
+        }
+        match write_new(&p, text) {
+            Ok(()) => return Ok(p),
             Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => continue,
             Err(e) => return Err(format!("{}: {e}", p.display())),
         }
@@ -50,7 +46,7 @@ pub fn list(dirs: &[PathBuf]) -> Result<Vec<PathBuf>, String> {
         let entries = std::fs::read_dir(d).map_err(|e| format!("{}: {e}", d.display()))?;
         for e in entries.flatten() {
             let p = e.path();
-            if p.extension().is_some_and(|x| x == "csv") && p.is_file() {
+            if p.extension().is_some_and(|x| x == "csv") && p.is_file() && !is_export(&p) {
                 let t = (e.metadata().and_then(|m| m.modified())).unwrap_or(std::time::UNIX_EPOCH);
                 if !found.iter().any(|(_, q)| *q == p) {
                     found.push((t, p));

@@ -24,6 +24,7 @@ mod screen_map;
 mod side;
 mod status;
 mod studies;
+mod study_numbers;
 mod time;
 mod timeline;
 mod xy_plot;

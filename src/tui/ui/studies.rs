@@ -5,12 +5,15 @@
 
 use super::common::{Theme, fit};
 use super::screen_map::draw_screen;
+use super::study_numbers::{draw_table, readout, split};
 use super::xy_plot::{Plot, Series, draw_plot};
+use crate::figures::{FIG7_WITH_CONTACT, FIG7_WITHOUT_CONTACT};
 use crate::study_table::{RunTable, StudyKind, StudyTable};
 use crate::tui::app::{App, StatusKind};
 use crate::tui::chart::bounds;
 use crate::tui::results::Page;
 use crate::tui::study::{Entry, Phase, Source, title, what};
+use crate::tui::study_points::{points, run_mark};
 use ratatui::Frame;
 use ratatui::layout::{Constraint, Layout, Rect};
 use ratatui::text::{Line, Span};
@@ -19,13 +22,14 @@ use std::path::PathBuf;
 
 /// Draws the studies view.
 pub(super) fn draw_studies(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
+    let list = tab_lines(app, area.width as usize, th);
     let [tabs, line, panel] = Layout::vertical([
-        Constraint::Length(1),
+        Constraint::Length(list.len() as u16),
         Constraint::Length(1),
         Constraint::Min(0),
     ])
     .areas(area);
-    draw_tabs(frame, tabs, app, th);
+    frame.render_widget(Paragraph::new(list), tabs);
     if let Some(page) = app.results.page {
         return super::results::draw_page(frame, line, panel, app, page, th);
     }
@@ -56,7 +60,18 @@ pub(super) fn draw_studies(frame: &mut Frame, area: Rect, app: &App, th: &Theme)
     } else {
         format!("model: {} as saved", app.file_name())
     };
-    draw_panel(frame, panel, kind, entry, &next, app.results.grid, th);
+    let view = PanelView {
+        grid: app.results.grid,
+        cursor: app.studies.cursor(),
+    };
+    draw_panel(frame, panel, kind, entry, &next, view, th);
+}
+
+/// How the panel is shown: work-precision's chart or grid, the cursor's row.
+#[derive(Clone, Copy)]
+struct PanelView {
+    grid: bool,
+    cursor: usize,
 }
 
 /// A study's state in a word or two.
@@ -76,32 +91,84 @@ fn state(e: Option<&Entry>) -> String {
     }
 }
 
-/// The list of studies and results pages; the selected one always shown, others while they
-/// fit.
-fn draw_tabs(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
+/// The list of studies and results pages, every name always shown: on one line when all fit
+/// with their states, else the studies on one line and the results pages on the next; a line
+/// too narrow for every state keeps the selected one's and the others' that say more than
+/// "not run" / "not computed", then the names alone (the state line under the list gives the
+/// selected one's).
+fn tab_lines(app: &App, width: usize, th: &Theme) -> Vec<Line<'static>> {
     let sel = crate::tui::update::list_index(app);
     let studies = (StudyKind::ALL.iter()).map(|k| (title(*k), state(app.studies.entry(*k))));
     let pages = (Page::ALL.iter()).map(|p| (p.title(), super::results::state(app, *p)));
-    let items: Vec<String> = (studies.chain(pages).enumerate())
-        .map(|(i, (name, state))| {
-            let mark = if i == sel { '>' } else { ' ' };
-            th.text(&format!("{mark}{name}: {state} "))
-        })
+    let items: Vec<(usize, String, String)> = (studies.chain(pages).enumerate())
+        .map(|(i, (name, state))| (i, th.text(name), th.text(&state)))
         .collect();
-    let mut room = area.width as usize - items[sel].chars().count().min(area.width as usize);
-    let mut spans = Vec::new();
-    for (i, it) in items.iter().enumerate() {
-        let n = it.chars().count() + 1;
-        if i == sel {
-            spans.push(Span::styled(it.clone(), th.selected().patch(th.bold())));
-            spans.push(Span::raw(" "));
-        } else if n <= room {
-            room -= n;
-            spans.push(Span::raw(it.clone()));
-            spans.push(Span::raw(" "));
-        }
+    let n = StudyKind::ALL.len();
+    // on one line only with the states that say something
+    if let Some(line) = tab_line(&items, sel, width, 1, th) {
+        return vec![line];
     }
-    frame.render_widget(Paragraph::new(Line::from(spans)), area);
+    let (first, second) = items.split_at(n);
+    [first, second]
+        .iter()
+        .map(|group| {
+            tab_line(group, sel, width, 2, th).unwrap_or_else(|| {
+                let names = group
+                    .iter()
+                    .map(|(i, name, _)| (*i, name.clone(), String::new()));
+                tab_line_at(&names.collect::<Vec<_>>(), sel, 0, th).0
+            })
+        })
+        .collect()
+}
+
+/// The items on one line in `width` columns, at the first level of detail up to `most` that
+/// fits ([`tab_line_at`]).
+fn tab_line(
+    items: &[(usize, String, String)],
+    sel: usize,
+    width: usize,
+    most: u8,
+    th: &Theme,
+) -> Option<Line<'static>> {
+    (0..=most)
+        .map(|level| tab_line_at(items, sel, level, th))
+        .find(|(_, w)| *w <= width)
+        .map(|(l, _)| l)
+}
+
+/// One line of the list and its width: `>name: state` for the selected item; the others
+/// with their states (level 0), with the states that are not the default (1), or named only
+/// (2).
+fn tab_line_at(
+    items: &[(usize, String, String)],
+    sel: usize,
+    level: u8,
+    th: &Theme,
+) -> (Line<'static>, usize) {
+    let mut spans = Vec::new();
+    let mut width = 0;
+    for (i, name, state) in items {
+        let idle = matches!(state.as_str(), "not run" | "not computed");
+        let text = if state.is_empty() || (*i != sel && (level == 2 || (level == 1 && idle))) {
+            name.clone()
+        } else {
+            format!("{name}: {state}")
+        };
+        let mark = if *i == sel { '>' } else { ' ' };
+        let item = format!("{mark}{text}");
+        if !spans.is_empty() {
+            spans.push(Span::raw("  "));
+            width += 2;
+        }
+        width += item.chars().count();
+        spans.push(if *i == sel {
+            Span::styled(item, th.selected().patch(th.bold()))
+        } else {
+            Span::raw(item)
+        });
+    }
+    (Line::from(spans), width)
 }
 
 /// A progress bar in ASCII: `[####      ]`.
@@ -188,7 +255,7 @@ fn draw_panel(
     kind: StudyKind,
     e: Option<&Entry>,
     next: &str,
-    grid: bool,
+    view: PanelView,
     th: &Theme,
 ) {
     let items: Vec<String> = (panel_title(kind, e, next).iter())
@@ -212,10 +279,12 @@ fn draw_panel(
             ];
             frame.render_widget(Paragraph::new(lines).wrap(Wrap { trim: true }), inner);
         }
-        (Some(StudyTable::Runs(t)), _) if t.done() > 0 => draw_figure(frame, inner, t, th),
+        (Some(t @ StudyTable::Runs(r)), _) if r.done() > 0 => {
+            draw_with_numbers(frame, inner, t, view, th)
+        }
         (Some(StudyTable::Screen(s)), _) => draw_screen(frame, inner, s, th),
-        (Some(StudyTable::Precision(t)), _) if t.progress().0 > 0 => {
-            super::precision::draw_precision(frame, inner, t, grid, th)
+        (Some(t @ StudyTable::Precision(p)), _) if p.progress().0 > 0 => {
+            draw_with_numbers(frame, inner, t, view, th)
         }
         (_, Some(Phase::Running | Phase::Cancelling)) => {
             let t = match kind {
@@ -238,13 +307,50 @@ fn draw_panel(
     }
 }
 
-/// Fig. 7 or Fig. 8 of a run table.
-fn draw_figure(frame: &mut Frame, area: Rect, t: &RunTable, th: &Theme) {
-    let plot = match t.kind {
+/// A study's figure with its numbers: the chart, the table of its points beside it (or under
+/// it), the readout at the cursor on the last line (work-precision's stability grid alone).
+fn draw_with_numbers(
+    frame: &mut Frame,
+    area: Rect,
+    table: &StudyTable,
+    view: PanelView,
+    th: &Theme,
+) {
+    // the stability grid is a table of its own (its verdicts)
+    let grid = view.grid && matches!(table, StudyTable::Precision(_));
+    let Some(p) = points(table).filter(|_| !grid) else {
+        return draw_figure(frame, area, table, view, None, th);
+    };
+    let at = p.at(view.cursor).map(|r| r.x);
+    let sp = split(area, &p, th);
+    draw_figure(frame, sp.chart, table, view, at, th);
+    draw_table(frame, sp.table, &p, view.cursor, th);
+    let line = readout(&p, view.cursor, sp.readout.width as usize, th);
+    frame.render_widget(Paragraph::new(Line::styled(line, th.bold())), sp.readout);
+}
+
+/// Fig. 7, Fig. 8, the suite's or work-precision's chart; `at`: the cursor's x.
+fn draw_figure(
+    frame: &mut Frame,
+    area: Rect,
+    table: &StudyTable,
+    view: PanelView,
+    at: Option<f64>,
+    th: &Theme,
+) {
+    let t = match table {
+        StudyTable::Runs(t) => t,
+        StudyTable::Precision(t) => {
+            return super::precision::draw_precision(frame, area, t, view.grid, th);
+        }
+        StudyTable::Screen(s) => return draw_screen(frame, area, s, th),
+    };
+    let mut plot = match t.kind {
         StudyKind::Mu => fig8(t, th),
         StudyKind::Suite => fig_suite(t, th),
         _ => fig7(t, th),
     };
+    plot.cursor = at;
     draw_plot(frame, area, &plot, th);
 }
 
@@ -272,16 +378,17 @@ fn fig7(t: &RunTable, th: &Theme) -> Plot {
             1.05 * (t.runs.iter().map(|r| r.pga_x)).fold(0.0, f64::max),
         ],
         yb,
+        cursor: None,
         series: vec![
             Series {
                 name: "without contact".into(),
-                mark: 'x',
+                mark: FIG7_WITHOUT_CONTACT,
                 style: th.series(1),
                 points: without,
             },
             Series {
                 name: "with contact".into(),
-                mark: 'o',
+                mark: FIG7_WITH_CONTACT,
                 style: th.series(0),
                 points: with,
             },
@@ -326,15 +433,7 @@ fn fig_suite(t: &RunTable, th: &Theme) -> Plot {
         ],
         yb,
         series,
-    }
-}
-
-/// The character marking run k's points: 1–9, then a–z.
-fn run_mark(k: usize) -> char {
-    match k {
-        1..=9 => char::from(b'0' + k as u8),
-        10..=35 => char::from(b'a' + (k - 10) as u8),
-        _ => '+',
+        cursor: None,
     }
 }
 
@@ -368,6 +467,7 @@ fn fig8(t: &RunTable, th: &Theme) -> Plot {
         },
         yb,
         series,
+        cursor: None,
     }
 }
 

@@ -31,6 +31,8 @@ pub(super) struct Plot {
     pub series: Vec<Series>,
     pub xb: [f64; 2],
     pub yb: [f64; 2],
+    /// The x of the study's cursor: a dim vertical line.
+    pub cursor: Option<f64>,
 }
 
 /// The legend lines (at most `lines`): the y title, then `mark name` per series; series that
@@ -160,6 +162,23 @@ fn x_labels(plot: &Plot, width: usize, th: &Theme) -> Line<'static> {
 fn paint(ctx: &mut Context, plot: &Plot, (w, h): (f64, f64), th: &Theme) {
     let (xs, ys) = (plot.xb[1] - plot.xb[0], plot.yb[1] - plot.yb[0]);
     let finite = |p: &&(f64, f64)| p.0.is_finite() && p.1.is_finite();
+    if let Some(x) = plot.cursor.filter(|x| x.is_finite()) {
+        if th.ascii {
+            for k in 0..(h as usize) {
+                let y = plot.yb[0] + ys * k as f64 / (h - 1.0).max(1.0);
+                ctx.print(x, y, Span::styled(":", th.dim()));
+            }
+        } else {
+            ctx.draw(&CLine {
+                x1: x,
+                y1: plot.yb[0],
+                x2: x,
+                y2: plot.yb[1],
+                color: th.dim().fg.unwrap_or(Color::Reset),
+            });
+        }
+        ctx.layer();
+    }
     for s in &plot.series {
         let pts: Vec<&(f64, f64)> = s.points.iter().filter(finite).collect();
         for seg in pts.windows(2) {

@@ -149,28 +149,14 @@ pub(super) fn apply_reload(app: &mut App, text: String) -> Vec<Effect> {
     }
 }
 
-/// `e`: export the shown run.
+/// `e`: export the shown run (its window, the whole run, its events) into the output folder.
 pub(super) fn export(app: &mut App) -> Vec<Effect> {
     let Some(run) = app.current.as_ref().filter(|r| !r.t.is_empty()) else {
         app.set_status(StatusKind::Info, "nothing to export yet");
         return Vec::new();
     };
-    let stem = app
-        .path
-        .file_stem()
-        .map_or("model".into(), |s| s.to_string_lossy().into_owned());
-    let mut dirs = Vec::new();
-    if let Some(d) = app.path.parent() {
-        dirs.push(if d.as_os_str().is_empty() {
-            PathBuf::from(".")
-        } else {
-            d.to_path_buf()
-        });
-    }
-    dirs.push(PathBuf::from("."));
     let fx = vec![Effect::Export {
-        dirs,
-        stem,
+        dirs: crate::tui::out_folder::out_dirs(&app.path),
         run: Box::new(run.clone()),
         window: app.window(),
         element: app.element,

@@ -90,8 +90,33 @@ fn handle(app: &mut App, msg: Msg) -> Vec<Effect> {
 fn on_exported(app: &mut App, r: Result<Vec<PathBuf>, String>) -> Vec<Effect> {
     match r {
         Ok(paths) => {
-            let list: Vec<String> = paths.iter().map(|p| p.display().to_string()).collect();
-            app.set_status(StatusKind::Ok, format!("exported {}", list.join(", ")));
+            let what = ["the window", "the whole run", "the events"];
+            let list: Vec<String> = (paths.iter().enumerate())
+                .map(|(i, p)| match what.get(i) {
+                    Some(w) => format!("{} ({w})", p.display()),
+                    None => p.display().to_string(),
+                })
+                .collect();
+            // export-<n>-…: a number above 1 says the earlier exports were kept
+            let n = (paths.first().and_then(|p| p.file_name()))
+                .map(|f| f.to_string_lossy().into_owned())
+                .and_then(|f| {
+                    let rest = f.strip_prefix(crate::tui::out_folder::EXPORT_PREFIX)?;
+                    rest.split('-').next()?.parse::<usize>().ok()
+                })
+                .unwrap_or(1);
+            let kept = match n {
+                1 => String::new(),
+                2 => "; export-1 kept (a new number, nothing overwritten)".into(),
+                n => format!(
+                    "; export-1 to -{} kept (a new number, nothing overwritten)",
+                    n - 1
+                ),
+            };
+            app.set_status(
+                StatusKind::Ok,
+                format!("exported {}{kept}", list.join(", ")),
+            );
         }
         Err(e) => app.set_status(StatusKind::Error, format!("export failed: {e}")),
     }
@@ -214,6 +239,8 @@ fn on_action(app: &mut App, a: Action) -> Vec<Effect> {
         | A::StudyReopen
         | A::StudyMore
         | A::StudyFewer
+        | A::StudyPointPrev
+        | A::StudyPointNext
         | A::PickUp
         | A::PickDown
         | A::PickLoad

@@ -6,7 +6,9 @@ use crate::study_table::{StudyKind, StudyTable};
 use crate::tui::app::{App, Mode, StatusKind, View};
 use crate::tui::keymap::Action;
 use crate::tui::msg::{Effect, StudyOutcome};
-use crate::tui::study::{self, Entry, Phase, Source, Studies, StudySpec, study_dirs, title};
+use crate::tui::out_folder::{out_dirs, reopen_dirs};
+use crate::tui::study::{self, Entry, Phase, Source, Studies, StudySpec, title};
+use crate::tui::study_points::points;
 use std::path::PathBuf;
 
 /// The most record pairs the workbench's suite takes (the far-field set has 19).
@@ -40,6 +42,9 @@ pub(super) fn study_action(app: &mut App, a: Action) -> Vec<Effect> {
             app.results.page = None;
             app.set_status(StatusKind::Info, msg);
         }
+        Action::StudyPointPrev | Action::StudyPointNext => {
+            step_point(app, a == Action::StudyPointNext)
+        }
         Action::StudyCancel => {
             if let Some(fx) = super::results::cancel(app) {
                 return fx;
@@ -47,7 +52,7 @@ pub(super) fn study_action(app: &mut App, a: Action) -> Vec<Effect> {
             return cancel(app);
         }
         Action::StudyReopen => {
-            let dirs = study_dirs(&app.path);
+            let dirs = reopen_dirs(&app.path);
             let shown = dirs[0].display().to_string();
             app.set_status(
                 StatusKind::Info,
@@ -81,6 +86,35 @@ pub(super) fn study_action(app: &mut App, a: Action) -> Vec<Effect> {
     Vec::new()
 }
 
+/// `[` / `]`: the selected study's cursor to the previous or next point of its table (held at
+/// the ends); the readout under the table gives the values there.
+fn step_point(app: &mut App, next: bool) {
+    if app.results.page.is_some() {
+        return;
+    }
+    let kind = app.studies.kind();
+    let points = (app.studies.entry(kind))
+        .and_then(|e| e.table.as_ref())
+        .and_then(points);
+    let Some(p) = points else {
+        let msg = match kind {
+            StudyKind::Screen => "the screening has no points to step through",
+            _ => "no points yet: Enter runs the study, f reopens one",
+        };
+        app.set_status(StatusKind::Info, msg);
+        return;
+    };
+    let i = app.studies.selected;
+    let last = p.rows.len() - 1;
+    let c = app.studies.cursor[i].min(last);
+    app.studies.cursor[i] = if next {
+        (c + 1).min(last)
+    } else {
+        c.saturating_sub(1)
+    };
+    app.generation += 1;
+}
+
 /// `Enter`: the selected study on the form's model (edits included), in a worker.
 fn start(app: &mut App) -> Vec<Effect> {
     let kind = app.studies.kind();
@@ -111,6 +145,7 @@ fn start(app: &mut App) -> Vec<Effect> {
         StatusKind::Info,
         format!("{} study started on {on}", title(kind)),
     );
+    app.studies.cursor[Studies::index_of(kind)] = 0;
     app.studies.entries[Studies::index_of(kind)] = Some(Entry {
         id,
         source: Source::Form { file, edited },
@@ -189,7 +224,7 @@ fn counts(e: &Entry) -> String {
 
 /// The end of study `id`: keep its table, write its CSV.
 pub(super) fn on_done(app: &mut App, id: u64, outcome: StudyOutcome) -> Vec<Effect> {
-    let dirs = study_dirs(&app.path);
+    let dirs = out_dirs(&app.path);
     let Some(kind) = kind_of(app, id) else {
         return Vec::new();
     };
@@ -273,7 +308,7 @@ pub(super) fn on_written(app: &mut App, id: u64, result: Result<PathBuf, String>
 pub(super) fn on_files(app: &mut App, result: Result<Vec<PathBuf>, String>) -> Vec<Effect> {
     match result {
         Ok(files) if files.is_empty() => {
-            let dirs = study_dirs(&app.path);
+            let dirs = reopen_dirs(&app.path);
             let shown = dirs[0].display().to_string();
             let msg = format!("no study CSVs in {shown} yet (a finished study writes one)");
             app.set_status(StatusKind::Info, msg);
@@ -342,6 +377,7 @@ pub(super) fn on_loaded(
     );
     app.studies.selected = Studies::index_of(kind);
     app.results.page = None;
+    app.studies.cursor[app.studies.selected] = 0;
     app.studies.entries[app.studies.selected] = Some(entry);
     app.view = View::Studies;
     app.generation += 1;
