@@ -175,7 +175,11 @@ pub struct App {
     pub current: Option<RunData>,
     /// The runs kept: numbered, named, one the baseline; stored beside the model.
     pub runs: Runs,
+    /// The number of the model's next run (after the highest of its stored runs).
     pub next_run: u64,
+    /// The next worker token ([`RunData::token`]): never reused in the session, whatever
+    /// model is open.
+    pub next_token: u64,
     /// Time cursor (when not following the latest sample).
     pub cursor: f64,
     pub follow: bool,
@@ -239,6 +243,7 @@ impl App {
             current: None,
             runs: Runs::default(),
             next_run: 1,
+            next_token: 1,
             cursor: 0.0,
             follow: true,
             zoom: None,

@@ -444,7 +444,7 @@ fn event_loop(
             match &m {
                 Msg::Signal(sig) => return Ok(Some(*sig)),
                 Msg::Batch { run, .. }
-                    if *run > framed && app.current.as_ref().is_some_and(|c| c.id == *run) =>
+                    if *run > framed && app.current.as_ref().is_some_and(|c| c.token == *run) =>
                 {
                     first_batch_of = Some(*run)
                 }

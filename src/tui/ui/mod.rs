@@ -121,7 +121,7 @@ fn draw_charts(frame: &mut Frame, area: Rect, app: &App, cache: &mut Cache, th: 
 fn readout_time(app: &App, cache: &mut Cache) -> f64 {
     let tc = app.cursor_time();
     match common::shown_run(app) {
-        Some(r) => cache.readout_time(r.id, tc, app.follow && r.running()),
+        Some(r) => cache.readout_time(r.token, tc, app.follow && r.running()),
         None => tc,
     }
 }

@@ -233,7 +233,7 @@ pub(super) fn draw_timeline(
         extra: u64::from(th.ascii),
         ..time_key(run, t0, t1, w as u16)
     };
-    let strips = cache.strips(run.id, key, || {
+    let strips = cache.strips(run.token, key, || {
         let mut v: Vec<Vec<char>> = (0..nc)
             .map(|i| event_strip(run, i, t0, t1, w, per_cell, th.ascii))
             .collect();

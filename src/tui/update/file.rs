@@ -35,7 +35,7 @@ pub(super) fn quit_now(app: &mut App) -> Vec<Effect> {
     app.quit = true;
     let mut fx = Vec::new();
     if let Some(cur) = app.current.as_ref().filter(|c| c.running()) {
-        fx.push(Effect::CancelRun { id: cur.id });
+        fx.push(Effect::CancelRun { id: cur.token });
     }
     if let Some((_, e)) = app.studies.running() {
         fx.push(Effect::CancelStudy { id: e.id });

@@ -31,9 +31,9 @@ pub(super) fn cancel(app: &mut App) -> Vec<Effect> {
     match app.current.as_mut() {
         Some(cur) if cur.status == RunStatus::Running => {
             cur.status = RunStatus::Cancelling;
-            let id = cur.id;
+            let (id, token) = (cur.id, cur.token);
             app.set_status(StatusKind::Info, format!("cancelling #{id}…"));
-            vec![Effect::CancelRun { id }]
+            vec![Effect::CancelRun { id: token }]
         }
         _ => {
             app.set_status(StatusKind::Info, "no run in progress");
@@ -50,7 +50,7 @@ pub(super) fn on_batch(
     events: &[EventRecord],
     t: f64,
 ) -> Vec<Effect> {
-    if let Some(cur) = app.current.as_mut().filter(|c| c.id == run) {
+    if let Some(cur) = app.current.as_mut().filter(|c| c.token == run) {
         cur.push(samples, events, t);
         app.generation += 1;
     }
@@ -68,7 +68,7 @@ pub(super) fn start_run(app: &mut App) -> Vec<Effect> {
     if let Some(mut cur) = app.current.take()
         && cur.running()
     {
-        fx.push(Effect::CancelRun { id: cur.id });
+        fx.push(Effect::CancelRun { id: cur.token });
         if !cur.t.is_empty() {
             cur.status = RunStatus::Cancelled;
             fx.extend(keep(app, &cur).0);
@@ -76,6 +76,9 @@ pub(super) fn start_run(app: &mut App) -> Vec<Effect> {
     }
     let id = app.next_run;
     app.next_run += 1;
+    // the worker's token: the number, unless an earlier model of the session used it
+    let token = id.max(app.next_token);
+    app.next_token = token + 1;
     app.runs.started = Some((id, app.draft.clone()));
     let label = if app.dirty() {
         format!("#{id} (unsaved edits)")
@@ -83,7 +86,9 @@ pub(super) fn start_run(app: &mut App) -> Vec<Effect> {
         format!("#{id}")
     };
     app.set_status(StatusKind::Info, format!("{label} started"));
-    app.current = Some(RunData::for_scene(id, label, &scene));
+    let mut data = RunData::for_scene(id, label, &scene);
+    data.token = token;
+    app.current = Some(data);
     let end = app.t_end();
     if let Some((a, b)) = app.zoom
         && (b > end || a >= end)
@@ -93,7 +98,7 @@ pub(super) fn start_run(app: &mut App) -> Vec<Effect> {
     super::view::keep_cursor_on_rerun(app, cursor);
     app.generation += 1;
     fx.push(Effect::StartRun {
-        id,
+        id: token,
         scene: Box::new(scene),
     });
     fx
@@ -101,7 +106,7 @@ pub(super) fn start_run(app: &mut App) -> Vec<Effect> {
 
 /// The end of a run: its final output, or where it was cancelled or failed.
 pub(super) fn on_done(app: &mut App, run: u64, outcome: RunOutcome) -> Vec<Effect> {
-    let Some(cur) = app.current.as_mut().filter(|c| c.id == run) else {
+    let Some(cur) = app.current.as_mut().filter(|c| c.token == run) else {
         return Vec::new();
     };
     let label = cur.label.clone();
