@@ -19,6 +19,10 @@ struct Cli {
     command: Option<Command>,
     /// Open the workbench on this model.
     model: Option<PathBuf>,
+    /// Open the workbench without running the model (a kept run of the same model text is
+    /// shown; `r` runs it).
+    #[arg(long)]
+    no_run: bool,
 }
 
 #[derive(Subcommand)]
@@ -233,7 +237,7 @@ fn main() -> ExitCode {
         Some(Command::Fragility(a)) => cli::fragility::cmd_fragility(&a),
         None => match cli.model {
             #[cfg(feature = "workbench")]
-            Some(m) => deckspin::tui::run(&m),
+            Some(m) => deckspin::tui::run(&m, !cli.no_run),
             #[cfg(not(feature = "workbench"))]
             Some(_) => Err(
                 "this deckspin was built without the workbench (cargo feature `workbench`)".into(),

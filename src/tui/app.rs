@@ -40,6 +40,8 @@ pub enum Confirm {
     SaveConflict { text: String },
     /// Quit with unsaved edits.
     Quit,
+    /// Delete run `number` of the run list and its files.
+    DeleteRun { number: u64 },
     /// Open another model (chosen in the list of models) and lose the unsaved edits.
     OpenModel { path: PathBuf },
     /// A swap file of unsaved edits found at the start (`tui::swap`), with the values that
@@ -84,6 +86,8 @@ pub enum Mode {
         files: Vec<PathBuf>,
         selected: usize,
     },
+    /// A run's whole status (`i`): its failure's reason, time reached, method and step.
+    RunInfo(Box<super::run_info::Info>),
 }
 
 pub use super::messages::StatusKind;
@@ -220,6 +224,10 @@ pub struct App {
     /// Every status message said (`tui::messages`), and the first line of the log shown.
     pub messages: Vec<super::messages::Said>,
     pub log_scroll: usize,
+    /// The first line of the run info shown.
+    pub info_scroll: usize,
+    /// What opening the run list read ([`super::run_store::ReadCount`]).
+    pub runs_read: super::run_store::ReadCount,
 }
 
 impl App {
@@ -267,6 +275,8 @@ impl App {
             typing_before_quit: None,
             messages: Vec::new(),
             log_scroll: 0,
+            info_scroll: 0,
+            runs_read: Default::default(),
         };
         match form::validate(text, path) {
             Ok(scene) => {
@@ -302,6 +312,7 @@ impl App {
         let loaded = super::run_store::load(&dir);
         self.runs = loaded.runs;
         self.runs_older = loaded.older;
+        self.runs_read = loaded.read;
         self.next_run = self.next_run.max(self.runs.last_number() + 1);
         let mut notes = Vec::new();
         if !self.runs.list.is_empty() {
@@ -405,6 +416,7 @@ impl App {
             Mode::Messages => Some(Ctx::Messages),
             Mode::Pick { .. } => Some(Ctx::Pick),
             Mode::Naming { .. } => Some(Ctx::Naming),
+            Mode::RunInfo(_) => Some(Ctx::RunInfo),
         };
         let mut ctxs = keymap::active(mode, self.view_ctx());
         if mode.is_none() && self.view == View::Charts && self.events_open {

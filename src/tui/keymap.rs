@@ -73,6 +73,11 @@ pub enum Action {
     RunBaseline,
     RunRename,
     RunsToCharts,
+    /// Delete the selected run (asks first).
+    RunDelete,
+    /// A run's whole status: open, close.
+    RunInfo,
+    CloseRunInfo,
     NameCommit,
     NameCancel,
     NameBackspace,
@@ -148,6 +153,8 @@ pub enum Ctx {
     Search,
     Quit,
     OpenModel,
+    /// A run's whole status.
+    RunInfo,
 }
 
 impl Ctx {
@@ -170,6 +177,7 @@ impl Ctx {
             Ctx::Search => "searching the form",
             Ctx::Quit => "quitting with unsaved edits",
             Ctx::OpenModel => "choosing a model to open",
+            Ctx::RunInfo => "a run's info",
         }
     }
 }
@@ -311,6 +319,17 @@ pub const KEYMAP: &[Binding] = &[
     b(Ctx::Runs, &[K::Ch('b')], "b", A::RunBaseline, "pin the run as the baseline", Some(("b", "baseline"))),
     b(Ctx::Runs, &[K::Ch('n')], "n", A::RunRename, "name the run", Some(("n", "name"))),
     b(Ctx::Runs, &[K::Code(KC::Enter)], "Enter", A::RunsToCharts, "back to the charts", Some(("Enter", "charts"))),
+    b(Ctx::Runs, &[K::Ch('i')], "i", A::RunInfo, "status, reason, method, step", Some(("i", "info"))),
+    b(Ctx::Runs, &[K::Ch('d'), K::Code(KC::Delete)], "d/Del", A::RunDelete, "delete the run (asks first)", Some(("d", "delete"))),
+    b(Ctx::Charts, &[K::Ch('i')], "i", A::RunInfo, "the shown run's whole status", None),
+    // a run's info
+    b(Ctx::RunInfo, &[K::Code(KC::Down), K::Ch('j')], "↓/j", A::HelpDown, "scroll down", Some(("j/k", "scroll"))),
+    b(Ctx::RunInfo, &[K::Code(KC::Up), K::Ch('k')], "↑/k", A::HelpUp, "scroll up", None),
+    b(Ctx::RunInfo, &[K::Code(KC::PageDown)], "PgDn", A::HelpPageDown, "page down", None),
+    b(Ctx::RunInfo, &[K::Code(KC::PageUp)], "PgUp", A::HelpPageUp, "page up", None),
+    b(Ctx::RunInfo, &[K::Code(KC::Home)], "Home", A::HelpTop, "to the top", None),
+    b(Ctx::RunInfo, &[K::Code(KC::End)], "End", A::HelpBottom, "to the end", None),
+    b(Ctx::RunInfo, &[K::Code(KC::Esc), K::Ch('q'), K::Ch('i')], "Esc/q/i", A::CloseRunInfo, "close the run info", Some(("Esc", "close"))),
     // naming a run
     b(Ctx::Naming, &[K::Code(KC::Enter)], "Enter", A::NameCommit, "keep it (empty: derived)", Some(("Enter", "keep"))),
     b(Ctx::Naming, &[K::Code(KC::Esc)], "Esc", A::NameCancel, "leave the name as it was", Some(("Esc", "cancel"))),
@@ -441,6 +460,7 @@ pub fn help() -> Vec<(&'static str, Vec<(&'static str, &'static str)>)> {
         Ctx::Search,
         Ctx::Quit,
         Ctx::OpenModel,
+        Ctx::RunInfo,
     ]
     .iter()
     .map(|c| {

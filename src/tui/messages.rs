@@ -68,7 +68,7 @@ pub fn lines(log: &[Said], width: usize) -> Vec<(StatusKind, String)> {
 }
 
 /// `text` cut into lines of at most `room` characters, at spaces where it can.
-fn wrap(text: &str, room: usize) -> Vec<String> {
+pub fn wrap(text: &str, room: usize) -> Vec<String> {
     let mut out = Vec::new();
     let mut line = String::new();
     for word in text.split(' ') {

@@ -24,6 +24,7 @@ pub mod nav;
 pub mod results;
 pub mod results_worker;
 pub mod run_data;
+pub mod run_info;
 pub mod run_list;
 pub mod run_results;
 pub mod run_store;

@@ -102,6 +102,11 @@ pub enum Msg {
     },
     /// Result of [`Effect::StoreRuns`].
     RunsStored(Result<(), String>),
+    /// Result of [`Effect::LoadSeries`]: each run's series, or why it does not read.
+    SeriesLoaded {
+        dir: PathBuf,
+        loaded: Vec<(u64, Result<RunData, String>)>,
+    },
     // -- the results pages and the work-precision study
     /// Point `index` of work-precision study `id` is final.
     StudyPoint {
@@ -186,6 +191,12 @@ pub enum Effect {
         dir: PathBuf,
         jobs: Vec<run_store::Job>,
         remove: Vec<u64>,
+    },
+    /// Read the series of the stored runs `runs` (number, `t_end`) from `dir`, after the
+    /// files asked to be written before.
+    LoadSeries {
+        dir: PathBuf,
+        runs: Vec<(u64, f64)>,
     },
     // -- the results pages
     /// Compute a results page's data in a worker ([`super::results_worker`]).

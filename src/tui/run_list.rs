@@ -31,6 +31,23 @@ pub enum Ended {
 }
 
 impl Ended {
+    /// The status column of the run list: the word, and for a failure its short reason
+    /// (`failed: Painlevé`).
+    pub fn short(&self) -> String {
+        match self {
+            Ended::Failed(why) => format!("failed: {}", short_reason(why)),
+            _ => self.word().into(),
+        }
+    }
+
+    /// The whole reason of a failure or of a run outside its accuracy bounds.
+    pub fn reason(&self) -> Option<&str> {
+        match self {
+            Ended::Failed(why) | Ended::Inaccurate(why) => Some(why),
+            _ => None,
+        }
+    }
+
     pub fn word(&self) -> &'static str {
         match self {
             Ended::Finished => "done",
@@ -38,6 +55,50 @@ impl Ended {
             Ended::Failed(_) => "failed",
             Ended::Inaccurate(_) => "inexact",
         }
+    }
+}
+
+/// A failure's reason in a word or two, from the engine's message (`SolverError`,
+/// `RunFailure`); else its first words.
+pub fn short_reason(why: &str) -> String {
+    const KNOWN: [(&str, &str); 17] = [
+        ("Painlevé", "Painlevé"),
+        ("step collapse", "collapse"),
+        ("LCP failed", "LCP"),
+        ("fell below the minimum", "step < min"),
+        ("events", "max events"),
+        ("initial penetration", "penetration"),
+        ("non-finite", "non-finite"),
+        ("too stiff", "too stiff"),
+        ("stopped advancing", "stalled"),
+        ("unstable", "unstable"),
+        ("did not converge", "no converge"),
+        ("lost its seat", "unseated"),
+        ("outside the accuracy", "inaccurate"),
+        ("panicked", "panic"),
+        ("in memory", "memory"),
+        ("worker thread", "thread"),
+        ("steps", "max steps"),
+    ];
+    let body = match why.split_once(" s: ") {
+        Some((head, rest)) if head.starts_with("t = ") => rest,
+        _ => why,
+    };
+    // the engine's own words first (the message's head), then the whole of it
+    for text in [body.split(':').next().unwrap_or(body), body] {
+        if let Some((_, w)) = KNOWN.iter().find(|(k, _)| text.contains(k)) {
+            return (*w).into();
+        }
+    }
+    let first: String = body
+        .split_whitespace()
+        .take(2)
+        .collect::<Vec<_>>()
+        .join(" ");
+    if first.chars().count() > 12 {
+        first.chars().take(11).chain(['…']).collect()
+    } else {
+        first
     }
 }
 
@@ -251,6 +312,7 @@ pub fn thin(r: &RunData) -> RunData {
     d.el_range = r.el_range.clone();
     d.impacts = r.impacts.clone();
     d.t_sim = r.t_sim;
+    d.token = r.token;
     d.status = r.status.clone();
     d.summary = r.summary.clone();
     d.steps = r.steps;
@@ -274,6 +336,20 @@ pub struct Entry {
     pub overlay: bool,
     /// Its model against the baseline's.
     pub changes: Vec<Change>,
+    /// Whether `data` holds its series or they are still on disk.
+    pub series: Series,
+}
+
+/// Where a kept run's series are: in `data`, or in its file, read when it is shown or
+/// overlaid.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Series {
+    InMemory,
+    OnDisk,
+    /// Asked for ([`super::msg::Effect::LoadSeries`]), not back yet.
+    Asked,
+    /// The file does not read: why.
+    Unreadable(String),
 }
 
 impl Entry {
@@ -295,6 +371,7 @@ impl Entry {
             data: thin(r),
             overlay: false,
             changes: Vec::new(),
+            series: Series::InMemory,
         }
     }
 }
@@ -330,6 +407,34 @@ impl Runs {
         self.list.get(self.selected)
     }
 
+    /// The newest run of model text `text` that ended by itself (finished, inexact or failed:
+    /// the same text gives the same result; a cancelled run is not reused).
+    pub fn reusable(&self, text: &str) -> Option<u64> {
+        (self.list.iter().rev())
+            .find(|e| e.model == text && e.ended != Ended::Cancelled)
+            .map(|e| e.number)
+    }
+
+    /// The newest run of model text `text`, whatever its end.
+    pub fn same_text(&self, text: &str) -> Option<u64> {
+        (self.list.iter().rev())
+            .find(|e| e.model == text)
+            .map(|e| e.number)
+    }
+
+    /// Takes run `n` off the list (the numbers of the others stay; the baseline's removal
+    /// leaves none).
+    pub fn remove(&mut self, n: u64) -> Option<Entry> {
+        let i = self.list.iter().position(|e| e.number == n)?;
+        let e = self.list.remove(i);
+        if self.baseline == Some(n) {
+            self.baseline = None;
+            self.rediff();
+        }
+        self.selected = self.selected.min(self.list.len().saturating_sub(1));
+        Some(e)
+    }
+
     /// The largest number kept.
     pub fn last_number(&self) -> u64 {
         self.list.iter().map(|e| e.number).max().unwrap_or(0)
@@ -339,7 +444,10 @@ impl Runs {
     /// `saved` model text when there is none) and drops the oldest beyond [`KEEP`] (never the
     /// baseline); returns the numbers dropped.
     pub fn add(&mut self, mut e: Entry, saved: &str) -> Vec<u64> {
-        let base = self.baseline_entry().map(|b| (b.number, b.model.clone()));
+        // a run replacing the baseline (a rerun of its text) is not compared with itself
+        let base = (self.baseline_entry())
+            .filter(|b| b.number != e.number)
+            .map(|b| (b.number, b.model.clone()));
         if let Some((_, m)) = &base {
             e.changes = model_diff(m, &e.model);
         }

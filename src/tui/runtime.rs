@@ -321,8 +321,9 @@ pub fn pace(rx: &Receiver<Msg>, until: Instant) -> Vec<Msg> {
     }
 }
 
-/// Open the workbench on a model file.
-pub fn run(model: &Path) -> Result<(), Box<dyn std::error::Error>> {
+/// Open the workbench on a model file; with `run` false (`--no-run`) the model is not run
+/// (a kept run of the same model text is shown).
+pub fn run(model: &Path, run: bool) -> Result<(), Box<dyn std::error::Error>> {
     let mut timing = Timing::from_env();
     timing.log("start");
     let mut app = App::new_from_path(model, Options::from_env())?;
@@ -348,7 +349,7 @@ pub fn run(model: &Path) -> Result<(), Box<dyn std::error::Error>> {
         watch: None,
     };
     host.watch(&app.path);
-    let fx = app.start();
+    let fx = app.start_with(run);
     perform(&mut app, &mut host, fx);
     let mut swapper = offer_swap(&mut app);
     let ended = event_loop(&mut terminal, &mut app, &mut host, &rx, &mut swapper);

@@ -17,6 +17,7 @@ mod plan;
 mod precision;
 mod results;
 mod results_model;
+mod run_info;
 mod runs;
 mod screen_map;
 mod side;
@@ -89,6 +90,7 @@ fn draw_screen(frame: &mut Frame, app: &App, cache: &mut Cache) {
             form::draw_model_picker(frame, area, app, files, *selected, &th)
         }
         Mode::Confirm(c) => status::draw_confirm(frame, area, app, c, &th),
+        Mode::RunInfo(info) => run_info::draw_run_info(frame, body, app, info, &th),
         _ => {}
     }
 }

@@ -76,8 +76,11 @@ fn state_ranks(
     let range = chart::window(&run.t, t0, t1);
     let states = &run.state[contact];
     for i in range.clone() {
-        if let Some(c) = column_of(run.t[i], t0, t1, width, per_cell) {
-            let r = rank_of(&states[i]);
+        // a run shown from the run list keeps no contact states
+        if let Some(c) = column_of(run.t[i], t0, t1, width, per_cell)
+            && let Some(s) = states.get(i)
+        {
+            let r = rank_of(s);
             rank[c] = Some(rank[c].map_or(r, |x| x.max(r)));
         }
     }

@@ -5,11 +5,13 @@
 mod edit;
 mod file;
 mod find;
+mod info;
 mod open;
 mod reconcile;
 mod results;
 mod run;
 mod runs;
+mod stored;
 mod study;
 mod term;
 mod view;
@@ -26,8 +28,14 @@ pub fn list_index(app: &App) -> usize {
     results::index(app)
 }
 
-/// Handles one message.
+/// Handles one message (and asks for the series of kept runs it made needed).
 pub fn update(app: &mut App, msg: Msg) -> Vec<Effect> {
+    let mut fx = on_msg(app, msg);
+    fx.extend(stored::want_series(app));
+    fx
+}
+
+fn on_msg(app: &mut App, msg: Msg) -> Vec<Effect> {
     match msg {
         Msg::Key(ev) => on_key(app, ev),
         Msg::Action(a) => on_action(app, a),
@@ -66,6 +74,7 @@ pub fn update(app: &mut App, msg: Msg) -> Vec<Effect> {
         Msg::StudyFiles(r) => study::on_files(app, r),
         Msg::StudyLoaded { path, result } => study::on_loaded(app, path, result),
         Msg::RunsStored(r) => runs::on_stored(app, r),
+        Msg::SeriesLoaded { dir, loaded } => stored::on_loaded(app, dir, loaded),
         Msg::StudyPoint { id, index, point } => results::on_point(app, id, index, *point),
         Msg::ResultProgress { id, done, all } => results::on_progress(app, id, done, all),
         Msg::ResultDone { id, outcome } => results::on_done(app, id, outcome),
@@ -209,6 +218,9 @@ fn on_action(app: &mut App, a: Action) -> Vec<Effect> {
         | A::RunBaseline
         | A::RunRename
         | A::RunsToCharts
+        | A::RunDelete
+        | A::RunInfo
+        | A::CloseRunInfo
         | A::NameCommit
         | A::NameCancel
         | A::NameBackspace
@@ -310,6 +322,7 @@ fn answer(app: &mut App, yes: bool) -> Vec<Effect> {
         }
         (Confirm::SaveConflict { text }, yes) => reconcile::answer_save_conflict(app, text, yes),
         (Confirm::OpenModel { path }, yes) => open::answer(app, path, yes),
+        (Confirm::DeleteRun { number }, yes) => runs::answer_delete(app, number, yes),
         (c @ (Confirm::Merge { .. } | Confirm::Recover { .. }), _) => {
             // answered with m/t/M/T, not y/n
             app.mode = Mode::Confirm(c);

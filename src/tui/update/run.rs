@@ -7,13 +7,10 @@ use crate::tui::msg::{Effect, RunOutcome};
 use crate::tui::run_data::{RunData, RunStatus};
 
 impl App {
-    /// The first run.
+    /// The first run, or the kept run of the same model text shown
+    /// ([`super::stored`]'s rule).
     pub fn start(&mut self) -> Vec<Effect> {
-        if self.scene.is_some() {
-            start_run(self)
-        } else {
-            Vec::new()
-        }
+        self.start_with(true)
     }
 }
 
@@ -57,25 +54,36 @@ pub(super) fn on_batch(
     Vec::new()
 }
 
-/// Starts a run of the current draft (a run still going is cancelled and kept in the run list
-/// with what it computed).
-pub(super) fn start_run(app: &mut App) -> Vec<Effect> {
-    let Some(scene) = app.scene.clone() else {
-        return Vec::new();
-    };
+/// The run going, if any, cancelled and kept in the run list with what it computed.
+pub(super) fn supersede(app: &mut App) -> Vec<Effect> {
     let mut fx = Vec::new();
-    let cursor = app.cursor_time();
-    if let Some(mut cur) = app.current.take()
-        && cur.running()
-    {
+    if let Some(mut cur) = app.current.take_if(|c| c.running()) {
         fx.push(Effect::CancelRun { id: cur.token });
         if !cur.t.is_empty() {
             cur.status = RunStatus::Cancelled;
             fx.extend(keep(app, &cur).0);
         }
     }
-    let id = app.next_run;
-    app.next_run += 1;
+    fx
+}
+
+/// Starts a run of the current draft (a run still going is cancelled and kept in the run list
+/// with what it computed). Its number is that of the kept run (or the run going) of the same
+/// model text, which it replaces when it ends; else the next one.
+pub(super) fn start_run(app: &mut App) -> Vec<Effect> {
+    let Some(scene) = app.scene.clone() else {
+        return Vec::new();
+    };
+    let cursor = app.cursor_time();
+    let going = (app.runs.started.as_ref())
+        .filter(|(_, text)| *text == app.draft && app.running())
+        .map(|(n, _)| *n);
+    let same = app.runs.same_text(&app.draft).or(going);
+    let mut fx = supersede(app);
+    let id = same.unwrap_or_else(|| {
+        app.next_run += 1;
+        app.next_run - 1
+    });
     // the worker's token: the number, unless an earlier model of the session used it
     let token = id.max(app.next_token);
     app.next_token = token + 1;
@@ -85,7 +93,12 @@ pub(super) fn start_run(app: &mut App) -> Vec<Effect> {
     } else {
         format!("#{id}")
     };
-    app.set_status(StatusKind::Info, format!("{label} started"));
+    let again = if same.is_some() {
+        format!(": same model text, it replaces #{id} when it ends")
+    } else {
+        String::new()
+    };
+    app.set_status(StatusKind::Info, format!("{label} started{again}"));
     let mut data = RunData::for_scene(id, label, &scene);
     data.token = token;
     app.current = Some(data);
