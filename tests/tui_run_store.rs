@@ -14,7 +14,7 @@ use crossterm::event::KeyCode;
 use deckspin::tui::app::{Confirm, Mode, View};
 use deckspin::tui::keymap::Action;
 use deckspin::tui::run_data::{RunData, RunStatus};
-use deckspin::tui::run_list::{Ended, Entry, Series};
+use deckspin::tui::run_list::{self, Ended, Entry, Series};
 use deckspin::tui::{self, App, Effect, Msg, Options, run_store, update};
 use std::path::{Path, PathBuf};
 
@@ -353,19 +353,26 @@ fn with_50_stored_runs_the_start_reads_only_their_metadata() {
     let text = read(&model);
     let template = run_of(&text, &model, 1);
     store_runs(&dir, &template, &text, 50);
-    let meta_bytes: usize = (1..=50)
-        .flat_map(|k| ["json", "toml"].map(|x| dir.join(format!("{k:04}.{x}"))))
-        .map(|p| std::fs::metadata(p).unwrap().len() as usize)
-        .sum();
+    let meta_bytes = || -> usize {
+        (1..=50)
+            .flat_map(|k| ["json", "toml"].map(|x| dir.join(format!("{k:04}.{x}"))))
+            .map(|p| std::fs::metadata(p).unwrap().len() as usize)
+            .sum()
+    };
+    let before = meta_bytes();
     let mut app = App::new_from_path(&model, Options::default()).unwrap();
     assert_eq!(app.runs.list.len(), 50);
     assert_eq!(app.runs_read.files, 100, "50 metadata and 50 model files");
-    assert_eq!(app.runs_read.bytes, meta_bytes);
+    assert_eq!(app.runs_read.bytes, before, "and not one series file");
     assert!(
         app.runs.list.iter().all(|e| e.series == Series::OnDisk),
         "every series on disk"
     );
-    // the model's own text is none of theirs: it runs (#51); the baseline's series is asked
+    // these runs were stored without their diff against the baseline: computed once here
+    // (the baseline's own, empty, too)
+    assert_eq!(app.runs_rediffed, (1..=50).collect::<Vec<u64>>());
+    // the model's own text is none of theirs: it runs (#51); the baseline's series is asked,
+    // and the diffs are stored with their runs
     let fx = app.start();
     assert_eq!(start_ids(&fx), [51]);
     assert_eq!(
@@ -373,11 +380,21 @@ fn with_50_stored_runs_the_start_reads_only_their_metadata() {
         [1],
         "the baseline, overlaid, and only it"
     );
-    let load: Vec<Effect> = fx
-        .into_iter()
-        .filter(|e| matches!(e, Effect::LoadSeries { .. }))
+    let stored: Vec<u64> = fx
+        .iter()
+        .flat_map(|e| match e {
+            Effect::StoreRuns { jobs, remove, .. } => {
+                assert!(remove.is_empty() && jobs.iter().all(|j| !j.full));
+                jobs.iter().map(|j| j.entry.number).collect()
+            }
+            _ => Vec::new(),
+        })
         .collect();
-    tui::execute_blocking(&mut app, load);
+    assert_eq!(stored, (1..=50).collect::<Vec<u64>>());
+    let rest: Vec<Effect> = (fx.into_iter())
+        .filter(|e| !matches!(e, Effect::StartRun { .. }))
+        .collect();
+    tui::execute_blocking(&mut app, rest);
     let base = app.runs.get(1).unwrap();
     assert_eq!(base.series, Series::InMemory);
     assert_eq!(base.data.t, Entry::of_run(&template, String::new()).data.t);
@@ -386,13 +403,18 @@ fn with_50_stored_runs_the_start_reads_only_their_metadata() {
     app.runs.selected = 9;
     let fx = update(&mut app, key(' '));
     assert_eq!(series_asked(&fx), [10]);
-    assert!(
-        app.runs
-            .list
-            .iter()
-            .filter(|e| e.series == Series::OnDisk)
-            .count()
-            == 48
+    let on_disk = (app.runs.list.iter()).filter(|e| e.series == Series::OnDisk);
+    assert_eq!(on_disk.count(), 48);
+    // the next opening diffs none: their diffs came back with their metadata
+    let again = App::new_from_path(&model, Options::default()).unwrap();
+    assert!(again.runs_rediffed.is_empty(), "{:?}", again.runs_rediffed);
+    assert_eq!(again.runs_read.files, 100);
+    assert_eq!(again.runs_read.bytes, meta_bytes());
+    let two = again.runs.get(2).unwrap();
+    assert_eq!(two.changes, [], "a comment: no value changed");
+    assert_eq!(
+        two.diff_base,
+        Some(run_list::text_hash(&again.runs.get(1).unwrap().model))
     );
     cleanup(&model);
 }

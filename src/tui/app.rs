@@ -226,8 +226,10 @@ pub struct App {
     pub log_scroll: usize,
     /// The first line of the run info shown.
     pub info_scroll: usize,
-    /// What opening the run list read ([`super::run_store::ReadCount`]).
+    /// What opening the run list read ([`super::run_store::ReadCount`]), and the runs whose
+    /// model diff it computed (stored again at the start).
     pub runs_read: super::run_store::ReadCount,
+    pub runs_rediffed: Vec<u64>,
 }
 
 impl App {
@@ -277,6 +279,7 @@ impl App {
             log_scroll: 0,
             info_scroll: 0,
             runs_read: Default::default(),
+            runs_rediffed: Vec::new(),
         };
         match form::validate(text, path) {
             Ok(scene) => {
@@ -313,6 +316,7 @@ impl App {
         self.runs = loaded.runs;
         self.runs_older = loaded.older;
         self.runs_read = loaded.read;
+        self.runs_rediffed = loaded.rediffed;
         self.next_run = self.next_run.max(self.runs.last_number() + 1);
         let mut notes = Vec::new();
         if !self.runs.list.is_empty() {

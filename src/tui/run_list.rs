@@ -102,6 +102,13 @@ pub fn short_reason(why: &str) -> String {
     }
 }
 
+/// A hash of a model text that stays the same from build to build (64-bit FNV-1a).
+pub fn text_hash(text: &str) -> u64 {
+    text.bytes().fold(0xcbf2_9ce4_8422_2325, |h, b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3)
+    })
+}
+
 /// A failure that is a finished run outside its accuracy bounds.
 pub fn is_inaccurate(e: &super::run_data::RunFailure) -> bool {
     matches!(
@@ -170,7 +177,7 @@ impl Results {
 }
 
 /// One value that differs between two model texts, by dotted path (None: absent).
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Change {
     pub path: String,
     pub old: Option<String>,
@@ -197,7 +204,12 @@ pub fn model_diff(old: &str, new: &str) -> Vec<Change> {
     if old == new {
         return Vec::new();
     }
-    let (Some(a), Some(b)) = (form::scalars(old), form::scalars(new)) else {
+    model_diff_from(form::scalars(old).as_deref(), new)
+}
+
+/// [`model_diff`] from the old text's scalars (None: not TOML), read once for many diffs.
+fn model_diff_from(a: Option<&[(String, toml_edit::Value)]>, new: &str) -> Vec<Change> {
+    let (Some(a), Some(b)) = (a, form::scalars(new)) else {
         return vec![Change {
             path: "(the file is not TOML)".into(),
             old: None,
@@ -217,7 +229,7 @@ pub fn model_diff(old: &str, new: &str) -> Vec<Change> {
             });
         }
     }
-    for (p, v) in &a {
+    for (p, v) in a {
         if !b.iter().any(|(q, _)| q == p) {
             out.push(Change {
                 path: p.clone(),
@@ -336,6 +348,9 @@ pub struct Entry {
     pub overlay: bool,
     /// Its model against the baseline's.
     pub changes: Vec<Change>,
+    /// The [`text_hash`] of the baseline's model text `changes` are against (None: no
+    /// baseline); stored with them, so that opening the list does not diff every run again.
+    pub diff_base: Option<u64>,
     /// Whether `data` holds its series or they are still on disk.
     pub series: Series,
 }
@@ -371,6 +386,7 @@ impl Entry {
             data: thin(r),
             overlay: false,
             changes: Vec::new(),
+            diff_base: None,
             series: Series::InMemory,
         }
     }
@@ -450,6 +466,7 @@ impl Runs {
             .map(|b| (b.number, b.model.clone()));
         if let Some((_, m)) = &base {
             e.changes = model_diff(m, &e.model);
+            e.diff_base = Some(text_hash(m));
         }
         if !e.named {
             e.name = match &base {
@@ -483,22 +500,39 @@ impl Runs {
         dropped
     }
 
-    /// Pins run `n` as the baseline; every run's diff is then against it.
-    pub fn pin(&mut self, n: u64) {
+    /// Pins run `n` as the baseline; every run's diff is then against it. Returns the runs
+    /// whose diff changed (their metadata to store again).
+    pub fn pin(&mut self, n: u64) -> Vec<u64> {
         self.baseline = Some(n);
         if let Some(e) = self.get_mut(n) {
             e.overlay = false;
         }
-        self.rediff();
+        self.rediff()
     }
 
-    fn rediff(&mut self) {
+    /// Every run's diff against the baseline, except those already against its text (the
+    /// baseline's scalars read once).
+    fn rediff(&mut self) -> Vec<u64> {
         let base = self.baseline_entry().map(|b| b.model.clone());
+        let hash = base.as_deref().map(text_hash);
+        let mut scalars = None;
+        let mut changed = Vec::new();
         for e in &mut self.list {
-            e.changes = base
-                .as_ref()
-                .map_or_else(Vec::new, |m| model_diff(m, &e.model));
+            if e.diff_base == hash {
+                continue;
+            }
+            e.changes = match &base {
+                Some(m) if *m == e.model => Vec::new(),
+                Some(m) => model_diff_from(
+                    scalars.get_or_insert_with(|| form::scalars(m)).as_deref(),
+                    &e.model,
+                ),
+                None => Vec::new(),
+            };
+            e.diff_base = hash;
+            changed.push(e.number);
         }
+        changed
     }
 
     /// Toggles run `n` in the overlay; refused beyond [`MAX_OVERLAY`] runs.

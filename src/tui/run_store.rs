@@ -10,7 +10,7 @@
 //! short is finished at the next opening.
 
 use super::run_data::{RunData, RunStatus, fresh_token};
-use super::run_list::{Ended, Entry, KEEP, Results, Runs, Series};
+use super::run_list::{Change, Ended, Entry, KEEP, Results, Runs, Series};
 use crate::output::number::Numbers;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -43,6 +43,15 @@ struct Meta {
     ended: Ended,
     t_end: f64,
     results: Results,
+    /// Its model diff against the baseline's model text of this hash (`run_list::text_hash`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    diff: Option<Diff>,
+}
+
+#[derive(Serialize, Deserialize)]
+struct Diff {
+    base: String,
+    changes: Vec<Change>,
 }
 
 fn stem(n: u64) -> String {
@@ -68,6 +77,10 @@ pub fn meta_text(e: &Entry, baseline: bool) -> String {
         ended: e.ended.clone(),
         t_end: e.data.t_end,
         results: e.results.clone(),
+        diff: e.diff_base.map(|h| Diff {
+            base: format!("{h:016x}"),
+            changes: e.changes.clone(),
+        }),
     };
     serde_json::to_string_pretty(&m).unwrap_or_default() + "\n"
 }
@@ -200,6 +213,9 @@ pub struct Loaded {
     pub older: Vec<u64>,
     pub skipped: Vec<String>,
     pub read: ReadCount,
+    /// The runs whose diff against the baseline was not stored with them (computed here; their
+    /// metadata to store again).
+    pub rediffed: Vec<u64>,
 }
 
 /// Reads the series of run `n` (`t_end` from its metadata) from `dir`.
@@ -292,6 +308,10 @@ fn read_run(dir: &Path, n: u64, count: &mut ReadCount) -> Result<(Entry, bool), 
     let mut data = RunData::new(n, format!("#{n}"), vec![], vec![], vec![], meta.t_end);
     data.token = fresh_token();
     stored_status(&mut data, &meta.ended, meta.results.t_sim);
+    let (diff_base, changes) = match meta.diff {
+        Some(d) => (u64::from_str_radix(&d.base, 16).ok(), d.changes),
+        None => (None, Vec::new()),
+    };
     let e = Entry {
         number: n,
         name: meta.name,
@@ -301,7 +321,8 @@ fn read_run(dir: &Path, n: u64, count: &mut ReadCount) -> Result<(Entry, bool), 
         results: meta.results,
         data,
         overlay: false,
-        changes: Vec::new(),
+        changes,
+        diff_base,
         series: Series::OnDisk,
     };
     Ok((e, meta.baseline))
@@ -378,9 +399,7 @@ pub fn load(dir: &Path) -> Loaded {
         dir: Some(dir.to_path_buf()),
         ..Runs::default()
     };
-    if let Some(b) = baseline {
-        runs.pin(b);
-    }
+    let rediffed = baseline.map_or_else(Vec::new, |b| runs.pin(b));
     let older = runs.bound();
     debug_assert!(runs.list.len() <= KEEP + 1);
     runs.selected = runs.list.len().saturating_sub(1);
@@ -389,5 +408,6 @@ pub fn load(dir: &Path) -> Loaded {
         older,
         skipped,
         read,
+        rediffed,
     }
 }

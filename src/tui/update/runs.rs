@@ -41,17 +41,21 @@ pub(super) fn keep(app: &mut App, r: &RunData) -> (Vec<Effect>, Option<String>) 
     let finished = entry.ended == Ended::Finished;
     let mut dropped = app.runs.add(entry, &app.text);
     let mut note = None;
+    let mut rediffed = Vec::new();
     if app.runs.baseline.is_none() && finished {
-        app.runs.pin(n);
+        rediffed = app.runs.pin(n);
         note = Some(format!("#{n} is the baseline (# lists the runs)"));
     }
     app.runs.selected = app.runs.list.len().saturating_sub(1);
     dropped.append(&mut app.runs_older);
-    (store(app, &[n], true, dropped), note)
+    let mut fx = store(app, &[n], true, dropped);
+    rediffed.retain(|&k| k != n);
+    fx.extend(store(app, &rediffed, false, Vec::new()));
+    (fx, note)
 }
 
 /// The effect writing runs `numbers` (with `full`, their model and series too).
-fn store(app: &App, numbers: &[u64], full: bool, remove: Vec<u64>) -> Vec<Effect> {
+pub(super) fn store(app: &App, numbers: &[u64], full: bool, remove: Vec<u64>) -> Vec<Effect> {
     let Some(dir) = app.runs.dir.clone() else {
         return Vec::new();
     };
@@ -105,6 +109,7 @@ pub(super) fn answer_delete(app: &mut App, n: u64, yes: bool) -> Vec<Effect> {
         app.set_status(StatusKind::Info, format!("#{n} kept"));
         return Vec::new();
     }
+    let was_base = app.runs.baseline == Some(n);
     if app.runs.remove(n).is_none() {
         return Vec::new();
     }
@@ -116,7 +121,13 @@ pub(super) fn answer_delete(app: &mut App, n: u64, yes: bool) -> Vec<Effect> {
         format!(" and its files from {}", d.display())
     });
     app.set_status(StatusKind::Ok, format!("#{n} deleted{whence}"));
-    store(app, &[], false, vec![n])
+    let mut fx = store(app, &[], false, vec![n]);
+    if was_base {
+        // the others' diffs were against it
+        let all: Vec<u64> = app.runs.list.iter().map(|e| e.number).collect();
+        fx.extend(store(app, &all, false, Vec::new()));
+    }
+    fx
 }
 
 /// `i`: the whole status of the selected run (in the run list) or of the shown run.
@@ -186,13 +197,16 @@ pub(super) fn runs_action(app: &mut App, a: Action) -> Vec<Effect> {
                 app.set_status(StatusKind::Info, format!("#{n} is the baseline already"));
                 return Vec::new();
             }
-            app.runs.pin(n);
+            let mut changed = app.runs.pin(n);
             app.generation += 1;
             app.set_status(
                 StatusKind::Ok,
                 format!("#{n} is the baseline: diffs, overlay and comparison are against it"),
             );
-            let changed: Vec<u64> = old.into_iter().chain([n]).collect();
+            // the baseline flags and the diffs stored with the runs
+            changed.extend(old.into_iter().chain([n]));
+            changed.sort_unstable();
+            changed.dedup();
             return store(app, &changed, false, Vec::new());
         }
         A::RunRename => {

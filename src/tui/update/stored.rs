@@ -159,6 +159,9 @@ impl App {
             }
         };
         fx.extend(want_series(self));
+        // diffs computed at the opening: stored with their runs for the next one
+        let rediffed = std::mem::take(&mut self.runs_rediffed);
+        fx.extend(super::runs::store(self, &rediffed, false, Vec::new()));
         fx
     }
 }
