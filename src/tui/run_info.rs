@@ -14,12 +14,15 @@ pub struct Info {
 /// The width of the labels' column.
 pub const LABEL: usize = 14;
 
-/// The info's lines at `width` columns: each row's label, then its text wrapped beside it.
+/// The info's lines at `width` columns: each row's label, then its text wrapped beside it
+/// (its own line breaks kept).
 pub fn lines(info: &Info, width: usize) -> Vec<String> {
     let room = width.saturating_sub(LABEL).max(10);
     let mut out = Vec::new();
     for (label, text) in &info.rows {
-        for (i, chunk) in super::messages::wrap(text, room).into_iter().enumerate() {
+        // a panic's message holds line breaks: each line wrapped
+        let chunks = text.lines().flat_map(|l| super::messages::wrap(l, room));
+        for (i, chunk) in chunks.enumerate() {
             let head = if i == 0 { label.as_str() } else { "" };
             out.push(format!("{head:<LABEL$}{chunk}"));
         }
