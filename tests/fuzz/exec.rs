@@ -246,11 +246,7 @@ fn load_and_run(model: &str, path: &Path, limit: Duration) -> Outcome {
                 scene.settings.t_end,
                 deckspin::clock::thread_cpu_seconds() - dog.cpu0
             );
-            if dog.slow {
-                Outcome::Slow(why)
-            } else {
-                Outcome::Hang(why)
-            }
+            if dog.slow { Outcome::Slow(why) } else { Outcome::Hang(why) }
         }
         Stop::Failed(e) => Outcome::Failed(e.kind().to_string()),
     }
