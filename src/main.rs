@@ -25,6 +25,10 @@ struct Cli {
     #[arg(long, value_name = "ascii|unicode", value_parser = ["ascii", "unicode"], ignore_case = true)]
     #[cfg_attr(not(feature = "workbench"), allow(dead_code))]
     glyphs: Option<String>,
+    /// Open the workbench without running the model (a kept run of the same model text is
+    /// shown; `r` runs it).
+    #[arg(long)]
+    no_run: bool,
 }
 
 #[derive(Subcommand)]
@@ -244,7 +248,7 @@ fn main() -> ExitCode {
                     .glyphs
                     .as_deref()
                     .and_then(deckspin::tui::term::Glyphs::parse);
-                deckspin::tui::run(&m, glyphs)
+                deckspin::tui::run(&m, glyphs, !cli.no_run)
             }
             #[cfg(not(feature = "workbench"))]
             Some(_) => Err(

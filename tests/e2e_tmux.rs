@@ -880,3 +880,58 @@ fn later_event(s: &str) -> Option<String> {
         })
         .map(str::to_string)
 }
+
+/// A failed run picked from the run list (`#`), its whole reason read on its info page (`i`):
+/// longer than the status line, whole there.
+#[test]
+fn a_failed_runs_whole_reason_from_the_run_list() {
+    if !have_tmux() {
+        println!("tmux is not on PATH: skipping the end-to-end terminal test");
+        return;
+    }
+    let d = workspace();
+    let tmux = Tmux {
+        socket: format!("deckspin-e2e-info-{}", std::process::id()),
+    };
+    start(&tmux, &d, "DECKSPIN_TEST_PANIC=worker");
+    let s = tmux.wait("the failed run", 30, |s| s.contains("#1 failed"));
+    let status = s.lines().find(|l| l.contains("#1 failed")).unwrap();
+    assert!(
+        !status.contains("a panic in the simulation thread"),
+        "cut: {s}"
+    );
+    tmux.keys(&["#"]);
+    let s = tmux.wait("the run list", 10, |s| s.contains("runs (1)"));
+    assert!(
+        s.lines()
+            .any(|l| l.contains("#1 ") && l.contains("failed: panic")),
+        "{s}"
+    );
+    tmux.keys(&["i"]);
+    let s = tmux.wait("the run info", 10, |s| s.contains("run info"));
+    // the text beside the labels, its lines joined
+    let text: Vec<String> = (s.lines())
+        .filter(|l| l.starts_with('│'))
+        .map(|l| l.chars().skip(15).collect::<String>())
+        .map(|l| l.trim_end_matches('│').trim().to_string())
+        .collect();
+    let text = text.join(" ");
+    // the panic's place (file:line:column), then its message on the next line
+    assert!(
+        text.contains("the engine panicked: panicked at src/tui/worker.rs:"),
+        "{text}\n{s}"
+    );
+    assert!(
+        text.contains("DECKSPIN_TEST_PANIC=worker: a panic in the simulation thread"),
+        "{text}\n{s}"
+    );
+    assert!(s.contains("event-driven"), "the method: {s}");
+    tmux.keys(&["q"]);
+    tmux.wait("the run list again", 10, |s| {
+        !s.contains("run info") && s.contains("runs (1)")
+    });
+    tmux.keys(&["q"]);
+    let s = tmux.wait("the shell", 10, |s| s.contains("stty-done"));
+    assert!(s.contains("deckspin-exited-0"), "{s}");
+    let _ = std::fs::remove_dir_all(&d);
+}

@@ -291,6 +291,13 @@ fn every_binding_is_handled_in_its_context() {
                         selected: 0,
                     }
                 }
+                Ctx::RunInfo => {
+                    app.mode = Mode::RunInfo(Box::new(tui::run_info::Info {
+                        number: 1,
+                        title: "#1".into(),
+                        rows: vec![("status".into(), "finished".into())],
+                    }))
+                }
                 Ctx::Charts | Ctx::Global => {}
             }
             let ev = match *k {
@@ -871,8 +878,10 @@ fn batches_of_a_stale_run_are_ignored() {
     for m in stale {
         update(&mut app, m);
     }
+    // the rerun of the same text is #1 again (it replaces #1 when it ends), its worker's
+    // token 2: the messages of the first run's worker (token 1) are not its own
     let cur = app.current.as_ref().unwrap();
-    assert_eq!(cur.id, 2);
+    assert_eq!((cur.id, cur.token), (1, 2));
     assert!(cur.t.is_empty());
     assert!(cur.running());
 }
@@ -968,6 +977,9 @@ fn every_run_is_kept_and_compared_with_the_baseline_not_the_run_before() {
     // the first finished run is pinned as the baseline
     assert_eq!(app.runs.baseline, Some(1));
     assert!(app.status.contains("#1 is the baseline"), "{}", app.status);
+    // each run of another model text (a comment added: the same values) is a new run
+    let edited = |app: &App, k: u32| format!("{}# edit {k}\n", app.text);
+    app.draft = edited(&app, 1);
     let fx = update(&mut app, key('r'));
     assert_eq!(start_ids(&fx), vec![2]);
     assert_eq!(app.current.as_ref().unwrap().id, 2);
@@ -975,6 +987,7 @@ fn every_run_is_kept_and_compared_with_the_baseline_not_the_run_before() {
     assert_eq!(over, [1]);
     tui::execute_blocking(&mut app, fx);
     assert_eq!(app.current.as_ref().unwrap().status, RunStatus::Finished);
+    app.draft = edited(&app, 2);
     let fx = act(&mut app, Action::Rerun);
     tui::execute_blocking(&mut app, fx);
     // #3 is compared with #1, never with #2 (the run before)
@@ -983,7 +996,9 @@ fn every_run_is_kept_and_compared_with_the_baseline_not_the_run_before() {
     let over: Vec<u64> = app.runs.overlays().iter().map(|e| e.number).collect();
     assert_eq!(over, [1]);
     assert_eq!(app.runs.get(3).unwrap().name, "same as #1");
-    // rerun while running: the running one is cancelled (kept only with samples)
+    // rerun while running: the running one is cancelled (kept only with samples); the
+    // new run of its text keeps its number, #4, its worker a token of its own
+    app.draft = edited(&app, 3);
     let fx = act(&mut app, Action::Rerun);
     assert_eq!(start_ids(&fx), vec![4]);
     let fx = act(&mut app, Action::Rerun);
@@ -994,6 +1009,7 @@ fn every_run_is_kept_and_compared_with_the_baseline_not_the_run_before() {
         ),
         "{fx:?}"
     );
+    assert_eq!(app.current.as_ref().unwrap().id, 4);
     assert_eq!(app.runs.list.len(), 3, "#4 had no sample yet");
     assert_eq!(app.runs.baseline, Some(1));
     // the overlay can be hidden
@@ -1825,7 +1841,7 @@ fn the_help_scrolls_when_taller_than_the_screen() {
     act(&mut app, Action::CloseHelp);
     act(&mut app, Action::Help);
     assert_eq!(app.help_scroll, 0);
-    assert_eq!(tui::help::max_scroll(Ctx::Charts, 80), 0);
+    assert_eq!(tui::help::max_scroll(Ctx::Charts, 100), 0);
     update(&mut app, code(KeyCode::PageDown));
     let t = render(&mut app, 80, 24);
     snapshot_settings().bind(|| insta::assert_snapshot!("help_80x24_scrolled", t.backend()));

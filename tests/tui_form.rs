@@ -554,7 +554,8 @@ fn another_model_opens_without_restart() {
             result: Ok(text.clone()),
         },
     );
-    // the watcher moves to the new file and the new model runs
+    // the watcher moves to the new file and the new model runs: its first run is #1, its
+    // worker's token goes on from the session's (5)
     assert!(
         fx.iter()
             .any(|e| matches!(e, Effect::Watch { path: p } if *p == path)),
@@ -569,7 +570,7 @@ fn another_model_opens_without_restart() {
     assert_eq!(app.text, text);
     assert!(!app.dirty());
     assert!(app.runs.list.is_empty(), "the old model's runs are cleared");
-    assert_eq!(app.current.as_ref().map(|r| r.id), Some(5));
+    assert_eq!(app.current.as_ref().map(|r| (r.id, r.token)), Some((1, 5)));
     assert_eq!(app.view, View::Form);
     assert!(app.form.index_of("contact.0.mu").is_some());
     assert!(app.form.index_of("deck.mass").is_none());

@@ -197,29 +197,44 @@ fn edit_run_pin_edit_run_compare_save_and_reopen() {
     let head = s.lines().find(|l| l.starts_with("deck.theta [")).unwrap();
     let (a, b) = (head.find("┈#2 ").unwrap(), head.find("┈#1 ").unwrap());
     assert!(a < b, "{s}");
-    // save: the list and the baseline stay
+    // save: the list and the baseline stay; the saved text is #3's: #3 reused, not run again
     let fx = act(&mut app, Action::Save);
     run(&mut app, fx);
+    assert!(
+        app.status
+            .ends_with("#3 reused: same model text (r reruns it)"),
+        "{}",
+        app.status
+    );
     let numbers: Vec<u64> = app.runs.list.iter().map(|e| e.number).collect();
-    assert_eq!(numbers, [1, 2, 3, 4]);
+    assert_eq!(numbers, [1, 2, 3]);
     assert_eq!(app.runs.baseline, Some(2));
-    assert_eq!(app.runs.get(4).unwrap().name, "contacts.mu=0.2");
+    assert_eq!(app.runs.get(3).unwrap().name, "contacts.mu=0.2");
     // a later session on the same file: the list, the names, the baseline, the overlay
     let before = app.runs.clone();
     let mut again = App::new_from_path(&model, Options::default()).unwrap();
     assert!(
         again
             .status
-            .contains("4 runs reopened from four-span.runs/, baseline #2"),
+            .contains("3 runs reopened from four-span.runs/, baseline #2"),
         "{}",
         again.status
     );
     assert_eq!(again.runs.baseline, Some(2));
-    assert_eq!(again.next_run, 5);
+    assert_eq!(again.next_run, 4);
     for (a, b) in before.list.iter().zip(&again.runs.list) {
         assert_eq!((a.number, &a.name, &a.model), (b.number, &b.name, &b.model));
         assert_eq!(a.results, b.results, "#{}", a.number);
         assert_eq!(a.changes, b.changes, "#{}", a.number);
+    }
+    // the saved text is #3's: shown, its series and the baseline's read back
+    let fx = again.start();
+    run(&mut again, fx);
+    assert_eq!(again.current.as_ref().unwrap().id, 3);
+    for (a, b) in before.list.iter().zip(&again.runs.list) {
+        if b.series != run_list::Series::InMemory {
+            continue;
+        }
         assert_eq!(a.data.t, b.data.t, "#{}: times exact", a.number);
         let (qa, qb) = (&a.data.q[0], &b.data.q[0]);
         assert_eq!(qa.len(), qb.len());
@@ -227,9 +242,11 @@ fn edit_run_pin_edit_run_compare_save_and_reopen() {
             assert!((x - y).abs() <= 1e-6 * x.abs().max(1e-12), "{x} {y}");
         }
     }
-    let fx = again.start();
-    run(&mut again, fx);
-    assert_eq!(again.current.as_ref().unwrap().id, 5);
+    let loaded: Vec<u64> = (again.runs.list.iter())
+        .filter(|e| e.series == run_list::Series::InMemory)
+        .map(|e| e.number)
+        .collect();
+    assert_eq!(loaded, [2, 3], "the baseline and the shown run");
     let s = screen(&render(&mut again, 120, 40));
     assert!(s.contains(" ┈#2 "), "the baseline overlaid: {s}");
     assert!(s.contains("#2 base"), "{s}");
@@ -611,6 +628,20 @@ fn the_runs_reopened_are_still_said_when_the_first_run_ends() {
     let mut app = App::new_from_path(&model, Options::default()).unwrap();
     let fx = app.start();
     run(&mut app, fx);
+    // the same text is reused, not run, and said after the runs reopened
+    let mut app = App::new_from_path(&model, Options::default()).unwrap();
+    let _ = app.start();
+    assert!(
+        (app.status.contains("1 run reopened")
+            && app
+                .status
+                .ends_with("#1 reused: same model text (r reruns it)")),
+        "{}",
+        app.status
+    );
+    // a new text runs
+    let text = std::fs::read_to_string(&model).unwrap() + "# another text\n";
+    std::fs::write(&model, text).unwrap();
     let mut app = App::new_from_path(&model, Options::default()).unwrap();
     assert!(app.status.contains("1 run reopened"), "{}", app.status);
     let fx = app.start();
@@ -642,10 +673,13 @@ fn the_runs_reopened_are_still_said_when_the_first_run_ends() {
         texts.iter().any(|t| t.starts_with("#2 finished")),
         "{texts:?}"
     );
-    // the next run is the user's: it is said alone
+    // the next run is the user's: it is said alone (the same text: it replaces #2)
     let fx = act(&mut app, Action::Rerun);
-    assert_eq!(app.status, "#3 started");
+    assert_eq!(
+        app.status,
+        "#2 started again: same model text, it replaces the kept #2 when it ends"
+    );
     run(&mut app, fx);
-    assert!(app.status.starts_with("#3 finished"), "{}", app.status);
+    assert!(app.status.starts_with("#2 finished"), "{}", app.status);
     let _ = std::fs::remove_dir_all(model.parent().unwrap().parent().unwrap());
 }

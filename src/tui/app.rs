@@ -54,6 +54,8 @@ pub enum Confirm {
     SaveConflict { text: String },
     /// Quit with unsaved edits.
     Quit,
+    /// Delete run `number` of the run list and its files.
+    DeleteRun { number: u64 },
     /// Open another model (chosen in the list of models) and lose the unsaved edits.
     OpenModel { path: PathBuf },
     /// A swap file of unsaved edits found at the start (`tui::swap`), with the values that
@@ -105,6 +107,8 @@ pub enum Mode {
         query: String,
         selected: usize,
     },
+    /// A run's whole status (`i`): its failure's reason, time reached, method and step.
+    RunInfo(Box<super::run_info::Info>),
 }
 
 pub use super::messages::StatusKind;
@@ -204,7 +208,11 @@ pub struct App {
     pub current: Option<RunData>,
     /// The runs kept: numbered, named, one the baseline; stored beside the model.
     pub runs: Runs,
+    /// The number of the model's next run (after the highest of its stored runs).
     pub next_run: u64,
+    /// The next worker token ([`RunData::token`]): never reused in the session, whatever
+    /// model is open.
+    pub next_token: u64,
     /// Time cursor (when not following the latest sample).
     pub cursor: f64,
     pub follow: bool,
@@ -248,6 +256,12 @@ pub struct App {
     pub log_scroll: usize,
     /// What the time charts show (series, y zoom, log scale, θ's unit), remembered per model.
     pub charts: super::chart_prefs::ChartPrefs,
+    /// The first line of the run info shown.
+    pub info_scroll: usize,
+    /// What opening the run list read ([`super::run_store::ReadCount`]), and the runs whose
+    /// model diff it computed (stored again at the start).
+    pub runs_read: super::run_store::ReadCount,
+    pub runs_rediffed: Vec<u64>,
 }
 
 impl App {
@@ -271,6 +285,7 @@ impl App {
             current: None,
             runs: Runs::default(),
             next_run: 1,
+            next_token: 1,
             cursor: 0.0,
             follow: true,
             zoom: None,
@@ -296,6 +311,9 @@ impl App {
             messages: Vec::new(),
             log_scroll: 0,
             charts: Default::default(),
+            info_scroll: 0,
+            runs_read: Default::default(),
+            runs_rediffed: Vec::new(),
         };
         match form::validate(text, path) {
             Ok(scene) => {
@@ -331,6 +349,8 @@ impl App {
         let loaded = super::run_store::load(&dir);
         self.runs = loaded.runs;
         self.runs_older = loaded.older;
+        self.runs_read = loaded.read;
+        self.runs_rediffed = loaded.rediffed;
         self.next_run = self.next_run.max(self.runs.last_number() + 1);
         let mut notes = Vec::new();
         let (charts, trouble) = super::chart_prefs::load(&self.path);
@@ -498,6 +518,7 @@ impl App {
             Mode::Pick { .. } => Some(Ctx::Pick),
             Mode::Naming { .. } => Some(Ctx::Naming),
             Mode::ChartPick { .. } => Some(Ctx::ChartPick),
+            Mode::RunInfo(_) => Some(Ctx::RunInfo),
         };
         let mut ctxs = keymap::active(mode, self.view_ctx());
         if mode.is_none() && self.view == View::Charts && self.events_open {

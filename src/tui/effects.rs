@@ -199,6 +199,12 @@ fn execute(app: &mut App, host: &mut impl Host, e: Effect) -> Vec<Msg> {
         Effect::StoreCharts { path, text } => host.in_order(Box::new(move || {
             Msg::ChartsStored(super::chart_prefs::store(&path, &text))
         })),
+        Effect::LoadSeries { dir, runs } => host.in_order(Box::new(move || {
+            let loaded = (runs.iter())
+                .map(|&(n, t_end)| (n, run_store::load_series(&dir, n, t_end)))
+                .collect();
+            Msg::SeriesLoaded { dir, loaded }
+        })),
         Effect::StartResult { id, spec } => host.start_result(id, *spec),
         Effect::CancelResult { id } => {
             host.cancel_result(id);

@@ -76,6 +76,11 @@ pub enum Action {
     RunBaseline,
     RunRename,
     RunsToCharts,
+    /// Delete the selected run (asks first).
+    RunDelete,
+    /// A run's whole status: open, close.
+    RunInfo,
+    CloseRunInfo,
     NameCommit,
     NameCancel,
     NameBackspace,
@@ -171,6 +176,8 @@ pub enum Ctx {
     OpenModel,
     /// Choosing the series of a time chart.
     ChartPick,
+    /// A run's whole status.
+    RunInfo,
 }
 
 impl Ctx {
@@ -194,6 +201,7 @@ impl Ctx {
             Ctx::Quit => "quitting with unsaved edits",
             Ctx::OpenModel => "choosing a model to open",
             Ctx::ChartPick => "choosing a chart's series",
+            Ctx::RunInfo => "a run's info",
         }
     }
 }
@@ -355,6 +363,17 @@ pub const KEYMAP: &[Binding] = &[
     b(Ctx::Runs, &[K::Ch('b')], "b", A::RunBaseline, "pin the run as the baseline", Some(("b", "baseline"))),
     b(Ctx::Runs, &[K::Ch('n')], "n", A::RunRename, "name the run", Some(("n", "name"))),
     b(Ctx::Runs, &[K::Code(KC::Enter)], "Enter", A::RunsToCharts, "back to the charts", Some(("Enter", "charts"))),
+    b(Ctx::Runs, &[K::Ch('i')], "i", A::RunInfo, "status, reason, method, step", Some(("i", "info"))),
+    b(Ctx::Runs, &[K::Ch('d'), K::Code(KC::Delete)], "d/Del", A::RunDelete, "delete the run (asks first)", Some(("d", "delete"))),
+    b(Ctx::Charts, &[K::Ch('i')], "i", A::RunInfo, "the shown run's whole status", None),
+    // a run's info
+    b(Ctx::RunInfo, &[K::Code(KC::Down), K::Ch('j')], "↓/j", A::HelpDown, "scroll down", Some(("j/k", "scroll"))),
+    b(Ctx::RunInfo, &[K::Code(KC::Up), K::Ch('k')], "↑/k", A::HelpUp, "scroll up", None),
+    b(Ctx::RunInfo, &[K::Code(KC::PageDown)], "PgDn", A::HelpPageDown, "page down", None),
+    b(Ctx::RunInfo, &[K::Code(KC::PageUp)], "PgUp", A::HelpPageUp, "page up", None),
+    b(Ctx::RunInfo, &[K::Code(KC::Home)], "Home", A::HelpTop, "to the top", None),
+    b(Ctx::RunInfo, &[K::Code(KC::End)], "End", A::HelpBottom, "to the end", None),
+    b(Ctx::RunInfo, &[K::Code(KC::Esc), K::Ch('q'), K::Ch('i')], "Esc/q/i", A::CloseRunInfo, "close the run info", Some(("Esc", "close"))),
     // naming a run
     b(Ctx::Naming, &[K::Code(KC::Enter)], "Enter", A::NameCommit, "keep it (empty: derived)", Some(("Enter", "keep"))),
     b(Ctx::Naming, &[K::Code(KC::Esc)], "Esc", A::NameCancel, "leave the name as it was", Some(("Esc", "cancel"))),
@@ -486,6 +505,7 @@ pub fn help() -> Vec<(&'static str, Vec<(&'static str, &'static str)>)> {
         Ctx::Quit,
         Ctx::OpenModel,
         Ctx::ChartPick,
+        Ctx::RunInfo,
     ]
     .iter()
     .map(|c| {

@@ -26,6 +26,7 @@ pub mod out_folder;
 pub mod results;
 pub mod results_worker;
 pub mod run_data;
+pub mod run_info;
 pub mod run_list;
 pub mod run_results;
 pub mod run_store;

@@ -118,6 +118,11 @@ pub enum Msg {
     RunsStored(Result<(), String>),
     /// Result of [`Effect::StoreCharts`].
     ChartsStored(Result<(), String>),
+    /// Result of [`Effect::LoadSeries`]: each run's series, or why it does not read.
+    SeriesLoaded {
+        dir: PathBuf,
+        loaded: Vec<(u64, Result<RunData, String>)>,
+    },
     // -- the results pages and the work-precision study
     /// Point `index` of work-precision study `id` is final.
     StudyPoint {
@@ -207,6 +212,12 @@ pub enum Effect {
     StoreCharts {
         path: PathBuf,
         text: String,
+    },
+    /// Read the series of the stored runs `runs` (number, `t_end`) from `dir`, after the
+    /// files asked to be written before.
+    LoadSeries {
+        dir: PathBuf,
+        runs: Vec<(u64, f64)>,
     },
     // -- the results pages
     /// Compute a results page's data in a worker ([`super::results_worker`]).

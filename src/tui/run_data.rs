@@ -7,6 +7,12 @@ use crate::run::SolverError;
 use crate::scene::Scene;
 use std::sync::Arc;
 
+/// A token for a run's data read back from disk: above any a worker is started with.
+pub fn fresh_token() -> u64 {
+    static NEXT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1 << 40);
+    NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed)
+}
+
 /// Why a workbench run failed: the engine's typed error, or the end of its worker thread.
 #[derive(Debug, thiserror::Error)]
 pub enum RunFailure {
@@ -41,7 +47,12 @@ pub enum RunStatus {
 /// The charted history of one run, in columns.
 #[derive(Clone, Debug)]
 pub struct RunData {
+    /// The run's number in the run list (`#N`, numbered per model).
     pub id: u64,
+    /// What its worker's messages carry and the drawing caches key on: unique in the session
+    /// (the number, unless another model opened with `O` used it; [`fresh_token`] for a run
+    /// read back from disk).
+    pub token: u64,
     /// "#3" or "#3 (unsaved edits)" (the workbench's run number, not the test run).
     pub label: String,
     pub dof_names: Vec<String>,
@@ -124,6 +135,7 @@ impl RunData {
         let nc = contact_names.len();
         Self {
             id,
+            token: id,
             label,
             q: vec![Vec::new(); dof_names.len()],
             v: vec![Vec::new(); dof_names.len()],
@@ -227,6 +239,7 @@ impl RunData {
             );
             fresh.seats = std::mem::take(&mut self.seats);
             fresh.push(&out.samples, &out.events, out.summary.t_end);
+            fresh.token = self.token;
             *self = fresh;
         }
         self.t_sim = out.summary.t_end.max(self.t_sim);

@@ -31,6 +31,23 @@ pub enum Ended {
 }
 
 impl Ended {
+    /// The status column of the run list: the word, and for a failure its short reason
+    /// (`failed: Painlevé`).
+    pub fn short(&self) -> String {
+        match self {
+            Ended::Failed(why) => format!("failed: {}", short_reason(why)),
+            _ => self.word().into(),
+        }
+    }
+
+    /// The whole reason of a failure or of a run outside its accuracy bounds.
+    pub fn reason(&self) -> Option<&str> {
+        match self {
+            Ended::Failed(why) | Ended::Inaccurate(why) => Some(why),
+            _ => None,
+        }
+    }
+
     pub fn word(&self) -> &'static str {
         match self {
             Ended::Finished => "done",
@@ -39,6 +56,57 @@ impl Ended {
             Ended::Inaccurate(_) => "inexact",
         }
     }
+}
+
+/// A failure's reason in a word or two, from the engine's message (`SolverError`,
+/// `RunFailure`); else its first words.
+pub fn short_reason(why: &str) -> String {
+    const KNOWN: [(&str, &str); 17] = [
+        ("Painlevé", "Painlevé"),
+        ("step collapse", "collapse"),
+        ("LCP failed", "LCP"),
+        ("fell below the minimum", "step < min"),
+        ("events", "max events"),
+        ("initial penetration", "penetration"),
+        ("non-finite", "non-finite"),
+        ("too stiff", "too stiff"),
+        ("stopped advancing", "stalled"),
+        ("unstable", "unstable"),
+        ("did not converge", "no converge"),
+        ("lost its seat", "unseated"),
+        ("outside the accuracy", "inaccurate"),
+        ("panicked", "panic"),
+        ("in memory", "memory"),
+        ("worker thread", "thread"),
+        ("steps", "max steps"),
+    ];
+    let body = match why.split_once(" s: ") {
+        Some((head, rest)) if head.starts_with("t = ") => rest,
+        _ => why,
+    };
+    // the engine's own words first (the message's head), then the whole of it
+    for text in [body.split(':').next().unwrap_or(body), body] {
+        if let Some((_, w)) = KNOWN.iter().find(|(k, _)| text.contains(k)) {
+            return (*w).into();
+        }
+    }
+    let first: String = body
+        .split_whitespace()
+        .take(2)
+        .collect::<Vec<_>>()
+        .join(" ");
+    if first.chars().count() > 12 {
+        first.chars().take(11).chain(['…']).collect()
+    } else {
+        first
+    }
+}
+
+/// A hash of a model text that stays the same from build to build (64-bit FNV-1a).
+pub fn text_hash(text: &str) -> u64 {
+    text.bytes().fold(0xcbf2_9ce4_8422_2325, |h, b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3)
+    })
 }
 
 /// A failure that is a finished run outside its accuracy bounds.
@@ -128,7 +196,7 @@ impl Results {
 }
 
 /// One value that differs between two model texts, by dotted path (None: absent).
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Change {
     pub path: String,
     pub old: Option<String>,
@@ -155,7 +223,12 @@ pub fn model_diff(old: &str, new: &str) -> Vec<Change> {
     if old == new {
         return Vec::new();
     }
-    let (Some(a), Some(b)) = (form::scalars(old), form::scalars(new)) else {
+    model_diff_from(form::scalars(old).as_deref(), new)
+}
+
+/// [`model_diff`] from the old text's scalars (None: not TOML), read once for many diffs.
+fn model_diff_from(a: Option<&[(String, toml_edit::Value)]>, new: &str) -> Vec<Change> {
+    let (Some(a), Some(b)) = (a, form::scalars(new)) else {
         return vec![Change {
             path: "(the file is not TOML)".into(),
             old: None,
@@ -175,7 +248,7 @@ pub fn model_diff(old: &str, new: &str) -> Vec<Change> {
             });
         }
     }
-    for (p, v) in &a {
+    for (p, v) in a {
         if !b.iter().any(|(q, _)| q == p) {
             out.push(Change {
                 path: p.clone(),
@@ -275,6 +348,7 @@ pub fn thin(r: &RunData) -> RunData {
     d.slip_rate = Vec::new();
     d.impacts = r.impacts.clone();
     d.t_sim = r.t_sim;
+    d.token = r.token;
     d.status = r.status.clone();
     d.summary = r.summary.clone();
     d.steps = r.steps;
@@ -298,6 +372,23 @@ pub struct Entry {
     pub overlay: bool,
     /// Its model against the baseline's.
     pub changes: Vec<Change>,
+    /// The [`text_hash`] of the baseline's model text `changes` are against (None: no
+    /// baseline); stored with them, so that opening the list does not diff every run again.
+    pub diff_base: Option<u64>,
+    /// Whether `data` holds its series or they are still on disk.
+    pub series: Series,
+}
+
+/// Where a kept run's series are: in `data`, or in its file, read when it is shown or
+/// overlaid.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Series {
+    InMemory,
+    OnDisk,
+    /// Asked for ([`super::msg::Effect::LoadSeries`]), not back yet.
+    Asked,
+    /// The file does not read: why.
+    Unreadable(String),
 }
 
 impl Entry {
@@ -319,6 +410,8 @@ impl Entry {
             data: thin(r),
             overlay: false,
             changes: Vec::new(),
+            diff_base: None,
+            series: Series::InMemory,
         }
     }
 }
@@ -354,6 +447,34 @@ impl Runs {
         self.list.get(self.selected)
     }
 
+    /// The newest run of model text `text` that ended by itself (finished, inexact or failed:
+    /// the same text gives the same result; a cancelled run is not reused).
+    pub fn reusable(&self, text: &str) -> Option<u64> {
+        (self.list.iter().rev())
+            .find(|e| e.model == text && e.ended != Ended::Cancelled)
+            .map(|e| e.number)
+    }
+
+    /// The newest run of model text `text`, whatever its end.
+    pub fn same_text(&self, text: &str) -> Option<u64> {
+        (self.list.iter().rev())
+            .find(|e| e.model == text)
+            .map(|e| e.number)
+    }
+
+    /// Takes run `n` off the list (the numbers of the others stay; the baseline's removal
+    /// leaves none).
+    pub fn remove(&mut self, n: u64) -> Option<Entry> {
+        let i = self.list.iter().position(|e| e.number == n)?;
+        let e = self.list.remove(i);
+        if self.baseline == Some(n) {
+            self.baseline = None;
+            self.rediff();
+        }
+        self.selected = self.selected.min(self.list.len().saturating_sub(1));
+        Some(e)
+    }
+
     /// The largest number kept.
     pub fn last_number(&self) -> u64 {
         self.list.iter().map(|e| e.number).max().unwrap_or(0)
@@ -363,9 +484,13 @@ impl Runs {
     /// `saved` model text when there is none) and drops the oldest beyond [`KEEP`] (never the
     /// baseline); returns the numbers dropped.
     pub fn add(&mut self, mut e: Entry, saved: &str) -> Vec<u64> {
-        let base = self.baseline_entry().map(|b| (b.number, b.model.clone()));
+        // a run replacing the baseline (a rerun of its text) is not compared with itself
+        let base = (self.baseline_entry())
+            .filter(|b| b.number != e.number)
+            .map(|b| (b.number, b.model.clone()));
         if let Some((_, m)) = &base {
             e.changes = model_diff(m, &e.model);
+            e.diff_base = Some(text_hash(m));
         }
         if !e.named {
             e.name = match &base {
@@ -399,22 +524,39 @@ impl Runs {
         dropped
     }
 
-    /// Pins run `n` as the baseline; every run's diff is then against it.
-    pub fn pin(&mut self, n: u64) {
+    /// Pins run `n` as the baseline; every run's diff is then against it. Returns the runs
+    /// whose diff changed (their metadata to store again).
+    pub fn pin(&mut self, n: u64) -> Vec<u64> {
         self.baseline = Some(n);
         if let Some(e) = self.get_mut(n) {
             e.overlay = false;
         }
-        self.rediff();
+        self.rediff()
     }
 
-    fn rediff(&mut self) {
+    /// Every run's diff against the baseline, except those already against its text (the
+    /// baseline's scalars read once).
+    fn rediff(&mut self) -> Vec<u64> {
         let base = self.baseline_entry().map(|b| b.model.clone());
+        let hash = base.as_deref().map(text_hash);
+        let mut scalars = None;
+        let mut changed = Vec::new();
         for e in &mut self.list {
-            e.changes = base
-                .as_ref()
-                .map_or_else(Vec::new, |m| model_diff(m, &e.model));
+            if e.diff_base == hash {
+                continue;
+            }
+            e.changes = match &base {
+                Some(m) if *m == e.model => Vec::new(),
+                Some(m) => model_diff_from(
+                    scalars.get_or_insert_with(|| form::scalars(m)).as_deref(),
+                    &e.model,
+                ),
+                None => Vec::new(),
+            };
+            e.diff_base = hash;
+            changed.push(e.number);
         }
+        changed
     }
 
     /// Toggles run `n` in the overlay; refused beyond [`MAX_OVERLAY`] runs.

@@ -2,10 +2,15 @@
 //! (`0007.json` its number, name, baseline flag, status and key results; `0007.toml` the model
 //! text it ran; `0007.csv` its thinned series), each written atomically (a temporary file in
 //! the folder, then renamed). Read back when the workbench opens the model again; a file that
-//! is not a run's, or does not read, is named in the report and skipped.
+//! is not a run's, or does not read, is named in the report and skipped. Opening reads the
+//! metadata and the model texts only (what the list, the diffs and the reuse of a run with the
+//! same model text need); a run's series is read when it is shown or overlaid
+//! ([`load_series`]). A run is deleted by renaming its metadata away first (`.0007.json.deleting`:
+//! from then on it is not listed), then removing its other files and that one; a deletion cut
+//! short is finished at the next opening.
 
-use super::run_data::{RunData, RunStatus};
-use super::run_list::{Ended, Entry, KEEP, Results, Runs};
+use super::run_data::{RunData, RunStatus, fresh_token};
+use super::run_list::{Change, Ended, Entry, KEEP, Results, Runs, Series};
 use crate::output::number::Numbers;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -42,6 +47,15 @@ struct Meta {
     ended: Ended,
     t_end: f64,
     results: Results,
+    /// Its model diff against the baseline's model text of this hash (`run_list::text_hash`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    diff: Option<Diff>,
+}
+
+#[derive(Serialize, Deserialize)]
+struct Diff {
+    base: String,
+    changes: Vec<Change>,
 }
 
 fn stem(n: u64) -> String {
@@ -67,6 +81,10 @@ pub fn meta_text(e: &Entry, baseline: bool) -> String {
         ended: e.ended.clone(),
         t_end: e.data.t_end,
         results: e.results.clone(),
+        diff: e.diff_base.map(|h| Diff {
+            base: format!("{h:016x}"),
+            changes: e.changes.clone(),
+        }),
     };
     serde_json::to_string_pretty(&m).unwrap_or_default() + "\n"
 }
@@ -157,17 +175,39 @@ pub fn store(dir: &Path, jobs: &[Job], remove: &[u64]) -> Result<(), String> {
         )?;
     }
     for n in remove {
-        for ext in ["json", "csv", "toml"] {
-            let p = dir.join(format!("{}.{ext}", stem(*n)));
-            match std::fs::remove_file(&p) {
-                Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
-                    return Err(format!("{}: {e}", p.display()));
-                }
-                _ => {}
-            }
-        }
+        delete(dir, *n)?;
     }
     Ok(())
+}
+
+/// The marker of run `n` being deleted: its metadata renamed away.
+fn deleting(dir: &Path, n: u64) -> PathBuf {
+    dir.join(format!(".{}.json.deleting", stem(n)))
+}
+
+/// Deletes run `n`'s files: its metadata renamed away first (the run is no longer listed),
+/// then its model and series, then the metadata. A missing file is no error.
+pub fn delete(dir: &Path, n: u64) -> Result<(), String> {
+    let gone = |p: &Path, r: std::io::Result<()>| match r {
+        Err(e) if e.kind() != std::io::ErrorKind::NotFound => Err(format!("{}: {e}", p.display())),
+        _ => Ok(()),
+    };
+    let meta = dir.join(format!("{}.json", stem(n)));
+    let mark = deleting(dir, n);
+    gone(&meta, std::fs::rename(&meta, &mark))?;
+    for ext in ["csv", "toml"] {
+        let p = dir.join(format!("{}.{ext}", stem(n)));
+        gone(&p, std::fs::remove_file(&p))?;
+    }
+    gone(&mark, std::fs::remove_file(&mark))
+}
+
+/// What opening the store read: files and bytes (the metadata and the model texts; no
+/// series).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ReadCount {
+    pub files: usize,
+    pub bytes: usize,
 }
 
 /// The runs read back: the list (newest [`KEEP`] and the baseline), the numbers of older
@@ -176,6 +216,19 @@ pub struct Loaded {
     pub runs: Runs,
     pub older: Vec<u64>,
     pub skipped: Vec<String>,
+    pub read: ReadCount,
+    /// The runs whose diff against the baseline was not stored with them (computed here; their
+    /// metadata to store again).
+    pub rediffed: Vec<u64>,
+}
+
+/// Reads the series of run `n` (`t_end` from its metadata) from `dir`.
+pub fn load_series(dir: &Path, n: u64, t_end: f64) -> Result<RunData, String> {
+    let name = format!("{}.csv", stem(n));
+    let text = std::fs::read_to_string(dir.join(&name)).map_err(|e| format!("{name}: {e}"))?;
+    let mut d = read_series(&text, n, t_end).map_err(|e| format!("{name}: {e}"))?;
+    d.token = fresh_token();
+    Ok(d)
 }
 
 /// Reads the series file of run `n`.
@@ -238,26 +291,30 @@ fn read_series(text: &str, n: u64, t_end: f64) -> Result<RunData, String> {
     Ok(d)
 }
 
-/// Reads run `n` from its three files.
-fn read_run(dir: &Path, n: u64) -> Result<(Entry, bool), String> {
+/// Reads run `n`'s metadata and model text (its series stays on disk, [`Series::OnDisk`]).
+fn read_run(dir: &Path, n: u64, count: &mut ReadCount) -> Result<(Entry, bool), String> {
     let s = stem(n);
-    let read = |ext: &str| {
+    let mut read = |ext: &str| {
         let p = dir.join(format!("{s}.{ext}"));
-        std::fs::read_to_string(&p).map_err(|e| format!("{s}.{ext}: {e}"))
+        let text = std::fs::read_to_string(&p).map_err(|e| format!("{s}.{ext}: {e}"))?;
+        count.files += 1;
+        count.bytes += text.len();
+        Ok::<_, String>(text)
     };
     let meta: Meta = serde_json::from_str(&read("json")?).map_err(|e| format!("{s}.json: {e}"))?;
     if meta.format != FORMAT || meta.number != n {
         return Err(format!("{s}.json: not the metadata of run #{n}"));
     }
     let model = read("toml")?;
-    let mut data =
-        read_series(&read("csv")?, n, meta.t_end).map_err(|e| format!("{s}.csv: {e}"))?;
-    data.t_sim = meta.results.t_sim;
-    // how it ended is the entry's `ended` (with a failure's reason); the series only says
-    // whether they run to the end
-    data.status = match &meta.ended {
-        Ended::Finished | Ended::Inaccurate(_) => RunStatus::Finished,
-        _ => RunStatus::Cancelled,
+    if !dir.join(format!("{s}.csv")).is_file() {
+        return Err(format!("{s}.csv: missing"));
+    }
+    let mut data = RunData::new(n, format!("#{n}"), vec![], vec![], vec![], meta.t_end);
+    data.token = fresh_token();
+    stored_status(&mut data, &meta.ended, meta.results.t_sim);
+    let (diff_base, changes) = match meta.diff {
+        Some(d) => (u64::from_str_radix(&d.base, 16).ok(), d.changes),
+        None => (None, Vec::new()),
     };
     let e = Entry {
         number: n,
@@ -268,18 +325,38 @@ fn read_run(dir: &Path, n: u64) -> Result<(Entry, bool), String> {
         results: meta.results,
         data,
         overlay: false,
-        changes: Vec::new(),
+        changes,
+        diff_base,
+        series: Series::OnDisk,
     };
     Ok((e, meta.baseline))
+}
+
+/// The status and time reached of a stored run's data: how it ended is the entry's `ended`
+/// (with a failure's reason); the data only says whether it ran to the end.
+pub fn stored_status(data: &mut RunData, ended: &Ended, t_sim: f64) {
+    data.t_sim = t_sim;
+    data.status = match ended {
+        Ended::Finished | Ended::Inaccurate(_) => RunStatus::Finished,
+        _ => RunStatus::Cancelled,
+    };
 }
 
 /// Reads the runs stored in `dir` (none when it does not exist).
 pub fn load(dir: &Path) -> Loaded {
     let mut skipped = Vec::new();
+    let mut read = ReadCount::default();
+    let mut marks = Vec::new();
     let mut numbers: BTreeMap<u64, Vec<String>> = BTreeMap::new();
     if let Ok(entries) = std::fs::read_dir(dir) {
         for f in entries.flatten() {
             let name = f.file_name().to_string_lossy().into_owned();
+            if let Some(n) = (name.strip_prefix('.'))
+                .and_then(|r| r.strip_suffix(".json.deleting"))
+                .and_then(|n| n.parse::<u64>().ok())
+            {
+                marks.push(n);
+            }
             if name.starts_with('.') || name == CHARTS_FILE {
                 continue;
             }
@@ -293,6 +370,17 @@ pub fn load(dir: &Path) -> Loaded {
             }
         }
     }
+    // a deletion cut short: finished (unless a run of that number was stored since)
+    for n in marks {
+        if numbers
+            .get(&n)
+            .is_some_and(|e| e.iter().any(|x| x == "json"))
+        {
+            let _ = std::fs::remove_file(deleting(dir, n));
+        } else if delete(dir, n).is_ok() {
+            numbers.remove(&n);
+        }
+    }
     let mut list = Vec::new();
     let mut baseline = None;
     for (&n, exts) in &numbers {
@@ -300,7 +388,7 @@ pub fn load(dir: &Path) -> Loaded {
             skipped.push(format!("{}.{}: no {}.json", stem(n), exts[0], stem(n)));
             continue;
         }
-        match read_run(dir, n) {
+        match read_run(dir, n, &mut read) {
             Ok((e, b)) => {
                 if b {
                     baseline = Some(n);
@@ -315,9 +403,7 @@ pub fn load(dir: &Path) -> Loaded {
         dir: Some(dir.to_path_buf()),
         ..Runs::default()
     };
-    if let Some(b) = baseline {
-        runs.pin(b);
-    }
+    let rediffed = baseline.map_or_else(Vec::new, |b| runs.pin(b));
     let older = runs.bound();
     debug_assert!(runs.list.len() <= KEEP + 1);
     runs.selected = runs.list.len().saturating_sub(1);
@@ -325,5 +411,7 @@ pub fn load(dir: &Path) -> Loaded {
         runs,
         older,
         skipped,
+        read,
+        rediffed,
     }
 }

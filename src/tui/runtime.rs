@@ -322,8 +322,13 @@ pub fn pace(rx: &Receiver<Msg>, until: Instant) -> Vec<Msg> {
 }
 
 /// Open the workbench on a model file, with the glyphs `glyphs` (`--glyphs`) or, when None,
-/// those the environment tells ([`Options::from_env`]).
-pub fn run(model: &Path, glyphs: Option<Glyphs>) -> Result<(), Box<dyn std::error::Error>> {
+/// those the environment tells ([`Options::from_env`]); with `run` false (`--no-run`) the model
+/// is not run (a kept run of the same model text is shown).
+pub fn run(
+    model: &Path,
+    glyphs: Option<Glyphs>,
+    run: bool,
+) -> Result<(), Box<dyn std::error::Error>> {
     let mut timing = Timing::from_env();
     timing.log("start");
     let mut app = App::new_from_path(model, Options::from_env(glyphs)?)?;
@@ -349,7 +354,7 @@ pub fn run(model: &Path, glyphs: Option<Glyphs>) -> Result<(), Box<dyn std::erro
         watch: None,
     };
     host.watch(&app.path);
-    let fx = app.start();
+    let fx = app.start_with(run);
     perform(&mut app, &mut host, fx);
     let mut swapper = offer_swap(&mut app);
     let ended = event_loop(&mut terminal, &mut app, &mut host, &rx, &mut swapper);
@@ -445,7 +450,7 @@ fn event_loop(
             match &m {
                 Msg::Signal(sig) => return Ok(Some(*sig)),
                 Msg::Batch { run, .. }
-                    if *run > framed && app.current.as_ref().is_some_and(|c| c.id == *run) =>
+                    if *run > framed && app.current.as_ref().is_some_and(|c| c.token == *run) =>
                 {
                     first_batch_of = Some(*run)
                 }

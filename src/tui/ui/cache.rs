@@ -96,7 +96,7 @@ impl Cache {
         cols: u16,
     ) -> Points {
         let key = time_key(r, t0, t1, cols);
-        let name = format!("{}:{what}", r.id);
+        let name = format!("{}:{what}", r.token);
         if let Some((k, v)) = self.series.get(&name)
             && *k == key
         {

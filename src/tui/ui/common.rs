@@ -150,12 +150,13 @@ pub(super) fn overlay_runs<'a>(app: &'a App, th: &Theme) -> Vec<Overlay<'a>> {
     if !app.overlay {
         return Vec::new();
     }
-    let shown = shown_run(app).map(|r| r.id);
+    // the shown run by its token: a rerun of a kept run's text has its number
+    let shown = shown_run(app).map(|r| r.token);
     app.runs
         .overlays()
         .into_iter()
         .enumerate()
-        .filter(|(_, e)| Some(e.number) != shown)
+        .filter(|(_, e)| Some(e.data.token) != shown)
         .map(|(i, e)| Overlay {
             data: &e.data,
             number: e.number,

@@ -25,10 +25,13 @@ pub(super) fn columns(app: &App) -> Vec<Column> {
     let base = app.runs.baseline;
     let mut out: Vec<Column> = Vec::new();
     let mut add = |n: u64, results: Results, running: bool, status: String| {
-        if out.iter().any(|c| c.number == n) {
+        if out.iter().any(|c| c.number == n && c.running == running) {
             return;
         }
-        let head = if Some(n) == base {
+        // a rerun of a kept run's model text goes under its number: `new` beside the kept one
+        let head = if running && out.iter().any(|c| c.number == n) {
+            format!("#{n} new")
+        } else if Some(n) == base && !running {
             format!("#{n} base")
         } else {
             format!("#{n}")
@@ -46,10 +49,8 @@ pub(super) fn columns(app: &App) -> Vec<Column> {
     }
     if let Some(cur) = &app.current {
         match app.runs.get(cur.id) {
+            _ if cur.running() => add(cur.id, Results::of(cur), true, "running".into()),
             Some(e) => add(e.number, e.results.clone(), false, e.ended.word().into()),
-            None if cur.running() => {
-                add(cur.id, Results::of(cur), true, "running".into());
-            }
             None => {}
         }
     }

@@ -19,6 +19,7 @@ mod plan;
 mod precision;
 mod results;
 mod results_model;
+mod run_info;
 mod runs;
 mod screen_map;
 mod side;
@@ -102,6 +103,7 @@ pub fn draw_screen(frame: &mut Frame, app: &App, cache: &mut Cache) {
             query,
             selected,
         } => chart_pick::draw_chart_picker(frame, body, app, (*chart, query, *selected), &th),
+        Mode::RunInfo(info) => run_info::draw_run_info(frame, body, app, info, &th),
         _ => {}
     }
 }
@@ -134,7 +136,7 @@ fn draw_charts(frame: &mut Frame, area: Rect, app: &App, cache: &mut Cache, th: 
 fn readout_time(app: &App, cache: &mut Cache) -> f64 {
     let tc = app.cursor_time();
     match common::shown_run(app) {
-        Some(r) => cache.readout_time(r.id, tc, app.follow && r.running()),
+        Some(r) => cache.readout_time(r.token, tc, app.follow && r.running()),
         None => tc,
     }
 }

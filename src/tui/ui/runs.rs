@@ -66,6 +66,11 @@ fn draw_list(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
         "changes".into(),
     ])
     .style(th.bold());
+    let status_w = (runs.list.iter())
+        .map(|e| e.ended.short().chars().count())
+        .max()
+        .unwrap_or(0)
+        .clamp(9, 20) as u16;
     let visible = area.height.saturating_sub(3).max(1) as usize;
     let first = runs.selected.saturating_sub(visible - 1);
     let rows = runs
@@ -91,7 +96,7 @@ fn draw_list(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
                 mark.to_string(),
                 format!("#{}", e.number),
                 th.text(&name_of(app, e)),
-                e.ended.word().to_string(),
+                e.ended.short(),
                 cell(e.results.peak_rot),
                 e.results.impacts.to_string(),
                 changes,
@@ -106,7 +111,7 @@ fn draw_list(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
         Constraint::Length(1),
         Constraint::Length(5),
         Constraint::Min(12),
-        Constraint::Length(9),
+        Constraint::Length(status_w),
         Constraint::Length(peak_w),
         Constraint::Length(7),
         Constraint::Length(7),

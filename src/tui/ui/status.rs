@@ -269,6 +269,24 @@ fn question(app: &App, c: &Confirm) -> (Vec<String>, Vec<(&'static str, &'static
             )],
             yes_no,
         ),
+        Confirm::DeleteRun { number } => {
+            let e = app.runs.get(*number);
+            let mut q = vec![format!(
+                "Delete run #{number}{}?",
+                e.map_or(String::new(), |e| format!(
+                    " ({}, {})",
+                    e.name,
+                    e.ended.short()
+                ))
+            )];
+            if app.runs.baseline == Some(*number) {
+                q.push("It is the baseline: no run is the baseline after it.".into());
+            }
+            if let Some(d) = &app.runs.dir {
+                q.push(format!("Its files are removed from {}.", d.display()));
+            }
+            (q, yes_no)
+        }
     }
 }
 

@@ -76,8 +76,11 @@ fn state_ranks(
     let range = chart::window(&run.t, t0, t1);
     let states = &run.state[contact];
     for i in range.clone() {
-        if let Some(c) = column_of(run.t[i], t0, t1, width, per_cell) {
-            let r = rank_of(&states[i]);
+        // a run shown from the run list keeps no contact states
+        if let Some(c) = column_of(run.t[i], t0, t1, width, per_cell)
+            && let Some(s) = states.get(i)
+        {
+            let r = rank_of(s);
             rank[c] = Some(rank[c].map_or(r, |x| x.max(r)));
         }
     }
@@ -233,7 +236,7 @@ pub(super) fn draw_timeline(
         extra: u64::from(th.ascii),
         ..time_key(run, t0, t1, w as u16)
     };
-    let strips = cache.strips(run.id, key, || {
+    let strips = cache.strips(run.token, key, || {
         let mut v: Vec<Vec<char>> = (0..nc)
             .map(|i| event_strip(run, i, t0, t1, w, per_cell, th.ascii))
             .collect();

@@ -1,7 +1,7 @@
 //! The model file: save, saved, changed on disk, reload; the export request.
 
 use super::reconcile::merge_outside;
-use super::run::start_run;
+use super::stored::run_or_reuse;
 use crate::tui::app::{App, Confirm, LoadError, Mode, StatusKind, hash_text};
 use crate::tui::form;
 use crate::tui::msg::Effect;
@@ -35,7 +35,7 @@ pub(super) fn quit_now(app: &mut App) -> Vec<Effect> {
     app.quit = true;
     let mut fx = Vec::new();
     if let Some(cur) = app.current.as_ref().filter(|c| c.running()) {
-        fx.push(Effect::CancelRun { id: cur.id });
+        fx.push(Effect::CancelRun { id: cur.token });
     }
     if let Some((_, e)) = app.studies.running() {
         fx.push(Effect::CancelStudy { id: e.id });
@@ -85,8 +85,8 @@ pub(super) fn on_saved(
             if quitting {
                 return quit_now(app);
             }
-            let fx = start_run(app);
-            app.set_status(StatusKind::Ok, format!("saved {} — rerunning", p.display()));
+            let (fx, ran) = run_or_reuse(app);
+            app.set_status(StatusKind::Ok, ran.say(format!("saved {}", p.display())));
             fx
         }
         Err(e) => {
@@ -130,11 +130,9 @@ pub(super) fn apply_reload(app: &mut App, text: String) -> Vec<Effect> {
             app.load_error = None;
             app.rebuild_form();
             app.mode = Mode::Normal;
-            let fx = start_run(app);
-            app.set_status(
-                StatusKind::Ok,
-                format!("reloaded {} — rerunning", app.file_name()),
-            );
+            let (fx, ran) = run_or_reuse(app);
+            let s = ran.say(format!("reloaded {}", app.file_name()));
+            app.set_status(StatusKind::Ok, s);
             fx
         }
         Err(e) => {

@@ -6,11 +6,13 @@ mod charts;
 mod edit;
 mod file;
 mod find;
+mod info;
 mod open;
 mod reconcile;
 mod results;
 mod run;
 mod runs;
+mod stored;
 mod study;
 mod term;
 mod view;
@@ -27,15 +29,16 @@ pub fn list_index(app: &App) -> usize {
     results::index(app)
 }
 
-/// Handles one message; then a status message whose state has changed goes (it stays in
-/// the log `M`).
+/// Handles one message (and asks for the series of kept runs it made needed); then a status
+/// message whose state has changed goes (it stays in the log `M`).
 pub fn update(app: &mut App, msg: Msg) -> Vec<Effect> {
-    let fx = handle(app, msg);
+    let mut fx = on_msg(app, msg);
+    fx.extend(stored::want_series(app));
     app.drop_stale_status();
     fx
 }
 
-fn handle(app: &mut App, msg: Msg) -> Vec<Effect> {
+fn on_msg(app: &mut App, msg: Msg) -> Vec<Effect> {
     match msg {
         Msg::Key(ev) => on_key(app, ev),
         Msg::Action(a) => on_action(app, a),
@@ -76,6 +79,7 @@ fn handle(app: &mut App, msg: Msg) -> Vec<Effect> {
         Msg::StudyLoaded { path, result } => study::on_loaded(app, path, result),
         Msg::RunsStored(r) => runs::on_stored(app, r),
         Msg::ChartsStored(r) => charts::on_stored(app, r),
+        Msg::SeriesLoaded { dir, loaded } => stored::on_loaded(app, dir, loaded),
         Msg::StudyPoint { id, index, point } => results::on_point(app, id, index, *point),
         Msg::ResultProgress { id, done, all } => results::on_progress(app, id, done, all),
         Msg::ResultDone { id, outcome } => results::on_done(app, id, outcome),
@@ -179,16 +183,8 @@ fn on_action(app: &mut App, a: Action) -> Vec<Effect> {
     use Action as A;
     match a {
         A::Quit => ask_quit(app),
-        A::Help => {
-            app.help_scroll = 0;
-            set_mode(app, Mode::Help)
-        }
+        A::Help | A::Messages => open_help_or_log(app, a),
         A::CloseHelp | A::CloseMessages => set_mode(app, Mode::Normal),
-        A::Messages => {
-            // opened at the newest message
-            app.log_scroll = usize::MAX;
-            set_mode(app, Mode::Messages)
-        }
         A::Rerun => run::rerun(app),
         A::Cancel => run::cancel(app),
         A::Save => file::save(app),
@@ -252,6 +248,9 @@ fn on_action(app: &mut App, a: Action) -> Vec<Effect> {
         | A::RunBaseline
         | A::RunRename
         | A::RunsToCharts
+        | A::RunDelete
+        | A::RunInfo
+        | A::CloseRunInfo
         | A::NameCommit
         | A::NameCancel
         | A::NameBackspace
@@ -293,6 +292,17 @@ fn on_action(app: &mut App, a: Action) -> Vec<Effect> {
         }
         // the rest: the time charts' focus, list of series, y axis and θ's unit
         _ => charts::chart_action(app, a),
+    }
+}
+
+/// The help at its top, or the message log at its newest message.
+fn open_help_or_log(app: &mut App, a: Action) -> Vec<Effect> {
+    if a == Action::Help {
+        app.help_scroll = 0;
+        set_mode(app, Mode::Help)
+    } else {
+        app.log_scroll = usize::MAX;
+        set_mode(app, Mode::Messages)
     }
 }
 
@@ -355,6 +365,7 @@ fn answer(app: &mut App, yes: bool) -> Vec<Effect> {
         }
         (Confirm::SaveConflict { text }, yes) => reconcile::answer_save_conflict(app, text, yes),
         (Confirm::OpenModel { path }, yes) => open::answer(app, path, yes),
+        (Confirm::DeleteRun { number }, yes) => runs::answer_delete(app, number, yes),
         (c @ (Confirm::Merge { .. } | Confirm::Recover { .. }), _) => {
             // answered with m/t/M/T, not y/n
             app.mode = Mode::Confirm(c);

@@ -114,13 +114,13 @@ pub(super) fn on_read(app: &mut App, path: PathBuf, result: Result<String, Strin
 impl App {
     /// Opens the model `path` (its text read) in this session: the model, its form, runs,
     /// charts and studies are the new model's (the old model's runs and studies cancelled and
-    /// cleared); the view, the presentation, the terminal size, the run and study numbering
+    /// cleared); the view, the presentation, the terminal size, the study numbering
     /// and the folded groups of the form stay. The file watcher is moved to the new path and
     /// the new model runs. Whatever else belongs to a model is reset here.
     pub fn open_model(&mut self, path: &Path, text: &str) -> Vec<Effect> {
         let mut fx = Vec::new();
         if let Some(cur) = self.current.as_ref().filter(|c| c.running()) {
-            fx.push(Effect::CancelRun { id: cur.id });
+            fx.push(Effect::CancelRun { id: cur.token });
         }
         if let Some((_, e)) = self.studies.running() {
             fx.push(Effect::CancelStudy { id: e.id });
@@ -133,7 +133,7 @@ impl App {
         fresh.view = self.view;
         fresh.ascii = self.ascii;
         fresh.overlay = self.overlay;
-        fresh.next_run = self.next_run;
+        fresh.next_token = self.next_token.max(self.next_run);
         fresh.generation = self.generation + 1;
         fresh.watch_mode = std::mem::take(&mut self.watch_mode);
         fresh.studies.next_id = self.studies.next_id;

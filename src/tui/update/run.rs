@@ -7,13 +7,10 @@ use crate::tui::msg::{Effect, RunOutcome};
 use crate::tui::run_data::{RunData, RunStatus};
 
 impl App {
-    /// The first run.
+    /// The first run, or the kept run of the same model text shown
+    /// ([`super::stored`]'s rule).
     pub fn start(&mut self) -> Vec<Effect> {
-        if self.scene.is_some() {
-            start_run(self)
-        } else {
-            Vec::new()
-        }
+        self.start_with(true)
     }
 }
 
@@ -31,7 +28,7 @@ pub(super) fn cancel(app: &mut App) -> Vec<Effect> {
     match app.current.as_mut() {
         Some(cur) if cur.status == RunStatus::Running => {
             cur.status = RunStatus::Cancelling;
-            let id = cur.id;
+            let (id, token) = (cur.id, cur.token);
             // about the run: its end replaces it
             let lead = match &app.status_about {
                 About::Run { id: r, lead } if *r == id => lead.clone(),
@@ -42,7 +39,7 @@ pub(super) fn cancel(app: &mut App) -> Vec<Effect> {
                 lead: lead.clone(),
             };
             app.say(StatusKind::Info, &lead, format!("cancelling #{id}…"), about);
-            vec![Effect::CancelRun { id }]
+            vec![Effect::CancelRun { id: token }]
         }
         _ => {
             app.set_status(StatusKind::Info, "no run in progress");
@@ -59,7 +56,7 @@ pub(super) fn on_batch(
     events: &[EventRecord],
     t: f64,
 ) -> Vec<Effect> {
-    if let Some(cur) = app.current.as_mut().filter(|c| c.id == run) {
+    if let Some(cur) = app.current.as_mut().filter(|c| c.token == run) {
         cur.push(samples, events, t);
         app.generation += 1;
     }
@@ -71,52 +68,74 @@ pub(super) fn on_refined(app: &mut App, run: u64, why: String) -> Vec<Effect> {
     let Some(scene) = app.scene.clone() else {
         return Vec::new();
     };
-    if let Some(cur) = app.current.as_mut().filter(|c| c.id == run) {
-        let label = cur.label.clone();
-        *cur = RunData::for_scene(run, label.clone(), &scene);
+    if let Some(cur) = app.current.as_mut().filter(|c| c.token == run) {
+        let (label, token) = (cur.label.clone(), cur.token);
+        *cur = RunData::for_scene(cur.id, label.clone(), &scene);
+        cur.token = token;
         app.generation += 1;
         app.set_status(StatusKind::Info, format!("{label} runs again: {why}"));
     }
     Vec::new()
 }
 
-/// Starts a run of the current draft (a run still going is cancelled and kept in the run list
-/// with what it computed).
-pub(super) fn start_run(app: &mut App) -> Vec<Effect> {
-    let Some(scene) = app.scene.clone() else {
-        return Vec::new();
-    };
+/// The run going, if any, cancelled and kept in the run list with what it computed.
+pub(super) fn supersede(app: &mut App) -> Vec<Effect> {
     let mut fx = Vec::new();
-    let cursor = app.cursor_time();
-    if let Some(mut cur) = app.current.take()
-        && cur.running()
-    {
-        fx.push(Effect::CancelRun { id: cur.id });
+    if let Some(mut cur) = app.current.take_if(|c| c.running()) {
+        fx.push(Effect::CancelRun { id: cur.token });
         if !cur.t.is_empty() {
             cur.status = RunStatus::Cancelled;
             fx.extend(keep(app, &cur).0);
         }
     }
-    let id = app.next_run;
-    app.next_run += 1;
+    fx
+}
+
+/// Starts a run of the current draft (a run still going is cancelled and kept in the run list
+/// with what it computed). Its number is that of the kept run (or the run going) of the same
+/// model text, which it replaces when it ends; else the next one.
+pub(super) fn start_run(app: &mut App) -> Vec<Effect> {
+    let Some(scene) = app.scene.clone() else {
+        return Vec::new();
+    };
+    let cursor = app.cursor_time();
+    let going = (app.runs.started.as_ref())
+        .filter(|(_, text)| *text == app.draft && app.running())
+        .map(|(n, _)| *n);
+    let same = app.runs.same_text(&app.draft).or(going);
+    let mut fx = supersede(app);
+    let id = same.unwrap_or_else(|| {
+        app.next_run += 1;
+        app.next_run - 1
+    });
+    // the worker's token: the number, unless an earlier model of the session used it
+    let token = id.max(app.next_token);
+    app.next_token = token + 1;
     app.runs.started = Some((id, app.draft.clone()));
     let label = if app.dirty() {
         format!("#{id} (unsaved edits)")
     } else {
         format!("#{id}")
     };
+    let again = if same.is_some() {
+        format!(" again: same model text, it replaces the kept #{id} when it ends")
+    } else {
+        String::new()
+    };
     // what was said before (a reload, a merge, the runs reopened) stays in front of the run
     let lead = app.status_lead();
     app.say(
         StatusKind::Info,
         &lead,
-        format!("{label} started"),
+        format!("{label} started{again}"),
         About::Run {
             id,
             lead: lead.clone(),
         },
     );
-    app.current = Some(RunData::for_scene(id, label, &scene));
+    let mut data = RunData::for_scene(id, label, &scene);
+    data.token = token;
+    app.current = Some(data);
     let end = app.t_end();
     if let Some((a, b)) = app.zoom
         && (b > end || a >= end)
@@ -126,7 +145,7 @@ pub(super) fn start_run(app: &mut App) -> Vec<Effect> {
     super::view::keep_cursor_on_rerun(app, cursor);
     app.generation += 1;
     fx.push(Effect::StartRun {
-        id,
+        id: token,
         scene: Box::new(scene),
     });
     fx
@@ -134,7 +153,7 @@ pub(super) fn start_run(app: &mut App) -> Vec<Effect> {
 
 /// The end of a run: its final output, or where it was cancelled or failed.
 pub(super) fn on_done(app: &mut App, run: u64, outcome: RunOutcome) -> Vec<Effect> {
-    let Some(cur) = app.current.as_mut().filter(|c| c.id == run) else {
+    let Some(cur) = app.current.as_mut().filter(|c| c.token == run) else {
         return Vec::new();
     };
     let label = cur.label.clone();

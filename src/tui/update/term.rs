@@ -39,6 +39,13 @@ pub(super) fn scroll_help(app: &mut App, a: Action) {
     if app.mode == crate::tui::app::Mode::Messages {
         return scroll_log(app, a);
     }
+    if let crate::tui::app::Mode::RunInfo(info) = &app.mode {
+        let total = crate::tui::run_info::lines(info, info_width(app.size)).len();
+        let rows = info_rows(app.size);
+        let page = rows.saturating_sub(1).max(1);
+        app.info_scroll = scrolled(app.info_scroll, a, page, total.saturating_sub(rows));
+        return;
+    }
     let max = help::max_scroll(app.view_ctx(), app.size.1);
     let page = help::rows(app.size.1).saturating_sub(1).max(1);
     app.help_scroll = scrolled(app.help_scroll, a, page, max);
@@ -56,6 +63,16 @@ fn scrolled(at: usize, a: Action, page: usize, max: usize) -> usize {
         _ => max,
     }
     .min(max)
+}
+
+/// The run info's width and rows inside its frame at the app's size (the frame is the whole
+/// screen but the status and hint lines).
+pub fn info_width(size: (u16, u16)) -> usize {
+    size.0.saturating_sub(2).max(10) as usize
+}
+
+pub fn info_rows(size: (u16, u16)) -> usize {
+    size.1.saturating_sub(5).max(1) as usize
 }
 
 /// The message log's rows at the app's size (the frame's inside).
