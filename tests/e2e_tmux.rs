@@ -811,7 +811,10 @@ fn a_vt100_gets_ascii_and_the_override_gives_unicode_back() {
         socket: format!("deckspin-e2e-unicode-{}", std::process::id()),
     };
     start(&tmux, &d, "TERM=vt100 DECKSPIN_GLYPHS=unicode");
-    let s = tmux.wait("#2 to finish", 30, |s| s.contains("#2 done"));
+    // the same model text: #1 is shown again, not rerun
+    let s = tmux.wait("#1 reused", 30, |s| {
+        s.contains("#1 reused") && s.contains("deck.theta [")
+    });
     assert!(s.contains("deck.theta [µrad]"), "{s}");
     assert!(s.contains('│'), "{s}");
     tmux.keys(&["q"]);

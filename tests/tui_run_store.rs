@@ -133,7 +133,9 @@ fn the_start_reuses_the_run_of_the_same_model_text_and_stores_nothing_new() {
     let fx = act(&mut again, Action::Rerun);
     assert_eq!(start_ids(&fx), [1]);
     assert!(
-        again.status.contains("it replaces the kept #1 when it ends"),
+        again
+            .status
+            .contains("it replaces the kept #1 when it ends"),
         "{}",
         again.status
     );
@@ -527,4 +529,24 @@ fn the_whole_failure_reason_is_one_key_away_wrapped_at_80x24() {
     assert!(s.contains("lines 7–19 of 19"), "{s}");
     assert!(s.contains("│events        0"), "{s}");
     assert!(!s.contains("│status"), "{s}");
+}
+
+/// As the workbench starts: the terminal's size first (its message asks for the baseline's
+/// series), then the start showing the kept run of the same text; the effects of both done,
+/// the kept run's series are on the charts (they were asked for once and the answer dropped).
+#[test]
+fn a_kept_run_reused_after_the_first_resize_is_drawn() {
+    let model = scratch("resize-first");
+    let mut app = App::new_from_path(&model, Options::default()).unwrap();
+    let fx = app.start();
+    run(&mut app, fx);
+    let want = app.runs.get(1).unwrap().data.t.len();
+    let mut again = App::new_from_path(&model, Options::default()).unwrap();
+    let mut fx = update(&mut again, Msg::Resize(120, 40));
+    fx.extend(again.start());
+    assert!(start_ids(&fx).is_empty(), "{fx:?}");
+    tui::execute_blocking(&mut again, fx);
+    assert_eq!(again.current.as_ref().unwrap().t.len(), want);
+    let s = screen(&render(&mut again, 120, 40));
+    assert!(s.contains("deck.theta ["), "{s}");
 }

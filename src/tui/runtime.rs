@@ -341,7 +341,8 @@ pub fn run(
     let mut terminal = Terminal::new(CrosstermBackend::new(out))?;
     terminal.clear()?;
     let size = terminal.size()?;
-    update(&mut app, Msg::Resize(size.width, size.height));
+    // (what the first message asks for — a kept run's series — is done like any other's)
+    let mut fx = update(&mut app, Msg::Resize(size.width, size.height));
     spawn_input(tx.clone());
     let mut host = Threads {
         tx: tx.clone(),
@@ -354,7 +355,7 @@ pub fn run(
         watch: None,
     };
     host.watch(&app.path);
-    let fx = app.start_with(run);
+    fx.extend(app.start_with(run));
     perform(&mut app, &mut host, fx);
     let mut swapper = offer_swap(&mut app);
     let ended = event_loop(&mut terminal, &mut app, &mut host, &rx, &mut swapper);
