@@ -207,7 +207,7 @@ fn workbench_in_tmux() {
     // jump from event to event, open the event list, go to an event in it, close it
     tmux.keys(&["Home"]);
     tmux.text("]");
-    tmux.wait("the first event", 5, |s| first_event(s));
+    tmux.wait("the first event", 5, first_event);
     tmux.text("]");
     tmux.wait("the second event", 5, |s| later_event(s).is_some());
     tmux.text("E");
@@ -616,13 +616,13 @@ fn a_whole_session_edit_run_pin_compare_study_suspend_quit() {
     // from event to event
     tmux.keys(&["Home"]);
     tmux.text("]");
-    tmux.wait("the first event", 5, |s| first_event(s));
+    tmux.wait("the first event", 5, first_event);
     tmux.text("]");
     let s = tmux.wait("the second event", 5, |s| later_event(s).is_some());
     let t2 = later_event(&s).unwrap();
     assert!(t2.contains("at t = "), "{s}");
     tmux.text("[");
-    tmux.wait("back to the first event", 5, |s| first_event(s));
+    tmux.wait("back to the first event", 5, first_event);
 
     // the studies view: the work-precision study, run and drawn
     tmux.keys(&["Tab", "Tab"]);

@@ -40,23 +40,18 @@ fn three_runs() -> String {
     doc.to_string()
 }
 
-/// The CLI's Fig. 7 rows of the three runs (`deckspin study pga` computes these), once.
-fn cli_rows() -> &'static Vec<(
+/// One Fig. 7 row: run, PGA x and y, without and with contact.
+type PgaRow = (
     usize,
     f64,
     f64,
     deckspin::studies::Row,
     deckspin::studies::Row,
-)> {
-    static R: OnceLock<
-        Vec<(
-            usize,
-            f64,
-            f64,
-            deckspin::studies::Row,
-            deckspin::studies::Row,
-        )>,
-    > = OnceLock::new();
+);
+
+/// The CLI's Fig. 7 rows of the three runs (`deckspin study pga` computes these), once.
+fn cli_rows() -> &'static Vec<PgaRow> {
+    static R: OnceLock<Vec<PgaRow>> = OnceLock::new();
     R.get_or_init(|| {
         let study = Study::from_text(&three_runs(), &bridge_path(), &[]).unwrap();
         rotation_vs_pga(&study, &Unwatched)
