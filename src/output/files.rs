@@ -25,6 +25,14 @@ fn temp_beside(path: &Path) -> PathBuf {
     path.with_file_name(format!(".{name}.tmp-{}-{n}", std::process::id()))
 }
 
+/// `bytes` into the new file `tmp` (created exclusively: nothing planted there is followed),
+/// flushed to disk.
+fn write_temp(tmp: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    let mut f = File::options().write(true).create_new(true).open(tmp)?;
+    f.write_all(bytes)?;
+    f.sync_all()
+}
+
 /// `bytes` to `path` as one transaction: written to a new temporary file beside it (created
 /// exclusively, so nothing planted at that name is followed), flushed to disk, then renamed
 /// over `path` (a symlink planted at `path` is replaced, not followed). On any error the
@@ -33,12 +41,7 @@ fn temp_beside(path: &Path) -> PathBuf {
 pub fn write_atomic(path: impl AsRef<Path>, bytes: impl AsRef<[u8]>) -> std::io::Result<()> {
     let (path, bytes) = (path.as_ref(), bytes.as_ref());
     let tmp = temp_beside(path);
-    let r = (|| {
-        let mut f = File::options().write(true).create_new(true).open(&tmp)?;
-        f.write_all(bytes)?;
-        f.sync_all()?;
-        std::fs::rename(&tmp, path)
-    })();
+    let r = write_temp(&tmp, bytes).and_then(|()| std::fs::rename(&tmp, path));
     if r.is_err() {
         let _ = std::fs::remove_file(&tmp);
     }
@@ -53,20 +56,15 @@ pub fn write_atomic(path: impl AsRef<Path>, bytes: impl AsRef<[u8]>) -> std::io:
 pub fn write_new(path: impl AsRef<Path>, bytes: impl AsRef<[u8]>) -> std::io::Result<()> {
     let (path, bytes) = (path.as_ref(), bytes.as_ref());
     let tmp = temp_beside(path);
-    let r = (|| {
-        let mut f = File::options().write(true).create_new(true).open(&tmp)?;
-        f.write_all(bytes)?;
-        f.sync_all()?;
-        match std::fs::hard_link(&tmp, path) {
-            Ok(()) => Ok(()),
-            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => Err(e),
-            Err(_) if std::fs::symlink_metadata(path).is_ok() => Err(std::io::Error::new(
-                std::io::ErrorKind::AlreadyExists,
-                "a file is already there",
-            )),
-            Err(_) => std::fs::rename(&tmp, path),
-        }
-    })();
+    let r = write_temp(&tmp, bytes).and_then(|()| match std::fs::hard_link(&tmp, path) {
+        Ok(()) => Ok(()),
+        Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => Err(e),
+        Err(_) if std::fs::symlink_metadata(path).is_ok() => Err(std::io::Error::new(
+            std::io::ErrorKind::AlreadyExists,
+            "a file is already there",
+        )),
+        Err(_) => std::fs::rename(&tmp, path),
+    });
     let _ = std::fs::remove_file(&tmp);
     r
 }
