@@ -365,3 +365,23 @@ pub(super) fn fit_lines(items: &[String], sep: &str, width: usize, lines: usize)
     }
     out
 }
+
+/// The block of a scrolled page titled `title`: when it scrolls (`max` > 0), its bottom border
+/// gives the lines shown of `total` from `scroll` (`rows` a page), then `keys`.
+pub(super) fn scrolled_block<'a>(
+    th: &Theme,
+    title: &str,
+    (scroll, rows, total, max): (usize, usize, usize, usize),
+    keys: &str,
+) -> Block<'a> {
+    let block = th.block(th.text(title));
+    if max == 0 {
+        return block;
+    }
+    let at = format!(
+        " lines {}–{} of {total}{keys} ",
+        scroll + 1,
+        (scroll + rows).min(total)
+    );
+    block.title_bottom(Line::styled(th.text(&at), th.bold()))
+}

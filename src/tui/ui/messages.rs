@@ -19,16 +19,7 @@ pub(super) fn draw_messages(frame: &mut Frame, area: Rect, app: &App, th: &Theme
         " messages ({}) — j/k PgDn/PgUp Home/End, Esc closes ",
         app.messages.len()
     );
-    let mut block = th.block(th.text(&title));
-    if max > 0 {
-        let at = format!(
-            " lines {}–{} of {} ",
-            scroll + 1,
-            (scroll + rows).min(lines.len()),
-            lines.len()
-        );
-        block = block.title_bottom(Line::styled(th.text(&at), th.bold()));
-    }
+    let block = super::common::scrolled_block(th, &title, (scroll, rows, lines.len(), max), "");
     let shown: Vec<Line> = (lines.iter().skip(scroll).take(rows))
         .map(|(kind, l)| Line::styled(th.text(l), th.status(*kind)))
         .collect();

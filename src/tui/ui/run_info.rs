@@ -17,16 +17,8 @@ pub(super) fn draw_run_info(frame: &mut Frame, area: Rect, app: &App, info: &Inf
     let max = all.len().saturating_sub(rows);
     let scroll = app.info_scroll.min(max);
     let title = format!(" {} — run info, Esc closes ", info.title);
-    let mut block = th.block(th.text(&title));
-    if max > 0 {
-        let at = format!(
-            " lines {}–{} of {}: j/k PgDn/PgUp ",
-            scroll + 1,
-            (scroll + rows).min(all.len()),
-            all.len()
-        );
-        block = block.title_bottom(Line::styled(th.text(&at), th.bold()));
-    }
+    let keys = ": j/k PgDn/PgUp";
+    let block = super::common::scrolled_block(th, &title, (scroll, rows, all.len(), max), keys);
     let shown: Vec<Line> = (all.iter().skip(scroll).take(rows))
         .map(|l| Line::raw(th.text(l)))
         .collect();
