@@ -194,20 +194,17 @@ pub fn step_into<E>(
     }
     k[0].as_mut_slice().copy_from_slice(f0.as_slice());
     let y = &mut step.y1;
-    for s in 1..7 {
-        let ys = y.as_mut_slice();
-        ys.copy_from_slice(y0.as_slice());
-        for (j, kj) in k.iter().enumerate().take(s) {
-            let a = A[s][j];
-            if a != 0.0 {
-                let c = h * a;
-                for (yi, ki) in ys.iter_mut().zip(kj.as_slice()) {
-                    *yi += c * ki;
-                }
-            }
+    for (s, c) in C.iter().enumerate().skip(1) {
+        let (done, rest) = k.split_at_mut(s);
+        match s {
+            1 => stage_argument::<1>(y, y0, done, h),
+            2 => stage_argument::<2>(y, y0, done, h),
+            3 => stage_argument::<3>(y, y0, done, h),
+            4 => stage_argument::<4>(y, y0, done, h),
+            5 => stage_argument::<5>(y, y0, done, h),
+            _ => stage_argument::<6>(y, y0, done, h),
         }
-        let (_, rest) = k.split_at_mut(s);
-        rhs(t0 + C[s] * h, y, &mut rest[0])?;
+        rhs(t0 + c * h, y, &mut rest[0])?;
     }
     // y (stage 7 argument) is the 5th-order solution y1 (FSAL: k[6] = f(t1, y1)).
     let y1 = step.y1.as_slice();
@@ -219,7 +216,9 @@ pub fn step_into<E>(
     for i in 0..m {
         let mut e = 0.0;
         for (s, kk) in ks.iter().enumerate() {
-            e += E[s] * kk[i];
+            if E[s] != 0.0 {
+                e += E[s] * kk[i];
+            }
         }
         let sc = atol + rtol * y0s[i].abs().max(y1[i].abs());
         let r = h * e / sc;
@@ -243,7 +242,9 @@ pub fn step_into<E>(
         r4[i] = r2 - h * ks[6][i] - r3[i];
         let mut d = 0.0;
         for (s, kk) in ks.iter().enumerate() {
-            d += D[s] * kk[i];
+            if D[s] != 0.0 {
+                d += D[s] * kk[i];
+            }
         }
         r5[i] = h * d;
     }
@@ -252,6 +253,31 @@ pub fn step_into<E>(
     step.t0 = t0;
     step.h = h;
     Ok(())
+}
+
+/// y = y0 + h Σⱼ A[S][j] k[j] (j < S, nonzero coefficients, summed in order), one pass over
+/// the components.
+#[inline(always)]
+fn stage_argument<const S: usize>(
+    y: &mut DVector<f64>,
+    y0: &DVector<f64>,
+    k: &[DVector<f64>],
+    h: f64,
+) {
+    let c: [f64; S] = std::array::from_fn(|j| h * A[S][j]);
+    let y0 = y0.as_slice();
+    let n = y0.len();
+    let ks: [&[f64]; S] = std::array::from_fn(|j| &k[j].as_slice()[..n]);
+    let ys = &mut y.as_mut_slice()[..n];
+    for i in 0..n {
+        let mut acc = y0[i];
+        for j in 0..S {
+            if A[S][j] != 0.0 {
+                acc += c[j] * ks[j][i];
+            }
+        }
+        ys[i] = acc;
+    }
 }
 
 /// Step-size controller (PI, Hairer's DOPRI5 defaults): new h from the error of the last step.
