@@ -444,10 +444,12 @@ pub(super) fn illinois(
     thr: f64,
 ) -> Result<f64, SolverError> {
     let st = &eng.scene.settings;
-    // a branch change applied up to `branch_window` late needs its instant no closer than that
+    // a branch change applied up to `branch_window` late needs its instant no closer than 1 %
+    // of that (a key's failure, applied at its own instant, to `event_time_tol`)
     let tol = match fns[k] {
+        EventFn::Upper(j) if key_fails(&eng.state.laws[j]) => st.event_time_tol,
         EventFn::Lower(_) | EventFn::Upper(_) | EventFn::Reversal(_) => {
-            st.event_time_tol.max(1e-6 * st.branch_window)
+            st.event_time_tol.max(1e-2 * st.branch_window)
         }
         _ => st.event_time_tol,
     };
