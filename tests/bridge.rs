@@ -707,8 +707,9 @@ fn two_corners_of_one_end_chattering_while_sliding_are_held_closed() {
 /// Arcelik, run 7, the bents' tables and the right abutment lagging by 0.05–0.15 s): the impact
 /// passes' LCPs of that degenerate set return the corners approaching at their own accuracy
 /// (−3e-9 … −6e-9 m/s against velocity_tol 1e-9) pass after pass, and the contact phase then
-/// detached one while it approached (3 such contacts by 8 s; a debug build stopped). They are
-/// now held like slow separations: no contact hit is left approaching, no corner goes in.
+/// detached one while it approached (3 such contacts by 8 s; a debug build stopped; 2 since the
+/// column branch events are located to 1 % of the branch window). They are now held like slow
+/// separations: no contact hit is left approaching, no corner goes in.
 #[test]
 fn diagonal_corners_left_approaching_by_a_degenerate_impact_lcp_are_held() {
     let path = |c: &str| common::model(&format!("excitations/far-field/KOCAELI_ARC{c}.AT2"));
@@ -727,7 +728,7 @@ fn diagonal_corners_left_approaching_by_a_degenerate_impact_lcp_are_held() {
     let r = deckspin::run(&scene, &mut deckspin::Silent).unwrap();
     let st = &r.summary.stats;
     assert_eq!(st.approaching_after_impact, 0);
-    assert!(st.held_after_impact >= 3, "{st:?}");
+    assert!(st.held_after_impact >= 2, "{st:?}");
     assert!(
         r.summary.max_penetration <= 1e-3 * scene.settings.gap_tol,
         "{:e}",
