@@ -15,11 +15,12 @@
 //! the whole scene: the grid samples of a kept window from the islands' dense outputs and the
 //! laws along their steps; the peaks, statistics and energy ledger add the islands' own.
 
-use super::driver::Integration;
+use super::driver::{Integration, Kept};
 use super::engine::{Engine, State};
 use super::events::arm;
 use super::locate::{hermite_min, hermite_stays_above};
 use super::record::track_peaks;
+use super::workspace::Workspace;
 use crate::dopri;
 use crate::output::SampleKind;
 use crate::run::{Observer, Silent, SolverError};
@@ -92,13 +93,14 @@ pub(super) fn run_phases(
     observer: &mut dyn Observer,
 ) -> Result<(), SolverError> {
     let mut coupled_until = 0.0;
+    let mut pool = Pool::default();
     loop {
         it.clock.split_after = Some(coupled_until);
         if !it.advance(observer, false)? {
             return Ok(());
         }
         let wall = Instant::now();
-        let r = separate(it, split, observer);
+        let r = separate(it, split, &mut pool, observer);
         it.clock.wall += wall.elapsed().as_secs_f64();
         match r? {
             None => return Ok(()),
@@ -118,18 +120,15 @@ const WINDOW: f64 = 0.05;
 /// the instant from which a window was given up (an island's contact event, or the first
 /// sample of a contact between islands that may close); the whole scene, at that window's
 /// start or at the last sample before that instant, goes on past it.
-fn separate(
+fn separate<'s>(
     it: &mut Integration,
-    split: &Split,
+    split: &'s Split,
+    pool: &mut Pool<'s>,
     observer: &mut dyn Observer,
 ) -> Result<Option<f64>, SolverError> {
-    let mut islands = Vec::with_capacity(split.subs.len());
-    for r in &split.subs {
-        match Integration::resume(&r.scene, r, &it.eng.state, it.clock.h) {
-            Ok(isl) => islands.push(isl),
-            Err(_) => return Ok(Some(it.eng.state.t)),
-        }
-    }
+    let Some(mut islands) = pool.resume(split, &it.eng.state, it.clock.h) else {
+        return Ok(Some(it.eng.state.t));
+    };
     let n = it.eng.n;
     let ledger: Vec<f64> = it.eng.state.y.as_slice()[2 * n..].to_vec();
     let mut watch = Watch::new(it.eng.scene);
@@ -174,8 +173,53 @@ fn separate(
         it.batcher.maybe(&it.eng.state.out, tw, observer)?;
     };
     add_counts(it, split, &islands);
+    pool.islands = islands;
     Ok(given_up)
 }
+
+/// The islands' integrations from one phase to the next, their storage reused, with the state
+/// each engine starts from (`Engine::new`'s, which depends on the scene alone).
+#[derive(Default)]
+struct Pool<'s> {
+    islands: Vec<Integration<'s>>,
+    initial: Vec<State>,
+}
+
+impl<'s> Pool<'s> {
+    /// Every island's integration from the whole scene's `state`, or None if one cannot start
+    /// (the pool is then emptied).
+    fn resume(&mut self, split: &'s Split, state: &State, h: f64) -> Option<Vec<Integration<'s>>> {
+        let mut kept = std::mem::take(&mut self.islands).into_iter();
+        let mut islands = Vec::with_capacity(split.subs.len());
+        for (i, r) in split.subs.iter().enumerate() {
+            let (eng, storage) = match kept.next() {
+                Some(old) if i < self.initial.len() => old.into_fresh(&self.initial[i]),
+                _ => match Engine::new(&r.scene) {
+                    Ok(eng) => {
+                        self.initial.truncate(i);
+                        self.initial.push(eng.state.clone());
+                        (eng, None)
+                    }
+                    Err(_) => return self.emptied(),
+                },
+            };
+            match Integration::resume(eng, r, state, h, storage) {
+                Ok(isl) => islands.push(isl),
+                Err(_) => return self.emptied(),
+            }
+        }
+        Some(islands)
+    }
+
+    fn emptied(&mut self) -> Option<Vec<Integration<'s>>> {
+        self.initial.clear();
+        None
+    }
+}
+
+/// What an island's integration reuses from the last phase: its window's steps and its DP5
+/// storage (each written before it is read).
+type Storage = (Kept, dopri::Workspace, dopri::Workspace);
 
 /// The window (t, tw] into the whole scene: the grid samples inside it from the islands' dense
 /// outputs and the laws along their steps, then the state at `tw` (a grid sample if `tw` is
@@ -453,14 +497,15 @@ impl<'a> Integration<'a> {
     }
 
     /// An island's integration from the whole scene's `state` (its DOFs and laws through
-    /// `r`'s indices, its ledger from 0), every contact open, `h` its first step.
+    /// `r`'s indices, its ledger from 0), every contact open, `h` its first step; `eng` holds
+    /// the island's initial state.
     fn resume(
-        scene: &'a Scene,
+        mut eng: Engine<'a>,
         r: &Restricted,
         state: &State,
         h: f64,
+        storage: Option<Storage>,
     ) -> Result<Self, SolverError> {
-        let mut eng = Engine::new(scene)?;
         let ni = eng.n;
         let n = (state.y.len() - LEDGER_TERMS) / 2;
         for (k, &d) in r.dofs.iter().enumerate() {
@@ -483,6 +528,24 @@ impl<'a> Integration<'a> {
         // no grid instant of its own: the whole scene samples
         it.clock.next_out = usize::MAX / 4;
         it.clock.island = true;
+        if let Some((kept, ws, ws_event)) = storage {
+            (it.clock.kept, it.ws, it.ws_event) = (kept, ws, ws_event);
+        }
         Ok(it)
+    }
+
+    /// The engine again at the island's `initial` state, with fresh scratch, and the storage
+    /// the next phase reuses.
+    fn into_fresh(self, initial: &State) -> (Engine<'a>, Option<Storage>) {
+        let Integration {
+            mut eng,
+            clock,
+            ws,
+            ws_event,
+            ..
+        } = self;
+        eng.state.clone_from(initial);
+        eng.ws = Workspace::new(eng.n);
+        (eng, Some((clock.kept, ws, ws_event)))
     }
 }
