@@ -45,36 +45,81 @@ pub fn solve_small_into(
     if x.len() != k {
         *x = DVector::zeros(k);
     }
+    let done = match k {
+        0..=4 => solve_on::<4>(a, b, x.as_mut_slice(), singular),
+        5..=8 => solve_on::<8>(a, b, x.as_mut_slice(), singular),
+        9..=ELIM_N => solve_on::<ELIM_N>(a, b, x.as_mut_slice(), singular),
+        _ => {
+            if !*singular {
+                if eliminate_into(a, b, 1e-9, x.as_mut_slice()) {
+                    return;
+                }
+                *singular = true;
+            }
+            false
+        }
+    };
+    if !done {
+        x.copy_from(&min_norm_solve(a, b));
+    }
+}
+
+/// [`solve_stack`] of a `DMatrix` copied to the stack (k ≤ N).
+fn solve_on<const N: usize>(
+    a: &DMatrix<f64>,
+    b: &DVector<f64>,
+    x: &mut [f64],
+    singular: &mut bool,
+) -> bool {
+    let k = b.len();
+    let mut m = [[0.0f64; N]; N];
+    let mut r = [0.0f64; N];
+    for i in 0..k {
+        for j in 0..k {
+            m[i][j] = a[(i, j)];
+        }
+        r[i] = b[i];
+    }
+    solve_stack(&m, &r, k, x, singular)
+}
+
+/// [`solve_small_into`] of the leading k × k block of `a` (rows) and `b`, k ≤ N, into
+/// `x[..k]`; false when the minimum-norm solution on the stack fails (then [`min_norm_solve`]
+/// decides).
+pub fn solve_stack<const N: usize>(
+    a: &[[f64; N]; N],
+    b: &[f64; N],
+    k: usize,
+    x: &mut [f64],
+    singular: &mut bool,
+) -> bool {
+    let x = &mut x[..k];
     if !*singular {
-        if eliminate_into(a, b, 1e-9, x.as_mut_slice()) {
-            return;
+        let (mut m, mut r) = (*a, *b);
+        if eliminate_stack(&mut m, &mut r, k, 1e-9, x) {
+            return true;
         }
         *singular = true;
     }
-    let done = match k {
-        0..=4 => min_norm_on::<4>(a, b, x),
-        5..=8 => min_norm_on::<8>(a, b, x),
-        9..=ELIM_N => min_norm_on::<ELIM_N>(a, b, x),
-        _ => false,
-    };
-    if done {
-        return;
-    }
-    x.copy_from(&min_norm_solve(a, b));
+    min_norm_stack(a, b, k, x)
 }
 
 /// The regularized minimum-norm solution of [`min_norm_solve`] on stack arrays of order N ≥ k;
 /// false if it fails (then the SVD decides).
-fn min_norm_on<const N: usize>(a: &DMatrix<f64>, b: &DVector<f64>, x: &mut DVector<f64>) -> bool {
-    let k = b.len();
-    // the regularized minimum-norm solution of min_norm_solve, on the stack
+fn min_norm_stack<const N: usize>(
+    a: &[[f64; N]; N],
+    b: &[f64; N],
+    k: usize,
+    x: &mut [f64],
+) -> bool {
     let mut m = [[0.0f64; N]; N];
     let mut dmax = 0.0f64;
+    // the lower triangle and diagonal of A Aᵀ: all that the Cholesky factorization reads
     for r in 0..k {
-        for c in 0..k {
+        for c in 0..=r {
             let mut acc = 0.0;
-            for j in 0..k {
-                acc += a[(r, j)] * a[(c, j)];
+            for (p, q) in a[r][..k].iter().zip(&a[c][..k]) {
+                acc += p * q;
             }
             m[r][c] = acc;
         }
@@ -85,33 +130,29 @@ fn min_norm_on<const N: usize>(a: &DMatrix<f64>, b: &DVector<f64>, x: &mut DVect
         row[r] += delta;
     }
     let mut yv = [0.0f64; N];
-    yv[..k].copy_from_slice(b.as_slice());
-    if cholesky_solve_stack(&mut m, k, &mut yv[..k]) {
-        let mut ok = true;
-        for j in 0..k {
-            let mut acc = 0.0;
-            for r in 0..k {
-                acc += a[(r, j)] * yv[r];
-            }
-            x[j] = acc;
-        }
-        let bmax = b.amax();
-        for r in 0..k {
-            let mut acc = 0.0;
-            for j in 0..k {
-                acc += a[(r, j)] * x[j];
-            }
-            ok &= (acc - b[r]).abs() <= 1e-9 * (1.0 + bmax);
-        }
-        if ok {
-            return true;
-        }
+    yv[..k].copy_from_slice(&b[..k]);
+    if !cholesky_solve_stack(&mut m, k, &mut yv[..k]) {
+        return false;
     }
-    false
+    for (j, xj) in x.iter_mut().enumerate() {
+        let mut acc = 0.0;
+        for (row, y) in a[..k].iter().zip(&yv[..k]) {
+            acc += row[j] * y;
+        }
+        *xj = acc;
+    }
+    let bmax = b[..k].iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    a[..k].iter().zip(&b[..k]).all(|(row, br)| {
+        let mut acc = 0.0;
+        for (p, xj) in row[..k].iter().zip(&*x) {
+            acc += p * xj;
+        }
+        (acc - br).abs() <= 1e-9 * (1.0 + bmax)
+    })
 }
 
-/// Solves S x = r in place (`x` holds r on entry) for symmetric positive definite S (its
-/// lower triangle is overwritten by the Cholesky factor L, S = L Lᵀ); false if a pivot is not
+/// Solves S x = r in place (`x` holds r on entry) for symmetric positive definite S, read from
+/// its lower triangle (which is overwritten by the Cholesky factor L, S = L Lᵀ); false if a pivot is not
 /// positive or the solution not finite.
 pub fn cholesky_solve_stack<const N: usize>(
     s: &mut [[f64; N]; N],

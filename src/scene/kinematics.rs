@@ -272,7 +272,16 @@ impl Scene {
             fr.poses.resize(self.bodies.len(), BodyState::default());
         }
         for (p, b) in fr.poses.iter_mut().zip(&self.bodies) {
-            *p = pose(b, |k| qs[k], |k| vs[k]);
+            *p = match b.dofs {
+                // a deck (x, y, θ) and an abutment (x, θ) without the Option per coordinate
+                [Some(x), Some(y), Some(r)] => {
+                    planar_pose(b, [qs[x], qs[y], qs[r]], [vs[x], vs[y], vs[r]])
+                }
+                [Some(x), None, Some(r)] => {
+                    planar_pose(b, [qs[x], 0.0, qs[r]], [vs[x], 0.0, vs[r]])
+                }
+                _ => pose(b, |k| qs[k], |k| vs[k]),
+            };
         }
     }
 
@@ -592,6 +601,18 @@ fn pose(body: &Body, q: impl Fn(usize) -> f64, v: impl Fn(usize) -> f64) -> Body
         angle,
         velocity: Vector2::new(dx.map_or(0.0, &v), dy.map_or(0.0, &v)),
         omega: dt.map_or(0.0, &v),
+        cs: cos_sin(angle),
+    }
+}
+
+/// [`pose`] of a body with DOF values `q` and rates `v` (0 on a fixed axis).
+#[inline(always)]
+fn planar_pose(body: &Body, [x, y, angle]: [f64; 3], [vx, vy, omega]: [f64; 3]) -> BodyState {
+    BodyState {
+        position: body.reference + Vector2::new(x, y),
+        angle,
+        velocity: Vector2::new(vx, vy),
+        omega,
         cs: cos_sin(angle),
     }
 }
