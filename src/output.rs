@@ -507,6 +507,8 @@ pub struct RunOutput {
     /// The leading `samples` already handed to an observer that keeps them
     /// ([`crate::run::Observer::keeps_samples`]): the next sample recorded drops them.
     pub(crate) handed: Handed,
+    /// Samples already handed over, their storage reused by the next ones.
+    pub(crate) spare: Spare,
 }
 
 /// A count of samples shared by a run's output and its batcher (which only borrows the
@@ -531,6 +533,22 @@ impl Handed {
 impl Clone for Handed {
     fn clone(&self) -> Self {
         Self(AtomicUsize::new(self.get()))
+    }
+}
+
+/// Samples whose vectors a new sample reuses (a clone starts without any).
+#[derive(Default)]
+pub(crate) struct Spare(Vec<Sample>);
+
+impl Clone for Spare {
+    fn clone(&self) -> Self {
+        Self::default()
+    }
+}
+
+impl std::fmt::Debug for Spare {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{} spare samples", self.0.len())
     }
 }
 
@@ -560,6 +578,7 @@ impl RunOutput {
             tally: Tally::default(),
             summary: Summary::default(),
             handed: Handed::default(),
+            spare: Spare::default(),
         }
     }
 
@@ -574,15 +593,28 @@ impl RunOutput {
         self.tally.add(&s);
         if self.keep_history {
             self.drop_handed();
-            self.samples.push(Sample {
-                t: s.t,
-                kind: s.kind,
-                q: s.q.to_vec(),
-                v: s.v.to_vec(),
-                contacts: s.contacts.to_vec(),
-                elements: s.elements.to_vec(),
-                energy: s.energy,
-            });
+            let Some(mut to) = self.spare.0.pop() else {
+                self.samples.push(Sample {
+                    t: s.t,
+                    kind: s.kind,
+                    q: s.q.to_vec(),
+                    v: s.v.to_vec(),
+                    contacts: s.contacts.to_vec(),
+                    elements: s.elements.to_vec(),
+                    energy: s.energy,
+                });
+                return;
+            };
+            (to.t, to.kind, to.energy) = (s.t, s.kind, s.energy);
+            for (a, b) in [(&mut to.q, s.q), (&mut to.v, s.v)] {
+                a.clear();
+                a.extend_from_slice(b);
+            }
+            to.contacts.clear();
+            to.contacts.extend_from_slice(s.contacts);
+            to.elements.clear();
+            to.elements.extend_from_slice(s.elements);
+            self.samples.push(to);
         }
     }
 
@@ -591,7 +623,10 @@ impl RunOutput {
     pub(crate) fn drop_handed(&mut self) {
         let handed = self.handed.take().min(self.samples.len());
         if handed > 0 {
-            self.samples.drain(..handed);
+            let room = STREAMED_CAPACITY.saturating_sub(self.spare.0.len());
+            let mut gone = self.samples.drain(..handed);
+            self.spare.0.extend(gone.by_ref().take(room));
+            drop(gone);
             if self.samples.capacity() > 4 * STREAMED_CAPACITY {
                 self.samples.shrink_to(STREAMED_CAPACITY);
             }

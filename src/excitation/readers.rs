@@ -45,7 +45,12 @@ fn read_at2_text(path: &Path) -> Result<String> {
         source,
     };
     let (head, _) = crate::input::read_prefix(path, 64 << 10).map_err(io)?;
-    let head = String::from_utf8_lossy(&head);
+    // the 4 header lines only (the values after them are read again below)
+    let lines_end = (head.iter().enumerate())
+        .filter(|&(_, &b)| b == b'\n')
+        .nth(3)
+        .map_or(head.len(), |(i, _)| i + 1);
+    let head = String::from_utf8_lossy(&head[..lines_end]);
     let Some(npts) = head
         .lines()
         .nth(3)
@@ -71,8 +76,77 @@ fn read_at2_text(path: &Path) -> Result<String> {
     })
 }
 
+/// 10^k, k = 0..=22: every one exact in f64.
+const POW10: [f64; 23] = [
+    1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16,
+    1e17, 1e18, 1e19, 1e20, 1e21, 1e22,
+];
+
+/// `[±]digits[.digits][E|e[±]digits]` as m·10^e with m ≤ 2^53 and |e| ≤ 22: one correctly
+/// rounded product or quotient of two exact f64 (Clinger 1990), the value `str::parse` gives;
+/// None for any other text.
+fn parse_short(tok: &[u8]) -> Option<f64> {
+    let (neg, mut rest) = match tok {
+        [b'-', r @ ..] => (true, r),
+        [b'+', r @ ..] => (false, r),
+        r => (false, r),
+    };
+    let (mut m, mut digits, mut frac, mut point) = (0u64, 0u32, 0i32, false);
+    while let [b, r @ ..] = rest {
+        match b {
+            b'0'..=b'9' if digits < 19 => {
+                m = 10 * m + u64::from(b - b'0');
+                digits += 1;
+                frac += i32::from(point);
+            }
+            b'.' if !point => point = true,
+            b'E' | b'e' => break,
+            _ => return None,
+        }
+        rest = r;
+    }
+    if digits == 0 {
+        return None;
+    }
+    let mut e = 0i32;
+    if let [_, r @ ..] = rest {
+        let (eneg, mut r) = match r {
+            [b'-', r @ ..] => (true, r),
+            [b'+', r @ ..] => (false, r),
+            r => (false, r),
+        };
+        if r.is_empty() || r.len() > 4 {
+            return None;
+        }
+        while let [b @ b'0'..=b'9', rr @ ..] = r {
+            e = 10 * e + i32::from(b - b'0');
+            r = rr;
+        }
+        if !r.is_empty() {
+            return None;
+        }
+        if eneg {
+            e = -e;
+        }
+    }
+    let e = e - frac;
+    if m > 1 << 53 || e.unsigned_abs() as usize >= POW10.len() {
+        return None;
+    }
+    let x = m as f64;
+    let v = if e >= 0 {
+        x * POW10[e as usize]
+    } else {
+        x / POW10[(-e) as usize]
+    };
+    Some(if neg { -v } else { v })
+}
+
 /// Finite number; Fortran `D` exponents accepted.
 fn parse_num(tok: &str) -> Option<f64> {
+    if let Some(v) = parse_short(tok.as_bytes()) {
+        return Some(v);
+    }
     let v = match tok.parse::<f64>() {
         Ok(v) => v,
         Err(_) if tok.contains(['D', 'd']) => tok.replace(['D', 'd'], "E").parse().ok()?,
@@ -362,5 +436,44 @@ pub fn read_any(path: &Path) -> Result<Record> {
         read_at2(path)
     } else {
         read_two_column(path)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::parse_short;
+
+    /// Every text the short path reads is the value `str::parse` reads, bit for bit.
+    #[test]
+    fn short_numbers_read_as_str_parse_reads_them() {
+        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        let mut next = move |m: u64| {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed % m
+        };
+        let mut read = 0;
+        for _ in 0..20_000 {
+            let digits: String = (0..1 + next(19)).map(|_| (b'0' + next(10) as u8) as char).collect();
+            let at = next(digits.len() as u64 + 1) as usize;
+            let sign = ["", "-", "+"][next(3) as usize];
+            let mut tok = format!("{sign}{}.{}", &digits[..at], &digits[at..]);
+            if next(2) == 0 {
+                let e = ["E", "e"][next(2) as usize];
+                let es = ["", "-", "+"][next(3) as usize];
+                tok += &format!("{e}{es}{:02}", next(30));
+            }
+            if let Some(v) = parse_short(tok.as_bytes()) {
+                assert_eq!(v.to_bits(), tok.parse::<f64>().unwrap().to_bits(), "{tok}");
+                read += 1;
+            }
+        }
+        assert!(read > 10_000, "{read}");
+        assert_eq!(parse_short(b"3.4930500E-05"), Some(3.49305e-5));
+        assert_eq!(parse_short(b"-0.0").map(f64::to_bits), Some((-0.0f64).to_bits()));
+        for tok in ["", ".", "-", "1e", "1E+", "e5", "1.2.3", "1D-3", "inf", "NaN", "1e-23"] {
+            assert_eq!(parse_short(tok.as_bytes()), None, "{tok}");
+        }
     }
 }
