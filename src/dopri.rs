@@ -103,6 +103,15 @@ impl Step {
         y0 + theta * (r2 + th1 * (r3 + theta * (r4 + th1 * r5)))
     }
 
+    /// The coefficients (y0, y1 − y0, r3, r4, r5) of component i of the dense output, for
+    /// [`dense_value`].
+    #[inline]
+    pub fn dense_coefficients(&self, i: usize) -> [f64; 5] {
+        let [r3, r4, r5] = self.cont.each_ref().map(|r| r.as_slice()[i]);
+        let (y0, y1) = (self.y0.as_slice()[i], self.y1.as_slice()[i]);
+        [y0, y1 - y0, r3, r4, r5]
+    }
+
     pub fn dense(&self, t: f64) -> DVector<f64> {
         let mut out = self.y0.clone();
         self.dense_at_into(t, &mut out);
@@ -122,6 +131,13 @@ impl Step {
     pub fn t1(&self) -> f64 {
         self.t0 + self.h
     }
+}
+
+/// Component i of y(t0 + θh), 0 ≤ θ < 1, from its [`Step::dense_coefficients`] `c`.
+#[inline]
+pub fn dense_value(c: &[f64; 5], theta: f64) -> f64 {
+    let th1 = 1.0 - theta;
+    c[0] + theta * (c[1] + th1 * (c[2] + theta * (c[3] + th1 * c[4])))
 }
 
 /// Take one DP5 step of size h from (t0, y0) with f0 = f(t0, y0). The error norm uses the first

@@ -28,4 +28,10 @@ impl EventFn {
             EventFn::Lower(_) | EventFn::Upper(_) | EventFn::Reversal(_)
         )
     }
+
+    /// Its value is read from the bodies' motion alone (λ_N and the stick margin need the
+    /// dynamics).
+    pub(super) fn probed(self) -> bool {
+        !matches!(self, EventFn::Release(_) | EventFn::StickSlip(_))
+    }
 }

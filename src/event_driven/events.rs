@@ -105,16 +105,17 @@ impl<'a> Engine<'a> {
         } else {
             &self.ws.event_frame
         };
-        vals.clear();
         let mut rates = std::mem::take(&mut self.ws.gap_rates);
+        vals.clear();
+        vals.resize(fns.len(), 0.0);
         rates.clear();
-        let d = &self.ws.dynamics;
-        for f in fns {
-            let mut rate = f64::NAN;
-            let val = match *f {
+        rates.resize(fns.len(), f64::NAN);
+        let (d, laws) = (&self.ws.dynamics, &self.state.laws);
+        for ((f, val), rate) in fns.iter().zip(vals.iter_mut()).zip(rates.iter_mut()) {
+            *val = match *f {
                 EventFn::Gap(i) => {
                     let (gap, gap_rate, _) = scene.contact_rates(fr, &scene.contacts[i]);
-                    rate = gap_rate;
+                    *rate = gap_rate;
                     gap
                 }
                 EventFn::Release(i) => d.lam_n[i],
@@ -124,7 +125,7 @@ impl<'a> Engine<'a> {
                 EventFn::Unseat(k) => {
                     let seat = &scene.seats[k];
                     let (gap, gap_rate, _) = scene.contact_rates(fr, &scene.contacts[seat.contact]);
-                    rate = -gap_rate;
+                    *rate = -gap_rate;
                     seat.edge - gap
                 }
                 EventFn::SlideStop(i) => {
@@ -135,27 +136,26 @@ impl<'a> Engine<'a> {
                     s * scene.contact_rates(fr, &scene.contacts[i]).2
                 }
                 EventFn::Lower(j) | EventFn::Upper(j) | EventFn::Reversal(j) => {
-                    if defo[j].0.is_nan() {
+                    let de = &mut defo[j];
+                    if de.0.is_nan() {
                         let el = &scene.hysteretic[j];
-                        defo[j] = scene.deformation_rates(fr, &el.attachment, el.support);
+                        *de = scene.deformation_rates(fr, &el.attachment, el.support);
                     }
-                    let (e, ed) = defo[j];
-                    let b = self.state.laws[j].branch();
+                    let (e, ed) = *de;
+                    let b = laws[j].branch();
                     match *f {
                         EventFn::Lower(_) => {
-                            rate = ed;
+                            *rate = ed;
                             e - b.lower
                         }
                         EventFn::Upper(_) => {
-                            rate = -ed;
+                            *rate = -ed;
                             b.upper - e
                         }
                         _ => b.direction * ed,
                     }
                 }
             };
-            vals.push(val);
-            rates.push(rate);
         }
         self.ws.gap_rates = rates;
         self.ws.defo = defo;

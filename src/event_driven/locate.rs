@@ -9,9 +9,10 @@ use crate::hysteresis::Hysteretic;
 use crate::run::SolverError;
 use nalgebra::DVector;
 
-/// First event in the step: sample the dense output at θ = ¼, ½, ¾, 1 (gaps also at the
-/// output grid instants `grid` inside the step, so that no output sample shows a missed
-/// crossing, and between samples by [`dip`]), then Illinois on the bracketing interval down to
+/// First event in the step: sample the dense output at θ = ½, 1 (the gaps also at ¼, ¾ and
+/// the output grid instants `grid` inside the step, so that no output sample shows a missed
+/// crossing, and between samples by [`dip`]; the functions the step's ends show far from zero
+/// only at 1), then Illinois on the bracketing interval down to
 /// `event_time_tol`. Returns t_event, the bracket end where the
 /// function has crossed, with the events to apply there in `eng.state.cluster` ([`coalesce`]).
 /// Updates the armed flags.
@@ -53,12 +54,11 @@ pub(super) fn locate_event_in(
     ls: &mut LocateScratch,
 ) -> Result<Option<f64>, SolverError> {
     relist(ls, eng, fns);
+    eng.ws.probe.reset();
     let LocateScratch {
         thr,
         v_prev,
         t_prev,
-        gaps,
-        gap_fns,
         vals,
         v_end,
         r_prev,
@@ -68,6 +68,8 @@ pub(super) fn locate_event_in(
         roots,
         thetas,
         near,
+        near_gaps,
+        sub,
         ..
     } = ls;
     let shifted = |v: f64, k: usize, armed: &[bool]| if armed[k] { v } else { v + thr[k] };
@@ -79,44 +81,38 @@ pub(super) fn locate_event_in(
         (v_prev, r_prev, t_prev),
         (v_end, r_end),
     )?;
-    // gaps (cheap, and a corner may graze through in part of a step) at θ = ¼, ½, ¾, 1;
-    // everything else at ½ and 1; the functions far from zero are left out
-    let (gaps_far, branch_only) = near_functions(
+    // the functions the ends do not show far from zero at θ = ½ and 1; the gaps among them
+    // (a corner may graze through in part of a step) also at ¼, ¾ and the output instants
+    near_functions(
         eng,
         (step, fns, armed),
         (v_prev, r_prev),
         (v_end, r_end),
         near,
     );
+    near_gaps.clear();
+    near_gaps.extend(near.iter().filter(|&&k| matches!(fns[k], EventFn::Gap(_))));
     if y.len() != step.y0.len() {
         *y = DVector::zeros(step.y0.len());
     }
     for &(theta, full) in thetas.iter() {
-        let none = if full {
-            near.is_empty()
-        } else {
-            gaps.is_empty() || gaps_far
-        };
-        if theta < 1.0 && none {
+        let list: &[usize] = if full { near } else { near_gaps };
+        if list.is_empty() {
             continue;
         }
-        // the functions sampled: all, the near ones (branch functions alone) or the gaps
-        let subset = (full && theta < 1.0 && branch_only).then_some(&near[..]);
         let t = step.t0 + theta * step.h;
         if theta == 1.0 {
-            std::mem::swap(vals, v_end);
-            std::mem::swap(r_vals, r_end);
+            vals.clear();
+            vals.extend(list.iter().map(|&k| v_end[k]));
+            r_vals.clear();
+            r_vals.extend(list.iter().map(|&k| r_end[k]));
         } else {
-            let fns = if full { fns } else { &gap_fns[..] };
-            sample_values(eng, step, (fns, subset), t, y, (vals, r_vals))?;
+            sample_values(eng, step, (fns, list), t, (y, sub), (vals, r_vals))?;
         }
-        let (every, list) = subset.map_or((full, &gaps[..]), |near| (false, near));
-        let index = |m: usize| if every { m } else { list[m] };
         roots.clear();
-        for (m, &val) in vals.iter().enumerate() {
-            let k = index(m);
+        for (m, &k) in list.iter().enumerate() {
             let a = shifted(v_prev[k], k, armed);
-            let b = shifted(val, k, armed);
+            let b = shifted(vals[m], k, armed);
             if a > 0.0 && b <= 0.0 {
                 let root = illinois(eng, step, fns, k, t_prev[k], t, a, b, armed[k], thr[k])?;
                 roots.push((root, fns[k]));
@@ -146,23 +142,24 @@ pub(super) fn locate_event_in(
             };
             return Ok(Some(coalesce(roots, window, &mut eng.state.cluster)));
         }
-        for (m, &val) in vals.iter().enumerate() {
-            let k = index(m);
-            if !armed[k] && val > thr[k] {
+        for (m, &k) in list.iter().enumerate() {
+            if !armed[k] && vals[m] > thr[k] {
                 armed[k] = true;
             }
-            v_prev[k] = val;
+            v_prev[k] = vals[m];
             r_prev[k] = r_vals[m];
             t_prev[k] = t;
         }
     }
+    // the step's end values of every function (the far ones were not sampled inside)
+    std::mem::swap(v_prev, v_end);
+    std::mem::swap(r_prev, r_end);
     let last = (step.t1(), std::mem::take(v_prev), std::mem::take(r_prev));
     eng.state.last_event_values = Some(last);
     Ok(None)
 }
 
-/// The thresholds, the gaps among `fns` and their list, made anew when the list of functions
-/// changed.
+/// The thresholds of `fns`, made anew when the list of functions changed.
 fn relist(ls: &mut LocateScratch, eng: &Engine, fns: &[EventFn]) {
     if ls.listed == eng.state.fns_generation && ls.thr.len() == fns.len() {
         return;
@@ -170,69 +167,58 @@ fn relist(ls: &mut LocateScratch, eng: &Engine, fns: &[EventFn]) {
     ls.listed = eng.state.fns_generation;
     ls.thr.clear();
     ls.thr.extend(fns.iter().map(|f| eng.threshold(*f)));
-    ls.gaps.clear();
-    ls.gaps
-        .extend((0..fns.len()).filter(|&k| matches!(fns[k], EventFn::Gap(_))));
-    ls.gap_fns.clear();
-    ls.gap_fns.extend(ls.gaps.iter().map(|&k| fns[k]));
 }
 
-/// Values and rates at `t` on the step's dense output of `fns`, or of the branch functions
-/// `fns[k]`, k in `subset`, each from its element alone.
+/// Values and rates at `t` on the step's dense output of the functions `fns[k]`, k in `list`:
+/// each from the bodies it reads, or all from the dynamics there if one needs them.
 fn sample_values(
     eng: &mut Engine,
     step: &dopri::Step,
-    (fns, subset): (&[EventFn], Option<&[usize]>),
+    (fns, list): (&[EventFn], &[usize]),
     t: f64,
-    y: &mut DVector<f64>,
+    (y, sub): (&mut DVector<f64>, &mut Vec<EventFn>),
     (vals, rates): (&mut Vec<f64>, &mut Vec<f64>),
 ) -> Result<(), SolverError> {
-    if let Some(near) = subset {
-        vals.clear();
-        rates.clear();
-        for &k in near {
-            let (v, r) = branch_value(eng, step, fns[k], t, y);
+    vals.clear();
+    rates.clear();
+    if list.iter().any(|&k| !fns[k].probed()) {
+        sub.clear();
+        sub.extend(list.iter().map(|&k| fns[k]));
+        step.dense_at_into(t, y);
+        eng.event_values_into(t, y, sub, vals)?;
+        rates.clone_from(&eng.ws.gap_rates);
+    } else {
+        for &k in list {
+            let (v, r) = value(eng, step, fns[k], t)?;
             vals.push(v);
             rates.push(r);
         }
-    } else {
-        step.dense_at_into(t, y);
-        eng.event_values_into(t, y, fns, vals)?;
-        rates.clone_from(&eng.ws.gap_rates);
     }
     Ok(())
 }
 
 /// The functions that need a sample inside the step, into `near`: those its ends do not show
 /// far from zero (armed, the rate known at both ends, the Hermite bound with three times the
-/// rates' terms; a load reversal's rate d·ë where the dynamics were evaluated). Returns
-/// whether every gap is far (the gaps' own samples ¼, ¾ and output instants are left out) and
-/// whether the near functions are few branch functions (at ½ each is then evaluated from its
-/// element alone; none is when none is near).
+/// rates' terms; a load reversal's rate d·ë where the dynamics were evaluated).
 fn near_functions(
     eng: &Engine,
     (step, fns, armed): (&dopri::Step, &[EventFn], &[bool]),
     (v_prev, r_prev): (&[f64], &[f64]),
     (v_end, r_end): (&[f64], &mut [f64]),
     near: &mut Vec<usize>,
-) -> (bool, bool) {
+) {
     if fns.iter().any(|f| matches!(f, EventFn::Reversal(_))) {
         // at the step's end (at its start from the previous step's end, or the arming)
         eng.reversal_rates_into(step.t1(), &step.y1, fns, r_end);
     }
     let dt = 3.0 * step.h;
     near.clear();
-    let (mut gaps_far, mut branch_only) = (true, true);
     let ends = (v_prev.iter().zip(r_prev.iter())).zip(v_end.iter().zip(r_end.iter()));
-    for (k, ((&f, &armed), ((&ga, &ra), (&gb, &rb)))) in fns.iter().zip(armed).zip(ends).enumerate()
-    {
+    for (k, (&armed, ((&ga, &ra), (&gb, &rb)))) in armed.iter().zip(ends).enumerate() {
         if !(armed && stays_above(dt, (ga, ra), (gb, rb))) {
             near.push(k);
-            gaps_far &= !matches!(f, EventFn::Gap(_));
-            branch_only &= f.is_branch();
         }
     }
-    (gaps_far, branch_only && 4 * near.len() <= fns.len())
 }
 
 /// The values (and rates) of the functions at both ends of the step: the end first (the last
@@ -276,9 +262,10 @@ fn roots_of_the_others(
     fns: &[EventFn],
     armed: &[bool],
     (thr, v_prev, t_prev): (&[f64], &[f64], &[f64]),
-    (t, y): (f64, &DVector<f64>),
+    (t, y): (f64, &mut DVector<f64>),
     roots: &mut Vec<(f64, EventFn)>,
 ) -> Result<(), SolverError> {
+    step.dense_at_into(t, y);
     let vals = eng.event_values(t, y, fns)?;
     for (k, &val) in vals.iter().enumerate() {
         if matches!(fns[k], EventFn::Gap(_)) {
@@ -324,8 +311,8 @@ fn dip(
         return Ok(None);
     }
     let tm = ta + s * (tb - ta);
-    let gm = one_value(eng, step, f, tm)? + shift;
-    let rm = eng.ws.gap_rates[0];
+    let (gm, rm) = value(eng, step, f, tm)?;
+    let gm = gm + shift;
     if gm <= 0.0 {
         return Ok(Some((tm, gm)));
     }
@@ -453,58 +440,27 @@ pub(super) fn illinois(
         }
         _ => st.event_time_tol,
     };
-    let mut y = std::mem::take(&mut eng.ws.branch_y);
-    if y.len() != step.y0.len() {
-        y = step.y0.clone();
-    }
     let r = bracket_root(ta, tb, fa, fb, tol, |tm| {
-        let mut fm = if fns[k].is_branch() {
-            branch_value(eng, step, fns[k], tm, &mut y).0
-        } else {
-            one_value(eng, step, fns[k], tm)?
-        };
+        let mut fm = value(eng, step, fns[k], tm)?.0;
         if !armed {
             fm += thr;
         }
         Ok(fm)
     });
-    eng.ws.branch_y = y;
     Ok(r?.1)
 }
 
-/// (value, rate) of branch function `f` on the dense output at `t`, from its element alone:
-/// its bodies' entries of `y` (written), one support. The rate of a load reversal's d·ė is
-/// not known here (NaN).
-fn branch_value(
-    eng: &Engine,
+/// (value, rate) of one event function on the dense output at `t`: from the bodies it reads
+/// ([`Engine::probe`]), else from the dynamics there, without allocation.
+fn value(
+    eng: &mut Engine,
     step: &dopri::Step,
     f: EventFn,
     t: f64,
-    y: &mut DVector<f64>,
-) -> (f64, f64) {
-    let (EventFn::Lower(j) | EventFn::Upper(j) | EventFn::Reversal(j)) = f else {
-        return (f64::NAN, f64::NAN);
-    };
-    let (n, theta) = (eng.n, (t - step.t0) / step.h);
-    let (a, b) = eng.element_bodies(j);
-    for body in std::iter::once(a).chain(b) {
-        for d in eng.scene.bodies[body].dofs.into_iter().flatten() {
-            y[d] = step.dense_component(theta, d);
-            y[n + d] = step.dense_component(theta, n + d);
-        }
+) -> Result<(f64, f64), SolverError> {
+    if let Some(v) = eng.probe(step, f, t) {
+        return Ok(v);
     }
-    let (e, ed) = eng.element_deformation_in(j, t, y);
-    let b = eng.state.laws[j].branch();
-    match f {
-        EventFn::Lower(_) => (e - b.lower, ed),
-        EventFn::Upper(_) => (b.upper - e, -ed),
-        _ => (b.direction * ed, f64::NAN),
-    }
-}
-
-/// The value of one event function on the dense output at `t` (its rate in
-/// `eng.ws.gap_rates[0]`), without allocation.
-fn one_value(eng: &mut Engine, step: &dopri::Step, f: EventFn, t: f64) -> Result<f64, SolverError> {
     let mut y = std::mem::take(&mut eng.ws.dense_y);
     if y.len() != step.y0.len() {
         y = step.y0.clone();
@@ -516,7 +472,7 @@ fn one_value(eng: &mut Engine, step: &dopri::Step, f: EventFn, t: f64) -> Result
     let val = v.first().copied();
     eng.ws.one_value = v;
     r?;
-    Ok(val.unwrap_or(f64::NAN))
+    Ok((val.unwrap_or(f64::NAN), eng.ws.gap_rates[0]))
 }
 
 /// Illinois (modified regula falsi) on [a, b] with f(a) = fa > 0 ≥ fb = f(b), until the

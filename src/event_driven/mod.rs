@@ -7,7 +7,7 @@
 //! - [`engine`]: the physical state of a run (a fork is a clone); [`workspace`]: reused storage;
 //! - [`dynamics`]: the constrained right-hand side between events (eq. 1–4);
 //! - [`event_fn`], [`events`], [`locate`]: event functions, their arming, their location on the
-//!   dense output (Illinois); [`restep`]: the state at a located contact event (a DP5 step to
+//!   dense output (Illinois; [`probe`]: one function's value there); [`restep`]: the state at a located contact event (a DP5 step to
 //!   it, then Newton onto g_N = 0);
 //! - [`resolve`]: at an event — impacts (eq. 5–7) with the accumulation rule, the contact phase
 //!   (eq. 8–10), transitions; [`project`]: the projection onto the closed constraints;
@@ -23,6 +23,7 @@ mod events;
 mod fork;
 mod islands;
 mod locate;
+mod probe;
 mod project;
 mod record;
 mod resolve;

@@ -3,7 +3,7 @@
 
 use super::event_fn::EventFn;
 use crate::output::ContactSample;
-use crate::scene::{ContactKinematics, Frame, PowerTerms};
+use crate::scene::{BodyState, ContactKinematics, Frame, PowerTerms};
 use nalgebra::{DMatrix, DVector};
 use std::sync::Arc;
 
@@ -15,6 +15,8 @@ pub(super) struct Workspace {
     pub(super) project: ProjectScratch,
     /// Of `locate_event`.
     pub(super) locate: LocateScratch,
+    /// Of [`Engine::probe`]: valid for one step.
+    pub(super) probe: ProbeScratch,
     /// Of the event functions.
     pub(super) event_frame: Frame,
     pub(super) event_qv: (DVector<f64>, DVector<f64>),
@@ -30,8 +32,6 @@ pub(super) struct Workspace {
     /// A state on the dense output (one event function's value) and that value.
     pub(super) dense_y: DVector<f64>,
     pub(super) one_value: Vec<f64>,
-    /// The state whose element entries a branch function's root search reads.
-    pub(super) branch_y: DVector<f64>,
     /// Every contact's kinematics at (t, y) ([`Engine::kinematics_now`]).
     pub(super) kin_now: Option<(f64, DVector<f64>, Arc<Vec<ContactKinematics>>)>,
 }
@@ -42,6 +42,7 @@ impl Workspace {
             dynamics: Scratch::default(),
             project: ProjectScratch::default(),
             locate: LocateScratch::default(),
+            probe: ProbeScratch::default(),
             event_frame: Frame::default(),
             event_qv: (DVector::zeros(0), DVector::zeros(0)),
             defo: Vec::new(),
@@ -50,7 +51,6 @@ impl Workspace {
             gap_rates: Vec::new(),
             dense_y: DVector::zeros(0),
             one_value: Vec::new(),
-            branch_y: DVector::zeros(0),
             kin_now: None,
         }
     }
@@ -140,8 +140,6 @@ pub(super) struct LocateScratch {
     pub(super) thr: Vec<f64>,
     pub(super) v_prev: Vec<f64>,
     pub(super) t_prev: Vec<f64>,
-    pub(super) gaps: Vec<usize>,
-    pub(super) gap_fns: Vec<EventFn>,
     pub(super) vals: Vec<f64>,
     pub(super) v_end: Vec<f64>,
     /// ġ_N of the gap functions at `t_prev`, at the current sample and at the step's end.
@@ -152,8 +150,23 @@ pub(super) struct LocateScratch {
     pub(super) roots: Vec<(f64, EventFn)>,
     /// The step's sample instants: (θ, every function or the gaps only).
     pub(super) thetas: Vec<(f64, bool)>,
-    /// `Engine::fns_generation` of the list `thr` and `gaps` were made for.
+    /// `Engine::fns_generation` of the list `thr` was made for.
     pub(super) listed: u64,
-    /// The functions the step's ends do not show far from zero.
+    /// The functions the step's ends do not show far from zero, the gaps among them.
     pub(super) near: Vec<usize>,
+    pub(super) near_gaps: Vec<usize>,
+    /// The functions of one sample read from the dynamics.
+    pub(super) sub: Vec<EventFn>,
+}
+
+/// The dense output of one step for the bodies read so far, and their poses at one instant.
+#[derive(Default)]
+pub(super) struct ProbeScratch {
+    /// [`crate::dopri::Step::dense_coefficients`] of q and q̇ (entries of the bodies in `loaded`).
+    pub(super) coef: Vec<[f64; 5]>,
+    pub(super) loaded: Vec<bool>,
+    /// Per body, its pose at the instant `at.0`, θ = `at.1`, if `posed`.
+    pub(super) poses: Vec<BodyState>,
+    pub(super) posed: Vec<bool>,
+    pub(super) at: (f64, f64),
 }

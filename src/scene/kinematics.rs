@@ -557,6 +557,43 @@ impl Scene {
         );
         s
     }
+
+    /// [`Scene::body_state_at`] with DOF values read by `q(k)` and rates by `v(k)`.
+    #[inline]
+    pub fn body_state_with(
+        &self,
+        i: usize,
+        t: f64,
+        q: impl Fn(usize) -> f64,
+        v: impl Fn(usize) -> f64,
+    ) -> BodyState {
+        let b = &self.bodies[i];
+        let mut s = pose(b, q, v);
+        drive_axes(
+            b,
+            &mut s,
+            b.drive.map(|d| d.map(|d| self.supports[d].at(t))),
+        );
+        s
+    }
+
+    /// [`Scene::contact_rates`] from the poses `a` of the point body and `b` of the face body.
+    #[inline]
+    pub fn contact_rates_between(
+        &self,
+        a: &BodyState,
+        b: &BodyState,
+        c: &Contact,
+    ) -> (f64, f64, f64) {
+        let rho_a = a.rot(c.point);
+        let p = a.position + rho_a;
+        let n = b.rot(c.face_normal);
+        let t = Vector2::new(n.y, -n.x);
+        let o = b.position + b.rot(c.face_point);
+        let v_rel =
+            a.velocity + a.omega * perp(rho_a) - b.velocity - b.omega * perp(p - b.position);
+        (n.dot(&(p - o)), n.dot(&v_rel), t.dot(&v_rel))
+    }
 }
 
 /// The driven axes of body `b` in its pose `p`: a driven axis has no DOF, so its position and
