@@ -431,13 +431,14 @@ pub(super) fn illinois(
     thr: f64,
 ) -> Result<f64, SolverError> {
     let st = &eng.scene.settings;
-    // a branch change applied up to `branch_window` late needs its instant no closer than 1 %
-    // of that (a key's failure, applied at its own instant, to `event_time_tol`)
+    // a branch change applied up to `branch_window` late needs its instant no closer than
+    // min(1 %, 100 rtol) of that (a key's failure, applied at its own instant, to
+    // `event_time_tol`)
     let tol = match fns[k] {
         EventFn::Upper(j) if key_fails(&eng.state.laws[j]) => st.event_time_tol,
-        EventFn::Lower(_) | EventFn::Upper(_) | EventFn::Reversal(_) => {
-            st.event_time_tol.max(1e-2 * st.branch_window)
-        }
+        EventFn::Lower(_) | EventFn::Upper(_) | EventFn::Reversal(_) => st
+            .event_time_tol
+            .max((1e2 * st.rtol).min(1e-2) * st.branch_window),
         _ => st.event_time_tol,
     };
     let r = bracket_root(ta, tb, fa, fb, tol, |tm| {

@@ -455,7 +455,9 @@ mod tests {
         };
         let mut read = 0;
         for _ in 0..20_000 {
-            let digits: String = (0..1 + next(19)).map(|_| (b'0' + next(10) as u8) as char).collect();
+            let digits: String = (0..1 + next(19))
+                .map(|_| (b'0' + next(10) as u8) as char)
+                .collect();
             let at = next(digits.len() as u64 + 1) as usize;
             let sign = ["", "-", "+"][next(3) as usize];
             let mut tok = format!("{sign}{}.{}", &digits[..at], &digits[at..]);
@@ -471,8 +473,13 @@ mod tests {
         }
         assert!(read > 10_000, "{read}");
         assert_eq!(parse_short(b"3.4930500E-05"), Some(3.49305e-5));
-        assert_eq!(parse_short(b"-0.0").map(f64::to_bits), Some((-0.0f64).to_bits()));
-        for tok in ["", ".", "-", "1e", "1E+", "e5", "1.2.3", "1D-3", "inf", "NaN", "1e-23"] {
+        assert_eq!(
+            parse_short(b"-0.0").map(f64::to_bits),
+            Some((-0.0f64).to_bits())
+        );
+        for tok in [
+            "", ".", "-", "1e", "1E+", "e5", "1.2.3", "1D-3", "inf", "NaN", "1e-23",
+        ] {
             assert_eq!(parse_short(tok.as_bytes()), None, "{tok}");
         }
     }
