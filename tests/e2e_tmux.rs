@@ -61,6 +61,19 @@ impl Tmux {
             std::thread::sleep(Duration::from_millis(100));
         }
     }
+    /// Waits for the workbench to end and the shell's prompt to be the last line: keys typed
+    /// before the process has exited go to its terminal, which drops them when it restores
+    /// the mode.
+    fn wait_prompt(&self) {
+        self.wait("the workbench to end and the prompt", 10, |s| {
+            self.alternate_on() == "0"
+                && s.lines()
+                    .rev()
+                    .find(|l| !l.trim().is_empty())
+                    .map(str::trim)
+                    == Some("shell$")
+        });
+    }
     fn alternate_on(&self) -> String {
         self.format("#{alternate_on}")
     }
@@ -479,7 +492,7 @@ fn ctrl_z_suspends_to_the_shell_and_fg_resumes() {
     tmux.keys(&["Tab"]);
     tmux.wait("the form", 5, |s| s.contains("parameters"));
     tmux.keys(&["q"]);
-    tmux.wait("the workbench to end", 10, |_| tmux.alternate_on() == "0");
+    tmux.wait_prompt();
     tmux.text("echo deckspin-exited-$?");
     tmux.keys(&["Enter"]);
     tmux.wait("the shell", 10, |s| s.contains("deckspin-exited-0"));
@@ -662,7 +675,7 @@ fn a_whole_session_edit_run_pin_compare_study_suspend_quit() {
         s.contains("four-span.toml has unsaved edits.")
     });
     tmux.keys(&["y"]);
-    tmux.wait("the workbench to end", 10, |_| tmux.alternate_on() == "0");
+    tmux.wait_prompt();
     tmux.text("echo deckspin-exited-$?");
     tmux.keys(&["Enter"]);
     tmux.wait("the shell", 10, |s| s.contains("deckspin-exited-0"));
