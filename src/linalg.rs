@@ -72,6 +72,17 @@ fn solve_on<const N: usize>(
     singular: &mut bool,
 ) -> bool {
     let k = b.len();
+    let (m, r) = on_stack::<N>(a, b, k);
+    solve_stack(&m, &r, k, x, singular)
+}
+
+/// The leading k × k block of `a` and k entries of `b` on the stack (k ≤ N).
+#[inline(always)]
+fn on_stack<const N: usize>(
+    a: &DMatrix<f64>,
+    b: &DVector<f64>,
+    k: usize,
+) -> ([[f64; N]; N], [f64; N]) {
     let mut m = [[0.0f64; N]; N];
     let mut r = [0.0f64; N];
     for i in 0..k {
@@ -80,7 +91,7 @@ fn solve_on<const N: usize>(
         }
         r[i] = b[i];
     }
-    solve_stack(&m, &r, k, x, singular)
+    (m, r)
 }
 
 /// [`solve_small_into`] of the leading k × k block of `a` (rows) and `b`, k ≤ N, into
@@ -214,14 +225,7 @@ fn eliminate_on<const N: usize>(
     out: &mut [f64],
 ) -> bool {
     let n = a.nrows();
-    let mut m = [[0.0f64; N]; N];
-    let mut r = [0.0f64; N];
-    for i in 0..n {
-        for j in 0..n {
-            m[i][j] = a[(i, j)];
-        }
-        r[i] = b[i];
-    }
+    let (mut m, mut r) = on_stack::<N>(a, b, n);
     eliminate_stack(&mut m, &mut r, n, tol, out)
 }
 

@@ -296,15 +296,7 @@ impl Scene {
 
     /// (g_N, ġ_N, ġ_T) of a contact without its Jacobians (event functions).
     pub fn contact_rates(&self, fr: &Frame, c: &Contact) -> (f64, f64, f64) {
-        let (a, b) = (fr.pose(c.point_body), fr.pose(c.face_body));
-        let rho_a = a.rot(c.point);
-        let p = a.position + rho_a;
-        let n = b.rot(c.face_normal);
-        let t = Vector2::new(n.y, -n.x);
-        let o = b.position + b.rot(c.face_point);
-        let v_rel =
-            a.velocity + a.omega * perp(rho_a) - b.velocity - b.omega * perp(p - b.position);
-        (n.dot(&(p - o)), n.dot(&v_rel), t.dot(&v_rel))
+        self.contact_rates_between(fr.pose(c.point_body), fr.pose(c.face_body), c)
     }
 
     /// [`Scene::contact_kinematics`] written into `out`, reusing its Jacobian storage. A body
@@ -548,14 +540,7 @@ impl Scene {
     /// Pose of body `i` at t from a state vector y = [q; q̇] with n DOFs (a driven body's from
     /// its supports).
     pub fn body_state_at(&self, i: usize, t: f64, y: &DVector<f64>, n: usize) -> BodyState {
-        let b = &self.bodies[i];
-        let mut s = pose(b, |k| y[k], |k| y[n + k]);
-        drive_axes(
-            b,
-            &mut s,
-            b.drive.map(|d| d.map(|d| self.supports[d].at(t))),
-        );
-        s
+        self.body_state_with(i, t, |k| y[k], |k| y[n + k])
     }
 
     /// [`Scene::body_state_at`] with DOF values read by `q(k)` and rates by `v(k)`.
