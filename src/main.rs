@@ -163,6 +163,26 @@ fn quiet_on_failed_output() {
     }));
 }
 
+/// clap's own exit for `--help`, `--version` and usage errors, except that help or a version
+/// that cannot be written to stdout (`> /dev/full`) is an error (74), not a silent success.
+fn clap_exit(e: &clap::Error) -> ExitCode {
+    use clap::error::ErrorKind;
+    if !matches!(e.kind(), ErrorKind::DisplayHelp | ErrorKind::DisplayVersion) {
+        e.exit();
+    }
+    use std::io::Write as _;
+    let text = e.render().to_string();
+    let mut out = std::io::stdout().lock();
+    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(err) if err.kind() == std::io::ErrorKind::BrokenPipe => ExitCode::SUCCESS,
+        Err(err) => {
+            eprintln!("deckspin: cannot write to stdout: {err}");
+            ExitCode::from(74)
+        }
+    }
+}
+
 fn main() -> ExitCode {
     // a closed pipe (`deckspin bench | head -1`) ends the process quietly, as for other tools,
     // instead of a panic in println!
@@ -172,7 +192,10 @@ fn main() -> ExitCode {
         libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
     quiet_on_failed_output();
-    let cli = Cli::parse();
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => return clap_exit(&e),
+    };
     if matches!(
         cli.command,
         Some(

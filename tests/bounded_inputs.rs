@@ -123,3 +123,31 @@ fn a_model_past_its_size_limit_is_refused() {
     assert!(err.contains("larger than 16 MiB"), "{err}");
     let _ = std::fs::remove_file(&path);
 }
+
+#[test]
+fn a_bad_record_is_named_by_file_and_line_by_excitation() {
+    let bad = tmp("bad-value.AT2");
+    std::fs::write(
+        &bad,
+        "PEER\nbad\nACCELERATION IN G\nNPTS=  3, DT= .01 SEC\n0.1 0.2 x\n",
+    )
+    .unwrap();
+    let (code, err) = deckspin("", &["excitation", &bad.display().to_string()]);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(
+        err.contains("bad-value.AT2:5") && err.contains("\"x\""),
+        "{err}"
+    );
+    let short = tmp("short.AT2");
+    std::fs::write(
+        &short,
+        "PEER\nshort\nACCELERATION IN G\nNPTS=  3, DT= .01 SEC\n0.1 0.2\n",
+    )
+    .unwrap();
+    let (code, err) = deckspin("", &["excitation", &short.display().to_string()]);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(
+        err.contains("short.AT2") && err.contains("NPTS = 3, found 2"),
+        "{err}"
+    );
+}

@@ -385,6 +385,21 @@ fn a_sharded_suite_merges_into_the_unsharded_output_byte_for_byte() {
         "{}",
         text(&r.stderr)
     );
+    // a part of another job (another measure, other levels) is refused, naming what differs
+    for (flag, value) in [("--measure", "pga"), ("--levels", "0.4:0.7:0.3")] {
+        let other = d.join("other.csv");
+        let mut a = args(&other, Some("2/3"));
+        let at = a.iter().position(|x| x == flag).unwrap();
+        a[at + 1] = value.into();
+        run(a);
+        let r = m(&[&parts[0], &other, &parts[2]]);
+        assert_eq!(r.status.code(), Some(1), "{flag}");
+        let e = text(&r.stderr);
+        assert!(
+            e.contains("the arguments' fingerprint") && e.contains("parts of different jobs"),
+            "{flag}: {e}"
+        );
+    }
 }
 
 #[test]
