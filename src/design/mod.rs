@@ -10,6 +10,7 @@
 //! - `chart`: the curves as a `plot::Chart`.
 
 pub mod bootstrap;
+pub mod cases;
 pub mod chart;
 pub mod equivalence;
 pub mod fragility;
