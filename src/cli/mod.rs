@@ -1,5 +1,6 @@
 //! Commands of the `deckspin` binary kept apart from `main.rs`.
 
+pub mod adequacy;
 pub mod bench;
 pub mod fragility;
 pub mod jobs;
@@ -9,6 +10,7 @@ pub mod screen;
 pub mod sequence;
 pub mod show;
 pub mod signals;
+pub mod stdout;
 pub mod stress;
 pub mod suite;
 pub mod sweep;

@@ -9,11 +9,14 @@
 //! - `fragility`: limit states over a suite's runs → fitted curves with their band.
 //! - `chart`: the curves as a `plot::Chart`.
 
+pub mod adequacy;
+pub mod adequacy_report;
 pub mod bootstrap;
 pub mod cases;
 pub mod chart;
 pub mod equivalence;
 pub mod fragility;
+pub mod ladder;
 pub mod mle;
 pub mod normal;
 pub mod screen;

@@ -472,7 +472,7 @@ fn first_period(scene: &Scene) -> Option<f64> {
 }
 
 /// The end of the scene's last support record, s (0 without records).
-fn records_end(scene: &Scene) -> f64 {
+pub fn records_end(scene: &Scene) -> f64 {
     (scene.supports.iter())
         .filter_map(|s| match &s.motion {
             Motion::Record(g) => Some(g.end_time()),
