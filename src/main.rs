@@ -44,7 +44,7 @@ enum Command {
         #[arg(long = "set", value_name = "KEY=VALUE")]
         set: Vec<String>,
         /// Also print the state at this instant (velocities, contact states and forces).
-        #[arg(long, value_parser = finite_time)]
+        #[arg(long, value_parser = cli::finite_time)]
         at: Option<f64>,
         /// Integration method (default: the model's).
         #[arg(long, help = format!("Integration method: {} (default: the model's)", Method::names(", ")))]
@@ -135,7 +135,9 @@ enum Command {
     /// A record suite (incremental dynamic analysis): the bridge under every record pair
     /// scaled to each intensity level, × optional swept scalars.
     Suite(cli::suite::SuiteArgs),
-    /// Join the part files of a sharded `suite` or `sweep` into its unsharded output.
+    /// Which uncertain inputs the answer is most sensitive to: a tornado of swings.
+    Sensitivity(cli::sensitivity::SensitivityArgs),
+    /// Join the part files of a sharded `suite`, `sweep` or `sensitivity` into its output.
     Merge(cli::merge::MergeArgs),
     /// Fragility curves of a record suite's per-run CSV: lognormal, maximum likelihood,
     /// bootstrap band.
@@ -167,6 +169,7 @@ fn main() -> ExitCode {
                 | Command::Sweep(_)
                 | Command::Stress(_)
                 | Command::Adequacy(_)
+                | Command::Sensitivity(_)
         )
     ) {
         cli::signals::install();
@@ -225,6 +228,7 @@ fn main() -> ExitCode {
         Some(Command::Sequence(a)) => cli::sequence::cmd_sequence(&a),
         Some(Command::Screen(a)) => cli::screen::cmd_screen(&a),
         Some(Command::Suite(a)) => cli::suite::cmd_suite(&a),
+        Some(Command::Sensitivity(a)) => cli::sensitivity::cmd_sensitivity(&a),
         Some(Command::Merge(a)) => cli::merge::cmd_merge(&a),
         Some(Command::Fragility(a)) => cli::fragility::cmd_fragility(&a),
         Some(Command::Adequacy(a)) => cli::adequacy::cmd_adequacy(&a),
@@ -286,21 +290,6 @@ type CliResult = Result<(), Box<dyn std::error::Error>>;
 /// Run a model, streaming its history to `out/history.csv`; events.csv and summary.json
 /// (with the run's status) are written however the run ends. Refused (exit 2) before it starts
 /// when its output would exceed the budget.
-/// A time argument: a finite number of seconds, not negative (`--at inf` printed t = 0).
-fn finite_time(s: &str) -> Result<f64, String> {
-    let t: f64 = s
-        .trim()
-        .parse()
-        .map_err(|e| format!("{s:?} is no number of seconds: {e}"))?;
-    if t.is_finite() && t >= 0.0 {
-        Ok(t)
-    } else {
-        Err(format!(
-            "{s:?}: a time must be a finite number of seconds ≥ 0"
-        ))
-    }
-}
-
 fn cmd_run(
     model: &std::path::Path,
     out: &std::path::Path,

@@ -6,7 +6,7 @@ use deckspin::plot::svg::{self, Area};
 use deckspin::plot::text;
 use deckspin::plot::ticks::span;
 use deckspin::plot::{
-    Axis, Band, Category, Cell, Chart, Grid, GridRow, Marker, RefLine, Series, Stroke,
+    Axis, Band, Bars, Category, Cell, Chart, Grid, GridRow, Marker, RefLine, Series, Stroke,
 };
 
 fn parse(svg: &str) -> roxmltree::Document<'_> {
@@ -354,4 +354,95 @@ fn grids_render_their_categories() {
     assert_eq!(lines[3], "event    o  i");
     assert_eq!(lines[4], "moreau   U");
     assert_eq!(lines[5], "  o ok   i inaccurate   U unstable");
+}
+
+/// A chart of two labelled rows with bars from 2 to 6 and from 5 to 3 (x 0 … 10) and a
+/// reference line at 5.
+fn bar_chart() -> Chart {
+    let mut c = Chart::new(
+        "bars",
+        Axis::linear("v", "m").with_range(0.0, 10.0),
+        Axis::linear("", ""),
+    );
+    c.rows = vec!["first <a>".into(), "second".into()];
+    c.bars.push(Bars {
+        label: "low".into(),
+        bars: vec![(0, 2.0, 6.0), (1, 5.0, 3.0)],
+        color: 0,
+        glyph: '=',
+    });
+    c.lines.push(RefLine::vertical(5.0, "base", 7));
+    c
+}
+
+#[test]
+fn bars_sit_on_their_rows_in_both_renderers() {
+    let c = bar_chart();
+    // rows at y = 2 (top) and 1 on a span of 0.5 … 2.5
+    assert_eq!((c.row_y(0), c.row_y(1)), (2.0, 1.0));
+    let a = svg::plot_area(&c, 640.0, 400.0);
+    // the longest row label (9 characters) widens the left margin past 72 px: 36 + 1.1·7·9
+    assert!((a.left - (36.0 + 1.1 * 7.0 * 9.0)).abs() < 1e-9, "{a:?}");
+    let doc_text = svg::render(&c, 640.0, 400.0);
+    let doc = parse(&doc_text);
+    let rects: Vec<(f64, f64, f64, f64)> = (doc.descendants())
+        .filter(|n| n.attribute("class") == Some("bar"))
+        .map(|n| {
+            (
+                num(&n, "x"),
+                num(&n, "y"),
+                num(&n, "width"),
+                num(&n, "height"),
+            )
+        })
+        .collect();
+    assert_eq!(rects.len(), 2);
+    let px = |v: f64| a.left + a.width * v / 10.0;
+    let py = |y: f64| a.top + a.height * (1.0 - (y - 0.5) / 2.0);
+    // 0.6 of a row's height (a.height / 2) around the row's y
+    let h = 0.6 * a.height / 2.0;
+    for ((x, y, w, hh), (from, to, row)) in rects.iter().zip([(2.0, 6.0, 2.0), (3.0, 5.0, 1.0)]) {
+        assert!((x - px(from)).abs() < 0.006 && (w - (px(to) - px(from))).abs() < 0.012);
+        assert!((y - (py(row) - h / 2.0)).abs() < 0.006 && (hh - h).abs() < 0.012);
+    }
+    // the y axis shows the rows' labels at their rows instead of numbers
+    let axes = (doc.descendants())
+        .find(|n| n.attribute("class") == Some("axes"))
+        .unwrap();
+    let yl: Vec<(String, f64)> = (axes.children())
+        .filter(|n| n.attribute("text-anchor") == Some("end"))
+        .map(|n| (n.text().unwrap().to_string(), num(&n, "y")))
+        .collect();
+    assert_eq!(yl.len(), 2);
+    assert_eq!(yl[0].0, "first <a>");
+    assert!((yl[0].1 - (py(2.0) + 4.0)).abs() < 0.006);
+    assert_eq!(yl[1].0, "second");
+    // the bars in the legend
+    let legend = (doc.descendants())
+        .find(|n| n.attribute("class") == Some("legend"))
+        .unwrap();
+    let labels: Vec<&str> = (legend.descendants())
+        .filter(|n| n.tag_name().name() == "text")
+        .filter_map(|n| n.text())
+        .collect();
+    assert_eq!(labels, ["low", "base"]);
+
+    // text: each row's label in the gutter, its bar's columns filled, the line at 5 over them
+    let t = text::render(&c, 60, 12);
+    let l = text::layout(&c, 60, 12);
+    assert_eq!(l.gutter, "first <a>".len());
+    let lines: Vec<&str> = t.lines().collect();
+    let col = |v: f64| (v / 10.0 * (l.cols - 1) as f64).round() as usize;
+    let row = |y: f64| l.top + ((1.0 - (y - 0.5) / 2.0) * (l.rows - 1) as f64).round() as usize;
+    for (r, label, from, to) in [(2.0, "first <a>", 2.0, 6.0), (1.0, "second", 3.0, 5.0)] {
+        let line: Vec<char> = lines[row(r)].chars().collect();
+        let text: String = line[..l.gutter].iter().collect();
+        assert_eq!(text.trim(), label, "{t}");
+        for k in col(from)..=col(to) {
+            let want = if k == col(5.0) { ':' } else { '=' };
+            assert_eq!(line[l.gutter + 1 + k], want, "column {k} of\n{t}");
+        }
+        assert_eq!(line.get(l.gutter + 1 + col(from) - 1), Some(&' '));
+    }
+    assert!(t.contains("  = low") && t.contains("  : base"), "{t}");
 }

@@ -1,5 +1,5 @@
-//! `deckspin merge`: the part files of a sharded `suite` or `sweep` joined into the output
-//! of the unsharded job (library `shard`).
+//! `deckspin merge`: the part files of a sharded `suite`, `sweep` or `sensitivity` joined into
+//! the output of the unsharded job (library `shard`).
 
 use clap::Args;
 use std::path::PathBuf;
@@ -7,7 +7,8 @@ use std::path::PathBuf;
 /// Join the part files of a sharded job.
 #[derive(Args)]
 pub struct MergeArgs {
-    /// The merged CSV (a suite's statistics go beside it, as `suite` writes them).
+    /// The merged CSV (a suite's statistics go beside it, as `suite` writes them); for a
+    /// `sensitivity`, its output folder.
     pub out: PathBuf,
     /// Every part file of the job (`--shard K/N` outputs), in any order.
     #[arg(required = true)]
@@ -15,9 +16,15 @@ pub struct MergeArgs {
 }
 
 pub fn cmd_merge(a: &MergeArgs) -> Result<(), Box<dyn std::error::Error>> {
+    use deckspin::output::files::FolderLock;
     let merged = deckspin::shard::merge_files(&a.parts)?;
-    // one job writes this file at a time
-    let _lock = deckspin::output::files::FolderLock::for_file(&a.out)?;
+    // one job writes this file (a sensitivity's: this folder) at a time
+    let _lock = if merged.kind == "sensitivity" {
+        std::fs::create_dir_all(&a.out)?;
+        FolderLock::acquire(&a.out)?
+    } else {
+        FolderLock::for_file(&a.out)?
+    };
     if let Some(dir) = a.out.parent() {
         std::fs::create_dir_all(dir)?;
     }
@@ -25,6 +32,14 @@ pub fn cmd_merge(a: &MergeArgs) -> Result<(), Box<dyn std::error::Error>> {
         "suite" => {
             let (keys, rows) = deckspin::suite::row::read_csv(&merged.csv)?;
             super::suite::write_outputs(&a.out, &merged.csv, &keys, &rows)?
+        }
+        "sensitivity" => {
+            super::sensitivity::write_outputs(&a.out, &merged.csv)?;
+            let runs = super::sensitivity::RUNS_FILE;
+            format!(
+                "{}/{{sensitivity.csv,{runs},tornado*.svg}}",
+                a.out.display()
+            )
         }
         _ => {
             deckspin::output::files::write_atomic(&a.out, &merged.csv)?;

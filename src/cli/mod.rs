@@ -7,6 +7,7 @@ pub mod jobs;
 pub mod merge;
 pub mod progress;
 pub mod screen;
+pub mod sensitivity;
 pub mod sequence;
 pub mod show;
 pub mod signals;
@@ -15,3 +16,18 @@ pub mod stress;
 pub mod suite;
 pub mod sweep;
 pub mod tables;
+
+/// A time argument: a finite number of seconds, not negative (`--at inf` printed t = 0).
+pub fn finite_time(s: &str) -> Result<f64, String> {
+    let t: f64 = s
+        .trim()
+        .parse()
+        .map_err(|e| format!("{s:?} is no number of seconds: {e}"))?;
+    if t.is_finite() && t >= 0.0 {
+        Ok(t)
+    } else {
+        Err(format!(
+            "{s:?}: a time must be a finite number of seconds ≥ 0"
+        ))
+    }
+}

@@ -8,6 +8,8 @@
 //! - `bootstrap`: resampling records with a seeded generator.
 //! - `fragility`: limit states over a suite's runs → fitted curves with their band.
 //! - `chart`: the curves as a `plot::Chart`.
+//! - `cases`: the runs a model study measures; `sensitivity`: which uncertain inputs the
+//!   answer is most sensitive to, `swings` its rows and swings, `tornado` its chart.
 
 pub mod adequacy;
 pub mod adequacy_report;
@@ -21,7 +23,10 @@ pub mod mle;
 pub mod normal;
 pub mod screen;
 pub mod screen_chart;
+pub mod sensitivity;
 pub mod suite;
+pub mod swings;
+pub mod tornado;
 
 pub use fragility::{Fragility, FragilityError, Method, Options, fragility};
 pub use mle::{Capacity, Count, Fit, FitError};

@@ -14,6 +14,7 @@ pub mod records;
 pub mod scene_file;
 
 pub mod solver;
+pub mod uncertain;
 pub mod warnings;
 
 pub use check::{Applied, Check, ModelError, locate};
@@ -131,11 +132,13 @@ fn compile_text(
             warnings.push(ModelWarning::NoDamping { path });
         }
         limit_state::check_specs(&file.limit_states, &ck)?;
+        uncertain::check_specs(&file.uncertain, &ck)?;
         (scene, file.solver)
     } else {
         bridge::refuse_without_deck(&table, &ck)?;
         let file = SceneFile::deserialize(Deserializer::from(doc)).map_err(located)?;
         limit_state::check_specs(&file.limit_states, &ck)?;
+        uncertain::check_specs(&file.uncertain, &ck)?;
         (scene_file::compile(&file, &ck, motions)?, file.solver)
     };
     let given = limits::Given {

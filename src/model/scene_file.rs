@@ -159,6 +159,9 @@ pub struct SceneFile {
     /// Limit states of a fragility (`deckspin fragility --model`).
     #[serde(default, rename = "limit_state")]
     pub limit_states: Vec<LimitStateSpec>,
+    /// Uncertain inputs of `deckspin sensitivity` (a run ignores them).
+    #[serde(default, rename = "uncertain")]
+    pub uncertain: Vec<crate::model::uncertain::UncertainSpec>,
 }
 
 fn axis_index(s: &str) -> Option<usize> {

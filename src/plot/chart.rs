@@ -1,5 +1,6 @@
 //! Charts as data: series of points with labels, axes with titles, units and scales, bands,
-//! markers, dashed reference lines; and grids of categorical cells. The renderers
+//! markers, dashed reference lines, horizontal bars on labelled rows; and grids of categorical
+//! cells. The renderers
 //! (`plot::svg`, `plot::text`) draw them; nothing here draws.
 
 /// How an axis maps values to the page: v ↦ v (linear) or v ↦ log₁₀ v (values ≤ 0 are not
@@ -159,7 +160,20 @@ impl RefLine {
     }
 }
 
-/// An x–y chart: bands drawn first, then reference lines, then series in order.
+/// Horizontal bars on the labelled rows of a chart ([`Chart::rows`]), each from one x to
+/// another (a tornado chart's).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Bars {
+    pub label: String,
+    /// (row, from, to): `row` an index into [`Chart::rows`] (0 at the top), `from` and `to`
+    /// the x values of the bar's ends (either order).
+    pub bars: Vec<(usize, f64, f64)>,
+    pub color: usize,
+    /// The character that fills the bar in the text chart (an ASCII graphic character).
+    pub glyph: char,
+}
+
+/// An x–y chart: bands drawn first, then bars, then reference lines, then series in order.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Chart {
     pub title: String,
@@ -168,6 +182,10 @@ pub struct Chart {
     pub bands: Vec<Band>,
     pub lines: Vec<RefLine>,
     pub series: Vec<Series>,
+    /// Labels of rows, top to bottom: when there are any, the y axis shows them instead of
+    /// numbers, row i at y = n − i ([`Chart::row_y`]) on a span of 0.5 … n + 0.5.
+    pub rows: Vec<String>,
+    pub bars: Vec<Bars>,
 }
 
 impl Chart {
@@ -179,24 +197,36 @@ impl Chart {
             bands: Vec::new(),
             lines: Vec::new(),
             series: Vec::new(),
+            rows: Vec::new(),
+            bars: Vec::new(),
         }
     }
 
-    /// Every x value the chart draws (series, bands, vertical lines).
+    /// The y value of row `i` ([`Chart::rows`]): n − i, so that row 0 is at the top.
+    pub fn row_y(&self, i: usize) -> f64 {
+        self.rows.len() as f64 - i as f64
+    }
+
+    /// Every x value the chart draws (series, bands, bars, vertical lines).
     pub fn xs(&self) -> Vec<f64> {
         let mut v: Vec<f64> = (self.series.iter())
             .flat_map(|s| s.points.iter().map(|p| p.0))
             .collect();
         v.extend(self.bands.iter().flat_map(|b| b.points.iter().map(|p| p.0)));
+        v.extend((self.bars.iter()).flat_map(|b| b.bars.iter().flat_map(|r| [r.1, r.2])));
         v.extend(self.lines.iter().filter(|l| l.vertical).map(|l| l.at));
         v
     }
 
-    /// Every y value the chart draws (series, both edges of bands, horizontal lines).
+    /// Every y value the chart draws (series, both edges of bands, horizontal lines; with
+    /// rows, the span 0.5 … n + 0.5 of [`Chart::rows`]).
     pub fn ys(&self) -> Vec<f64> {
         let mut v: Vec<f64> = (self.series.iter())
             .flat_map(|s| s.points.iter().map(|p| p.1))
             .collect();
+        if !self.rows.is_empty() {
+            v.extend([0.5, self.rows.len() as f64 + 0.5]);
+        }
         v.extend((self.bands.iter()).flat_map(|b| b.points.iter().flat_map(|p| [p.1, p.2])));
         v.extend(self.lines.iter().filter(|l| !l.vertical).map(|l| l.at));
         v

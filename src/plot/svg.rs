@@ -2,8 +2,8 @@
 //! pixel x = left + frac(v)·width, y = top + (1 − frac(v))·height of the plot area
 //! ([`plot_area`], `ticks::Span::frac`).
 
-use super::chart::{Axis, Band, Chart, Grid, Marker, RefLine, Series, Stroke, color};
-use super::ticks::{Span, span};
+use super::chart::{Axis, Band, Bars, Chart, Grid, Marker, RefLine, Series, Stroke, color};
+use super::ticks::{Span, span, y_span, y_ticks};
 use std::fmt::Write as _;
 
 /// Left margin: y tick labels and the y axis title, px.
@@ -38,17 +38,24 @@ impl Area {
     }
 }
 
-/// The legend's labels: series, bands, reference lines.
+/// The legend's labels: series, bands, bars, reference lines.
 fn legend_labels(c: &Chart) -> Vec<&str> {
     let s = c.series.iter().map(|s| s.label.as_str());
     let b = c.bands.iter().map(|b| b.label.as_str());
+    let r = c.bars.iter().map(|b| b.label.as_str());
     let l = c.lines.iter().map(|l| l.label.as_str());
-    s.chain(b).chain(l).filter(|l| !l.is_empty()).collect()
+    s.chain(b)
+        .chain(r)
+        .chain(l)
+        .filter(|l| !l.is_empty())
+        .collect()
 }
 
-/// The plot area of `chart` on a `width` × `height` canvas: margins [`MARGIN_LEFT`],
-/// [`MARGIN_TOP`], [`MARGIN_BOTTOM`]; on the right the legend, 44 px + [`CHAR_WIDTH`] per
-/// character of its longest label (at most 45 % of the width), or [`MARGIN_RIGHT`] without one.
+/// The plot area of `chart` on a `width` × `height` canvas: margins [`MARGIN_LEFT`] (with
+/// labelled rows, 36 px + 1.1 [`CHAR_WIDTH`] per character of the longest, if wider, at most
+/// 45 % of the width), [`MARGIN_TOP`], [`MARGIN_BOTTOM`]; on the right the legend, 44 px +
+/// [`CHAR_WIDTH`] per character of its longest label (at most 45 % of the width), or
+/// [`MARGIN_RIGHT`] without one.
 pub fn plot_area(chart: &Chart, width: f64, height: f64) -> Area {
     let (w, h) = (width.max(MIN_SIZE.0), height.max(MIN_SIZE.1));
     let longest = (legend_labels(chart).iter())
@@ -57,10 +64,14 @@ pub fn plot_area(chart: &Chart, width: f64, height: f64) -> Area {
     let right = longest.map_or(MARGIN_RIGHT, |n| {
         (44.0 + CHAR_WIDTH * n as f64).min(0.45 * w)
     });
+    let rows = chart.rows.iter().map(|l| l.chars().count()).max();
+    let left = rows.map_or(MARGIN_LEFT, |n| {
+        (36.0 + 1.1 * CHAR_WIDTH * n as f64).clamp(MARGIN_LEFT, 0.45 * w)
+    });
     Area {
-        left: MARGIN_LEFT,
+        left,
         top: MARGIN_TOP,
-        width: w - MARGIN_LEFT - right,
+        width: w - left - right,
         height: h - MARGIN_TOP - MARGIN_BOTTOM,
     }
 }
@@ -96,7 +107,7 @@ pub fn render(chart: &Chart, width: f64, height: f64) -> String {
     let (w, h) = (width.max(MIN_SIZE.0), height.max(MIN_SIZE.1));
     let a = plot_area(chart, w, h);
     let sx = span(&chart.x, &chart.xs());
-    let sy = span(&chart.y, &chart.ys());
+    let sy = y_span(chart);
     let mut out = String::new();
     header(&mut out, w, h);
     let _ = writeln!(
@@ -110,10 +121,14 @@ pub fn render(chart: &Chart, width: f64, height: f64) -> String {
         r#"<defs><clipPath id="plot-area"><rect x="{:.2}" y="{:.2}" width="{:.2}" height="{:.2}"/></clipPath></defs>"#,
         a.left, a.top, a.width, a.height
     );
-    axes(&mut out, &a, (&chart.x, &sx), (&chart.y, &sy), h);
+    let ty = y_ticks(chart, &sy);
+    axes(&mut out, &a, (&chart.x, &sx), (&chart.y, &sy, &ty), h);
     out += "<g clip-path=\"url(#plot-area)\">\n";
     for b in &chart.bands {
         band(&mut out, &a, &sx, &sy, b);
+    }
+    for b in &chart.bars {
+        bars(&mut out, &a, (&sx, &sy), chart, b);
     }
     for l in &chart.lines {
         ref_line(&mut out, &a, &sx, &sy, l);
@@ -130,8 +145,11 @@ pub fn render(chart: &Chart, width: f64, height: f64) -> String {
     out
 }
 
+/// A y axis, its span and its ticks with their text.
+type YAxis<'a> = (&'a Axis, &'a Span, &'a [(f64, String)]);
+
 /// Grid lines, ticks and their labels, the frame and the axis titles.
-fn axes(out: &mut String, a: &Area, x: (&Axis, &Span), y: (&Axis, &Span), h: f64) {
+fn axes(out: &mut String, a: &Area, x: (&Axis, &Span), y: YAxis, h: f64) {
     out.push_str("<g class=\"axes\">\n");
     let (bottom, right) = (a.top + a.height, a.left + a.width);
     let tx = x.1.ticks();
@@ -147,9 +165,8 @@ fn axes(out: &mut String, a: &Area, x: (&Axis, &Span), y: (&Axis, &Span), h: f64
             escape(&x.1.label(t, &tx))
         );
     }
-    let ty = y.1.ticks();
-    for &t in &ty {
-        let Some(f) = y.1.frac(t) else { continue };
+    for (t, label) in y.2 {
+        let Some(f) = y.1.frac(*t) else { continue };
         let py = a.top + (1.0 - f) * a.height;
         let _ = writeln!(
             out,
@@ -159,7 +176,7 @@ fn axes(out: &mut String, a: &Area, x: (&Axis, &Span), y: (&Axis, &Span), h: f64
             a.left,
             a.left - 8.0,
             py + 4.0,
-            escape(&y.1.label(t, &ty))
+            escape(label)
         );
     }
     let _ = writeln!(
@@ -205,6 +222,27 @@ fn band(out: &mut String, a: &Area, sx: &Span, sy: &Span, b: &Band) {
             out,
             r#"<polygon class="band" points="{}" fill="{}" fill-opacity="0.2" stroke="none"/>"#,
             pts.join(" "),
+            color(b.color)
+        );
+    }
+}
+
+/// Each bar a rectangle from its `from` to its `to`, 0.6 of its row's height.
+fn bars(out: &mut String, a: &Area, (sx, sy): (&Span, &Span), c: &Chart, b: &Bars) {
+    let half = 0.3 * a.height / c.rows.len().max(1) as f64;
+    for &(row, from, to) in &b.bars {
+        let y = c.row_y(row);
+        let (Some(p0), Some(p1)) = (pixel(a, sx, sy, from, y), pixel(a, sx, sy, to, y)) else {
+            continue;
+        };
+        let _ = writeln!(
+            out,
+            r#"<rect class="bar" data-label="{}" x="{:.2}" y="{:.2}" width="{:.2}" height="{:.2}" fill="{}" fill-opacity="0.85"/>"#,
+            escape(&b.label),
+            p0.0.min(p1.0),
+            p0.1 - half,
+            (p1.0 - p0.0).abs(),
+            2.0 * half,
             color(b.color)
         );
     }
@@ -323,6 +361,7 @@ fn mark(out: &mut String, m: Marker, (x, y): (f64, f64)) {
 enum Entry<'a> {
     Series(&'a Series),
     Band(&'a Band),
+    Bars(&'a Bars),
     Line(&'a RefLine),
 }
 
@@ -359,6 +398,11 @@ fn sample(e: &Entry, x0: f64, y: f64) -> String {
             y - 5.0,
             color(b.color)
         ),
+        Entry::Bars(b) => format!(
+            r#"<rect x="{x0:.2}" y="{:.2}" width="24" height="10" fill="{}" fill-opacity="0.85"/>"#,
+            y - 5.0,
+            color(b.color)
+        ),
         Entry::Line(l) => format!(
             r#"<line x1="{x0:.2}" y1="{y:.2}" x2="{:.2}" y2="{y:.2}" stroke="{}" stroke-width="1.2" stroke-dasharray="6 4"/>"#,
             x0 + 24.0,
@@ -367,11 +411,13 @@ fn sample(e: &Entry, x0: f64, y: f64) -> String {
     }
 }
 
-/// One legend row per labelled series, band and reference line, right of the plot area.
+/// One legend row per labelled series, band, set of bars and reference line, right of the
+/// plot area.
 fn legend(out: &mut String, c: &Chart, a: &Area) {
     let x0 = a.left + a.width + 14.0;
     let entries = (c.series.iter().map(|s| (Entry::Series(s), &s.label)))
         .chain(c.bands.iter().map(|b| (Entry::Band(b), &b.label)))
+        .chain(c.bars.iter().map(|b| (Entry::Bars(b), &b.label)))
         .chain(c.lines.iter().map(|l| (Entry::Line(l), &l.label)))
         .filter(|(_, label)| !label.is_empty());
     out.push_str("<g class=\"legend\" font-size=\"11\">\n");

@@ -1,10 +1,10 @@
 //! Charts and grids as plain ASCII text for any terminal: a value lands in grid column
 //! round(frac_x·(cols − 1)) and grid row round((1 − frac_y)·(rows − 1)) (row 0 at the top;
-//! [`layout`] says where the grid sits in the text). Drawn in order: bands, reference lines,
-//! the lines of every series, then the marks of every series.
+//! [`layout`] says where the grid sits in the text). Drawn in order: bands, bars, reference
+//! lines, the lines of every series, then the marks of every series.
 
 use super::chart::{Chart, Grid, Marker, Series, Stroke};
-use super::ticks::{Span, span};
+use super::ticks::{Span, span, y_span};
 
 /// Character of a band's fill.
 pub const BAND: char = '.';
@@ -76,6 +76,9 @@ fn legend_lines(chart: &Chart) -> Vec<String> {
     for b in chart.bands.iter().filter(|b| !b.label.is_empty()) {
         v.push(format!("  {BAND} {}", ascii(&b.label)));
     }
+    for b in chart.bars.iter().filter(|b| !b.label.is_empty()) {
+        v.push(format!("  {} {}", glyph(b.glyph), ascii(&b.label)));
+    }
     for l in chart.lines.iter().filter(|l| !l.label.is_empty()) {
         let g = if l.vertical { VERTICAL } else { HORIZONTAL };
         v.push(format!("  {g} {}", ascii(&l.label)));
@@ -83,18 +86,21 @@ fn legend_lines(chart: &Chart) -> Vec<String> {
     v
 }
 
-/// The y ticks with their labels.
-fn y_ticks(sy: &Span) -> Vec<(f64, String)> {
-    let t = sy.ticks();
-    t.iter().map(|&v| (v, ascii(&sy.label(v, &t)))).collect()
+/// The y ticks with their labels (a row's label at each row).
+fn y_ticks(chart: &Chart, sy: &Span) -> Vec<(f64, String)> {
+    let t = super::ticks::y_ticks(chart, sy);
+    t.into_iter().map(|(v, l)| (v, ascii(&l))).collect()
 }
 
 /// The layout of `chart` in `width` × `height` characters: the title, the y axis title, the
 /// grid, the x axis, its tick labels, the x axis title, one legend line per labelled series,
-/// band and reference line; the grid takes what is left (at least 10 × 3).
+/// band, set of bars and reference line; the grid takes what is left (at least 10 × 3).
 pub fn layout(chart: &Chart, width: usize, height: usize) -> Layout {
-    let sy = span(&chart.y, &chart.ys());
-    let gutter = y_ticks(&sy).iter().map(|(_, l)| l.len()).max().unwrap_or(1);
+    let sy = y_span(chart);
+    let gutter = (y_ticks(chart, &sy).iter())
+        .map(|(_, l)| l.len())
+        .max()
+        .unwrap_or(1);
     let extra = 5 + legend_lines(chart).len();
     Layout {
         gutter,
@@ -197,7 +203,7 @@ impl Canvas {
 pub fn render(chart: &Chart, width: usize, height: usize) -> String {
     let l = layout(chart, width, height);
     let sx = span(&chart.x, &chart.xs());
-    let sy = span(&chart.y, &chart.ys());
+    let sy = y_span(chart);
     let mut cv = Canvas {
         cells: vec![vec![' '; l.cols]; l.rows],
         sx,
@@ -221,6 +227,14 @@ pub fn render(chart: &Chart, width: usize, height: usize) -> String {
                 let lo = a0.1 + t * (a1.1 - a0.1);
                 let hi = b0.1 + t * (b1.1 - b0.1);
                 cv.segment((k as f64, lo), (k as f64, hi), BAND);
+            }
+        }
+    }
+    for b in &chart.bars {
+        for &(row, from, to) in &b.bars {
+            let y = chart.row_y(row);
+            if let (Some(p0), Some(p1)) = (cv.at(from, y), cv.at(to, y)) {
+                cv.segment(p0, p1, glyph(b.glyph));
             }
         }
     }
@@ -252,7 +266,7 @@ pub fn render(chart: &Chart, width: usize, height: usize) -> String {
     out += &cut(&ascii(&chart.y.label()), width);
     out += "\n";
     let mut labels = vec![String::new(); l.rows];
-    for (v, text) in y_ticks(&sy) {
+    for (v, text) in y_ticks(chart, &sy) {
         if let Some(f) = sy.frac(v) {
             let r = ((1.0 - f) * (l.rows - 1) as f64).round();
             if r >= 0.0 && (r as usize) < l.rows {

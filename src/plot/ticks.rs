@@ -1,7 +1,7 @@
 //! Axis ranges and ticks at round numbers: linear steps of 1, 2 or 5 × 10ᵏ, log axes at
 //! decades (with 2 and 5 inside a single decade).
 
-use super::chart::{Axis, Scale};
+use super::chart::{Axis, Chart, Scale};
 
 /// Linear axes aim at about this many intervals between ticks (5 to 7).
 const TARGET_INTERVALS: f64 = 5.0;
@@ -205,4 +205,29 @@ pub fn span(axis: &Axis, values: &[f64]) -> Span {
             }
         }
     }
+}
+
+/// The span of a chart's y axis: with labelled rows ([`Chart::rows`]) 0.5 … n + 0.5, a tick
+/// at each row; else [`span`] of its y values.
+pub fn y_span(chart: &Chart) -> Span {
+    if chart.rows.is_empty() {
+        return span(&chart.y, &chart.ys());
+    }
+    Span {
+        lo: 0.5,
+        hi: chart.rows.len() as f64 + 0.5,
+        scale: Scale::Linear,
+        step: 1.0,
+    }
+}
+
+/// The y ticks of a chart on its span `sy` ([`y_span`]) with their text: a row's label at each
+/// row, else round numbers.
+pub fn y_ticks(chart: &Chart, sy: &Span) -> Vec<(f64, String)> {
+    if !chart.rows.is_empty() {
+        let rows = chart.rows.iter().enumerate();
+        return rows.map(|(i, l)| (chart.row_y(i), l.clone())).collect();
+    }
+    let t = sy.ticks();
+    t.iter().map(|&v| (v, sy.label(v, &t))).collect()
 }

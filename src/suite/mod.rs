@@ -79,7 +79,7 @@ pub enum SuiteError {
 }
 
 /// The key an override or axis argument sets, if the suite reserves it.
-fn reserved(key: &str) -> Option<&'static str> {
+pub fn reserved(key: &str) -> Option<&'static str> {
     let key = key.trim();
     RESERVED
         .into_iter()

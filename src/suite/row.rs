@@ -23,7 +23,7 @@ pub const METRICS: [&str; 11] = [
 ];
 
 /// The metrics that count events (written as whole numbers).
-const COUNTS: [&str; 2] = ["key_failures", "impacts"];
+pub const COUNTS: [&str; 2] = ["key_failures", "impacts"];
 
 /// The columns before the swept keys.
 pub const LEAD: [&str; 6] = [
@@ -58,7 +58,8 @@ impl Status {
         }
     }
 
-    fn parse(s: &str) -> Option<Self> {
+    /// [`Status::text`]'s inverse.
+    pub fn parse(s: &str) -> Option<Self> {
         if s == "finished" {
             return Some(Status::Finished);
         }

@@ -292,6 +292,9 @@ pub struct BridgeFile {
     /// Limit states of the bridge's fragility (`deckspin fragility --model`).
     #[serde(default, rename = "limit_state")]
     pub limit_states: Vec<LimitStateSpec>,
+    /// Uncertain inputs of `deckspin sensitivity` (a run ignores them).
+    #[serde(default, rename = "uncertain")]
+    pub uncertain: Vec<crate::model::uncertain::UncertainSpec>,
 }
 
 /// The kind of an abutment.
