@@ -254,6 +254,9 @@ pub struct ExcitationSpec {
     /// Abutment actuators follow the longitudinal input (true) or stay fixed.
     #[serde(default = "yes")]
     pub drive_abutments: bool,
+    /// `[start, end]`, s of the run's time (after `time_scale`, lags included): every record
+    /// cut to it, `start` becoming t = 0, the target PGA the whole record's (`Processing`).
+    pub window: Option<Vec<f64>>,
 }
 
 fn one() -> f64 {
