@@ -25,6 +25,9 @@ pub struct DeckSpec {
     /// Skew angle of deck ends and abutment faces, degrees (0: straight).
     #[serde(default)]
     pub skew: f64,
+    /// false: a translating deck, θ held at 0 (no θ DOF, no column torsion springs).
+    #[serde(default = "yes")]
+    pub rotation: bool,
 }
 
 /// One frame of a multi-frame bridge: a rigid deck (x, y, θ) on its own bents.
@@ -48,6 +51,9 @@ pub struct FrameSpec {
     /// chain of straight frames).
     #[serde(default)]
     pub heading: f64,
+    /// false: the frame translates, θ held at 0 (as `deck.rotation`).
+    #[serde(default = "yes")]
+    pub rotation: bool,
     #[serde(default, rename = "bent")]
     pub bents: Vec<BentSpec>,
 }
