@@ -147,6 +147,17 @@ pub fn apply_rayleigh(
     zeta: f64,
     modes_ij: [usize; 2],
 ) -> Result<(f64, f64), String> {
+    let (a0, a1) = rayleigh_coefficients(scene, zeta, modes_ij)?;
+    apply_rayleigh_coefficients(scene, a0, a1);
+    Ok((a0, a1))
+}
+
+/// (a₀, a₁) of [`apply_rayleigh`] from the modes of `scene` (numbered from 1 by frequency).
+pub fn rayleigh_coefficients(
+    scene: &Scene,
+    zeta: f64,
+    modes_ij: [usize; 2],
+) -> Result<(f64, f64), String> {
     let m = modes(scene);
     let [i, j] = modes_ij;
     if i == 0 || j == 0 || i > m.len() || j > m.len() || i == j {
@@ -161,6 +172,11 @@ pub fn apply_rayleigh(
     }
     let a0 = 2.0 * zeta * wi * wj / (wi + wj);
     let a1 = 2.0 * zeta / (wi + wj);
+    Ok((a0, a1))
+}
+
+/// Rayleigh damping C = a₀M + a₁K₀ of given coefficients ([`apply_rayleigh`]).
+pub fn apply_rayleigh_coefficients(scene: &mut Scene, a0: f64, a1: f64) {
     for s in &mut scene.springs {
         s.damping += a1 * s.stiffness;
     }
@@ -172,7 +188,6 @@ pub fn apply_rayleigh(
         alpha: a0,
         reference,
     };
-    Ok((a0, a1))
 }
 
 /// Quasi-static influence of each support, r_s = K₀⁻¹ Σ −k c J for the elements whose

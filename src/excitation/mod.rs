@@ -14,6 +14,14 @@
 //! 6. amplitude scaling (`target_pga` or `scale`), last, so the processed PGA equals the
 //!    target and the drift stays zero (both steps are linear).
 //!
+//! A `window` [s, e] (in the run's time, lag included) cuts the time-scaled samples after
+//! step 1: steps 2–6 run once on the whole record, for the factor of step 6 only (the target
+//! PGA is the whole record's), then steps 2–5 on the samples inside [s, e], then that factor.
+//! Before step 2 the cut is the same scaled acceleration at the same times; after, it starts
+//! at rest at s, its first sample (at or after s) at t = that time − s, and ends at rest.
+//! [`GroundMotion::strong_motion_window`] gives the 5–95 % Arias window of a motion in that
+//! time axis.
+//!
 //! Acceleration is piecewise linear between samples; velocity and displacement are its exact
 //! integrals (piecewise quadratic / cubic), so `d' = v`, `v' = a` hold at every `t`.
 //!

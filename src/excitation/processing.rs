@@ -73,6 +73,13 @@ pub struct Processing {
     /// read from a file.
     #[serde(skip)]
     pub per_metre: f64,
+    /// `[start, end]` of the run's time axis (processed seconds, `lag` included): only the
+    /// samples inside it are kept, shifted so that `start` is t = 0, and steps 2–5 and the
+    /// integration are applied to them (the cut starts at rest); the amplitude factor of step 6
+    /// is the whole record's. Default none; set from the bridge file's `excitation.window`,
+    /// never read from a processing table.
+    #[serde(skip)]
+    pub window: Option<[f64; 2]>,
 }
 
 impl Default for Processing {
@@ -86,6 +93,7 @@ impl Default for Processing {
             taper: 0.5,
             pad: 0.0,
             per_metre: 1.0,
+            window: None,
         }
     }
 }
@@ -127,6 +135,14 @@ impl Processing {
             return Err(invalid(
                 "baseline",
                 format!("polynomial order must be in 2..={MAX_POLY_ORDER}, got {order}"),
+            ));
+        }
+        if let Some([s, e]) = self.window
+            && !(s.is_finite() && e.is_finite() && s >= 0.0 && e > s)
+        {
+            return Err(invalid(
+                "window",
+                format!("must be [start, end] with 0 ≤ start < end, finite, got [{s}, {e}]"),
             ));
         }
         Ok(())
@@ -376,6 +392,76 @@ fn check_length(n: usize, dt_raw: f64, p: &Processing) -> Result<()> {
     ))
 }
 
+/// Steps 2–5 on the time-scaled samples `a` and the signal check: (corrected acceleration,
+/// raw PGA, corrected PGA).
+fn corrected(mut a: Vec<f64>, dt: f64, p: &Processing) -> Result<(Vec<f64>, f64, f64)> {
+    let n = a.len();
+    let pga_raw = max_abs(&a);
+
+    if let Baseline::Polynomial { order } = p.baseline {
+        polynomial_correction(&mut a, dt, order)?;
+    }
+
+    taper(&mut a, dt, p.taper)?;
+
+    let pad = sample_count(p.pad, dt, "pad")?;
+    if n + pad > MAX_SAMPLES {
+        return Err(invalid("pad", format!("{} s is too long", p.pad)));
+    }
+    a.resize(n + pad, 0.0);
+
+    if let Baseline::Polynomial { .. } = p.baseline {
+        end_correction(&mut a, dt, n)?;
+    }
+
+    let pga_corr = max_abs(&a);
+    check_signal(pga_raw, pga_corr)?;
+    Ok((a, pga_raw, pga_corr))
+}
+
+/// The window `[s, e]` of the run's time axis on `n` samples `dt` apart (processed s) that
+/// start at `lag`: the samples it keeps, `i0..=i1` (the first at or after s, the last at or
+/// before e or the record's end; a node within 1e-9 of a sample counts as inside), and the
+/// lag of the cut, `max(0, lag − s) + (i0·dt − max(0, s − lag))`: the cut starts at rest at its
+/// first sample, t = 0 being s.
+fn window_cut(
+    [s, e]: [f64; 2],
+    lag: f64,
+    dt: f64,
+    n: usize,
+    taper: f64,
+) -> Result<(usize, usize, f64)> {
+    let duration = (n - 1) as f64 * dt;
+    let (from, to) = ((s - lag).max(0.0), e - lag);
+    if from >= duration {
+        let end = lag + duration;
+        return Err(invalid(
+            "window",
+            format!("starts at {s} s, after the record ends at {end} s (lag {lag} s)"),
+        ));
+    }
+    if to <= 0.0 {
+        return Err(invalid(
+            "window",
+            format!("ends at {e} s, before the record starts at its lag {lag} s"),
+        ));
+    }
+    let i0 = (from / dt - 1e-9).ceil().max(0.0) as usize;
+    let i1 = ((to / dt + 1e-9).floor() as usize).min(n - 1);
+    let kept = i1.saturating_sub(i0) as f64 * dt;
+    if i1 <= i0 || 2.0 * taper > kept {
+        return Err(invalid(
+            "window",
+            format!(
+                "[{s}, {e}] s keeps {kept} s of the record (samples of {dt} s), shorter than \
+                 the taper of {taper} s at each end or than one sample"
+            ),
+        ));
+    }
+    let t0 = (lag - s).max(0.0) + (i0 as f64 * dt - from).max(0.0);
+    Ok((i0, i1, t0))
+}
+
 impl GroundMotion {
     /// Processes a [`Record`] (g → m/s²); see [`GroundMotion::from_samples`].
     pub fn from_record(rec: &Record, p: &Processing) -> Result<Self> {
@@ -433,33 +519,23 @@ impl GroundMotion {
                 format!("scaled dt = {dt} is unusable"),
             ));
         }
-        let mut a = acc_m_s2;
-        let pga_raw = max_abs(&a);
-
-        if let Baseline::Polynomial { order } = p.baseline {
-            polynomial_correction(&mut a, dt, order)?;
+        // the window's samples; the whole record's processing sets the amplitude factor
+        let cut = (p.window)
+            .map(|w| window_cut(w, p.lag, dt, n, p.taper))
+            .transpose()?;
+        let raw = cut.map(|(i0, i1, _)| acc_m_s2[i0..=i1].to_vec());
+        let (mut a, mut pga_raw, mut pga_corr) = corrected(acc_m_s2, dt, p)?;
+        let factor = amplitude_factor(p, pga_raw, pga_corr)?;
+        let mut t0 = p.lag;
+        if let (Some((.., lag)), Some(raw)) = (cut, raw) {
+            (a, pga_raw, pga_corr) = corrected(raw, dt, p)?;
+            t0 = lag;
         }
-
-        taper(&mut a, dt, p.taper)?;
-
-        let pad = sample_count(p.pad, dt, "pad")?;
-        if n + pad > MAX_SAMPLES {
-            return Err(invalid("pad", format!("{} s is too long", p.pad)));
-        }
-        a.resize(n + pad, 0.0);
-
-        if let Baseline::Polynomial { .. } = p.baseline {
-            end_correction(&mut a, dt, n)?;
-        }
-
-        let pga_corr = max_abs(&a);
-        check_signal(pga_raw, pga_corr)?;
         let correction_pga_change = if pga_raw > 0.0 {
             pga_corr / pga_raw - 1.0
         } else {
             0.0
         };
-        let factor = amplitude_factor(p, pga_raw, pga_corr)?;
         let scaled = factor.abs() * pga_corr / G;
         if scaled > MAX_PGA_G {
             let field = if p.target_pga.is_some() {
@@ -481,7 +557,7 @@ impl GroundMotion {
         let (vel, disp) = integrate(dt, &a);
         Ok(GroundMotion {
             dt,
-            t0: p.lag,
+            t0,
             acc: a,
             vel,
             disp,

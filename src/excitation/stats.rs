@@ -93,39 +93,65 @@ impl GroundMotion {
 
     /// Arias intensity `π/(2g)∫a²dt` and the 5–95 % significant duration.
     fn arias(&self) -> (f64, f64) {
-        let dt = self.dt;
-        // ∫a² per interval, exact for linear a
-        let seg = |i: usize, s: f64| {
-            let a0 = self.acc[i];
-            let j = (self.acc[i + 1] - a0) / dt;
-            s * (a0 * a0 + s * (a0 * j + s * j * j / 3.0))
-        };
+        let cum = self.arias_cumulative();
+        let e = cum.last().copied().unwrap_or(0.0);
+        let intensity = std::f64::consts::PI / (2.0 * G) * e;
+        let mut significant = 0.0;
+        if e > 0.0 {
+            significant = self.arias_crossing(&cum, 0.95) - self.arias_crossing(&cum, 0.05);
+        }
+        (intensity, significant)
+    }
+
+    /// The strong-motion window (Trifunac & Brady 1975): the times at which the Arias
+    /// intensity `I(t) ∝ ∫₀ᵗ a²` reaches 5 % and 95 % of its total, in the run's time axis
+    /// (`t0` included, as `excitation.window`). None for a motion without intensity.
+    pub fn strong_motion_window(&self) -> Option<(f64, f64)> {
+        if !self.valid() {
+            return None;
+        }
+        let cum = self.arias_cumulative();
+        let e = cum.last().copied().unwrap_or(0.0);
+        (e > 0.0).then(|| {
+            let t = |frac| self.t0 + self.arias_crossing(&cum, frac);
+            (t(0.05), t(0.95))
+        })
+    }
+
+    /// ∫a² over interval i up to local time s, exact for linear a.
+    fn arias_segment(&self, i: usize, s: f64) -> f64 {
+        let a0 = self.acc[i];
+        let j = (self.acc[i + 1] - a0) / self.dt;
+        s * (a0 * a0 + s * (a0 * j + s * j * j / 3.0))
+    }
+
+    /// ∫₀^{t_i} a² at every node (a valid motion).
+    fn arias_cumulative(&self) -> Vec<f64> {
         let mut cum = Vec::with_capacity(self.acc.len());
         let mut e = 0.0;
         cum.push(0.0);
         for i in 0..self.acc.len() - 1 {
-            e += seg(i, dt);
+            e += self.arias_segment(i, self.dt);
             cum.push(e);
         }
-        let intensity = std::f64::consts::PI / (2.0 * G) * e;
-        let mut significant = 0.0;
-        if e > 0.0 {
-            let crossing = |frac: f64| {
-                let target = frac * e;
-                let i = cum.partition_point(|c| *c < target).clamp(1, cum.len() - 1) - 1;
-                let (mut lo, mut hi) = (0.0, dt);
-                for _ in 0..60 {
-                    let mid = 0.5 * (lo + hi);
-                    if cum[i] + seg(i, mid) < target {
-                        lo = mid;
-                    } else {
-                        hi = mid;
-                    }
-                }
-                i as f64 * dt + 0.5 * (lo + hi)
-            };
-            significant = crossing(0.95) - crossing(0.05);
+        cum
+    }
+
+    /// Local time (from the first sample) at which ∫a² reaches `frac` of its total `cum`'s
+    /// last: the interval by bisection of the nodes, the time in it by 60 bisections.
+    fn arias_crossing(&self, cum: &[f64], frac: f64) -> f64 {
+        let dt = self.dt;
+        let target = frac * cum[cum.len() - 1];
+        let i = cum.partition_point(|c| *c < target).clamp(1, cum.len() - 1) - 1;
+        let (mut lo, mut hi) = (0.0, dt);
+        for _ in 0..60 {
+            let mid = 0.5 * (lo + hi);
+            if cum[i] + self.arias_segment(i, mid) < target {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
         }
-        (intensity, significant)
+        i as f64 * dt + 0.5 * (lo + hi)
     }
 }

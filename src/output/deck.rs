@@ -1,6 +1,6 @@
 //! The deck of a run's output: the bodies free in x, y and θ (the specimen's deck, a bridge's
-//! frames), the rotation a chart or a precision measure follows, and the peaks over all of
-//! them that sweeps and suites report.
+//! frames), the rotation a chart or a precision measure follows, and the peaks over all the
+//! bodies free in x and y (θ or not) that sweeps and suites report.
 
 use super::RunOutput;
 
@@ -44,9 +44,22 @@ pub fn deck_bodies(names: &[String]) -> Vec<[usize; 3]> {
         .collect()
 }
 
-/// The deck's peaks over all its bodies ([`deck_bodies`]; without one, [`rotation_dof`] and
-/// no translations): max |θ|, the residual θ(t_end) largest in magnitude (signed), max |x|,
-/// max |y|.
+/// The bodies free in x and y, as their (x, y) DOFs and θ DOF, None for a body without one
+/// (a translating deck, `deck.rotation = false`): the deck's bodies for its peaks.
+pub fn plane_bodies(names: &[String]) -> Vec<(usize, usize, Option<usize>)> {
+    let dof = |n: String| names.iter().position(|m| *m == n);
+    (names.iter())
+        .filter_map(|n| n.strip_suffix(".x"))
+        .filter_map(|b| {
+            let x = dof(format!("{b}.x"))?;
+            Some((x, dof(format!("{b}.y"))?, dof(format!("{b}.theta"))))
+        })
+        .collect()
+}
+
+/// The deck's peaks over all its bodies ([`plane_bodies`]: a body without θ turns by exactly
+/// 0; without one, [`rotation_dof`] and no translations): max |θ|, the residual θ(t_end)
+/// largest in magnitude (signed), max |x|, max |y|.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DeckPeaks {
     pub rotation: f64,
@@ -58,7 +71,7 @@ pub struct DeckPeaks {
 impl DeckPeaks {
     pub fn of(r: &RunOutput) -> Self {
         let peaks = &r.summary.peaks;
-        let bodies = deck_bodies(&r.dof_names);
+        let bodies = plane_bodies(&r.dof_names);
         if bodies.is_empty() {
             let k = rotation_dof(r);
             let p = peaks.get(k);
@@ -69,13 +82,15 @@ impl DeckPeaks {
                 y: f64::NAN,
             };
         }
+        // a body without θ turns by exactly 0
+        let peak = |k: Option<usize>| k.map_or(0.0, |k| peaks[k].max_abs);
         let max = |axis: usize| {
             (bodies.iter())
-                .map(|b| peaks[b[axis]].max_abs)
+                .map(|b| peak([Some(b.0), Some(b.1), b.2][axis]))
                 .fold(f64::NEG_INFINITY, f64::max)
         };
         let residual = (bodies.iter())
-            .map(|b| peaks[b[2]].residual)
+            .map(|b| b.2.map_or(0.0, |k| peaks[k].residual))
             .fold(f64::NAN, |a: f64, r| {
                 if a.is_nan() || r.abs() > a.abs() {
                     r

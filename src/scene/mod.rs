@@ -257,6 +257,19 @@ impl Scene {
         out
     }
 
+    /// The strong-motion window spanning every record of the supports: the earliest time their
+    /// Arias intensity reaches 5 %, the latest it reaches 95 %
+    /// ([`GroundMotion::strong_motion_window`], lags included: the time axis of a bridge
+    /// file's `excitation.window`). None without a record.
+    pub fn strong_motion_window(&self) -> Option<(f64, f64)> {
+        (self.supports.iter())
+            .filter_map(|s| match &s.motion {
+                Motion::Record(g) => g.strong_motion_window(),
+                Motion::Harmonic { .. } => None,
+            })
+            .reduce(|(a, b), (c, d)| (a.min(c), b.max(d)))
+    }
+
     /// The longest step while a contact is closed: its λ_N and stick margin are driven in t by
     /// the supports even where the state rests (a body held against a fixed stop, whose error
     /// estimate is then 0), and the event search samples them at ½ and 1 of a step. 1/16 of a

@@ -70,6 +70,11 @@ pub enum SuiteError {
         "'{argument}': the suite sets {key} itself for each run (the records, their scaling, the run's end)"
     )]
     Reserved { argument: String, key: String },
+    /// `excitation.window` in the model (`place`: its path) or an argument (`place`: it).
+    #[error(
+        "{place}: excitation.window: a suite runs each pair's records whole (their intensity and scaling are the whole records'); a window is for a single run"
+    )]
+    Window { place: String },
     #[error(transparent)]
     TooLarge(#[from] SweepTooLarge),
     #[error("--tail {0}: the free vibration after the records must be ≥ 0 s and finite")]
@@ -99,6 +104,10 @@ fn unscaled_text(text: &str, path: &Path) -> Result<String, SuiteError> {
         .ok_or_else(|| refuse("no [excitation] table"))?;
     if table.get("kind").and_then(|k| k.as_str()) != Some("record") {
         return Err(refuse("its kind is not \"record\""));
+    }
+    if table.contains_key("window") {
+        let place = path.display().to_string();
+        return Err(SuiteError::Window { place });
     }
     let mut out = text.to_string();
     if let Some(key) = table.key("run") {
@@ -165,6 +174,10 @@ impl Suite {
             if let Some(r) = reserved(key) {
                 let (argument, key) = (argument.clone(), r.to_string());
                 return Err(SuiteError::Reserved { argument, key });
+            }
+            if key.trim() == "excitation.window" {
+                let place = format!("'{argument}'");
+                return Err(SuiteError::Window { place });
             }
         }
         if !(spec.tail.is_finite() && spec.tail >= 0.0) {

@@ -14,6 +14,7 @@ use crate::scene::{Body, BodyRef, Contact};
 use nalgebra::{DVector, Vector2};
 
 /// One frame of the bridge, whatever table it came from.
+#[derive(Clone)]
 pub(super) struct Frame<'a> {
     /// Body name (`deck` for a `[deck]` file).
     pub name: String,
@@ -28,6 +29,8 @@ pub(super) struct Frame<'a> {
     /// Degrees.
     pub skew: f64,
     pub heading: f64,
+    /// Has a θ DOF (false: translates only, `rotation = false`).
+    pub rotation: bool,
     pub bents: &'a [BentSpec],
 }
 
@@ -44,6 +47,7 @@ pub(super) fn frames(f: &BridgeFile) -> Vec<Frame<'_>> {
             width: d.width,
             skew: d.skew,
             heading: 0.0,
+            rotation: d.rotation,
             bents: &f.bents,
         }];
     }
@@ -58,6 +62,7 @@ pub(super) fn frames(f: &BridgeFile) -> Vec<Frame<'_>> {
             width: fr.width,
             skew: fr.skew,
             heading: fr.heading,
+            rotation: fr.rotation,
             bents: &fr.bents,
         })
         .collect()
@@ -206,7 +211,7 @@ fn abutment(
     }
 }
 
-/// Left abutment, the frames (x, y, θ each), right abutment; `drive`: the supports of the two
+/// Left abutment, the frames (x, y, and θ unless `rotation` is false), right abutment; `drive`: the supports of the two
 /// abutments' ground motion in x and y.
 pub(super) fn bodies(
     f: &BridgeFile,
@@ -236,11 +241,15 @@ pub(super) fn bodies(
             mass: fr.mass,
             inertia: fr.inertia,
             reference: plan.centres[k],
-            dofs: [Some(d), Some(d + 1), Some(d + 2)],
+            dofs: [Some(d), Some(d + 1), fr.rotation.then_some(d + 2)],
             drive: [None; 2],
         });
-        mass.extend([fr.mass, fr.mass, fr.inertia]);
-        names.extend(["x", "y", "theta"].map(|c| format!("{}.{c}", fr.name)));
+        mass.extend([fr.mass, fr.mass]);
+        names.extend(["x", "y"].map(|c| format!("{}.{c}", fr.name)));
+        if fr.rotation {
+            mass.push(fr.inertia);
+            names.push(format!("{}.theta", fr.name));
+        }
     }
     let right = last_end + plan.gap0 * plan.axes[n - 1].0;
     let d = mass.len();

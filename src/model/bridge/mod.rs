@@ -1,9 +1,9 @@
 //! A bridge in bridge words, compiled into the engine's general [`Scene`] (paper §2, §4.1):
-//! frames (rigid decks, x, y, θ each) in series between two abutments (x, θ) on two actuator
-//! spring–dampers each; deck-corner contacts at the abutments and at the expansion joints
-//! between frames (corner on face between two moving bodies); two-column bents with hysteretic
-//! columns; Rayleigh damping; multi-support excitation. The shake-table specimen is the
-//! one-frame case (`[deck]`).
+//! frames (rigid decks, x, y, θ each; x, y only with `rotation = false`) in series between two
+//! abutments (x, θ) on two actuator spring–dampers each; deck-corner contacts at the abutments
+//! and at the expansion joints between frames (corner on face between two moving bodies);
+//! two-column bents with hysteretic columns; Rayleigh damping; multi-support excitation. The
+//! shake-table specimen is the one-frame case (`[deck]`).
 //!
 //! - [`schema`]: the file's tables; [`layout`]: frames, support lines, skew, headings, corner
 //!   contacts; `structure`: actuators and columns; `supports`: the excitation; `seat`: seats and
@@ -27,8 +27,8 @@ use super::check::{Check, ModelError};
 use super::records::Motions;
 use super::solver::settings;
 use super::warnings::ModelWarning;
-use crate::modal::apply_rayleigh;
-use crate::scene::{MassDamping, Scene};
+use crate::modal::{apply_rayleigh_coefficients, rayleigh_coefficients};
+use crate::scene::{MassDamping, Scene, Settings, Support};
 use layout::{Frame, Plan};
 use nalgebra::DVector;
 use seat::SeatSpec;
@@ -40,17 +40,51 @@ pub fn compile(f: &BridgeFile, ck: &Check, motions: &Motions) -> Result<Scene, M
     let frames = layout::frames(f);
     validate::validate(f, &frames, ck)?;
     let kind = abutments::validate(f, ck)?;
-    let plan = Plan::of(f, &frames);
     // supports: per bent x and y, per abutment x, and y where keys, bearings or the ground
     // move something beside the deck ends
     let nb = frames.iter().map(|fr| fr.bents.len()).sum();
     let a = &f.abutment;
     let transverse = kind != Kind::Actuators || a.key.is_some() || a.bearing.is_some();
-    let ex = f.excitation.as_ref();
-    let supports = match ex {
+    let supports = match &f.excitation {
         Some(e) => supports::excitation_supports(e, &f.runs, nb, transverse, ck, path, motions)?,
         None => Vec::new(),
     };
+    let mut scene = assemble(f, ck, &frames, (kind, transverse), supports, settings)?;
+    if f.damping.ratio > 0.0 {
+        let (ratio, modes) = (f.damping.ratio, f.damping.modes);
+        let err = |r| ck.err("damping.modes", r);
+        // a translating frame keeps the damping of the bridge whose frames all rotate: its
+        // modes 1 and 3 are that bridge's, and only θ is held
+        let (a0, a1) = if frames.iter().all(|fr| fr.rotation) {
+            rayleigh_coefficients(&scene, ratio, modes).map_err(err)?
+        } else {
+            let turning: Vec<Frame> = (frames.iter().cloned())
+                .map(|fr| Frame {
+                    rotation: true,
+                    ..fr
+                })
+                .collect();
+            let (s, t) = (scene.supports.clone(), scene.settings.clone());
+            let full = assemble(f, ck, &turning, (kind, transverse), s, t)?;
+            rayleigh_coefficients(&full, ratio, modes).map_err(err)?
+        };
+        apply_rayleigh_coefficients(&mut scene, a0, a1);
+    }
+    Ok(scene)
+}
+
+/// The scene of the bridge's `frames` on its abutments with `supports`, undamped.
+fn assemble(
+    f: &BridgeFile,
+    ck: &Check,
+    frames: &[Frame],
+    (kind, transverse): (Kind, bool),
+    supports: Vec<Support>,
+    settings: Settings,
+) -> Result<Scene, ModelError> {
+    let plan = Plan::of(f, frames);
+    let nb = frames.iter().map(|fr| fr.bents.len()).sum::<usize>();
+    let ex = f.excitation.as_ref();
     let driven = !supports.is_empty();
     let sx = driven.then_some([2 * nb, 2 * nb + 1]);
     let sy = (driven && transverse).then_some([2 * nb + 2, 2 * nb + 3]);
@@ -60,24 +94,25 @@ pub fn compile(f: &BridgeFile, ck: &Check, motions: &Motions) -> Result<Scene, M
         Kind::Backfill => [None, sy.map(|s| s[i])],
         _ => [None; 2],
     };
-    let (bodies, mass, dof_names) = layout::bodies(f, kind, &frames, &plan, [drive(0), drive(1)]);
-    let contacts = layout::corner_contacts(f, &frames, &plan, &bodies);
+    let (bodies, mass, dof_names) = layout::bodies(f, kind, frames, &plan, [drive(0), drive(1)]);
+    let contacts = layout::corner_contacts(f, frames, &plan, &bodies);
     let ends = abutments::Ends {
         last: bodies.len() - 1,
         sx,
         sy,
         drive_actuators: driven && follow,
     };
+    let a = &f.abutment;
     let mut springs = abutments::abutment_springs(a, kind, &ends);
     let mut hysteretic =
-        structure::bent_columns(&f.column, &frames, &plan, ck, driven, &mut springs)?;
+        structure::bent_columns(&f.column, frames, &plan, ck, driven, &mut springs)?;
     hysteretic.extend(abutments::abutment_elements(
-        f, kind, &frames, &plan, &ends, ck,
+        f, kind, frames, &plan, &ends, ck,
     )?);
-    hysteretic.extend(abutments::joint_keys(f, &frames, &plan, ck)?);
-    let seats = seat::seats(&seat_lines(f, &frames, &plan), ck)?;
+    hysteretic.extend(abutments::joint_keys(f, frames, &plan, ck)?);
+    let seats = seat::seats(&seat_lines(f, frames, &plan), ck)?;
     let n = mass.len();
-    let mut scene = Scene {
+    Ok(Scene {
         title: title(f),
         units: ck.units,
         bridge: true,
@@ -94,12 +129,7 @@ pub fn compile(f: &BridgeFile, ck: &Check, motions: &Motions) -> Result<Scene, M
         q0: DVector::zeros(n),
         v0: DVector::zeros(n),
         settings,
-    };
-    if f.damping.ratio > 0.0 {
-        apply_rayleigh(&mut scene, f.damping.ratio, f.damping.modes)
-            .map_err(|r| ck.err("damping.modes", r))?;
-    }
-    Ok(scene)
+    })
 }
 
 /// The title: the file's (or "bridge") and, for a record input at a test run, that run and

@@ -25,6 +25,9 @@ pub struct DeckSpec {
     /// Skew angle of deck ends and abutment faces, degrees (0: straight).
     #[serde(default)]
     pub skew: f64,
+    /// false: a translating deck, θ held at 0 (no θ DOF, no column torsion springs).
+    #[serde(default = "yes")]
+    pub rotation: bool,
 }
 
 /// One frame of a multi-frame bridge: a rigid deck (x, y, θ) on its own bents.
@@ -48,6 +51,9 @@ pub struct FrameSpec {
     /// chain of straight frames).
     #[serde(default)]
     pub heading: f64,
+    /// false: the frame translates, θ held at 0 (as `deck.rotation`).
+    #[serde(default = "yes")]
+    pub rotation: bool,
     #[serde(default, rename = "bent")]
     pub bents: Vec<BentSpec>,
 }
@@ -254,6 +260,9 @@ pub struct ExcitationSpec {
     /// Abutment actuators follow the longitudinal input (true) or stay fixed.
     #[serde(default = "yes")]
     pub drive_abutments: bool,
+    /// `[start, end]`, s of the run's time (after `time_scale`, lags included): every record
+    /// cut to it, `start` becoming t = 0, the target PGA the whole record's (`Processing`).
+    pub window: Option<Vec<f64>>,
 }
 
 fn one() -> f64 {

@@ -44,7 +44,8 @@ fn scale_law(law: &Law, kf: f64, ff: f64) -> Law {
 }
 
 /// Two columns per bent, hysteretic in x and y (law scaled to the bent height; circular
-/// columns: the world axes), elastic in torsion (torsion springs appended to `springs`).
+/// columns: the world axes), elastic in torsion (torsion springs appended to `springs`; none
+/// under a frame without θ).
 /// Bents are numbered across the frames in order; bent b is driven by supports 2b (x), 2b+1 (y).
 pub(super) fn bent_columns(
     col: &ColumnSpec,
@@ -80,7 +81,8 @@ pub(super) fn bent_columns(
                         support: driven.then_some(s),
                     });
                 }
-                if col.torsion_stiffness > 0.0 {
+                // a translating frame has no θ to twist the columns
+                if col.torsion_stiffness > 0.0 && fr.rotation {
                     springs.push(Spring {
                         name: format!("{}_{tag}.torsion", b.name),
                         attachment: Attachment::Rotation { body },

@@ -98,6 +98,7 @@ fn record_supports(
         },
         taper: e.taper.unwrap_or(Processing::default().taper),
         per_metre: ck.units.per_metre(),
+        window: e.window.as_ref().map(|w| [w[0], w[1]]),
         ..Processing::default()
     };
     // supports with the same record, PGA and lag share one motion
@@ -119,7 +120,7 @@ fn record_supports(
             "target_pga" => e
                 .run
                 .map(|r| format!("run.{}.pga_{axis}", r.wrapping_sub(1))),
-            "time_scale" | "taper" => Some(format!("excitation.{f}")),
+            "time_scale" | "taper" | "window" => Some(format!("excitation.{f}")),
             _ => None,
         };
         (motions.get(path, file, p)).map_err(|e| record_error(e, ck, field, file, &model_field))
@@ -168,6 +169,36 @@ fn validate_excitation(e: &ExcitationSpec, nb: usize, ck: &Check) -> Result<(), 
         for (i, l) in lags.iter().enumerate() {
             ck.nonneg(&format!("{field}.{i}"), *l)?;
         }
+    }
+    if let Some(w) = &e.window {
+        validate_window(w, &e.kind, ck)?;
+    }
+    Ok(())
+}
+
+/// `excitation.window`: `[start, end]`, finite, 0 ≤ start < end, on a record input.
+fn validate_window(w: &[f64], kind: &str, ck: &Check) -> Result<(), ModelError> {
+    let field = "excitation.window";
+    if kind == "harmonic" {
+        return Err(ck.err(
+            field,
+            "a window cuts recorded input: a harmonic excitation has no record to cut",
+        ));
+    }
+    let &[start, end] = w else {
+        let n = w.len();
+        return Err(ck.err(field, format!("expected [start, end] (s), got {n} numbers")));
+    };
+    ck.finite(field, start)?;
+    ck.finite(field, end)?;
+    if start < 0.0 {
+        return Err(ck.err(field, format!("start must be ≥ 0, got {start}")));
+    }
+    if end <= start {
+        return Err(ck.err(
+            field,
+            format!("end must be after start, got [{start}, {end}]"),
+        ));
     }
     Ok(())
 }
