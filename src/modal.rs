@@ -63,23 +63,29 @@ pub struct Mode {
     pub shape: DVector<f64>,
 }
 
-/// Eigen-analysis of (K₀, M), modes sorted by frequency.
+/// Eigen-analysis of (K₀, M), modes sorted by frequency. The DOFs that K₀ does not couple
+/// (e.g. an abutment on its actuators and the deck while their contacts are open) are solved
+/// as separate blocks, so that a part's modes do not depend, not even by round-off, on the
+/// parts it is not joined to.
 pub fn modes(scene: &Scene) -> Vec<Mode> {
     let k = initial_stiffness(scene);
     let s: DVector<f64> = scene.mass.map(|m| 1.0 / m.sqrt());
     let n = scene.ndof();
-    let mut a = k.clone();
-    for i in 0..n {
-        for j in 0..n {
-            a[(i, j)] *= s[i] * s[j];
-        }
-    }
-    let eig = nalgebra::SymmetricEigen::new(a);
-    let mut out: Vec<Mode> = (0..n)
-        .map(|i| {
+    let mut out = Vec::with_capacity(n);
+    for block in coupled_blocks(&k) {
+        let m = block.len();
+        let a = DMatrix::from_fn(m, m, |i, j| {
+            let (bi, bj) = (block[i], block[j]);
+            k[(bi, bj)] * s[bi] * s[bj]
+        });
+        let eig = nalgebra::SymmetricEigen::new(a);
+        for i in 0..m {
             let w2 = eig.eigenvalues[i].max(0.0);
             let omega = w2.sqrt();
-            let mut shape = eig.eigenvectors.column(i).component_mul(&s);
+            let mut shape = DVector::zeros(n);
+            for (r, &d) in block.iter().enumerate() {
+                shape[d] = eig.eigenvectors[(r, i)] * s[d];
+            }
             let big = shape
                 .iter()
                 .cloned()
@@ -87,7 +93,7 @@ pub fn modes(scene: &Scene) -> Vec<Mode> {
             if big < 0.0 {
                 shape = -shape;
             }
-            Mode {
+            out.push(Mode {
                 omega,
                 period: if omega > 0.0 {
                     2.0 * std::f64::consts::PI / omega
@@ -95,11 +101,41 @@ pub fn modes(scene: &Scene) -> Vec<Mode> {
                     f64::INFINITY
                 },
                 shape,
-            }
-        })
-        .collect();
+            });
+        }
+    }
     out.sort_by(|a, b| a.omega.total_cmp(&b.omega));
     out
+}
+
+/// The DOFs in groups that `k` couples (connected through non-zero entries), each in
+/// ascending order, the groups by their first DOF.
+fn coupled_blocks(k: &DMatrix<f64>) -> Vec<Vec<usize>> {
+    let n = k.nrows();
+    let mut group: Vec<Option<usize>> = vec![None; n];
+    let mut blocks: Vec<Vec<usize>> = Vec::new();
+    for start in 0..n {
+        if group[start].is_some() {
+            continue;
+        }
+        let g = blocks.len();
+        let mut members = vec![start];
+        group[start] = Some(g);
+        let mut next = 0;
+        while next < members.len() {
+            let i = members[next];
+            next += 1;
+            for j in 0..n {
+                if group[j].is_none() && (k[(i, j)] != 0.0 || k[(j, i)] != 0.0) {
+                    group[j] = Some(g);
+                    members.push(j);
+                }
+            }
+        }
+        members.sort_unstable();
+        blocks.push(members);
+    }
+    blocks
 }
 
 /// The DOF name endings of the three directions of [`participation`].

@@ -704,12 +704,14 @@ fn two_corners_of_one_end_chattering_while_sliding_are_held_closed() {
 }
 
 /// The deck jammed between both abutments by two diagonal corners at ε = 1, μ = 1 (Kocaeli
-/// Arcelik, run 7, the bents' tables and the right abutment lagging by 0.05–0.15 s): the impact
+/// Arcelik, run 7, the bents' tables and the right abutment lagging by 0.05–0.18 s): the impact
 /// passes' LCPs of that degenerate set return the corners approaching at their own accuracy
 /// (−3e-9 … −6e-9 m/s against velocity_tol 1e-9) pass after pass, and the contact phase then
 /// detached one while it approached (3 such contacts by 8 s; a debug build stopped; 2 since the
-/// column branch events are located to 1 % of the branch window). They are now held like slow
-/// separations: no contact hit is left approaching, no corner goes in.
+/// column branch events are located to 1 % of the branch window; none at a 0.15 s lag since the
+/// modes are solved per uncoupled block, which moved the Rayleigh coefficients by round-off:
+/// 14 at 0.18 s, 9 at 0.16 s). They are now held like slow separations: no contact hit is
+/// left approaching, no corner goes in.
 #[test]
 fn diagonal_corners_left_approaching_by_a_degenerate_impact_lcp_are_held() {
     let path = |c: &str| common::model(&format!("excitations/far-field/KOCAELI_ARC{c}.AT2"));
@@ -717,7 +719,7 @@ fn diagonal_corners_left_approaching_by_a_degenerate_impact_lcp_are_held() {
         format!("excitation.longitudinal={}", path("000").to_string_lossy()),
         format!("excitation.transverse={}", path("090").to_string_lossy()),
         "excitation.lag_bents=[0.0, 0.05, 0.1]".to_string(),
-        "excitation.lag_abutments=[0.0, 0.15]".to_string(),
+        "excitation.lag_abutments=[0.0, 0.18]".to_string(),
         "excitation.run=7".to_string(),
         "contacts.restitution=1".to_string(),
         "contacts.mu=1".to_string(),

@@ -262,7 +262,7 @@ pub fn adequacy(
     }
     let full_set = CaseSet::new(text, path, fix, cases)?;
     let labels: Vec<String> = (0..full_set.len()).map(|i| full_set.label(i)).collect();
-    let timing = timing(&full_set, fix);
+    let timing = timing(&full_set, cases);
     let doc: toml_edit::DocumentMut = text.parse().map_err(|e| EditError::Parse(format!("{e}")))?;
     let singles = singles(&doc, &timing, opts.only.as_deref());
     if singles.is_empty() {
@@ -400,14 +400,18 @@ fn combine(
 }
 
 /// The strong-motion window of the model's records and its free-vibration tail, from its
-/// first run's scene.
-fn timing(set: &CaseSet, _fix: &[String]) -> Timing {
+/// first run's scene (the runs scale one record pair, so they share the window); none on a
+/// record suite (each pair has its own, and a suite refuses a window).
+fn timing(set: &CaseSet, cases: &Cases) -> Timing {
     let Ok(scene) = set.scene(0, &[]) else {
         return Timing::default();
     };
     let end = crate::suite::records_end(&scene);
     Timing {
-        strong_motion: None,
+        strong_motion: match cases {
+            Cases::ModelRuns => scene.strong_motion_window(),
+            Cases::Suite { .. } => None,
+        },
         tail: (scene.settings.t_end - end).max(0.0),
     }
 }

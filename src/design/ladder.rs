@@ -231,11 +231,18 @@ pub fn edits(doc: &DocumentMut, s: Simplification, timing: &Timing) -> Option<Ve
             vec![Edit::set("contacts.enabled", "false")]
         }
         Simplification::TranslatingDeck => {
-            if !has(doc, "deck") || get(doc, "deck.rotation").and_then(Item::as_bool) == Some(false)
-            {
-                return None;
-            }
-            vec![Edit::set("deck.rotation", "false")]
+            let decks = if has(doc, "deck") {
+                vec!["deck".to_string()]
+            } else {
+                (0..count(doc, "frame"))
+                    .map(|i| format!("frame.{i}"))
+                    .collect()
+            };
+            (decks.into_iter())
+                .map(|d| format!("{d}.rotation"))
+                .filter(|p| get(doc, p).and_then(Item::as_bool) != Some(false))
+                .map(|p| Edit::set(p, "false"))
+                .collect()
         }
         Simplification::NoKeys => {
             let mut e = Vec::new();

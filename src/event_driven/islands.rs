@@ -28,9 +28,10 @@ use crate::scene::{BodyRef, Frame, LEDGER_TERMS, Restricted, Scene};
 use nalgebra::DVector;
 use std::time::Instant;
 
-/// Whether `scene` runs by islands: asked for, and at least two islands.
+/// Whether `scene` runs by islands: asked for (one island too: its windows and steps are then
+/// those it has beside others, so that a simplification of the others changes nothing of it).
 pub(super) fn eligible(scene: &Scene) -> bool {
-    scene.settings.islands && scene.islands().len() >= 2
+    scene.settings.islands && !scene.islands().is_empty()
 }
 
 /// An open contact between two islands (with its seat's edge, if it has one), and where each
