@@ -32,7 +32,7 @@ fn one_run(pga: f64) -> (String, PathBuf) {
     (doc.to_string(), path)
 }
 
-fn ladder(text: &str, path: &PathBuf, fix: &[&str], only: &[Simplification]) -> Adequacy {
+fn ladder(text: &str, path: &std::path::Path, fix: &[&str], only: &[Simplification]) -> Adequacy {
     let fix: Vec<String> = fix.iter().map(|s| s.to_string()).collect();
     let opts = Options {
         quantities: Vec::new(),
