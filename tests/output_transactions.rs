@@ -133,6 +133,49 @@ fn a_killed_rerun_leaves_the_previous_result_whole() {
     assert_eq!(status(&out)["t_end"], 2.0);
 }
 
+/// A disk that fills up (here: a file-size limit of 64 kB, EFBIG as ENOSPC would be, with
+/// SIGXFSZ ignored so that the write fails instead of killing the process) during a rerun: an
+/// error, no panic, and the folder still holds the previous result byte for byte, with no
+/// empty or partial file in it.
+#[cfg(unix)]
+#[test]
+fn a_rerun_that_runs_out_of_space_leaves_the_previous_result_whole() {
+    let out = dir("no-space");
+    let o = out.display().to_string();
+    let first = bin()
+        .args(["run", &model(), "--out", &o, "--set", "solver.t_end=0.5"])
+        .args(["--set", "solver.output_dt=0.05"])
+        .output()
+        .unwrap();
+    assert!(first.status.success());
+    let files = ["history.csv", "events.csv", "summary.json"];
+    let before: Vec<Vec<u8>> = files.iter().map(|f| read(&out.join(f))).collect();
+    assert!(
+        before[0].len() < 64 * 1024,
+        "the first result fits the limit"
+    );
+    let script = format!(
+        "trap '' XFSZ; ulimit -f 128; exec '{}' run '{}' --out '{o}' --set solver.t_end=3",
+        env!("CARGO_BIN_EXE_deckspin"),
+        model()
+    );
+    let r = Command::new("sh").args(["-c", &script]).output().unwrap();
+    let err = String::from_utf8_lossy(&r.stderr);
+    assert!(!r.status.success(), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(
+        err.contains(&format!("{o}: cannot write results: File too large")),
+        "{err}"
+    );
+    for (f, old) in files.iter().zip(&before) {
+        assert!(
+            read(&out.join(f)) == *old,
+            "{f} changed by the failed rerun"
+        );
+    }
+    assert_eq!(status(&out)["status"], "finished");
+}
+
 #[test]
 fn a_second_run_is_refused_and_signals_cancel_with_consistent_files() {
     for (sig, code) in [
