@@ -116,9 +116,14 @@ pub fn cmd_adequacy(a: &AdequacyArgs) -> CliResult {
     print!("{}", table(&study));
     write_atomic(a.out.join("adequacy.csv"), variants_csv(&study))?;
     write_atomic(a.out.join("adequacy-runs.csv"), runs_csv(&study))?;
-    super::show::chart(&chart(&study), &a.out.join("adequacy.svg"))?;
+    super::show::chart(&chart(&study, None), &a.out.join("adequacy.svg"))?;
+    for q in &study.quantities {
+        let (w, h) = super::show::SVG_SIZE;
+        let svg = deckspin::plot::svg::render(&chart(&study, Some(q)), w, h);
+        write_atomic(a.out.join(format!("adequacy-{q}.svg")), svg)?;
+    }
     println!(
-        "\nwrote {0}/adequacy.csv, {0}/adequacy-runs.csv, {0}/adequacy.svg",
+        "\nwrote {0}/adequacy.csv, {0}/adequacy-runs.csv, {0}/adequacy.svg (the largest error), {0}/adequacy-QUANTITY.svg (each quantity)",
         a.out.display()
     );
     if let Some(w) = &a.write {

@@ -185,13 +185,18 @@ pub fn runs_csv(s: &Adequacy) -> String {
 /// The least error drawn on the chart's log axis (an error of exactly 0 is drawn there).
 pub const CHART_FLOOR: f64 = 1e-9;
 
-/// CPU time against error: a point per variant at its largest error over the quantities
-/// (`CHART_FLOOR` for 0), the tolerance as a line.
-pub fn chart(s: &Adequacy) -> Chart {
+/// CPU time against error: a point per variant at its error in `q`, or with none its largest
+/// error over the quantities (`CHART_FLOOR` for 0), the tolerance and the full model's time as
+/// lines.
+pub fn chart(s: &Adequacy, q: Option<&str>) -> Chart {
+    let what = match q {
+        Some(q) => format!("error in {q} (relative)"),
+        None => "largest error over the quantities (relative)".into(),
+    };
     let mut c = Chart::new(
         "Model adequacy: cost against error",
         Axis::log("CPU time of the runs", "s"),
-        Axis::log("largest error over the quantities (relative)", ""),
+        Axis::log(&what, ""),
     );
     let tol = format!("{} %", 100.0 * s.tolerance);
     c.lines.push(RefLine::horizontal(s.tolerance, &tol, 7));
@@ -205,21 +210,20 @@ pub fn chart(s: &Adequacy) -> Chart {
     ];
     let glyphs: Vec<char> = ('a'..='z').collect();
     for (v, o) in s.variants.iter().enumerate() {
-        let (cpu, e) = (o.cost().cpu, s.worst(v));
-        if o.refused.is_some()
-            || cpu.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater)
-            || !e.is_finite()
-        {
+        let cpu = o.cost().cpu;
+        let e = match q {
+            Some(q) => s.error(v, q).unwrap_or(f64::NAN),
+            None => s.worst(v),
+        };
+        let positive = cpu.partial_cmp(&0.0) == Some(std::cmp::Ordering::Greater);
+        if o.refused.is_some() || !positive || !e.is_finite() {
             continue;
         }
         c.series.push(
-            Series::points(
-                &format!("{} {}", glyphs[v % glyphs.len()], o.variant.name),
-                vec![(cpu, e.max(CHART_FLOOR))],
-            )
-            .marker(markers[v % markers.len()])
-            .color(v)
-            .glyph(glyphs[v % glyphs.len()]),
+            Series::points(&o.variant.name, vec![(cpu, e.max(CHART_FLOOR))])
+                .marker(markers[v % markers.len()])
+                .color(v)
+                .glyph(glyphs[v % glyphs.len()]),
         );
     }
     c
