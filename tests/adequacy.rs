@@ -265,3 +265,37 @@ fn write_gives_a_model_that_runs_to_the_variants_numbers_and_says_why() {
     assert_eq!(r.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&r.stderr).contains("that is the model itself"));
 }
+
+#[test]
+fn bad_arguments_and_models_are_named() {
+    let (_, path) = specimen();
+    let p = path.display().to_string();
+    let out = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("adequacy-bad");
+    let o = out.display().to_string();
+    let run = |args: &[&str]| {
+        let r = Command::new(env!("CARGO_BIN_EXE_deckspin"))
+            .arg("adequacy")
+            .args(args)
+            .args(["--out", &o])
+            .output()
+            .unwrap();
+        assert_eq!(r.status.code(), Some(1), "{args:?}");
+        String::from_utf8_lossy(&r.stderr).into_owned()
+    };
+    let e = run(&[&p, "--tolerance", "0"]);
+    assert!(e.contains("--tolerance 0: a relative error above 0"), "{e}");
+    let e = run(&[&p, "--quantities", "peak_z"]);
+    assert!(e.contains("--quantities: 'peak_z' is not one of peak_rotation"), "{e}");
+    let e = run(&[&p, "--only", "rigid"]);
+    assert!(e.contains("--only 'rigid': not a simplification (rigid-abutments"), "{e}");
+    // the specimen's ε is 0 already: nothing to try
+    let e = run(&[&p, "--only", "plastic-impacts"]);
+    assert!(e.contains("no simplification of the ladder applies"), "{e}");
+    let e = run(&["/nonexistent/model.toml"]);
+    assert!(e.contains("/nonexistent/model.toml: No such file"), "{e}");
+    let e = run(&[&p, "--set", "contacts.mu=abc"]);
+    assert!(e.contains("contacts.mu"), "{e}");
+    let scene = common::model("models/validation/bouncing-ball.toml");
+    let e = run(&[&scene.display().to_string()]);
+    assert!(e.contains("it is not a bridge file"), "{e}");
+}

@@ -91,7 +91,8 @@ pub fn cmd_adequacy(a: &AdequacyArgs) -> CliResult {
             }
         }
     };
-    let text = deckspin::input::read_bounded(&a.model, deckspin::input::MAX_MODEL_BYTES)?;
+    let text = deckspin::input::read_bounded(&a.model, deckspin::input::MAX_MODEL_BYTES)
+        .map_err(|e| format!("{}: {e}", a.model.display()))?;
     if let Some(w) = &a.write
         && same_file(w, &a.model)
     {

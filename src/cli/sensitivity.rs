@@ -95,7 +95,8 @@ fn job(
     cases: &Cases,
     pairs: &[SuitePair],
 ) -> Result<JobId, Box<dyn std::error::Error>> {
-    let text = deckspin::input::read_bounded(&a.model, deckspin::input::MAX_MODEL_BYTES)?;
+    let text = deckspin::input::read_bounded(&a.model, deckspin::input::MAX_MODEL_BYTES)
+        .map_err(|e| format!("{}: {e}", a.model.display()))?;
     let mut records = Vec::new();
     for p in pairs {
         for f in [&p.longitudinal, &p.transverse] {

@@ -194,7 +194,7 @@ pub enum AdequacyError {
     #[error("--tolerance {0}: a relative error above 0 (0.05 for 5 %)")]
     Tolerance(f64),
     #[error(
-        "the model has no simplification to try: it is not a bridge file, or already as simple as the ladder goes"
+        "no simplification of the ladder applies to this model (it is not a bridge file, or its abutments, columns, contacts, keys, bearings and records are as simple as the ladder goes; with --only, among those named)"
     )]
     Nothing,
     #[error("the full model failed on {case}: {reason}")]
