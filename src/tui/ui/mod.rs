@@ -3,6 +3,7 @@
 //! series and event strips are cached ([`Cache`]) per run length, time window and plot size,
 //! so a frame stays light with 10⁵-sample histories.
 
+mod adequacy;
 mod ascii;
 mod cache;
 mod chart_head;
