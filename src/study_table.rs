@@ -2,12 +2,14 @@
 //! reads back ([`crate::study_csv`]): one row per run of the PGA study (Fig. 7: peak |θ|
 //! against PGA, with and without contact) and of the μ study (Fig. 8: peak |θ| for each μ and
 //! without contact, whose ratio is the increase), and the screening by the impact law
-//! ([`ScreenStudy`]) and the model ladder ([`Adequacy`]). [`run_study`] runs one, watched by a
-//! [`Watch`].
+//! ([`ScreenStudy`]), the model ladder ([`Adequacy`]) and the swings of the uncertain inputs
+//! ([`Sensitivity`]). [`run_study`] runs one, watched by a [`Watch`].
 
 use crate::design::adequacy::{Adequacy, Options, adequacy};
 use crate::design::cases::Cases;
 use crate::design::screen::{ScreenStudy, screen_study};
+use crate::design::sensitivity::{self, Choice};
+use crate::design::swings::Sensitivity;
 use crate::precision_study::{PrecisionTable, run_precision};
 use crate::studies::{Row, RunFailure, Study, Watch, increase_vs_mu, rotation_vs_pga, run_pgas};
 use crate::suite::intensity::MeasureSpec;
@@ -35,17 +37,21 @@ pub enum StudyKind {
     /// Model adequacy: the model ladder on the model's `[[run]]`s, each variant's error per
     /// quantity against the full model and its cost ([`crate::design::adequacy`]).
     Adequacy,
+    /// Sensitivity: every default uncertain input at its low and high value on the model's
+    /// `[[run]]`s, the swings and their tornado ([`crate::design::sensitivity`]).
+    Sensitivity,
 }
 
 impl StudyKind {
     /// Every study, in the order the workbench lists them.
-    pub const ALL: [StudyKind; 6] = [
+    pub const ALL: [StudyKind; 7] = [
         StudyKind::Pga,
         StudyKind::Mu,
         StudyKind::Screen,
         StudyKind::Suite,
         StudyKind::Precision,
         StudyKind::Adequacy,
+        StudyKind::Sensitivity,
     ];
 
     /// The name of its CSV files (`pga-3.csv`) and the value of their `study` column.
@@ -57,6 +63,7 @@ impl StudyKind {
             StudyKind::Screen => "screen",
             StudyKind::Precision => "precision",
             StudyKind::Adequacy => "adequacy",
+            StudyKind::Sensitivity => "sensitivity",
         }
     }
 }
@@ -335,6 +342,9 @@ pub enum StudyTable {
     Precision(PrecisionTable),
     /// The model ladder measured (it comes whole: the errors need every run).
     Adequacy(Box<Adequacy>),
+    /// The swings (runs cancelled before they started are refused as
+    /// [`crate::suite::CANCELLED`]).
+    Sensitivity(Box<Sensitivity>),
 }
 
 impl StudyTable {
@@ -344,11 +354,12 @@ impl StudyTable {
             StudyTable::Screen(_) => StudyKind::Screen,
             StudyTable::Precision(_) => StudyKind::Precision,
             StudyTable::Adequacy(_) => StudyKind::Adequacy,
+            StudyTable::Sensitivity(_) => StudyKind::Sensitivity,
         }
     }
 
     /// (runs done, runs in all): the screening counts as one; the ladder's runs are all done
-    /// (its table comes whole).
+    /// (its table comes whole); the swings' runs cancelled before they started are not.
     pub fn progress(&self) -> (usize, usize) {
         match self {
             StudyTable::Runs(t) => (t.done(), t.runs.len()),
@@ -360,14 +371,19 @@ impl StudyTable {
                     .sum();
                 (runs, runs)
             }
+            StudyTable::Sensitivity(s) => {
+                let cancelled = SuiteStatus::Refused(CANCELLED.into());
+                let done = s.rows.iter().filter(|r| r.status != cancelled).count();
+                (done, s.rows.len())
+            }
         }
     }
 }
 
 /// Runs study `kind` of `study` (μ values `mus` for the μ study), telling `progress` of each
 /// row by its index in the table ([`RunTable::pga_plan`], [`RunTable::mu_plan`]); the
-/// screening compiles the model once and runs nothing; the ladder counts its runs to
-/// `progress` (`plan`, `done`). The table is complete, rows skipped by a cancel marked
+/// screening compiles the model once and runs nothing; the ladder and the swings count their
+/// runs to `progress` (`plan`, `done`). The table is complete, rows skipped by a cancel marked
 /// [`PointStatus::NotRun`] (a ladder cancelled has no table: an error).
 pub fn run_study(
     kind: StudyKind,
@@ -418,6 +434,18 @@ pub fn run_study(
                 progress,
             );
             StudyTable::Adequacy(Box::new(a.map_err(|e| e.to_string())?))
+        }
+        StudyKind::Sensitivity => {
+            let (cases, choice) = (Cases::ModelRuns, Choice::default());
+            let s = sensitivity::Study::from_text(
+                &study.text,
+                &study.path,
+                &study.base,
+                &cases,
+                &choice,
+            )
+            .map_err(|e| e.to_string())?;
+            StudyTable::Sensitivity(Box::new(s.run(progress)))
         }
     })
 }

@@ -238,6 +238,7 @@ fn every_study_and_page_name_is_on_screen_at_80_columns() {
         "suite",
         "work-precision",
         "adequacy",
+        "sensitivity",
         "energy",
         "contacts",
         "modes",
@@ -332,16 +333,17 @@ fn snapshot_studies_pga_table_80x24() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// the design studies: the model ladder
+// the design studies: the model ladder and the swings of the uncertain inputs
 
 use deckspin::design::adequacy::Adequacy;
+use deckspin::design::swings::Sensitivity;
 use deckspin::tui::study::{Phase, StudySpec};
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 /// The workbench on the specimen bridge with its runs cut to 3 s through the form (typed
-/// into `solver.t_end`, not saved: its ladder takes a second or two), in the studies view on
-/// `kind`.
+/// into `solver.t_end`, not saved: its ladder and its swings take a second or two), in the
+/// studies view on `kind`.
 fn design_app(kind: StudyKind) -> App {
     let mut app = App::new_from_text(&read(&bridge_path()), Path::new("models/four-span.toml"));
     app.view = View::Form;
@@ -375,12 +377,13 @@ fn start_design(app: &mut App) -> (u64, Box<StudySpec>) {
     }
 }
 
-/// The worker's messages of `kind` on the short specimen (run once): its progress counts and
-/// its table.
+/// The worker's messages of `kind` on the short specimen (run once per kind): its progress
+/// counts and its table.
 fn design_run(kind: StudyKind) -> &'static (Vec<(usize, usize)>, StudyTable) {
     static L: OnceLock<(Vec<(usize, usize)>, StudyTable)> = OnceLock::new();
-    assert_eq!(kind, StudyKind::Adequacy);
-    L.get_or_init(|| {
+    static S: OnceLock<(Vec<(usize, usize)>, StudyTable)> = OnceLock::new();
+    let cell = if kind == StudyKind::Adequacy { &L } else { &S };
+    cell.get_or_init(|| {
         let mut app = design_app(kind);
         let (id, spec) = start_design(&mut app);
         assert_eq!(spec.text, app.draft, "the form's model, its edit included");
@@ -403,6 +406,13 @@ fn design_run(kind: StudyKind) -> &'static (Vec<(usize, usize)>, StudyTable) {
 fn ladder() -> &'static Adequacy {
     match &design_run(StudyKind::Adequacy).1 {
         StudyTable::Adequacy(a) => a,
+        t => panic!("{t:?}"),
+    }
+}
+
+fn swings() -> &'static Sensitivity {
+    match &design_run(StudyKind::Sensitivity).1 {
+        StudyTable::Sensitivity(s) => s,
         t => panic!("{t:?}"),
     }
 }
@@ -626,57 +636,133 @@ fn applying_a_variant_edits_the_form_and_one_undo_takes_it_back() {
 }
 
 #[test]
-fn esc_cancels_the_ladder() {
-    let kind = StudyKind::Adequacy;
-    let mut app = design_app(kind);
-    let (id, spec) = start_design(&mut app);
-    // the worker, its flag raised after a few runs as Esc would
-    let cancel = AtomicBool::new(false);
-    let sent = Mutex::new(Vec::new());
-    let send = |m: Msg| {
-        if let Msg::StudyProgress { done, .. } = m
-            && done >= 4
-        {
-            cancel.store(true, Ordering::SeqCst);
+fn esc_cancels_the_design_studies() {
+    for kind in [StudyKind::Adequacy, StudyKind::Sensitivity] {
+        let mut app = design_app(kind);
+        let (id, spec) = start_design(&mut app);
+        // the worker, its flag raised after a few runs as Esc would
+        let cancel = AtomicBool::new(false);
+        let sent = Mutex::new(Vec::new());
+        let send = |m: Msg| {
+            if let Msg::StudyProgress { done, .. } = m
+                && done >= 4
+            {
+                cancel.store(true, Ordering::SeqCst);
+            }
+            sent.lock().unwrap().push(m);
+        };
+        let done = tui::study_worker::run(id, &spec, &cancel, &send);
+        let sent = sent.into_inner().unwrap();
+        let progress: Vec<(usize, usize)> = (sent.iter())
+            .filter_map(|m| match m {
+                Msg::StudyProgress { done, all, .. } => Some((*done, *all)),
+                _ => None,
+            })
+            .collect();
+        assert!(!progress.is_empty(), "{kind:?}: its progress");
+        for m in sent {
+            update(&mut app, m);
         }
-        sent.lock().unwrap().push(m);
-    };
-    let done = tui::study_worker::run(id, &spec, &cancel, &send);
-    let sent = sent.into_inner().unwrap();
-    assert!(
-        sent.iter().any(|m| matches!(m, Msg::StudyProgress { .. })),
-        "its progress"
-    );
-    for m in sent {
-        update(&mut app, m);
+        let fx = update(&mut app, code(KeyCode::Esc));
+        assert!(
+            matches!(fx.as_slice(), [Effect::CancelStudy { id: i }] if *i == id),
+            "{fx:?}"
+        );
+        let s = screen(&render(&mut app, 80, 24));
+        assert!(s.contains("cancelling after"), "{s}");
+        let fx = update(&mut app, done);
+        let e = app.studies.entry(kind).unwrap();
+        assert_eq!(e.phase, Phase::Cancelled, "{kind:?}");
+        match kind {
+            // the ladder keeps nothing (its errors need every run), writes nothing
+            StudyKind::Adequacy => {
+                assert!(fx.is_empty() && e.table.is_none(), "{fx:?}");
+                assert!(
+                    app.status.contains("adequacy cancelled: nothing kept"),
+                    "{}",
+                    app.status
+                );
+                let s = screen(&render(&mut app, 80, 24));
+                assert!(
+                    s.contains(">adequacy: cancelled") && s.contains("nothing kept"),
+                    "{s}"
+                );
+            }
+            // the swings keep the runs that finished, their CSV written
+            _ => {
+                let (done, all) = e.progress();
+                assert!(done > 0 && done < all, "{done}/{all}");
+                assert!(
+                    matches!(fx.as_slice(), [Effect::WriteStudy { .. }]),
+                    "{fx:?}"
+                );
+                let s = screen(&render(&mut app, 80, 24));
+                assert!(s.contains(">sensitivity: cancelled"), "{s}");
+            }
+        }
+        // it can run again
+        assert!(matches!(
+            act(&mut app, Action::StudyRun).as_slice(),
+            [Effect::StartStudy { .. }]
+        ));
     }
-    let fx = update(&mut app, code(KeyCode::Esc));
+}
+
+#[test]
+fn the_swings_run_in_a_worker_and_n_shows_the_next_quantity() {
+    let (counts, table) = design_run(StudyKind::Sensitivity);
+    let s = swings();
+    let last = *counts.last().unwrap();
+    assert_eq!(last, (s.rows.len(), s.rows.len()));
+    assert_eq!(s.cases(), 7);
+    assert!(s.failed().is_empty());
+    let mut app = design_done(StudyKind::Sensitivity, table.clone());
     assert!(
-        matches!(fx.as_slice(), [Effect::CancelStudy { id: i }] if *i == id),
-        "{fx:?}"
-    );
-    let s = screen(&render(&mut app, 80, 24));
-    assert!(s.contains("cancelling after"), "{s}");
-    // it keeps nothing (its errors need every run), writes nothing
-    let fx = update(&mut app, done);
-    let e = app.studies.entry(kind).unwrap();
-    assert_eq!(e.phase, Phase::Cancelled);
-    assert!(fx.is_empty() && e.table.is_none(), "{fx:?}");
-    assert!(
-        app.status.contains("adequacy cancelled: nothing kept"),
+        app.status.contains("sensitivity finished"),
         "{}",
         app.status
     );
-    let s = screen(&render(&mut app, 80, 24));
+    // every input, widest swing of the first quantity first, with its tornado bar
+    let order = deckspin::tui::design_rows::order(s, 0);
+    let sc = lines(&render(&mut app, 80, 24));
+    let screen_text = sc.join("\n");
+    assert!(screen_text.contains(&s.quantities[0]), "{screen_text}");
+    let rows: Vec<usize> = (order.iter())
+        .map(|&i| {
+            let name = &s.inputs[i].input.name;
+            (sc.iter().position(|l| l[1..].starts_with(name.as_str())))
+                .unwrap_or_else(|| panic!("{name}\n{screen_text}"))
+        })
+        .collect();
+    assert!(rows.windows(2).all(|w| w[0] < w[1]), "{rows:?}");
+    let widest = &sc[rows[0]];
     assert!(
-        s.contains(">adequacy: cancelled") && s.contains("nothing kept"),
-        "{s}"
+        widest.starts_with('>') && widest.contains('#') && widest.contains('='),
+        "{widest}"
     );
-    // it can run again
-    assert!(matches!(
-        act(&mut app, Action::StudyRun).as_slice(),
-        [Effect::StartStudy { .. }]
-    ));
+    // the tornado's numbers: the swing of the widest input
+    let sw = &s.inputs[order[0]].swings[0];
+    let swing = deckspin::tui::study_points::cell(sw.swing().unwrap());
+    assert!(widest.contains(&swing), "{swing} {widest}");
+    // n: the next quantity, the row at the cursor keeps its input; round to the first
+    update(&mut app, key('j'));
+    let input = order[1];
+    let n = s.quantities.len();
+    update(&mut app, key('n'));
+    let want = format!("sensitivity: the tornado of {} (2/{n})", s.quantities[1]);
+    assert!(app.status.starts_with(&want), "{}", app.status);
+    let order1 = deckspin::tui::design_rows::order(s, 1);
+    assert_eq!(order1[app.studies.cursor()], input);
+    let sc = screen(&render(&mut app, 80, 24));
+    assert!(
+        sc.contains(&format!("{} (2/{n}; n the next)", s.quantities[1])),
+        "{sc}"
+    );
+    for _ in 1..n {
+        update(&mut app, key('n'));
+    }
+    assert_eq!(app.studies.quantity, 0);
+    assert_eq!(order[app.studies.cursor()], input);
 }
 
 #[test]
@@ -689,21 +775,28 @@ fn the_design_studies_write_their_csv_and_are_not_reopened() {
     let mut app = App::new_from_text(&read(&model), &model);
     app.view = View::Studies;
     let dirs = deckspin::tui::out_folder::out_dirs(&model);
-    let table = Box::new(design_run(StudyKind::Adequacy).1.clone());
-    let fx = vec![Effect::WriteStudy { id: 0, dirs, table }];
-    tui::execute_blocking(&mut app, fx);
+    for kind in [StudyKind::Adequacy, StudyKind::Sensitivity] {
+        let table = Box::new(design_run(kind).1.clone());
+        let fx = vec![Effect::WriteStudy {
+            id: 0,
+            dirs: dirs.clone(),
+            table,
+        }];
+        tui::execute_blocking(&mut app, fx);
+    }
     let out = d.join("models/four-span.out");
     assert_eq!(
         read(&out.join("adequacy-1.csv")),
         deckspin::design::adequacy_report::variants_csv(ladder())
     );
+    assert_eq!(read(&out.join("sensitivity-1.csv")), swings().csv());
     // listed with the others; opened, each says why it is not read back
     let fx = update(&mut app, key('f'));
     tui::execute_blocking(&mut app, fx);
     let Mode::Pick { files, .. } = &app.mode else {
         panic!("{:?} {}", app.mode, app.status)
     };
-    assert_eq!(files.len(), 1, "{files:?}");
+    assert_eq!(files.len(), 2, "{files:?}");
     let fx = update(&mut app, code(KeyCode::Enter));
     tui::execute_blocking(&mut app, fx);
     assert!(
@@ -731,10 +824,16 @@ fn render_panels(
 
 #[test]
 fn the_design_studies_are_drawn_in_ascii_by_their_panels() {
-    let apps = [design_done(
-        StudyKind::Adequacy,
-        StudyTable::Adequacy(Box::new(steady(ladder()))),
-    )];
+    let apps = [
+        design_done(
+            StudyKind::Adequacy,
+            StudyTable::Adequacy(Box::new(steady(ladder()))),
+        ),
+        design_done(
+            StudyKind::Sensitivity,
+            design_run(StudyKind::Sensitivity).1.clone(),
+        ),
+    ];
     for mut app in apps {
         app.ascii = true;
         update(&mut app, key('j'));
@@ -756,4 +855,14 @@ fn snapshot_studies_adequacy_80x24() {
     go_to_row(&mut app, row_of("rigid-abutments"));
     let t = render(&mut app, 80, 24);
     snapshot_settings().bind(|| insta::assert_snapshot!("studies_adequacy_80x24", t.backend()));
+}
+
+#[test]
+fn snapshot_studies_sensitivity_80x24() {
+    let mut app = design_done(
+        StudyKind::Sensitivity,
+        design_run(StudyKind::Sensitivity).1.clone(),
+    );
+    let t = render(&mut app, 80, 24);
+    snapshot_settings().bind(|| insta::assert_snapshot!("studies_sensitivity_80x24", t.backend()));
 }

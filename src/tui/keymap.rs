@@ -64,6 +64,8 @@ pub enum Action {
     /// The ladder's selected variant applied to the form's model / taken back.
     StudyApply,
     StudyUndo,
+    /// The tornado's next quantity.
+    StudyQuantity,
     PickUp,
     PickDown,
     PickLoad,
@@ -361,6 +363,7 @@ pub const KEYMAP: &[Binding] = &[
     b(Ctx::Studies, &[K::Ch(']')], "]", A::StudyPointNext, "cursor to the next point", Some(("[ ]", "point"))),
     b(Ctx::Studies, &[K::Ch('a')], "a", A::StudyApply, "adequacy: apply the variant", None),
     b(Ctx::Studies, &[K::Ch('u')], "u", A::StudyUndo, "undo the variant applied", None),
+    b(Ctx::Studies, &[K::Ch('n')], "n", A::StudyQuantity, "sensitivity: next quantity", None),
     // the run list
     b(Ctx::Runs, &[K::Code(KC::Up), K::Ch('k')], "Up/k", A::RunUp, "previous run", None),
     b(Ctx::Runs, &[K::Code(KC::Down), K::Ch('j')], "Down/j", A::RunDown, "next run", Some(("j/k", "run"))),

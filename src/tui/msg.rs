@@ -100,7 +100,7 @@ pub enum Msg {
         index: usize,
         row: Box<Row>,
     },
-    /// Study `id` (one whose table comes whole at its end: the ladder) has done
+    /// Study `id` (one whose table comes whole at its end: the ladder, the swings) has done
     /// `done` of its `all` runs.
     StudyProgress {
         id: u64,

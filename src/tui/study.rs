@@ -44,7 +44,7 @@ pub struct Entry {
     /// Where its CSV was written (or the CSV it was read from).
     pub csv: Option<PathBuf>,
     /// (runs done, runs planned) as its worker counts them, for a study whose table comes
-    /// whole at its end (the ladder).
+    /// whole at its end (the ladder, the swings).
     pub count: (usize, usize),
 }
 
@@ -89,9 +89,12 @@ pub struct Studies {
     /// number of pairs.
     pub suite: Option<SuiteSubset>,
     /// The cursor of each study (in [`StudyKind::ALL`]'s order): a row of its table of
-    /// points (`super::study_points`), moved by `[` and `]` (the rows of the ladder's table by
-    /// `j`/`k` too).
+    /// points (`super::study_points`), moved by `[` and `]` (the rows of the ladder's and the
+    /// swings' tables by `j`/`k` too).
     pub cursor: Vec<usize>,
+    /// The quantity of the swings' table and tornado (an index into their quantities), `n`
+    /// the next.
+    pub quantity: usize,
     /// The ladder's variant last applied to the form, which `u` takes back.
     pub applied: Option<Applied>,
 }
@@ -117,6 +120,7 @@ impl Default for Studies {
             mus: crate::studies::fig8_mus(),
             suite: None,
             cursor: vec![0; StudyKind::ALL.len()],
+            quantity: 0,
             applied: None,
         }
     }
@@ -174,6 +178,7 @@ pub fn title(kind: StudyKind) -> &'static str {
         StudyKind::Screen => "screen",
         StudyKind::Precision => "work-precision",
         StudyKind::Adequacy => "adequacy",
+        StudyKind::Sensitivity => "sensitivity",
     }
 }
 
@@ -186,6 +191,7 @@ pub fn short_title(kind: StudyKind) -> &'static str {
         StudyKind::Screen => "screen",
         StudyKind::Precision => "precision",
         StudyKind::Adequacy => "adequacy",
+        StudyKind::Sensitivity => "sensitivity",
     }
 }
 
@@ -224,6 +230,12 @@ pub fn what(kind: StudyKind) -> &'static str {
              the full model, its CPU time, and the cheapest within 5 %. a applies the selected \
              variant to the form as an edit, u takes it back."
         }
+        StudyKind::Sensitivity => {
+            "Sensitivity (deckspin sensitivity): every default uncertain input (gaps, mu, \
+             restitution, stiffnesses, damping, the PGA, ...) at its low and its high value on \
+             the model's [[run]]s; the swing of each quantity's median, widest first, and its \
+             tornado; n shows the next quantity."
+        }
     }
 }
 
@@ -242,9 +254,11 @@ pub fn plan(
             let pairs = suite.read_pairs()?;
             RunTable::suite_plan(pairs.len(), &suite.levels)
         }
-        // the screening's and the ladder's tables come whole; work-precision's plan needs the
-        // compiled model
-        StudyKind::Screen | StudyKind::Precision | StudyKind::Adequacy => return Ok(None),
+        // the screening's, the ladder's and the swings' tables come whole; work-precision's
+        // plan needs the compiled model
+        StudyKind::Screen | StudyKind::Precision | StudyKind::Adequacy | StudyKind::Sensitivity => {
+            return Ok(None);
+        }
     };
     if table.runs.is_empty() {
         return Err(format!(

@@ -2,7 +2,7 @@
 //! own, with its runs on a pool of threads named like the simulation's (a panic there is
 //! reported, the terminal left alone). Each row is a [`Msg::StudyRow`] as soon as it is
 //! final; the end a [`Msg::StudyDone`] with the whole table. A study whose table comes whole
-//! at its end (the ladder) counts its runs in [`Msg::StudyProgress`] instead. A
+//! at its end (the ladder, the swings) counts its runs in [`Msg::StudyProgress`] instead. A
 //! cancel flag, read before each run starts, skips the runs not started.
 
 use super::form::shown_error;
@@ -92,7 +92,7 @@ pub fn run(id: u64, spec: &StudySpec, cancel: &AtomicBool, send: &(dyn Fn(Msg) +
             id,
             cancel,
             send,
-            count: spec.kind == StudyKind::Adequacy,
+            count: matches!(spec.kind, StudyKind::Adequacy | StudyKind::Sensitivity),
             done: AtomicUsize::new(0),
             all: AtomicUsize::new(0),
         };

@@ -29,6 +29,7 @@ mod studies;
 mod study_numbers;
 mod time;
 mod timeline;
+mod tornado;
 mod xy_plot;
 
 pub use ascii::{ascii_only, ascii_symbol};

@@ -1,7 +1,8 @@
 //! The studies view: the list of studies on one line (the selected one marked `>`), the
 //! selected study's state on the next (progress, counts, its CSV), and its panel: titled with
 //! where its model came from, its figure (Fig. 7, Fig. 8, the screening maps, the ladder's
-//! table and chart) or what it does before it has run. Also the list of CSVs to reopen.
+//! table and chart, the swings' tornado) or what it does before it has run. Also the list of
+//! CSVs to reopen.
 
 use super::common::{Theme, fit};
 use super::screen_map::draw_screen;
@@ -63,15 +64,18 @@ pub(super) fn draw_studies(frame: &mut Frame, area: Rect, app: &App, th: &Theme)
     let view = PanelView {
         grid: app.results.grid,
         cursor: app.studies.cursor(),
+        quantity: app.studies.quantity,
     };
     draw_panel(frame, panel, kind, entry, &next, view, th);
 }
 
-/// How the panel is shown: work-precision's chart or grid, the cursor's row.
+/// How the panel is shown: work-precision's chart or grid, the cursor's row, the swings'
+/// quantity.
 #[derive(Clone, Copy)]
 struct PanelView {
     grid: bool,
     cursor: usize,
+    quantity: usize,
 }
 
 /// A study's state in a word or two.
@@ -92,8 +96,8 @@ fn state(e: Option<&Entry>) -> String {
 }
 
 /// The list of studies and results pages, every name always shown: on one line when all fit
-/// with their states, else the paper's studies on one line and the design studies (adequacy)
-/// with the results pages on the next; a line too narrow for every state keeps
+/// with their states, else the paper's studies on one line and the design studies (adequacy,
+/// sensitivity) with the results pages on the next; a line too narrow for every state keeps
 /// the selected one's and the others' that say more than "not run" / "not computed", then the
 /// names alone (the state line under the list gives the selected one's), on two lines when
 /// even they do not fit.
@@ -243,6 +247,7 @@ fn panel_title(kind: StudyKind, e: Option<&Entry>, next: &str) -> Vec<String> {
         StudyKind::Screen => "screening by the impact law",
         StudyKind::Precision => "work-precision and stability",
         StudyKind::Adequacy => "model adequacy: the ladder's cost against its error",
+        StudyKind::Sensitivity => "sensitivity: the swings and their tornado",
     };
     let source = match e.map(|e| &e.source) {
         None => next.to_string(),
@@ -299,11 +304,15 @@ fn draw_panel(
         (Some(t @ StudyTable::Precision(p)), _) if p.progress().0 > 0 => {
             draw_with_numbers(frame, inner, t, view, th)
         }
-        (Some(t @ StudyTable::Adequacy(_)), _) => draw_figure(frame, inner, t, view, None, th),
+        (Some(t @ (StudyTable::Adequacy(_) | StudyTable::Sensitivity(_))), _) => {
+            draw_figure(frame, inner, t, view, None, th)
+        }
         (_, Some(Phase::Running | Phase::Cancelling)) => {
             let t = match kind {
                 StudyKind::Screen => th.text("computing the screening…"),
-                StudyKind::Adequacy => th.text("its table comes when every run is done…"),
+                StudyKind::Adequacy | StudyKind::Sensitivity => {
+                    th.text("its table comes when every run is done…")
+                }
                 _ => th.text("no run finished yet…"),
             };
             frame.render_widget(Paragraph::new(t), inner);
@@ -361,6 +370,10 @@ fn draw_figure(
         StudyTable::Screen(s) => return draw_screen(frame, area, s, th),
         StudyTable::Adequacy(a) => {
             return super::adequacy::draw_adequacy(frame, area, a, view.cursor, th);
+        }
+        StudyTable::Sensitivity(s) => {
+            let at = (view.quantity, view.cursor);
+            return super::tornado::draw_tornado(frame, area, s, at, th);
         }
     };
     let mut plot = match t.kind {

@@ -1,18 +1,21 @@
-//! The keys of the design studies: `j`/`k` (and `[`/`]`) the selected row of the ladder's
-//! table, `a` the selected variant of the ladder applied to the form's model as an unsaved edit
-//! (each change marked by a comment), `u` taking it back whole.
+//! The keys of the two design studies: `j`/`k` (and `[`/`]`) the selected row of the ladder's
+//! or the swings' table, `n` the swings' next quantity, `a` the selected variant of the ladder
+//! applied to the form's model as an unsaved edit (each change marked by a comment), `u` taking
+//! it back whole.
 
+use crate::design::swings::Sensitivity;
 use crate::study_table::{StudyKind, StudyTable};
 use crate::tui::app::{App, StatusKind};
-use crate::tui::design_rows::{rows, variant_of_row};
+use crate::tui::design_rows::{order, quantity, rows, variant_of_row};
 use crate::tui::form;
 use crate::tui::keymap::Action;
-use crate::tui::study::Applied;
+use crate::tui::study::{Applied, Studies};
 
-/// The keys of the design studies (`a`, `u`).
+/// The keys of the design studies (`a`, `n`, `u`).
 pub(super) fn action(app: &mut App, a: Action) {
     match a {
         Action::StudyApply => apply(app),
+        Action::StudyQuantity => next_quantity(app),
         Action::StudyUndo => undo(app),
         _ => {}
     }
@@ -34,14 +37,14 @@ fn undo(app: &mut App) {
     app.set_status(StatusKind::Info, msg);
 }
 
-/// The selected study's table when it is the ladder's.
+/// The selected study's table when it is the ladder's or the swings'.
 fn table(app: &App) -> Option<&StudyTable> {
     let t = app.studies.entry(app.studies.kind())?.table.as_ref()?;
     rows(t).map(|_| t)
 }
 
-/// `j`/`k`, `[`/`]` on the ladder: the cursor to the next or previous row (held at the ends);
-/// false when the selected study is another or has no table yet.
+/// `j`/`k`, `[`/`]` on the ladder or the swings: the cursor to the next or previous row (held
+/// at the ends); false when the selected study is neither or has no table yet.
 pub(super) fn step_row(app: &mut App, down: bool) -> bool {
     let Some(n) = table(app).and_then(rows) else {
         return false;
@@ -55,6 +58,39 @@ pub(super) fn step_row(app: &mut App, down: bool) -> bool {
     };
     app.generation += 1;
     true
+}
+
+/// `n`: the sensitivity study (selected if it was not) shows the next quantity of its swings; the row
+/// at the cursor keeps its input.
+fn next_quantity(app: &mut App) {
+    app.studies.selected = Studies::index_of(StudyKind::Sensitivity);
+    app.results.page = None;
+    app.generation += 1;
+    let s: Sensitivity = match table(app) {
+        Some(StudyTable::Sensitivity(s)) if !s.quantities.is_empty() => (**s).clone(),
+        _ => {
+            let msg = "the sensitivity study has no swings yet: Enter runs it on the form's model";
+            app.set_status(StatusKind::Info, msg);
+            return;
+        }
+    };
+    let q = quantity(&s, app.studies.quantity);
+    let next = (q + 1) % s.quantities.len();
+    let i = app.studies.selected;
+    let input = order(&s, q).get(app.studies.cursor[i]).copied();
+    app.studies.quantity = next;
+    if let Some(input) = input {
+        app.studies.cursor[i] = (order(&s, next).iter())
+            .position(|&k| k == input)
+            .unwrap_or(0);
+    }
+    let msg = format!(
+        "sensitivity: the tornado of {} ({}/{}), n the next",
+        s.quantities[next],
+        next + 1,
+        s.quantities.len()
+    );
+    app.set_status(StatusKind::Info, msg);
 }
 
 /// `a`: the ladder's variant at the cursor applied to the form's draft (each change marked

@@ -241,6 +241,7 @@ fn on_action(app: &mut App, a: Action) -> Vec<Effect> {
         | A::StudyPointNext
         | A::StudyApply
         | A::StudyUndo
+        | A::StudyQuantity
         | A::PickUp
         | A::PickDown
         | A::PickLoad

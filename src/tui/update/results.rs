@@ -156,7 +156,7 @@ pub(super) fn action(app: &mut App, a: Action) -> Vec<Effect> {
             }
         }
         (Action::ResultUp | Action::ResultDown, None) => {
-            // the rows of the ladder's table
+            // the rows of the ladder's and the swings' tables
             super::design::step_row(app, down);
             return Vec::new();
         }

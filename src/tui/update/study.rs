@@ -45,7 +45,9 @@ pub(super) fn study_action(app: &mut App, a: Action) -> Vec<Effect> {
         Action::StudyPointPrev | Action::StudyPointNext => {
             step_point(app, a == Action::StudyPointNext)
         }
-        Action::StudyApply | Action::StudyUndo => super::design::action(app, a),
+        Action::StudyApply | Action::StudyUndo | Action::StudyQuantity => {
+            super::design::action(app, a)
+        }
         Action::StudyCancel => {
             if let Some(fx) = super::results::cancel(app) {
                 return fx;
@@ -205,7 +207,7 @@ pub(super) fn on_row(app: &mut App, id: u64, index: usize, row: &Row) -> Vec<Eff
     Vec::new()
 }
 
-/// Study `id` (the ladder) has done `done` of its `all` runs.
+/// Study `id` (the ladder, the swings) has done `done` of its `all` runs.
 pub(super) fn on_progress(app: &mut App, id: u64, done: usize, all: usize) -> Vec<Effect> {
     if let Some(e) = app
         .studies
@@ -235,6 +237,15 @@ fn counts(e: &Entry) -> String {
         }
         Some(StudyTable::Adequacy(a)) => {
             format!("{} variants on {} runs", a.variants.len(), a.cases.len())
+        }
+        Some(t @ StudyTable::Sensitivity(s)) => {
+            let (done, all) = t.progress();
+            let failed = (s.failed().len()).saturating_sub(all - done);
+            let failed = match failed {
+                0 => String::new(),
+                f => format!(", {f} failed"),
+            };
+            format!("{done} of {all} runs{failed}")
         }
         None => "nothing".into(),
     }
