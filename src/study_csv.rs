@@ -17,8 +17,15 @@
 //! acute corner's θ̇⁺ L / v), `end` (a flush end of the model, `name` its two contacts joined by
 //! ` + `) or `corner_rigid` / `corner_body` (a corner struck alone against a rigid face or the
 //! face's own body: `outcome` `sticks`, `slides` or `none` with the `note`).
+//!
+//! The model ladder, one line per model (the full one first): `deckspin adequacy`'s
+//! `adequacy.csv` ([`crate::design::adequacy_report::variants_csv`]); the swings, one line per
+//! input and quantity: `deckspin sensitivity`'s `sensitivity.csv` ([`Sensitivity::csv`]).
+//! Neither is read back: the ladder's variants need the model's text, the swings their runs.
 
+use crate::design::adequacy_report::variants_csv;
 use crate::design::screen::{CornerAlone, Flush, MapCell, ModelEnd, ScreenStudy};
+use crate::design::swings::{SUMMARY_HEADER, Sensitivity};
 use crate::output::number::Numbers;
 use crate::precision_study;
 use crate::study_table::{PointStatus, RunTable, StudyKind, StudyRun, StudyTable};
@@ -78,6 +85,8 @@ pub fn to_csv(table: &StudyTable) -> String {
         StudyTable::Runs(t) => write_runs(&mut w, t, &mut num),
         StudyTable::Screen(s) => write_screen(&mut w, s, &mut num),
         StudyTable::Precision(t) => precision_study::write_rows(&mut w, t, &mut num),
+        StudyTable::Adequacy(a) => return variants_csv(a),
+        StudyTable::Sensitivity(s) => return Sensitivity::csv(s),
     };
     // writing to memory fails only on a bug of the csv crate: keep what was written
     let _ = result;
@@ -257,6 +266,19 @@ pub fn read_csv(text: &str, path: &Path) -> Result<StudyTable, StudyCsvError> {
         return (precision_study::read_rows(body))
             .map(StudyTable::Precision)
             .map_err(|(line, e)| bad(line, e));
+    }
+    let written = |what: &str| {
+        let why = format!(
+            "the {what} study's CSV: written for reading elsewhere, not reopened here (Enter \
+             runs the study again)"
+        );
+        Err(bad(1, why))
+    };
+    if head.starts_with(&["variant", "status", "cpu_s", "steps", "events", "speedup"]) {
+        return written("model adequacy");
+    }
+    if head == SUMMARY_HEADER {
+        return written("sensitivity");
     }
     Err(bad(
         1,

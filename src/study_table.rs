@@ -2,9 +2,14 @@
 //! reads back ([`crate::study_csv`]): one row per run of the PGA study (Fig. 7: peak |θ|
 //! against PGA, with and without contact) and of the μ study (Fig. 8: peak |θ| for each μ and
 //! without contact, whose ratio is the increase), and the screening by the impact law
-//! ([`ScreenStudy`]). [`run_study`] runs one, watched by a [`Watch`].
+//! ([`ScreenStudy`]), the model ladder ([`Adequacy`]) and the swings of the uncertain inputs
+//! ([`Sensitivity`]). [`run_study`] runs one, watched by a [`Watch`].
 
+use crate::design::adequacy::{Adequacy, Options, adequacy};
+use crate::design::cases::Cases;
 use crate::design::screen::{ScreenStudy, screen_study};
+use crate::design::sensitivity::{self, Choice};
+use crate::design::swings::Sensitivity;
 use crate::precision_study::{PrecisionTable, run_precision};
 use crate::studies::{Row, RunFailure, Study, Watch, increase_vs_mu, rotation_vs_pga, run_pgas};
 use crate::suite::intensity::MeasureSpec;
@@ -29,16 +34,24 @@ pub enum StudyKind {
     /// Work–precision and stability: every method over its quick knobs against the
     /// event-driven reference ([`crate::precision_study`]).
     Precision,
+    /// Model adequacy: the model ladder on the model's `[[run]]`s, each variant's error per
+    /// quantity against the full model and its cost ([`crate::design::adequacy`]).
+    Adequacy,
+    /// Sensitivity: every default uncertain input at its low and high value on the model's
+    /// `[[run]]`s, the swings and their tornado ([`crate::design::sensitivity`]).
+    Sensitivity,
 }
 
 impl StudyKind {
     /// Every study, in the order the workbench lists them.
-    pub const ALL: [StudyKind; 5] = [
+    pub const ALL: [StudyKind; 7] = [
         StudyKind::Pga,
         StudyKind::Mu,
         StudyKind::Screen,
         StudyKind::Suite,
         StudyKind::Precision,
+        StudyKind::Adequacy,
+        StudyKind::Sensitivity,
     ];
 
     /// The name of its CSV files (`pga-3.csv`) and the value of their `study` column.
@@ -49,9 +62,15 @@ impl StudyKind {
             StudyKind::Suite => "suite",
             StudyKind::Screen => "screen",
             StudyKind::Precision => "precision",
+            StudyKind::Adequacy => "adequacy",
+            StudyKind::Sensitivity => "sensitivity",
         }
     }
 }
+
+/// The tolerance of the workbench's adequacy study (as `deckspin adequacy`'s default): a
+/// variant within 5 % of the full model in a quantity is adequate for it.
+pub const ADEQUACY_TOLERANCE: f64 = 0.05;
 
 /// How one run of a study ended.
 #[derive(Clone, Debug, PartialEq)]
@@ -321,6 +340,11 @@ pub enum StudyTable {
     Runs(RunTable),
     Screen(Box<ScreenStudy>),
     Precision(PrecisionTable),
+    /// The model ladder measured (it comes whole: the errors need every run).
+    Adequacy(Box<Adequacy>),
+    /// The swings (runs cancelled before they started are refused as
+    /// [`crate::suite::CANCELLED`]).
+    Sensitivity(Box<Sensitivity>),
 }
 
 impl StudyTable {
@@ -329,23 +353,38 @@ impl StudyTable {
             StudyTable::Runs(t) => t.kind,
             StudyTable::Screen(_) => StudyKind::Screen,
             StudyTable::Precision(_) => StudyKind::Precision,
+            StudyTable::Adequacy(_) => StudyKind::Adequacy,
+            StudyTable::Sensitivity(_) => StudyKind::Sensitivity,
         }
     }
 
-    /// (runs done, runs in all): the screening counts as one.
+    /// (runs done, runs in all): the screening counts as one; the ladder's runs are all done
+    /// (its table comes whole); the swings' runs cancelled before they started are not.
     pub fn progress(&self) -> (usize, usize) {
         match self {
             StudyTable::Runs(t) => (t.done(), t.runs.len()),
             StudyTable::Screen(_) => (1, 1),
             StudyTable::Precision(t) => t.progress(),
+            StudyTable::Adequacy(a) => {
+                let runs = (std::iter::once(&a.full).chain(&a.variants))
+                    .map(|o| o.runs.len())
+                    .sum();
+                (runs, runs)
+            }
+            StudyTable::Sensitivity(s) => {
+                let cancelled = SuiteStatus::Refused(CANCELLED.into());
+                let done = s.rows.iter().filter(|r| r.status != cancelled).count();
+                (done, s.rows.len())
+            }
         }
     }
 }
 
 /// Runs study `kind` of `study` (μ values `mus` for the μ study), telling `progress` of each
 /// row by its index in the table ([`RunTable::pga_plan`], [`RunTable::mu_plan`]); the
-/// screening compiles the model once and runs nothing. The table is complete, rows skipped
-/// by a cancel marked [`PointStatus::NotRun`].
+/// screening compiles the model once and runs nothing; the ladder and the swings count their
+/// runs to `progress` (`plan`, `done`). The table is complete, rows skipped by a cancel marked
+/// [`PointStatus::NotRun`] (a ladder cancelled has no table: an error).
 pub fn run_study(
     kind: StudyKind,
     study: &Study,
@@ -378,6 +417,36 @@ pub fn run_study(
             StudyTable::Screen(Box::new(screen_study(&scene)))
         }
         StudyKind::Precision => StudyTable::Precision(run_precision(study, progress, &|_, _| {})?),
+        StudyKind::Adequacy => {
+            let opts = Options {
+                quantities: Vec::new(),
+                tolerance: ADEQUACY_TOLERANCE,
+                only: None,
+                combine: true,
+            };
+            let cases = Cases::ModelRuns;
+            let a = adequacy(
+                &study.text,
+                &study.path,
+                &study.base,
+                &cases,
+                &opts,
+                progress,
+            );
+            StudyTable::Adequacy(Box::new(a.map_err(|e| e.to_string())?))
+        }
+        StudyKind::Sensitivity => {
+            let (cases, choice) = (Cases::ModelRuns, Choice::default());
+            let s = sensitivity::Study::from_text(
+                &study.text,
+                &study.path,
+                &study.base,
+                &cases,
+                &choice,
+            )
+            .map_err(|e| e.to_string())?;
+            StudyTable::Sensitivity(Box::new(s.run(progress)))
+        }
     })
 }
 

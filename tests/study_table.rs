@@ -77,7 +77,7 @@ impl Watch for Recorder {
 fn runs(t: &StudyTable) -> &RunTable {
     match t {
         StudyTable::Runs(r) => r,
-        StudyTable::Screen(_) | StudyTable::Precision(_) => panic!("a run table expected"),
+        t => panic!("a run table expected: {:?}", t.kind()),
     }
 }
 

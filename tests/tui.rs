@@ -2722,10 +2722,10 @@ fn final_table(msgs: Vec<Msg>) -> StudyTable {
     }
 }
 
-/// The PGA, μ (μ 0, 0.3, 0.6), screening and suite (2 pairs at 0.2 and 0.4 g) studies of
-/// the short bridge, computed once.
-fn study_tables() -> &'static [StudyTable; 5] {
-    static T: OnceLock<[StudyTable; 5]> = OnceLock::new();
+/// The PGA, μ (μ 0, 0.3, 0.6), screening, suite (2 pairs at 0.2 and 0.4 g), work-precision,
+/// ladder and swings studies of the short bridge, computed once.
+fn study_tables() -> &'static [StudyTable; 7] {
+    static T: OnceLock<[StudyTable; 7]> = OnceLock::new();
     T.get_or_init(|| {
         StudyKind::ALL.map(|k| {
             let mut app = bridge_app();

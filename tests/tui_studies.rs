@@ -237,6 +237,8 @@ fn every_study_and_page_name_is_on_screen_at_80_columns() {
         "screen",
         "suite",
         "work-precision",
+        "adequacy",
+        "sensitivity",
         "energy",
         "contacts",
         "modes",
@@ -328,4 +330,539 @@ fn snapshot_studies_pga_table_80x24() {
     update(&mut app, key(']'));
     let t = render(&mut app, 80, 24);
     snapshot_settings().bind(|| insta::assert_snapshot!("studies_pga_table_80x24", t.backend()));
+}
+
+// ---------------------------------------------------------------------------------------------
+// the design studies: the model ladder and the swings of the uncertain inputs
+
+use deckspin::design::adequacy::Adequacy;
+use deckspin::design::swings::Sensitivity;
+use deckspin::tui::study::{Phase, StudySpec};
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+/// The workbench on the specimen bridge with its runs cut to 3 s through the form (typed
+/// into `solver.t_end`, not saved: its ladder and its swings take a second or two), in the
+/// studies view on `kind`.
+fn design_app(kind: StudyKind) -> App {
+    let mut app = App::new_from_text(&read(&bridge_path()), Path::new("models/four-span.toml"));
+    app.view = View::Form;
+    let i = app.form.index_of("solver.t_end").expect("the t_end field");
+    app.form.select(i);
+    update(&mut app, code(KeyCode::Enter));
+    let ctrl_u = crossterm::event::KeyEvent::new(
+        KeyCode::Char('u'),
+        crossterm::event::KeyModifiers::CONTROL,
+    );
+    update(&mut app, Msg::Key(ctrl_u));
+    for c in "3".chars() {
+        update(&mut app, key(c));
+    }
+    update(&mut app, code(KeyCode::Enter));
+    assert!(
+        app.draft.contains("t_end = 3.0") && app.dirty(),
+        "{}",
+        app.status
+    );
+    app.view = View::Studies;
+    app.studies.selected = StudyKind::ALL.iter().position(|k| *k == kind).unwrap();
+    app
+}
+
+/// `Enter` on the selected study: its id and its worker's spec.
+fn start_design(app: &mut App) -> (u64, Box<StudySpec>) {
+    match act(app, Action::StudyRun).into_iter().next() {
+        Some(Effect::StartStudy { id, spec }) => (id, spec),
+        e => panic!("{e:?} {}", app.status),
+    }
+}
+
+/// The worker's messages of `kind` on the short specimen (run once per kind): its progress
+/// counts and its table.
+fn design_run(kind: StudyKind) -> &'static (Vec<(usize, usize)>, StudyTable) {
+    static L: OnceLock<(Vec<(usize, usize)>, StudyTable)> = OnceLock::new();
+    static S: OnceLock<(Vec<(usize, usize)>, StudyTable)> = OnceLock::new();
+    let cell = if kind == StudyKind::Adequacy { &L } else { &S };
+    cell.get_or_init(|| {
+        let mut app = design_app(kind);
+        let (id, spec) = start_design(&mut app);
+        assert_eq!(spec.text, app.draft, "the form's model, its edit included");
+        let mut counts = Vec::new();
+        let mut table = None;
+        for m in tui::study_worker::run_blocking(id, &spec) {
+            match m {
+                Msg::StudyProgress { done, all, .. } => counts.push((done, all)),
+                Msg::StudyDone {
+                    outcome: StudyOutcome::Finished(t),
+                    ..
+                } => table = Some(*t),
+                m => panic!("{m:?}"),
+            }
+        }
+        (counts, table.expect("finished"))
+    })
+}
+
+fn ladder() -> &'static Adequacy {
+    match &design_run(StudyKind::Adequacy).1 {
+        StudyTable::Adequacy(a) => a,
+        t => panic!("{t:?}"),
+    }
+}
+
+fn swings() -> &'static Sensitivity {
+    match &design_run(StudyKind::Sensitivity).1 {
+        StudyTable::Sensitivity(s) => s,
+        t => panic!("{t:?}"),
+    }
+}
+
+/// The ladder with each run's CPU time made its steps × 1 µs: the same on every machine (for
+/// the snapshot).
+fn steady(a: &Adequacy) -> Adequacy {
+    let mut a = a.clone();
+    for o in std::iter::once(&mut a.full).chain(&mut a.variants) {
+        for r in &mut o.runs {
+            r.cpu = 1e-6 * r.steps as f64;
+        }
+    }
+    a
+}
+
+/// The workbench with study `kind` ended with `table` (its CSV said written to
+/// `models/four-span.out/<kind>-1.csv`).
+fn design_done(kind: StudyKind, table: StudyTable) -> App {
+    let mut app = design_app(kind);
+    let (id, _) = start_design(&mut app);
+    let outcome = StudyOutcome::Finished(Box::new(table));
+    let fx = update(&mut app, Msg::StudyDone { id, outcome });
+    let Some(Effect::WriteStudy { dirs, .. }) = fx.first() else {
+        panic!("{fx:?}")
+    };
+    assert_eq!(dirs[0], PathBuf::from("models/four-span.out"));
+    let csv = PathBuf::from(format!("models/four-span.out/{}-1.csv", kind.key()));
+    update(
+        &mut app,
+        Msg::StudyWritten {
+            id,
+            result: Ok(csv),
+        },
+    );
+    app
+}
+
+/// The row of the ladder's variant `name` (0 is the full model).
+fn row_of(name: &str) -> usize {
+    let v = (ladder().variants.iter())
+        .position(|o| o.variant.name == name)
+        .unwrap_or_else(|| panic!("no variant {name}"));
+    v + 1
+}
+
+/// `j`/`k` until the selected study's cursor is on `row`.
+fn go_to_row(app: &mut App, row: usize) {
+    for _ in 0..40 {
+        let c = app.studies.cursor();
+        if c == row {
+            return;
+        }
+        update(app, key(if c < row { 'j' } else { 'k' }));
+    }
+    panic!("row {row} not reached: {}", app.studies.cursor());
+}
+
+#[test]
+fn the_ladder_runs_in_a_worker_with_its_progress_and_shows_every_variant() {
+    let (counts, table) = design_run(StudyKind::Adequacy);
+    // its runs counted as they finish, to the last
+    assert!(counts.len() > 10, "{counts:?}");
+    assert!(
+        counts
+            .windows(2)
+            .all(|w| w[0].0 <= w[1].0 && w[0].1 <= w[1].1)
+    );
+    assert!(counts.iter().all(|(d, a)| d <= a));
+    let last = *counts.last().unwrap();
+    assert_eq!(last.0, last.1);
+    assert_eq!(table.progress(), (last.1, last.1));
+    let a = ladder();
+    assert_eq!(a.cases.len(), 7, "the specimen's seven [[run]]s");
+    assert_eq!(a.tolerance, 0.05);
+    assert!(
+        a.variants
+            .iter()
+            .any(|o| o.variant.name == "rigid-abutments")
+    );
+    // the progress as it comes: the state line and the header
+    let mut app = design_app(StudyKind::Adequacy);
+    let (id, _) = start_design(&mut app);
+    let (done, all) = counts[counts.len() / 2];
+    assert!(update(&mut app, Msg::StudyProgress { id, done, all }).is_empty());
+    let e = app.studies.entry(StudyKind::Adequacy).unwrap();
+    assert_eq!((e.progress(), &e.phase), ((done, all), &Phase::Running));
+    let s = screen(&render(&mut app, 80, 24));
+    assert!(
+        s.contains(&format!("{done}/{all} runs")) && s.contains("Esc cancels"),
+        "{s}"
+    );
+    let header = s.lines().next().unwrap();
+    assert!(header.contains(&format!("adequacy {done}/{all}")), "{s}");
+    // the end: its table, every variant on screen at 80 columns by its letter and name, its
+    // CSV written to the model's output folder
+    let outcome = StudyOutcome::Finished(Box::new(table.clone()));
+    let fx = update(&mut app, Msg::StudyDone { id, outcome });
+    let [Effect::WriteStudy { dirs, table: t, .. }] = fx.as_slice() else {
+        panic!("{fx:?}")
+    };
+    assert_eq!(dirs[0], PathBuf::from("models/four-span.out"));
+    assert_eq!(
+        to_csv(t),
+        deckspin::design::adequacy_report::variants_csv(a)
+    );
+    let status = format!("adequacy finished: {} variants on 7 runs", a.variants.len());
+    assert!(app.status.starts_with(&status), "{}", app.status);
+    let s = lines(&render(&mut app, 80, 24));
+    assert!(s.iter().any(|l| l.contains("  full ")), "{}", s.join("\n"));
+    assert!(
+        s.iter().any(|l| l.contains("cheapest within 5 %:")),
+        "{}",
+        s.join("\n")
+    );
+    for (v, o) in a.variants.iter().enumerate() {
+        let letter = char::from(b'a' + v as u8);
+        let head: String = o.variant.name.chars().take(12).collect();
+        let want = format!("{letter} {head}");
+        assert!(
+            s.iter().any(|l| l.contains(&want)),
+            "{want}\n{}",
+            s.join("\n")
+        );
+    }
+    // j/k select a row: marked, its errors in every quantity under the table
+    go_to_row(&mut app, row_of("frictionless"));
+    let s = lines(&render(&mut app, 80, 24));
+    let row = s
+        .iter()
+        .find(|l| l.starts_with(">") && l.contains("frictionless"));
+    assert!(row.is_some(), "{}", s.join("\n"));
+    let v = row_of("frictionless") - 1;
+    let errors = s.join("\n");
+    for q in &a.quantities {
+        let want = format!(
+            "{} {}",
+            deckspin::design::adequacy_report::short(q),
+            deckspin::design::adequacy_report::percent(a.error(v, q))
+        );
+        assert!(errors.contains(&want), "{want}\n{errors}");
+    }
+    // held at the ends
+    for _ in 0..20 {
+        update(&mut app, key('j'));
+    }
+    assert_eq!(app.studies.cursor(), a.variants.len());
+}
+
+#[test]
+fn applying_a_variant_edits_the_form_and_one_undo_takes_it_back() {
+    let mut app = design_done(
+        StudyKind::Adequacy,
+        design_run(StudyKind::Adequacy).1.clone(),
+    );
+    let original = app.draft.clone();
+    // the full model: nothing to apply
+    go_to_row(&mut app, 0);
+    update(&mut app, key('a'));
+    assert_eq!(app.draft, original);
+    assert!(
+        app.status.starts_with("the full model is the form's model"),
+        "{}",
+        app.status
+    );
+    // rigid abutments: its keys changed in the draft, each marked, the form's values edited
+    go_to_row(&mut app, row_of("rigid-abutments"));
+    update(&mut app, key('a'));
+    let keys = ladder().variants[row_of("rigid-abutments") - 1]
+        .variant
+        .changes
+        .len();
+    assert!(keys >= 2, "{keys}");
+    let want = format!("applied rigid-abutments: {keys} keys changed; u undoes");
+    assert!(app.status.starts_with(&want), "{}", app.status);
+    assert_ne!(app.draft, original);
+    let doc: toml::Table = toml::from_str(&app.draft).unwrap();
+    assert_eq!(doc["abutment"]["kind"].as_str(), Some("rigid"));
+    assert!(app.draft.contains("kind = \"rigid\""), "{}", app.draft);
+    assert!(
+        app.draft.contains("# simplified (rigid-abutments)"),
+        "{}",
+        app.draft
+    );
+    assert!(app.draft.contains("t_end = 3.0"), "the edit before is kept");
+    assert!(app.dirty());
+    let kind = app
+        .form
+        .index_of("abutment.kind")
+        .expect("the abutments' kind");
+    let f = &app.form.fields[kind];
+    assert!(f.edited() && f.value.as_deref() == Some("rigid"), "{f:?}");
+    // u in the form: the draft as it was, byte for byte, in one step
+    app.view = View::Form;
+    update(&mut app, key('u'));
+    assert_eq!(app.draft, original);
+    assert!(
+        app.status.starts_with("undid rigid-abutments"),
+        "{}",
+        app.status
+    );
+    // applied again, u in the studies view takes it back too; then there is nothing to undo
+    app.view = View::Studies;
+    update(&mut app, key('a'));
+    assert_ne!(app.draft, original);
+    update(&mut app, key('u'));
+    assert_eq!(app.draft, original);
+    update(&mut app, key('u'));
+    assert_eq!(app.draft, original);
+    assert!(app.status.starts_with("nothing to undo"), "{}", app.status);
+    // an edit after the variant: u no longer takes the variant back (it reverts a field)
+    update(&mut app, key('a'));
+    let after = app.draft.clone();
+    app.draft = set(&after, "contacts.mu", "0.4");
+    update(&mut app, key('u'));
+    assert!(
+        app.status.starts_with("nothing to undo: the form changed"),
+        "{}",
+        app.status
+    );
+}
+
+#[test]
+fn esc_cancels_the_design_studies() {
+    for kind in [StudyKind::Adequacy, StudyKind::Sensitivity] {
+        let mut app = design_app(kind);
+        let (id, spec) = start_design(&mut app);
+        // the worker, its flag raised after a few runs as Esc would
+        let cancel = AtomicBool::new(false);
+        let sent = Mutex::new(Vec::new());
+        let send = |m: Msg| {
+            if let Msg::StudyProgress { done, .. } = m
+                && done >= 4
+            {
+                cancel.store(true, Ordering::SeqCst);
+            }
+            sent.lock().unwrap().push(m);
+        };
+        let done = tui::study_worker::run(id, &spec, &cancel, &send);
+        let sent = sent.into_inner().unwrap();
+        let progress: Vec<(usize, usize)> = (sent.iter())
+            .filter_map(|m| match m {
+                Msg::StudyProgress { done, all, .. } => Some((*done, *all)),
+                _ => None,
+            })
+            .collect();
+        assert!(!progress.is_empty(), "{kind:?}: its progress");
+        for m in sent {
+            update(&mut app, m);
+        }
+        let fx = update(&mut app, code(KeyCode::Esc));
+        assert!(
+            matches!(fx.as_slice(), [Effect::CancelStudy { id: i }] if *i == id),
+            "{fx:?}"
+        );
+        let s = screen(&render(&mut app, 80, 24));
+        assert!(s.contains("cancelling after"), "{s}");
+        let fx = update(&mut app, done);
+        let e = app.studies.entry(kind).unwrap();
+        assert_eq!(e.phase, Phase::Cancelled, "{kind:?}");
+        match kind {
+            // the ladder keeps nothing (its errors need every run), writes nothing
+            StudyKind::Adequacy => {
+                assert!(fx.is_empty() && e.table.is_none(), "{fx:?}");
+                assert!(
+                    app.status.contains("adequacy cancelled: nothing kept"),
+                    "{}",
+                    app.status
+                );
+                let s = screen(&render(&mut app, 80, 24));
+                assert!(
+                    s.contains(">adequacy: cancelled") && s.contains("nothing kept"),
+                    "{s}"
+                );
+            }
+            // the swings keep the runs that finished, their CSV written
+            _ => {
+                let (done, all) = e.progress();
+                assert!(done > 0 && done < all, "{done}/{all}");
+                assert!(
+                    matches!(fx.as_slice(), [Effect::WriteStudy { .. }]),
+                    "{fx:?}"
+                );
+                let s = screen(&render(&mut app, 80, 24));
+                assert!(s.contains(">sensitivity: cancelled"), "{s}");
+            }
+        }
+        // it can run again
+        assert!(matches!(
+            act(&mut app, Action::StudyRun).as_slice(),
+            [Effect::StartStudy { .. }]
+        ));
+    }
+}
+
+#[test]
+fn the_swings_run_in_a_worker_and_n_shows_the_next_quantity() {
+    let (counts, table) = design_run(StudyKind::Sensitivity);
+    let s = swings();
+    let last = *counts.last().unwrap();
+    assert_eq!(last, (s.rows.len(), s.rows.len()));
+    assert_eq!(s.cases(), 7);
+    assert!(s.failed().is_empty());
+    let mut app = design_done(StudyKind::Sensitivity, table.clone());
+    assert!(
+        app.status.contains("sensitivity finished"),
+        "{}",
+        app.status
+    );
+    // every input, widest swing of the first quantity first, with its tornado bar
+    let order = deckspin::tui::design_rows::order(s, 0);
+    let sc = lines(&render(&mut app, 80, 24));
+    let screen_text = sc.join("\n");
+    assert!(screen_text.contains(&s.quantities[0]), "{screen_text}");
+    let rows: Vec<usize> = (order.iter())
+        .map(|&i| {
+            let name = &s.inputs[i].input.name;
+            (sc.iter().position(|l| l[1..].starts_with(name.as_str())))
+                .unwrap_or_else(|| panic!("{name}\n{screen_text}"))
+        })
+        .collect();
+    assert!(rows.windows(2).all(|w| w[0] < w[1]), "{rows:?}");
+    let widest = &sc[rows[0]];
+    assert!(
+        widest.starts_with('>') && widest.contains('#') && widest.contains('='),
+        "{widest}"
+    );
+    // the tornado's numbers: the swing of the widest input
+    let sw = &s.inputs[order[0]].swings[0];
+    let swing = deckspin::tui::study_points::cell(sw.swing().unwrap());
+    assert!(widest.contains(&swing), "{swing} {widest}");
+    // n: the next quantity, the row at the cursor keeps its input; round to the first
+    update(&mut app, key('j'));
+    let input = order[1];
+    let n = s.quantities.len();
+    update(&mut app, key('n'));
+    let want = format!("sensitivity: the tornado of {} (2/{n})", s.quantities[1]);
+    assert!(app.status.starts_with(&want), "{}", app.status);
+    let order1 = deckspin::tui::design_rows::order(s, 1);
+    assert_eq!(order1[app.studies.cursor()], input);
+    let sc = screen(&render(&mut app, 80, 24));
+    assert!(
+        sc.contains(&format!("{} (2/{n}; n the next)", s.quantities[1])),
+        "{sc}"
+    );
+    for _ in 1..n {
+        update(&mut app, key('n'));
+    }
+    assert_eq!(app.studies.quantity, 0);
+    assert_eq!(order[app.studies.cursor()], input);
+}
+
+#[test]
+fn the_design_studies_write_their_csv_and_are_not_reopened() {
+    let d = std::env::temp_dir().join(format!("deckspin-tui-design-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(d.join("models")).unwrap();
+    let model = d.join("models/four-span.toml");
+    std::fs::write(&model, read(&bridge_path())).unwrap();
+    let mut app = App::new_from_text(&read(&model), &model);
+    app.view = View::Studies;
+    let dirs = deckspin::tui::out_folder::out_dirs(&model);
+    for kind in [StudyKind::Adequacy, StudyKind::Sensitivity] {
+        let table = Box::new(design_run(kind).1.clone());
+        let fx = vec![Effect::WriteStudy {
+            id: 0,
+            dirs: dirs.clone(),
+            table,
+        }];
+        tui::execute_blocking(&mut app, fx);
+    }
+    let out = d.join("models/four-span.out");
+    assert_eq!(
+        read(&out.join("adequacy-1.csv")),
+        deckspin::design::adequacy_report::variants_csv(ladder())
+    );
+    assert_eq!(read(&out.join("sensitivity-1.csv")), swings().csv());
+    // listed with the others; opened, each says why it is not read back
+    let fx = update(&mut app, key('f'));
+    tui::execute_blocking(&mut app, fx);
+    let Mode::Pick { files, .. } = &app.mode else {
+        panic!("{:?} {}", app.mode, app.status)
+    };
+    assert_eq!(files.len(), 2, "{files:?}");
+    let fx = update(&mut app, code(KeyCode::Enter));
+    tui::execute_blocking(&mut app, fx);
+    assert!(
+        app.status
+            .contains("study's CSV: written for reading elsewhere, not reopened here"),
+        "{}",
+        app.status
+    );
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+/// One frame of `app` as its panels draw it (without the last ASCII pass).
+fn render_panels(
+    app: &mut App,
+    w: u16,
+    h: u16,
+) -> ratatui::Terminal<ratatui::backend::TestBackend> {
+    update(app, Msg::Resize(w, h));
+    let mut t = ratatui::Terminal::new(ratatui::backend::TestBackend::new(w, h)).unwrap();
+    let mut cache = tui::ui::Cache::default();
+    t.draw(|f| tui::ui::draw_screen(f, app, &mut cache))
+        .unwrap();
+    t
+}
+
+#[test]
+fn the_design_studies_are_drawn_in_ascii_by_their_panels() {
+    let apps = [
+        design_done(
+            StudyKind::Adequacy,
+            StudyTable::Adequacy(Box::new(steady(ladder()))),
+        ),
+        design_done(
+            StudyKind::Sensitivity,
+            design_run(StudyKind::Sensitivity).1.clone(),
+        ),
+    ];
+    for mut app in apps {
+        app.ascii = true;
+        update(&mut app, key('j'));
+        for (w, h) in [(80, 24), (120, 40), (60, 18)] {
+            let t = render_panels(&mut app, w, h);
+            let s = screen(&t);
+            for (y, line) in s.lines().enumerate() {
+                let wide: Vec<char> = line.chars().filter(|c| *c as u32 > 0x7e).collect();
+                assert!(wide.is_empty(), "{w}x{h} line {y}: {wide:?}\n{s}");
+            }
+        }
+    }
+}
+
+#[test]
+fn snapshot_studies_adequacy_80x24() {
+    let table = StudyTable::Adequacy(Box::new(steady(ladder())));
+    let mut app = design_done(StudyKind::Adequacy, table);
+    go_to_row(&mut app, row_of("rigid-abutments"));
+    let t = render(&mut app, 80, 24);
+    snapshot_settings().bind(|| insta::assert_snapshot!("studies_adequacy_80x24", t.backend()));
+}
+
+#[test]
+fn snapshot_studies_sensitivity_80x24() {
+    let mut app = design_done(
+        StudyKind::Sensitivity,
+        design_run(StudyKind::Sensitivity).1.clone(),
+    );
+    let t = render(&mut app, 80, 24);
+    snapshot_settings().bind(|| insta::assert_snapshot!("studies_sensitivity_80x24", t.backend()));
 }

@@ -109,7 +109,7 @@ pub fn combinations(
 }
 
 /// A variant run on every case: the runs in case order.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Outcome {
     pub variant: Variant,
     /// Why the variant's model was refused (then `runs` is empty).
@@ -204,7 +204,7 @@ pub enum AdequacyError {
 }
 
 /// The ladder of a model measured.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Adequacy {
     /// The runs' names.
     pub cases: Vec<String>,

@@ -11,7 +11,7 @@ pub const LOW_GLYPH: char = '=';
 pub const HIGH_GLYPH: char = '#';
 
 /// The unit of a quantity of `suite::row::METRICS` (lengths are in the model's units).
-fn unit(quantity: &str) -> &'static str {
+pub fn unit(quantity: &str) -> &'static str {
     match quantity {
         "peak_rotation" | "residual_rotation" => "rad",
         _ => "",

@@ -61,6 +61,11 @@ pub enum Action {
     /// The study's cursor to the previous / next point of its table.
     StudyPointPrev,
     StudyPointNext,
+    /// The ladder's selected variant applied to the form's model / taken back.
+    StudyApply,
+    StudyUndo,
+    /// The tornado's next quantity.
+    StudyQuantity,
     PickUp,
     PickDown,
     PickLoad,
@@ -343,7 +348,7 @@ pub const KEYMAP: &[Binding] = &[
     b(Ctx::Form, &[K::Code(KC::PageUp)], "PgUp", A::FieldPageUp, "page up", None),
     b(Ctx::Form, &[K::Code(KC::PageDown)], "PgDn", A::FieldPageDown, "page down", None),
     b(Ctx::Form, &[K::Code(KC::Enter)], "Enter", A::FieldEdit, "edit the value", Some(("Enter", "edit"))),
-    b(Ctx::Form, &[K::Ch('u')], "u", A::FieldRevert, "revert to the saved value", Some(("u", "revert"))),
+    b(Ctx::Form, &[K::Ch('u')], "u", A::FieldRevert, "revert field; undo a variant", Some(("u", "revert"))),
     b(Ctx::Form, &[K::Ch('+')], "+", A::ItemDuplicate, "copy frame/bent/run; add key", None),
     b(Ctx::Form, &[K::Ch('-')], "-", A::ItemRemove, "remove frame, bent, run, key", None),
     // studies view
@@ -356,6 +361,9 @@ pub const KEYMAP: &[Binding] = &[
     b(Ctx::Studies, &[K::Ch('-')], "-", A::StudyFewer, "suite: one record pair fewer", None),
     b(Ctx::Studies, &[K::Ch('[')], "[", A::StudyPointPrev, "cursor to the previous point", None),
     b(Ctx::Studies, &[K::Ch(']')], "]", A::StudyPointNext, "cursor to the next point", Some(("[ ]", "point"))),
+    b(Ctx::Studies, &[K::Ch('a')], "a", A::StudyApply, "adequacy: apply the variant", None),
+    b(Ctx::Studies, &[K::Ch('u')], "u", A::StudyUndo, "undo the variant applied", None),
+    b(Ctx::Studies, &[K::Ch('n')], "n", A::StudyQuantity, "sensitivity: next quantity", None),
     // the run list
     b(Ctx::Runs, &[K::Code(KC::Up), K::Ch('k')], "Up/k", A::RunUp, "previous run", None),
     b(Ctx::Runs, &[K::Code(KC::Down), K::Ch('j')], "Down/j", A::RunDown, "next run", Some(("j/k", "run"))),
@@ -380,7 +388,7 @@ pub const KEYMAP: &[Binding] = &[
     b(Ctx::Naming, &[K::Code(KC::Backspace)], "Bksp", A::NameBackspace, "delete a character", Some(("Bksp", "delete"))),
     b(Ctx::Naming, &[K::Ctrl('u')], "^U", A::NameClear, "clear the name", Some(("^U", "clear"))),
     // the results pages of the studies view
-    b(Ctx::Studies, &[K::Code(KC::Down), K::Ch('j')], "Down/j", A::ResultDown, "next contact, mode, record", Some(("j/k", "select"))),
+    b(Ctx::Studies, &[K::Code(KC::Down), K::Ch('j')], "Down/j", A::ResultDown, "next contact/mode/record/row", Some(("j/k", "select"))),
     b(Ctx::Studies, &[K::Code(KC::Up), K::Ch('k')], "Up/k", A::ResultUp, "previous one", None),
     b(Ctx::Studies, &[K::Ch('g')], "g", A::ResultGrid, "precision: chart or grid", None),
     // everywhere

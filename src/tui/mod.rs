@@ -8,6 +8,7 @@
 pub mod app;
 pub mod chart;
 pub mod chart_prefs;
+pub mod design_rows;
 pub mod effects;
 pub mod eng;
 pub mod export;

@@ -35,6 +35,8 @@ pub enum RunOutcome {
 pub enum StudyOutcome {
     Finished(Box<StudyTable>),
     Cancelled(Box<StudyTable>),
+    /// Cancelled before it had anything to keep (the model ladder: its errors need every run).
+    Abandoned,
     Failed(String),
 }
 
@@ -97,6 +99,13 @@ pub enum Msg {
         id: u64,
         index: usize,
         row: Box<Row>,
+    },
+    /// Study `id` (one whose table comes whole at its end: the ladder, the swings) has done
+    /// `done` of its `all` runs.
+    StudyProgress {
+        id: u64,
+        done: usize,
+        all: usize,
     },
     StudyDone {
         id: u64,

@@ -43,12 +43,16 @@ pub struct Entry {
     pub table: Option<StudyTable>,
     /// Where its CSV was written (or the CSV it was read from).
     pub csv: Option<PathBuf>,
+    /// (runs done, runs planned) as its worker counts them, for a study whose table comes
+    /// whole at its end (the ladder, the swings).
+    pub count: (usize, usize),
 }
 
 impl Entry {
-    /// (runs done, runs in all); (0, 0) while the screening computes.
+    /// (runs done, runs in all): its table's, else its worker's count; (0, 0) while the
+    /// screening computes.
     pub fn progress(&self) -> (usize, usize) {
-        self.table.as_ref().map_or((0, 0), StudyTable::progress)
+        self.table.as_ref().map_or(self.count, StudyTable::progress)
     }
 
     pub fn running(&self) -> bool {
@@ -85,8 +89,25 @@ pub struct Studies {
     /// number of pairs.
     pub suite: Option<SuiteSubset>,
     /// The cursor of each study (in [`StudyKind::ALL`]'s order): a row of its table of
-    /// points (`super::study_points`), moved by `[` and `]`.
+    /// points (`super::study_points`), moved by `[` and `]` (the rows of the ladder's and the
+    /// swings' tables by `j`/`k` too).
     pub cursor: Vec<usize>,
+    /// The quantity of the swings' table and tornado (an index into their quantities), `n`
+    /// the next.
+    pub quantity: usize,
+    /// The ladder's variant last applied to the form, which `u` takes back.
+    pub applied: Option<Applied>,
+}
+
+/// A variant of the ladder applied to the form's model: the draft before and after, so that
+/// `u` restores the one before while the draft is still the one after.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Applied {
+    pub name: String,
+    /// The keys it changed.
+    pub keys: usize,
+    pub before: String,
+    pub after: String,
 }
 
 impl Default for Studies {
@@ -99,6 +120,8 @@ impl Default for Studies {
             mus: crate::studies::fig8_mus(),
             suite: None,
             cursor: vec![0; StudyKind::ALL.len()],
+            quantity: 0,
+            applied: None,
         }
     }
 }
@@ -154,6 +177,8 @@ pub fn title(kind: StudyKind) -> &'static str {
         StudyKind::Suite => "suite",
         StudyKind::Screen => "screen",
         StudyKind::Precision => "work-precision",
+        StudyKind::Adequacy => "adequacy",
+        StudyKind::Sensitivity => "sensitivity",
     }
 }
 
@@ -165,6 +190,8 @@ pub fn short_title(kind: StudyKind) -> &'static str {
         StudyKind::Suite => "suite",
         StudyKind::Screen => "screen",
         StudyKind::Precision => "precision",
+        StudyKind::Adequacy => "adequacy",
+        StudyKind::Sensitivity => "sensitivity",
     }
 }
 
@@ -196,6 +223,19 @@ pub fn what(kind: StudyKind) -> &'static str {
              the event-driven reference at rtol 1e-10; g shows the stability grid (ok, \
              inaccurate above 5 %, unstable, failed)."
         }
+        StudyKind::Adequacy => {
+            "Model adequacy (deckspin adequacy): the model ladder - rigid abutments, bilinear or \
+             linear columns, no friction, plastic impacts, no contacts, ... and some of them \
+             together - run on the model's [[run]]s; each variant's error per quantity against \
+             the full model, its CPU time, and the cheapest within 5 %. a applies the selected \
+             variant to the form as an edit, u takes it back."
+        }
+        StudyKind::Sensitivity => {
+            "Sensitivity (deckspin sensitivity): every default uncertain input (gaps, mu, \
+             restitution, stiffnesses, damping, the PGA, ...) at its low and its high value on \
+             the model's [[run]]s; the swing of each quantity's median, widest first, and its \
+             tornado; n shows the next quantity."
+        }
     }
 }
 
@@ -214,8 +254,11 @@ pub fn plan(
             let pairs = suite.read_pairs()?;
             RunTable::suite_plan(pairs.len(), &suite.levels)
         }
-        // the screening's table comes whole; work-precision's plan needs the compiled model
-        StudyKind::Screen | StudyKind::Precision => return Ok(None),
+        // the screening's, the ladder's and the swings' tables come whole; work-precision's
+        // plan needs the compiled model
+        StudyKind::Screen | StudyKind::Precision | StudyKind::Adequacy | StudyKind::Sensitivity => {
+            return Ok(None);
+        }
     };
     if table.runs.is_empty() {
         return Err(format!(

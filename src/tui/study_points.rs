@@ -99,7 +99,10 @@ pub fn points(table: &StudyTable) -> Option<Points> {
                 rows,
             }
         }
-        StudyTable::Screen(_) => return None,
+        // their own tables: the screening's maps, the ladder's variants, the swings' inputs
+        StudyTable::Screen(_) | StudyTable::Adequacy(_) | StudyTable::Sensitivity(_) => {
+            return None;
+        }
     };
     (!p.rows.is_empty()).then_some(p)
 }

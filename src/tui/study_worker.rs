@@ -1,8 +1,9 @@
 //! Studies off the UI thread: `study_table::run_study` on the form's model in a thread of its
 //! own, with its runs on a pool of threads named like the simulation's (a panic there is
 //! reported, the terminal left alone). Each row is a [`Msg::StudyRow`] as soon as it is
-//! final; the end a [`Msg::StudyDone`] with the whole table. A cancel flag, read before each
-//! run starts, skips the runs not started.
+//! final; the end a [`Msg::StudyDone`] with the whole table. A study whose table comes whole
+//! at its end (the ladder, the swings) counts its runs in [`Msg::StudyProgress`] instead. A
+//! cancel flag, read before each run starts, skips the runs not started.
 
 use super::form::shown_error;
 use super::msg::{Msg, StudyOutcome};
@@ -12,7 +13,7 @@ use crate::precision_study::run_precision;
 use crate::progress::Progress;
 use crate::studies::{Row, Study, Watch};
 use crate::study_table::{StudyKind, StudyTable, run_study};
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::mpsc::Sender;
 use std::sync::{Arc, Mutex};
 
@@ -28,16 +29,44 @@ impl StudyHandle {
     }
 }
 
-/// Forwards each final row; stops when cancelled.
+/// Forwards each final row (and, when `count`, the runs planned and done); stops when
+/// cancelled.
 struct Watcher<'a> {
     id: u64,
     cancel: &'a AtomicBool,
     send: &'a (dyn Fn(Msg) + Sync),
+    count: bool,
+    done: AtomicUsize,
+    all: AtomicUsize,
+}
+
+impl Watcher<'_> {
+    fn tell(&self) {
+        let (done, all) = (
+            self.done.load(Ordering::Relaxed),
+            self.all.load(Ordering::Relaxed),
+        );
+        (self.send)(Msg::StudyProgress {
+            id: self.id,
+            done: done.min(all),
+            all,
+        });
+    }
 }
 
 impl Progress for Watcher<'_> {
-    fn plan(&self, _: usize) {}
-    fn done(&self, _: usize) {}
+    fn plan(&self, runs: usize) {
+        if self.count {
+            self.all.fetch_add(runs, Ordering::Relaxed);
+            self.tell();
+        }
+    }
+    fn done(&self, runs: usize) {
+        if self.count {
+            self.done.fetch_add(runs, Ordering::Relaxed);
+            self.tell();
+        }
+    }
     fn go_on(&self) -> bool {
         !self.cancel.load(Ordering::Relaxed)
     }
@@ -59,7 +88,14 @@ pub fn run(id: u64, spec: &StudySpec, cancel: &AtomicBool, send: &(dyn Fn(Msg) +
     let work = || {
         let study = Study::from_text(&spec.text, &spec.path, &spec.overrides)
             .map_err(|e| shown_error(&e))?;
-        let watch = Watcher { id, cancel, send };
+        let watch = Watcher {
+            id,
+            cancel,
+            send,
+            count: matches!(spec.kind, StudyKind::Adequacy | StudyKind::Sensitivity),
+            done: AtomicUsize::new(0),
+            all: AtomicUsize::new(0),
+        };
         let point = |index: usize, p: &crate::precision::Point| {
             let point = Box::new(p.clone());
             send(Msg::StudyPoint { id, index, point })
@@ -89,6 +125,8 @@ pub fn run(id: u64, spec: &StudySpec, cancel: &AtomicBool, send: &(dyn Fn(Msg) +
                 StudyOutcome::Finished(Box::new(table))
             }
         }
+        // a study that stops on a cancel without a table (the ladder) ends cancelled
+        Ok(Err(_)) if cancel.load(Ordering::Relaxed) => StudyOutcome::Abandoned,
         Ok(Err(e)) => StudyOutcome::Failed(e),
         Err(p) => StudyOutcome::Failed(format!("panic: {}", panic_text(p.as_ref()))),
     };

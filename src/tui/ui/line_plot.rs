@@ -51,6 +51,9 @@ pub(super) struct LinePlot {
     pub log_y: bool,
     /// The x range (default: the data's).
     pub x_range: Option<[f64; 2]>,
+    /// The curves' marks and names in the legend (off where a table beside the plot names
+    /// them).
+    pub legend: bool,
 }
 
 impl LinePlot {
@@ -65,6 +68,7 @@ impl LinePlot {
             log_x: false,
             log_y: false,
             x_range: None,
+            legend: true,
         }
     }
 }
@@ -155,7 +159,7 @@ fn legend(p: &LinePlot, width: usize, lines: usize, th: &Theme) -> Vec<Line<'sta
         p.y_title.chars().count(),
     )];
     let mut left = 0;
-    for c in &p.curves {
+    for c in p.curves.iter().filter(|_| p.legend) {
         let w = 4 + c.name.chars().count();
         let mark = Span::styled(c.mark.to_string(), c.style.patch(th.bold()));
         let name = Span::raw(format!(" {}", c.name));

@@ -3,6 +3,7 @@
 //! series and event strips are cached ([`Cache`]) per run length, time window and plot size,
 //! so a frame stays light with 10⁵-sample histories.
 
+mod adequacy;
 mod ascii;
 mod cache;
 mod chart_head;
@@ -28,6 +29,7 @@ mod studies;
 mod study_numbers;
 mod time;
 mod timeline;
+mod tornado;
 mod xy_plot;
 
 pub use ascii::{ascii_only, ascii_symbol};

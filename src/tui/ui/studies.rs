@@ -1,7 +1,8 @@
 //! The studies view: the list of studies on one line (the selected one marked `>`), the
 //! selected study's state on the next (progress, counts, its CSV), and its panel: titled with
-//! where its model came from, its figure (Fig. 7, Fig. 8 or the screening maps) or what it
-//! does before it has run. Also the list of CSVs to reopen.
+//! where its model came from, its figure (Fig. 7, Fig. 8, the screening maps, the ladder's
+//! table and chart, the swings' tornado) or what it does before it has run. Also the list of
+//! CSVs to reopen.
 
 use super::common::{Theme, fit};
 use super::screen_map::draw_screen;
@@ -12,7 +13,7 @@ use crate::study_table::{RunTable, StudyKind, StudyTable};
 use crate::tui::app::{App, StatusKind};
 use crate::tui::chart::bounds;
 use crate::tui::results::Page;
-use crate::tui::study::{Entry, Phase, Source, title, what};
+use crate::tui::study::{Entry, Phase, Source, Studies, title, what};
 use crate::tui::study_points::{points, run_mark};
 use ratatui::Frame;
 use ratatui::layout::{Constraint, Layout, Rect};
@@ -63,15 +64,18 @@ pub(super) fn draw_studies(frame: &mut Frame, area: Rect, app: &App, th: &Theme)
     let view = PanelView {
         grid: app.results.grid,
         cursor: app.studies.cursor(),
+        quantity: app.studies.quantity,
     };
     draw_panel(frame, panel, kind, entry, &next, view, th);
 }
 
-/// How the panel is shown: work-precision's chart or grid, the cursor's row.
+/// How the panel is shown: work-precision's chart or grid, the cursor's row, the swings'
+/// quantity.
 #[derive(Clone, Copy)]
 struct PanelView {
     grid: bool,
     cursor: usize,
+    quantity: usize,
 }
 
 /// A study's state in a word or two.
@@ -92,10 +96,11 @@ fn state(e: Option<&Entry>) -> String {
 }
 
 /// The list of studies and results pages, every name always shown: on one line when all fit
-/// with their states, else the studies on one line and the results pages on the next; a line
-/// too narrow for every state keeps the selected one's and the others' that say more than
-/// "not run" / "not computed", then the names alone (the state line under the list gives the
-/// selected one's).
+/// with their states, else the paper's studies on one line and the design studies (adequacy,
+/// sensitivity) with the results pages on the next; a line too narrow for every state keeps
+/// the selected one's and the others' that say more than "not run" / "not computed", then the
+/// names alone (the state line under the list gives the selected one's), on two lines when
+/// even they do not fit.
 fn tab_lines(app: &App, width: usize, th: &Theme) -> Vec<Line<'static>> {
     let sel = crate::tui::update::list_index(app);
     let studies = (StudyKind::ALL.iter()).map(|k| (title(*k), state(app.studies.entry(*k))));
@@ -103,23 +108,29 @@ fn tab_lines(app: &App, width: usize, th: &Theme) -> Vec<Line<'static>> {
     let items: Vec<(usize, String, String)> = (studies.chain(pages).enumerate())
         .map(|(i, (name, state))| (i, th.text(name), th.text(&state)))
         .collect();
-    let n = StudyKind::ALL.len();
     // on one line only with the states that say something
     if let Some(line) = tab_line(&items, sel, width, 1, th) {
         return vec![line];
     }
-    let (first, second) = items.split_at(n);
-    [first, second]
-        .iter()
-        .map(|group| {
-            tab_line(group, sel, width, 2, th).unwrap_or_else(|| {
-                let names = group
-                    .iter()
-                    .map(|(i, name, _)| (*i, name.clone(), String::new()));
-                tab_line_at(&names.collect::<Vec<_>>(), sel, 0, th).0
-            })
-        })
-        .collect()
+    let (first, second) = items.split_at(Studies::index_of(StudyKind::Adequacy));
+    let mut lines = Vec::new();
+    for group in [first, second] {
+        if let Some(line) = tab_line(group, sel, width, 2, th) {
+            lines.push(line);
+            continue;
+        }
+        let names: Vec<(usize, String, String)> = (group.iter())
+            .map(|(i, name, _)| (*i, name.clone(), String::new()))
+            .collect();
+        let (line, w) = tab_line_at(&names, sel, 0, th);
+        if w <= width || names.len() < 2 {
+            lines.push(line);
+        } else {
+            let (a, b) = names.split_at(names.len() / 2);
+            lines.extend([a, b].map(|half| tab_line_at(half, sel, 0, th).0));
+        }
+    }
+    lines
 }
 
 /// The items on one line in `width` columns, at the first level of detail up to `most` that
@@ -211,6 +222,11 @@ fn info(e: Option<&Entry>, th: &Theme) -> Vec<String> {
         Phase::Cancelling => vec![format!("cancelling after {done}/{all} runs…")],
         Phase::Finished if all > 1 => vec![format!("{done} runs"), failed, csv],
         Phase::Finished => vec!["done".into(), csv],
+        Phase::Cancelled if e.table.is_none() => {
+            vec![format!(
+                "cancelled after {done} of {all} runs: nothing kept"
+            )]
+        }
         Phase::Cancelled => vec![
             format!("cancelled: {done} of {all} runs done, drawn"),
             failed,
@@ -230,6 +246,8 @@ fn panel_title(kind: StudyKind, e: Option<&Entry>, next: &str) -> Vec<String> {
         StudyKind::Suite => "record suite: peak |θ| vs PGA",
         StudyKind::Screen => "screening by the impact law",
         StudyKind::Precision => "work-precision and stability",
+        StudyKind::Adequacy => "model adequacy: the ladder's cost against its error",
+        StudyKind::Sensitivity => "sensitivity: the swings and their tornado",
     };
     let source = match e.map(|e| &e.source) {
         None => next.to_string(),
@@ -286,9 +304,15 @@ fn draw_panel(
         (Some(t @ StudyTable::Precision(p)), _) if p.progress().0 > 0 => {
             draw_with_numbers(frame, inner, t, view, th)
         }
+        (Some(t @ (StudyTable::Adequacy(_) | StudyTable::Sensitivity(_))), _) => {
+            draw_figure(frame, inner, t, view, None, th)
+        }
         (_, Some(Phase::Running | Phase::Cancelling)) => {
             let t = match kind {
                 StudyKind::Screen => th.text("computing the screening…"),
+                StudyKind::Adequacy | StudyKind::Sensitivity => {
+                    th.text("its table comes when every run is done…")
+                }
                 _ => th.text("no run finished yet…"),
             };
             frame.render_widget(Paragraph::new(t), inner);
@@ -344,6 +368,13 @@ fn draw_figure(
             return super::precision::draw_precision(frame, area, t, view.grid, th);
         }
         StudyTable::Screen(s) => return draw_screen(frame, area, s, th),
+        StudyTable::Adequacy(a) => {
+            return super::adequacy::draw_adequacy(frame, area, a, view.cursor, th);
+        }
+        StudyTable::Sensitivity(s) => {
+            let at = (view.quantity, view.cursor);
+            return super::tornado::draw_tornado(frame, area, s, at, th);
+        }
     };
     let mut plot = match t.kind {
         StudyKind::Mu => fig8(t, th),

@@ -1,4 +1,5 @@
-//! Form actions: select a field, edit, accept or abandon the edit, revert.
+//! Form actions: select a field, edit, accept or abandon the edit, revert; a variant of the
+//! model ladder applied to the draft taken back whole.
 
 use crate::tui::app::{App, Mode, StatusKind};
 use crate::tui::form;
@@ -107,7 +108,8 @@ fn commit(app: &mut App) {
     }
 }
 
-fn accept_draft(app: &mut App, text: String) {
+/// `text` as the form's draft (its scene when it compiles), the form rebuilt.
+pub(super) fn accept_draft(app: &mut App, text: String) {
     if let Ok(scene) = form::validate(&text, &app.path) {
         app.scene = Some(scene);
     }
@@ -146,7 +148,12 @@ fn list_edit(app: &mut App, add: bool) {
     }
 }
 
+/// `u`: the ladder's variant just applied taken back whole (while the draft is still what it
+/// made); else the field reverted to its saved value.
 fn revert(app: &mut App) {
+    if undo_applied(app) {
+        return;
+    }
     let Some(f) = app.form.selected().cloned() else {
         return;
     };
@@ -169,4 +176,21 @@ fn revert(app: &mut App) {
         }
         Err(e) => app.set_status(StatusKind::Error, format!("cannot revert {}: {e}", f.label)),
     }
+}
+
+/// The ladder's variant last applied to the draft taken back (the draft before it restored,
+/// byte for byte), when the draft is still the one it made; false when there is none.
+pub(super) fn undo_applied(app: &mut App) -> bool {
+    let Some(a) = app.studies.applied.take_if(|a| a.after == app.draft) else {
+        return false;
+    };
+    accept_draft(app, a.before);
+    app.generation += 1;
+    let keys = match a.keys {
+        1 => "1 key".to_string(),
+        k => format!("{k} keys"),
+    };
+    let msg = format!("undid {}: {keys} as before", a.name);
+    app.set_status(StatusKind::Ok, msg);
+    true
 }

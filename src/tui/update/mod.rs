@@ -3,6 +3,7 @@
 //! terminal, threads or (except for validating model text) the file system.
 
 mod charts;
+mod design;
 mod edit;
 mod file;
 mod find;
@@ -73,6 +74,7 @@ fn on_msg(app: &mut App, msg: Msg) -> Vec<Effect> {
         Msg::SaveConflict(disk) => reconcile::on_save_conflict(app, disk),
         Msg::Exported(r) => on_exported(app, r),
         Msg::StudyRow { id, index, row } => study::on_row(app, id, index, &row),
+        Msg::StudyProgress { id, done, all } => study::on_progress(app, id, done, all),
         Msg::StudyDone { id, outcome } => study::on_done(app, id, outcome),
         Msg::StudyWritten { id, result } => study::on_written(app, id, result),
         Msg::StudyFiles(r) => study::on_files(app, r),
@@ -237,6 +239,9 @@ fn on_action(app: &mut App, a: Action) -> Vec<Effect> {
         | A::StudyFewer
         | A::StudyPointPrev
         | A::StudyPointNext
+        | A::StudyApply
+        | A::StudyUndo
+        | A::StudyQuantity
         | A::PickUp
         | A::PickDown
         | A::PickLoad

@@ -155,6 +155,11 @@ pub(super) fn action(app: &mut App, a: Action) -> Vec<Effect> {
                 app.studies.selected = crate::tui::study::Studies::index_of(StudyKind::Precision);
             }
         }
+        (Action::ResultUp | Action::ResultDown, None) => {
+            // the rows of the ladder's and the swings' tables
+            super::design::step_row(app, down);
+            return Vec::new();
+        }
         (Action::ResultUp | Action::ResultDown, Some(Page::Contacts)) => {
             let n = app.current.as_ref().map_or(0, |c| c.contact_names.len());
             bump(&mut r.contact, n);

@@ -45,6 +45,9 @@ pub(super) fn study_action(app: &mut App, a: Action) -> Vec<Effect> {
         Action::StudyPointPrev | Action::StudyPointNext => {
             step_point(app, a == Action::StudyPointNext)
         }
+        Action::StudyApply | Action::StudyUndo | Action::StudyQuantity => {
+            super::design::action(app, a)
+        }
         Action::StudyCancel => {
             if let Some(fx) = super::results::cancel(app) {
                 return fx;
@@ -89,7 +92,7 @@ pub(super) fn study_action(app: &mut App, a: Action) -> Vec<Effect> {
 /// `[` / `]`: the selected study's cursor to the previous or next point of its table (held at
 /// the ends); the readout under the table gives the values there.
 fn step_point(app: &mut App, next: bool) {
-    if app.results.page.is_some() {
+    if app.results.page.is_some() || super::design::step_row(app, next) {
         return;
     }
     let kind = app.studies.kind();
@@ -152,6 +155,7 @@ fn start(app: &mut App) -> Vec<Effect> {
         phase: Phase::Running,
         table,
         csv: None,
+        count: (0, 0),
     });
     app.generation += 1;
     let spec = StudySpec {
@@ -203,6 +207,19 @@ pub(super) fn on_row(app: &mut App, id: u64, index: usize, row: &Row) -> Vec<Eff
     Vec::new()
 }
 
+/// Study `id` (the ladder, the swings) has done `done` of its `all` runs.
+pub(super) fn on_progress(app: &mut App, id: u64, done: usize, all: usize) -> Vec<Effect> {
+    if let Some(e) = app
+        .studies
+        .by_id(id)
+        .filter(|e| e.running() && e.table.is_none())
+    {
+        e.count = (done, all);
+        app.generation += 1;
+    }
+    Vec::new()
+}
+
 /// "14 of 14 runs, 1 failed" (the screening: "done").
 fn counts(e: &Entry) -> String {
     match &e.table {
@@ -217,6 +234,18 @@ fn counts(e: &Entry) -> String {
         Some(StudyTable::Precision(t)) => {
             let (done, all) = t.progress();
             format!("{done} of {all} points")
+        }
+        Some(StudyTable::Adequacy(a)) => {
+            format!("{} variants on {} runs", a.variants.len(), a.cases.len())
+        }
+        Some(t @ StudyTable::Sensitivity(s)) => {
+            let (done, all) = t.progress();
+            let failed = (s.failed().len()).saturating_sub(all - done);
+            let failed = match failed {
+                0 => String::new(),
+                f => format!(", {f} failed"),
+            };
+            format!("{done} of {all} runs{failed}")
         }
         None => "nothing".into(),
     }
@@ -243,6 +272,11 @@ pub(super) fn on_done(app: &mut App, id: u64, outcome: StudyOutcome) -> Vec<Effe
             e.table = Some(*t.clone());
             let what = if done < all { "cancelled" } else { "finished" };
             let msg = format!("{name} {what}: {}", counts(e));
+            // the ladder's cursor on the cheapest variant within the tolerance
+            if let StudyTable::Adequacy(a) = &*t {
+                let row = a.cheapest(None).map_or(0, |v| v + 1);
+                app.studies.cursor[Studies::index_of(kind)] = row;
+            }
             if done > 0 {
                 app.generation += 1;
                 app.set_status(StatusKind::Info, format!("{msg} — writing its CSV…"));
@@ -254,6 +288,11 @@ pub(super) fn on_done(app: &mut App, id: u64, outcome: StudyOutcome) -> Vec<Effe
                 StatusKind::Ok
             };
             (k, msg)
+        }
+        StudyOutcome::Abandoned => {
+            e.phase = Phase::Cancelled;
+            let why = "nothing kept: its errors need every run";
+            (StatusKind::Warn, format!("{name} cancelled: {why}"))
         }
         StudyOutcome::Failed(why) => {
             e.phase = Phase::Failed(why.clone());
@@ -363,6 +402,7 @@ pub(super) fn on_loaded(
         },
         table: Some(*table),
         csv: Some(path.clone()),
+        count: (0, 0),
     };
     let msg = format!(
         "opened {}: {} study, {}{}",
