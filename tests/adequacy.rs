@@ -285,9 +285,15 @@ fn bad_arguments_and_models_are_named() {
     let e = run(&[&p, "--tolerance", "0"]);
     assert!(e.contains("--tolerance 0: a relative error above 0"), "{e}");
     let e = run(&[&p, "--quantities", "peak_z"]);
-    assert!(e.contains("--quantities: 'peak_z' is not one of peak_rotation"), "{e}");
+    assert!(
+        e.contains("--quantities: 'peak_z' is not one of peak_rotation"),
+        "{e}"
+    );
     let e = run(&[&p, "--only", "rigid"]);
-    assert!(e.contains("--only 'rigid': not a simplification (rigid-abutments"), "{e}");
+    assert!(
+        e.contains("--only 'rigid': not a simplification (rigid-abutments"),
+        "{e}"
+    );
     // the specimen's ε is 0 already: nothing to try
     let e = run(&[&p, "--only", "plastic-impacts"]);
     assert!(e.contains("no simplification of the ladder applies"), "{e}");
@@ -298,4 +304,56 @@ fn bad_arguments_and_models_are_named() {
     let scene = common::model("models/validation/bouncing-ball.toml");
     let e = run(&[&scene.display().to_string()]);
     assert!(e.contains("it is not a bridge file"), "{e}");
+}
+
+#[test]
+fn the_longitudinal_component_alone_moves_no_support_in_y() {
+    use deckspin::scene::Motion;
+    let path = common::model("models/four-span.toml");
+    let set = ["excitation.components=\"longitudinal\"".to_string()];
+    let scene = deckspin::model::load(&path, &set).unwrap();
+    let ys: Vec<&str> = (scene.supports.iter())
+        .filter(|s| s.name.ends_with(".y"))
+        .map(|s| match &s.motion {
+            Motion::Harmonic { amplitude, .. } if *amplitude == 0.0 => "rest",
+            _ => "moving",
+        })
+        .collect();
+    assert!(!ys.is_empty() && ys.iter().all(|y| *y == "rest"), "{ys:?}");
+    let xs = (scene.supports.iter()).filter(|s| s.name.ends_with(".x"));
+    assert!(
+        xs.clone().count() > 0
+            && xs
+                .into_iter()
+                .all(|s| matches!(s.motion, Motion::Record(_)))
+    );
+    // a harmonic input: the same as no y amplitude, bit for bit
+    let text = |extra: &str| {
+        std::fs::read_to_string(&path).unwrap().replace(
+            "kind = \"record\"",
+            &format!("kind = \"harmonic\"\nfrequency = 2.0\namplitude_x = 0.01\n{extra}"),
+        )
+    };
+    let run = |t: String| {
+        let set = ["solver.t_end=1.0".to_string()];
+        let scene = deckspin::model::load_str(&t, &path, &set).unwrap();
+        deckspin::run(&scene, &mut deckspin::Silent).unwrap()
+    };
+    let a = run(text("amplitude_y = 0.02\ncomponents = \"longitudinal\""));
+    let b = run(text("amplitude_y = 0.0"));
+    let peaks = |r: &deckspin::output::RunOutput| -> Vec<(String, f64)> {
+        r.summary
+            .peaks
+            .iter()
+            .map(|p| (p.name.clone(), p.max_abs))
+            .collect()
+    };
+    assert_eq!(peaks(&a), peaks(&b));
+    let e = deckspin::model::load(&path, &["excitation.components=\"transverse\"".to_string()])
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("excitation.components") && e.contains("\"both\" or \"longitudinal\""),
+        "{e}"
+    );
 }

@@ -44,7 +44,7 @@ pub struct AdequacyArgs {
     pub tolerance: f64,
     /// Only these simplifications, comma-separated (default: all that apply): rigid-abutments,
     /// no-backfill, bilinear-columns, linear-columns, frictionless, plastic-impacts,
-    /// no-contacts, translating-deck, no-keys, no-bearings, strong-motion.
+    /// no-contacts, translating-deck, no-keys, no-bearings, strong-motion, longitudinal-only.
     #[arg(long, value_delimiter = ',')]
     pub only: Vec<String>,
     /// The singles and the fixed combinations only: no search for the combination of every

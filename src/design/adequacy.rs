@@ -406,12 +406,17 @@ fn timing(set: &CaseSet, cases: &Cases) -> Timing {
     let Ok(scene) = set.scene(0, &[]) else {
         return Timing::default();
     };
-    let end = crate::suite::records_end(&scene);
+    let (end, t_end) = (crate::suite::records_end(&scene), scene.settings.t_end);
+    // the part of the strong motion the run reaches: a run that ends inside its records is
+    // cut there too
+    let window = match cases {
+        Cases::ModelRuns => scene.strong_motion_window(),
+        Cases::Suite { .. } => None,
+    };
     Timing {
-        strong_motion: match cases {
-            Cases::ModelRuns => scene.strong_motion_window(),
-            Cases::Suite { .. } => None,
-        },
-        tail: (scene.settings.t_end - end).max(0.0),
+        strong_motion: window
+            .map(|(t5, t95)| (t5, t95.min(t_end)))
+            .filter(|(t5, t95)| t95 > t5),
+        tail: (t_end - end).max(0.0),
     }
 }

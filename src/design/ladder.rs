@@ -30,10 +30,12 @@ pub enum Simplification {
     /// The records cut to their strong-motion part (5–95 % Arias intensity) plus the model's
     /// free-vibration tail.
     StrongMotion,
+    /// The longitudinal record alone (every support at rest in y).
+    LongitudinalOnly,
 }
 
 impl Simplification {
-    pub const ALL: [Self; 11] = [
+    pub const ALL: [Self; 12] = [
         Self::RigidAbutments,
         Self::NoBackfill,
         Self::BilinearColumns,
@@ -45,6 +47,7 @@ impl Simplification {
         Self::NoKeys,
         Self::NoBearings,
         Self::StrongMotion,
+        Self::LongitudinalOnly,
     ];
 
     /// Its name on the command line and in tables.
@@ -61,6 +64,7 @@ impl Simplification {
             Self::NoKeys => "no-keys",
             Self::NoBearings => "no-bearings",
             Self::StrongMotion => "strong-motion",
+            Self::LongitudinalOnly => "longitudinal-only",
         }
     }
 
@@ -87,6 +91,9 @@ impl Simplification {
             Self::NoBearings => "the abutment bearings",
             Self::StrongMotion => {
                 "the records before 5 % and after 95 % of their Arias intensity (the model's free-vibration tail kept)"
+            }
+            Self::LongitudinalOnly => {
+                "the transverse component of the input (the supports at rest in y)"
             }
         }
     }
@@ -262,6 +269,17 @@ pub fn edits(doc: &DocumentMut, s: Simplification, timing: &Timing) -> Option<Ve
                 return None;
             }
             vec![Edit::remove("abutment.bearing")]
+        }
+        Simplification::LongitudinalOnly => {
+            let moving_y = match string(doc, "excitation.kind") {
+                Some("record") => has(doc, "excitation.transverse"),
+                Some("harmonic") => float(doc, "excitation.amplitude_y").is_some_and(|a| a != 0.0),
+                _ => false,
+            };
+            if !moving_y || string(doc, "excitation.components") == Some("longitudinal") {
+                return None;
+            }
+            vec![Edit::set("excitation.components", "\"longitudinal\"")]
         }
         Simplification::StrongMotion => {
             let (t5, t95) = timing.strong_motion?;
@@ -606,7 +624,15 @@ mu = 0.3
             names(StrongMotion),
             "excitation.window=[2.5, 11.25] solver.t_end=9.75"
         );
+        let recorded: DocumentMut = format!(
+            "{MODEL}[excitation]\nkind = \"record\"\nlongitudinal = \"a.AT2\"\ntransverse = \"b.AT2\"\n"
+        )
+        .parse()
+        .unwrap();
+        let e = edits(&recorded, LongitudinalOnly, &t).unwrap();
+        assert_eq!(e, [Edit::set("excitation.components", "\"longitudinal\"")]);
         // nothing to leave out
+        assert_eq!(edits(&doc(), LongitudinalOnly, &t), None);
         assert_eq!(edits(&doc(), NoBearings, &t), None);
         assert_eq!(edits(&doc(), NoBackfill, &t), None);
         assert_eq!(edits(&doc(), StrongMotion, &Timing::default()), None);

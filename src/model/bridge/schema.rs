@@ -260,6 +260,10 @@ pub struct ExcitationSpec {
     /// Abutment actuators follow the longitudinal input (true) or stay fixed.
     #[serde(default = "yes")]
     pub drive_abutments: bool,
+    /// `"both"` (default) or `"longitudinal"`: the longitudinal record alone, every support
+    /// at rest in y (`transverse` and the runs' `pga_y` not read).
+    #[serde(default)]
+    pub components: Option<String>,
     /// `[start, end]`, s of the run's time (after `time_scale`, lags included): every record
     /// cut to it, `start` becoming t = 0, the target PGA the whole record's (`Processing`).
     pub window: Option<Vec<f64>>,

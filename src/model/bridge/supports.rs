@@ -49,6 +49,7 @@ fn harmonic_supports(
     )?;
     let ax = ck.finite("excitation.amplitude_x", e.amplitude_x.unwrap_or(0.0))?;
     let ay = ck.finite("excitation.amplitude_y", e.amplitude_y.unwrap_or(0.0))?;
+    let ay = if longitudinal_only(e, ck)? { 0.0 } else { ay };
     let w = 2.0 * std::f64::consts::PI * f;
     let h = |amp: f64, lag: f64, name: String| Support {
         name,
@@ -125,18 +126,32 @@ fn record_supports(
         };
         (motions.get(path, file, p)).map_err(|e| record_error(e, ck, field, file, &model_field))
     };
-    let record = |name: String, m| Support {
+    let moving = |name: String, motion| Support {
         name,
-        motion: Motion::Record(m),
+        motion,
         factor: 1.0,
+    };
+    let record = |name: String, m| moving(name, Motion::Record(m));
+    let longitudinal_only = longitudinal_only(e, ck)?;
+    // at rest in y: u_g = 0
+    let rest = || Motion::Harmonic {
+        amplitude: 0.0,
+        omega: 0.0,
+        phase: 0.0,
+    };
+    let get_y = |l: f64| -> Result<Motion, ModelError> {
+        if longitudinal_only {
+            return Ok(rest());
+        }
+        get(&e.transverse, "excitation.transverse", pga_y, l).map(Motion::Record)
     };
     let mut out = Vec::new();
     for b in 0..nb {
         let l = lag(&e.lag_bents, b);
         let mx = get(&e.longitudinal, "excitation.longitudinal", pga_x, l)?;
-        let my = get(&e.transverse, "excitation.transverse", pga_y, l)?;
+        let my = get_y(l)?;
         out.push(record(format!("bent{}.x", b + 1), mx));
-        out.push(record(format!("bent{}.y", b + 1), my));
+        out.push(moving(format!("bent{}.y", b + 1), my));
     }
     for (i, side) in ["left", "right"].iter().enumerate() {
         let l = lag(&e.lag_abutments, i);
@@ -146,11 +161,23 @@ fn record_supports(
     if transverse {
         for (i, side) in ["left", "right"].iter().enumerate() {
             let l = lag(&e.lag_abutments, i);
-            let m = get(&e.transverse, "excitation.transverse", pga_y, l)?;
-            out.push(record(format!("{side}_abutment.y"), m));
+            let m = get_y(l)?;
+            out.push(moving(format!("{side}_abutment.y"), m));
         }
     }
     Ok(out)
+}
+
+/// `excitation.components`: whether only the longitudinal record moves the supports.
+fn longitudinal_only(e: &ExcitationSpec, ck: &Check) -> Result<bool, ModelError> {
+    match e.components.as_deref() {
+        None | Some("both") => Ok(false),
+        Some("longitudinal") => Ok(true),
+        Some(c) => Err(ck.err(
+            "excitation.components",
+            format!("'{c}': \"both\" or \"longitudinal\""),
+        )),
+    }
 }
 
 /// Per-support lags: none (all 0) or one per support; fields the kind does not read refused.
