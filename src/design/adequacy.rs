@@ -125,6 +125,14 @@ pub struct Cost {
     pub events: usize,
 }
 
+impl Cost {
+    /// Accepted steps plus located events: the work of an event-driven run, the same on any
+    /// machine.
+    pub fn work(&self) -> usize {
+        self.steps + self.events
+    }
+}
+
 impl Outcome {
     pub fn cost(&self) -> Cost {
         self.runs.iter().fold(Cost::default(), |c, r| Cost {
@@ -227,18 +235,21 @@ impl Adequacy {
             .fold(0.0, f64::max)
     }
 
-    /// The cheapest variant (by CPU time) within the tolerance in `q`, or in every quantity
-    /// when `q` is none; none when no variant is (the full model is then the answer).
+    /// The cheapest variant within the tolerance in `q`, or in every quantity when `q` is
+    /// none; none when no variant is (the full model is then the answer). Cheapest by its
+    /// [`Cost::work`], which the machine's load does not change (CPU times vary by tens of
+    /// per cent between two runs of one model on a shared machine), then by CPU time.
     pub fn cheapest(&self, q: Option<&str>) -> Option<usize> {
         let ok = |v: usize| match q {
             Some(q) => self.error(v, q).is_some_and(|e| e <= self.tolerance),
             None => self.worst(v) <= self.tolerance,
         };
+        let full = self.full.cost().work();
         (0..self.variants.len())
-            .filter(|&v| ok(v) && self.variants[v].cost().cpu < self.full.cost().cpu)
+            .filter(|&v| ok(v) && self.variants[v].cost().work() < full)
             .min_by(|&a, &b| {
                 let (ca, cb) = (self.variants[a].cost(), self.variants[b].cost());
-                ca.cpu.total_cmp(&cb.cpu)
+                (ca.work().cmp(&cb.work())).then(ca.cpu.total_cmp(&cb.cpu))
             })
     }
 }
