@@ -5,10 +5,9 @@
 
 use crate::model::records::Motions;
 use crate::model::{self, ModelError};
-use crate::run::Stop;
 use crate::scene::Scene;
 use crate::suite::intensity::MeasureSpec;
-use crate::suite::metrics::{Columns, DriftWatch, bent_heights, metrics};
+use crate::suite::metrics::{bent_heights, run_measured};
 use crate::suite::records::SuitePair;
 use crate::suite::row::{METRICS, Status};
 use crate::suite::{Suite, SuiteError, SuiteSpec};
@@ -201,27 +200,11 @@ fn run_name(text: &str, k: usize) -> String {
 /// One scene run and measured: its quantities (the column drift by the bents' `heights`) and
 /// its cost.
 pub fn measure_scene(scene: &Scene, heights: &[(String, f64)]) -> Measured {
-    let mut scene = scene.clone();
-    scene.settings.keep_history = true;
-    let names: Vec<String> = scene.hysteretic.iter().map(|h| h.name.clone()).collect();
-    let mut watch = DriftWatch::new(Columns::of(&names, heights));
-    let (run, cpu) = crate::clock::thread_cpu(|| crate::simulate::integrate(&scene, &mut watch));
-    let status = match &run.stop {
-        Stop::Finished => Status::Finished,
-        Stop::Failed(e) => Status::Failed {
-            kind: e.kind().into(),
-            reason: e.to_string(),
-        },
-        Stop::Cancelled { t } => Status::Failed {
-            kind: "Cancelled".into(),
-            reason: format!("t = {t:.9} s: cancelled"),
-        },
-    };
-    let drift = watch.finish(&run);
+    let ((run, metrics), cpu) = crate::clock::thread_cpu(|| run_measured(scene.clone(), heights));
     let stats = &run.output.summary.stats;
     Measured {
-        status,
-        metrics: metrics(&run, drift),
+        status: Status::of(&run.stop),
+        metrics,
         cpu,
         steps: stats.steps_accepted,
         events: stats.events_located,

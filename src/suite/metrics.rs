@@ -107,6 +107,21 @@ impl Observer for DriftWatch {
     }
 }
 
+/// `scene` run with its history kept and its column drift watched (the bents' `heights`):
+/// the run and its metrics in the order of `row::METRICS`.
+pub fn run_measured(
+    mut scene: crate::scene::Scene,
+    heights: &[(String, f64)],
+) -> (Run, [Option<f64>; 11]) {
+    scene.settings.keep_history = true;
+    let names: Vec<String> = scene.hysteretic.iter().map(|h| h.name.clone()).collect();
+    let mut watch = DriftWatch::new(Columns::of(&names, heights));
+    let run = crate::simulate::integrate(&scene, &mut watch);
+    let drift = watch.finish(&run);
+    let m = metrics(&run, drift);
+    (run, m)
+}
+
 /// The metrics of a run in the order of `row::METRICS`, `drift` the largest column drift
 /// ratio watched.
 pub fn metrics(run: &Run, drift: Option<f64>) -> [Option<f64>; 11] {

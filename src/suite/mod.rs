@@ -16,11 +16,10 @@ pub mod stats;
 
 use crate::model::{ModelError, Motions, apply_overrides, load_str_with};
 use crate::progress::Progress;
-use crate::run::Stop;
 use crate::scene::{Motion, Scene};
 use crate::studies::{Axis, MAX_SWEEP_RUNS, SweepTooLarge, combinations, sweep_size};
 use intensity::{Measure, MeasureSpec, Period, pair_intensity};
-use metrics::{Columns, DriftWatch, bent_heights};
+use metrics::bent_heights;
 use rayon::prelude::*;
 use records::SuitePair;
 use row::{Status, SuiteRow};
@@ -412,29 +411,16 @@ impl Suite {
         };
         let scale = level / prep.intensity;
         row.scale = Some(scale);
-        let mut scene = match self.scaled_scene(prep, scale) {
+        let scene = match self.scaled_scene(prep, scale) {
             Ok(s) => s,
             Err(e) => {
                 row.status = Status::Refused(e.to_string());
                 return row;
             }
         };
-        scene.settings.keep_history = true;
-        let mut watch = DriftWatch::new(Columns::of(&element_names(&scene), &prep.heights));
-        let run = crate::simulate::integrate(&scene, &mut watch);
-        row.status = match &run.stop {
-            Stop::Finished => Status::Finished,
-            Stop::Failed(e) => Status::Failed {
-                kind: e.kind().into(),
-                reason: e.to_string(),
-            },
-            Stop::Cancelled { t } => Status::Failed {
-                kind: "Cancelled".into(),
-                reason: format!("t = {t:.9} s: cancelled"),
-            },
-        };
-        let drift = watch.finish(&run);
-        row.metrics = metrics::metrics(&run, drift);
+        let (run, metrics) = metrics::run_measured(scene, &prep.heights);
+        row.status = Status::of(&run.stop);
+        row.metrics = metrics;
         row
     }
 }
@@ -470,10 +456,6 @@ impl Suite {
         let scene = self.scaled_scene(&prep, scale).map_err(|e| e.to_string())?;
         Ok((scene, scale))
     }
-}
-
-fn element_names(scene: &Scene) -> Vec<String> {
-    scene.hysteretic.iter().map(|h| h.name.clone()).collect()
 }
 
 /// The longest period of the model's modes (`modal::modes`), s.

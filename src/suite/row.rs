@@ -49,6 +49,23 @@ pub enum Status {
 }
 
 impl Status {
+    /// How a run ended: finished, or failed with its error's kind and text (a cancelled run
+    /// as the kind `Cancelled` at its time).
+    pub fn of(stop: &crate::run::Stop) -> Self {
+        use crate::run::Stop;
+        match stop {
+            Stop::Finished => Status::Finished,
+            Stop::Failed(e) => Status::Failed {
+                kind: e.kind().into(),
+                reason: e.to_string(),
+            },
+            Stop::Cancelled { t } => Status::Failed {
+                kind: "Cancelled".into(),
+                reason: format!("t = {t:.9} s: cancelled"),
+            },
+        }
+    }
+
     /// `finished`, `failed: KIND: reason` or `refused: reason`.
     pub fn text(&self) -> String {
         match self {
