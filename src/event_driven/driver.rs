@@ -423,7 +423,7 @@ impl<'a> Integration<'a> {
 
     /// Time that stops advancing (events located again and again at nearly one instant) is
     /// an error with the contacts' state, within [`STALL_EVENTS`] events.
-    fn check_stall(&mut self) -> Result<(), SolverError> {
+    pub(super) fn check_stall(&mut self) -> Result<(), SolverError> {
         let t = self.eng.state.t;
         let window = STALL_WINDOW * self.eng.scene.settings.t_end.max(1.0);
         let (start, count) = &mut self.clock.stall;
@@ -662,7 +662,7 @@ fn settle_initial(eng: &mut Engine) -> Result<(), SolverError> {
 
 /// Apply one located event at the current instant: a branch change of a hysteretic element,
 /// or a contact event (the LCPs decide the new state).
-fn process_event(eng: &mut Engine, f: EventFn) -> Result<(), SolverError> {
+pub(super) fn process_event(eng: &mut Engine, f: EventFn) -> Result<(), SolverError> {
     eng.ws.dynamics.at = None;
     match f {
         EventFn::Lower(j) | EventFn::Upper(j) | EventFn::Reversal(j) => {

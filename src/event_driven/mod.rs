@@ -13,7 +13,8 @@
 //!   (eq. 8–10), transitions; [`project`]: the projection onto the closed constraints;
 //! - [`record`]: output samples, the energy ledger, peaks;
 //! - [`fork`]: friction sweeps sharing their motion up to the first contact;
-//! - [`islands`]: islands of bodies on their own steps while every contact is open.
+//! - [`islands`]: islands of bodies on their own steps while their contacts are open;
+//!   [`groups`]: islands joined while a contact between them may close or is closed.
 
 mod driver;
 mod dynamics;
@@ -21,6 +22,7 @@ mod engine;
 mod event_fn;
 mod events;
 mod fork;
+mod groups;
 mod islands;
 mod locate;
 mod probe;
@@ -44,7 +46,7 @@ pub fn run(scene: &Scene, observer: &mut dyn Observer) -> Result<RunOutput, Solv
 }
 
 /// Run the event-driven integration of a scene, keeping what was computed before a cancel or
-/// a failure; by islands while every contact is open if the scene asks for it
+/// a failure; by islands while their contacts are open if the scene asks for it
 /// ([`islands`]).
 pub fn integrate(scene: &Scene, observer: &mut dyn Observer) -> Run {
     let mut it = match Integration::start(scene) {
