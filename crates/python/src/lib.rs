@@ -15,7 +15,7 @@ use deckspin::scene::Scene;
 use pyo3::exceptions::{PyOSError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyList, PyTuple};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
 
@@ -27,8 +27,9 @@ fn error_class<'py>(py: Python<'py>, name: &str) -> PyResult<Bound<'py, PyAny>> 
     py.import("deckspin._errors")?.getattr(name)
 }
 
-/// `deckspin.ModelError` with `file`, `line`, `column`, `field`, `argument` and `reason`.
-fn model_error(py: Python<'_>, e: &ModelError) -> PyErr {
+/// `deckspin.ModelError` with `file`, `line`, `column`, `field`, `argument` and `reason`; an
+/// error of a `set=` override names the model's file `model`.
+fn model_error(py: Python<'_>, e: &ModelError, model: &Path) -> PyErr {
     let build = || -> PyResult<PyErr> {
         let cls = error_class(py, "ModelError")?;
         let (mut file, mut line, mut column, mut field, mut argument) = (
@@ -65,6 +66,7 @@ fn model_error(py: Python<'_>, e: &ModelError) -> PyErr {
                 reason.clone()
             }
             ModelError::Override { key, reason } => {
+                file = Some(model.to_path_buf());
                 field = Some(key.clone());
                 argument = Some(key.clone());
                 reason.clone()
@@ -74,6 +76,7 @@ fn model_error(py: Python<'_>, e: &ModelError) -> PyErr {
                 field: f,
                 reason,
             } => {
+                file = Some(model.to_path_buf());
                 field = Some(f.clone());
                 argument = Some(a.clone());
                 reason.clone()
@@ -119,10 +122,10 @@ fn error(py: Python<'_>, class: &str, message: String) -> PyErr {
 }
 
 /// A suite refused before it starts, as its exception.
-fn suite_error(py: Python<'_>, e: deckspin::suite::SuiteError) -> PyErr {
+fn suite_error(py: Python<'_>, e: deckspin::suite::SuiteError, model: &Path) -> PyErr {
     use deckspin::suite::SuiteError;
     match e {
-        SuiteError::Model(m) => model_error(py, &m),
+        SuiteError::Model(m) => model_error(py, &m, model),
         SuiteError::TooLarge(t) => error(py, "LimitError", t.to_string()),
         other => PyValueError::new_err(other.to_string()),
     }
@@ -149,7 +152,7 @@ impl NativeModel {
         set.extend(extra.iter().cloned());
         let loaded = py
             .detach(|| model::load_str_checked(&self.text, &self.path, &set, &Motions::default()))
-            .map_err(|e| model_error(py, &e))?;
+            .map_err(|e| model_error(py, &e, &self.path))?;
         let warnings = loaded.warnings.iter().map(|w| w.to_string()).collect();
         Ok((loaded.scene, warnings))
     }
@@ -170,13 +173,11 @@ fn load(
         (Some(path), None) => {
             let text = deckspin::input::read_bounded(&path, deckspin::input::MAX_MODEL_BYTES)
                 .map_err(|source| {
-                    model_error(
-                        py,
-                        &ModelError::Io {
-                            path: path.clone(),
-                            source,
-                        },
-                    )
+                    let e = ModelError::Io {
+                        path: path.clone(),
+                        source,
+                    };
+                    model_error(py, &e, &path)
                 })?;
             (text, path)
         }
@@ -195,7 +196,7 @@ fn load(
     };
     let loaded = py
         .detach(|| model::load_str_checked(&text, &path, &set, &Motions::default()))
-        .map_err(|e| model_error(py, &e))?;
+        .map_err(|e| model_error(py, &e, &path))?;
     Ok(NativeModel {
         warnings: loaded.warnings.iter().map(|w| w.to_string()).collect(),
         scene: loaded.scene,
@@ -692,7 +693,7 @@ fn sweep<'py>(
     sweep_size(&axes, MAX_SWEEP_RUNS).map_err(|e| error(py, "LimitError", e.to_string()))?;
     let study = py
         .detach(|| Study::from_text(&model.text, &model.path, &model.set))
-        .map_err(|e| model_error(py, &e))?;
+        .map_err(|e| model_error(py, &e, &model.path))?;
     let (outcome, raised) = poll(py, progress, interval, |counts| {
         study.sweep_watched(&axes, counts)
     })?;
@@ -771,10 +772,10 @@ fn suite(
         axes,
         tail,
     };
-    deckspin::suite::check_arguments(&model.set, &pairs, &spec).map_err(|e| suite_error(py, e))?;
+    deckspin::suite::check_arguments(&model.set, &pairs, &spec).map_err(|e| suite_error(py, e, &model.path))?;
     let suite = py
         .detach(|| Suite::from_text(&model.text, &model.path, &model.set, pairs, spec))
-        .map_err(|e| suite_error(py, e))?;
+        .map_err(|e| suite_error(py, e, &model.path))?;
     let (rows, raised) = poll(py, progress, interval, |counts| {
         suite.run(0..usize::MAX, counts)
     })?;
