@@ -32,78 +32,61 @@ fn error_class<'py>(py: Python<'py>, name: &str) -> PyResult<Bound<'py, PyAny>> 
 fn model_error(py: Python<'_>, e: &ModelError, model: &Path) -> PyErr {
     let build = || -> PyResult<PyErr> {
         let cls = error_class(py, "ModelError")?;
-        let (mut file, mut line, mut column, mut field, mut argument) = (
-            None::<PathBuf>,
-            None::<usize>,
-            None::<usize>,
-            None::<String>,
-            None::<String>,
-        );
-        let reason: String = match e {
-            ModelError::Io { path, source } => {
-                file = Some(path.clone());
-                format!("cannot read: {source}")
-            }
+        // (file, column, field, argument, reason); the line is the error's own
+        let (file, column, field, argument, reason): Place = match e {
+            ModelError::Io { path, source } => (
+                Some(path),
+                None,
+                None,
+                None,
+                format!("cannot read: {source}"),
+            ),
             ModelError::Parse {
                 path,
-                line: l,
-                column: c,
+                column,
                 message,
-            } => {
-                file = Some(path.clone());
-                line = Some(*l);
-                column = Some(*c);
-                message.clone()
-            }
+                ..
+            } => (Some(path), Some(*column), None, None, message.clone()),
             ModelError::Invalid {
                 path,
-                field: f,
+                field,
                 reason,
                 ..
-            } => {
-                file = Some(path.clone());
-                field = Some(f.clone());
-                reason.clone()
-            }
+            } => (Some(path), None, Some(field), None, reason.clone()),
             ModelError::Override { key, reason } => {
-                file = Some(model.to_path_buf());
-                field = Some(key.clone());
-                argument = Some(key.clone());
-                reason.clone()
+                (Some(model), None, Some(key), Some(key), reason.clone())
             }
             ModelError::OverrideInvalid {
-                argument: a,
-                field: f,
+                argument,
+                field,
                 reason,
-            } => {
-                file = Some(model.to_path_buf());
-                field = Some(f.clone());
-                argument = Some(a.clone());
-                reason.clone()
-            }
+            } => (
+                Some(model),
+                None,
+                Some(field),
+                Some(argument),
+                reason.clone(),
+            ),
             ModelError::Record {
                 path,
-                field: f,
+                field,
                 record,
                 source,
                 ..
-            } => {
-                file = Some(path.clone());
-                field = Some(f.clone());
-                format!("{record}: {source}")
-            }
+            } => (
+                Some(path),
+                None,
+                Some(field),
+                None,
+                format!("{record}: {source}"),
+            ),
             ModelError::Excitation { path, source } => {
-                file = Some(path.clone());
-                source.to_string()
+                (Some(path), None, None, None, source.to_string())
             }
         };
-        if line.is_none() {
-            line = e.line();
-        }
-        let file = file.map(|p| p.to_string_lossy().into_owned());
         let inst = cls.call1((e.to_string(),))?;
-        inst.setattr("file", file)?;
-        inst.setattr("line", line)?;
+        inst.setattr("file", file.map(|p| p.to_string_lossy().into_owned()))?;
+        inst.setattr("line", e.line())?;
         inst.setattr("column", column)?;
         inst.setattr("field", field)?;
         inst.setattr("argument", argument)?;
@@ -112,6 +95,15 @@ fn model_error(py: Python<'_>, e: &ModelError, model: &Path) -> PyErr {
     };
     build().unwrap_or_else(|err| err)
 }
+
+/// Where a model error is: file, column, field, argument, and the reason without the place.
+type Place<'a> = (
+    Option<&'a Path>,
+    Option<usize>,
+    Option<&'a String>,
+    Option<&'a String>,
+    String,
+);
 
 /// An exception of `deckspin._errors` by class name, with its message.
 fn error(py: Python<'_>, class: &str, message: String) -> PyErr {
@@ -255,7 +247,7 @@ impl NativeModel {
         method: Option<String>,
         progress: Option<Py<PyAny>>,
         interval: f64,
-    ) -> PyResult<(NativeRun, Option<Py<PyAny>>)> {
+    ) -> PyResult<(NativeRun, Raised)> {
         use deckspin::run::{OutputBudget, check_memory, check_output};
         let mut extra = Vec::new();
         if let Some(m) = &method {
@@ -589,6 +581,10 @@ impl NativeRun {
     }
 }
 
+/// The exception a job's watcher caught (Ctrl-C's KeyboardInterrupt, or the callback's), to
+/// be raised by the Python wrapper with the partial result attached.
+type Raised = Option<Py<PyAny>>;
+
 /// Counts of a job's runs for the poller, and its cancel.
 #[derive(Default)]
 struct Counts {
@@ -620,7 +616,7 @@ fn poll<T: Send>(
     progress: Option<Py<PyAny>>,
     interval: f64,
     job: impl FnOnce(&Counts) -> T + Send,
-) -> PyResult<(T, Option<Py<PyAny>>)> {
+) -> PyResult<(T, Raised)> {
     let counts = Counts::default();
     let interval = Duration::from_secs_f64(interval.clamp(0.01, 60.0));
     let mut raised: Option<PyErr> = None;
@@ -684,7 +680,7 @@ fn sweep<'py>(
     axes: Vec<String>,
     progress: Option<Py<PyAny>>,
     interval: f64,
-) -> PyResult<(Bound<'py, PyList>, usize, Option<Py<PyAny>>)> {
+) -> PyResult<(Bound<'py, PyList>, usize, Raised)> {
     use deckspin::studies::{MAX_SWEEP_RUNS, Study, parse_axis, sweep_size};
     let axes = (axes.iter())
         .map(|s| parse_axis(s))
@@ -754,7 +750,7 @@ fn suite(
     tail: f64,
     progress: Option<Py<PyAny>>,
     interval: f64,
-) -> PyResult<(String, String, Vec<String>, Option<Py<PyAny>>)> {
+) -> PyResult<(String, String, Vec<String>, Raised)> {
     use deckspin::suite::intensity::{parse_levels, parse_measure};
     use deckspin::suite::{Suite, SuiteSpec};
     let bad = |e: String| PyValueError::new_err(e);
@@ -772,7 +768,8 @@ fn suite(
         axes,
         tail,
     };
-    deckspin::suite::check_arguments(&model.set, &pairs, &spec).map_err(|e| suite_error(py, e, &model.path))?;
+    deckspin::suite::check_arguments(&model.set, &pairs, &spec)
+        .map_err(|e| suite_error(py, e, &model.path))?;
     let suite = py
         .detach(|| Suite::from_text(&model.text, &model.path, &model.set, pairs, spec))
         .map_err(|e| suite_error(py, e, &model.path))?;
