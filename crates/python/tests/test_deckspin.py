@@ -335,3 +335,21 @@ def test_bad_arguments_raise():
         deckspin.Model(MODEL, text="x")
     with pytest.raises(deckspin.LimitError):
         deckspin.Model(MODEL, set={"solver.output_dt": 1e-6}).run()
+
+
+def test_fig8_example_is_the_clis_mu_study(tmp_path):
+    ours = tmp_path / "fig8.csv"
+    subprocess.run([sys.executable, str(ROOT / "examples" / "python" / "fig8.py"), str(MODEL),
+                    "--csv", str(ours)], check=True, capture_output=True)
+    run_cli("study", "mu", str(MODEL), "--out", str(tmp_path / "study"))
+    head, rows = read_csv(tmp_path / "study" / "increase_vs_mu.csv")
+    ohead, orows = read_csv(ours)
+    assert len(orows) == len(rows) > 1
+    # the CLI rounds to 3 decimals: each of ours within half a unit of that
+    mus = [c for c in head if c.startswith("mu_")]
+    assert len(ohead) - 1 == len(mus)
+    for ours_row, cli_row in zip(orows, rows):
+        # the CLI's rows: run (or "mean"), pga_x, then one column per μ
+        assert len(ours_row) - 1 == len(cli_row) - 2
+        for a, b in zip(ours_row[1:], cli_row[2:]):
+            assert abs(float(a) - float(b)) <= 0.0005 + 1e-9, (ours_row[0], a, b)
