@@ -323,6 +323,7 @@ class Model:
 
     @property
     def title(self) -> str:
+        """The model's title (a bridge's with its test run added)."""
         return self._native.title
 
     @property
@@ -347,14 +348,17 @@ class Model:
 
     @property
     def dof_names(self) -> List[str]:
+        """The degrees of freedom (``deck.x``, ``deck.theta``, …): the history's columns."""
         return list(self._native.dof_names)
 
     @property
     def contact_names(self) -> List[str]:
+        """The contacts (the deck's corners against the abutments, …)."""
         return list(self._native.contact_names)
 
     @property
     def t_end(self) -> float:
+        """The run's end time, s (``solver.t_end``)."""
         return self._native.t_end
 
     @property
