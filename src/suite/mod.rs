@@ -140,6 +140,45 @@ struct Prepared {
 /// Why a run was refused when its suite was cancelled before it started.
 pub const CANCELLED: &str = "cancelled before it ran";
 
+/// The checks of a suite's arguments before its model is read: no reserved or windowing key
+/// fixed or swept, a finite tail ≥ 0, at most [`MAX_SWEEP_RUNS`] runs ([`Suite::open`]; the
+/// front ends that open a suite from text call it before [`Suite::from_text`]).
+pub fn check_arguments(
+    fix: &[String],
+    pairs: &[SuitePair],
+    spec: &SuiteSpec,
+) -> Result<(), SuiteError> {
+    let args = (fix.iter().map(|f| (f, f.split('=').next().unwrap_or(""))))
+        .chain(spec.axes.iter().map(|a| (&a.key, a.key.as_str())));
+    for (argument, key) in args {
+        if let Some(r) = reserved(key) {
+            let (argument, key) = (argument.clone(), r.to_string());
+            return Err(SuiteError::Reserved { argument, key });
+        }
+        if key.trim() == "excitation.window" {
+            let place = format!("'{argument}'");
+            return Err(SuiteError::Window { place });
+        }
+    }
+    if !(spec.tail.is_finite() && spec.tail >= 0.0) {
+        return Err(SuiteError::Tail(spec.tail));
+    }
+    let names = Axis {
+        key: "records".into(),
+        values: pairs.iter().map(|p| p.name.clone()).collect(),
+    };
+    let levels = Axis {
+        key: "levels".into(),
+        values: spec.levels.iter().map(|l| l.to_string()).collect(),
+    };
+    let all: Vec<Axis> = [names, levels]
+        .into_iter()
+        .chain(spec.axes.clone())
+        .collect();
+    sweep_size(&all, MAX_SWEEP_RUNS)?;
+    Ok(())
+}
+
 /// A bridge model, its record pairs, levels and swept keys: the runs of a suite.
 pub struct Suite {
     path: PathBuf,
@@ -167,34 +206,7 @@ impl Suite {
         pairs: Vec<SuitePair>,
         spec: SuiteSpec,
     ) -> Result<Self, SuiteError> {
-        let args = (fix.iter().map(|f| (f, f.split('=').next().unwrap_or(""))))
-            .chain(spec.axes.iter().map(|a| (&a.key, a.key.as_str())));
-        for (argument, key) in args {
-            if let Some(r) = reserved(key) {
-                let (argument, key) = (argument.clone(), r.to_string());
-                return Err(SuiteError::Reserved { argument, key });
-            }
-            if key.trim() == "excitation.window" {
-                let place = format!("'{argument}'");
-                return Err(SuiteError::Window { place });
-            }
-        }
-        if !(spec.tail.is_finite() && spec.tail >= 0.0) {
-            return Err(SuiteError::Tail(spec.tail));
-        }
-        let names = Axis {
-            key: "records".into(),
-            values: pairs.iter().map(|p| p.name.clone()).collect(),
-        };
-        let levels = Axis {
-            key: "levels".into(),
-            values: spec.levels.iter().map(|l| l.to_string()).collect(),
-        };
-        let all: Vec<Axis> = [names, levels]
-            .into_iter()
-            .chain(spec.axes.clone())
-            .collect();
-        sweep_size(&all, MAX_SWEEP_RUNS)?;
+        check_arguments(fix, &pairs, &spec)?;
         let text =
             crate::input::read_bounded(path, crate::input::MAX_MODEL_BYTES).map_err(|e| {
                 ModelError::Io {
