@@ -109,7 +109,7 @@ pub fn judge(scene: &Scene, mut run: Run) -> Run {
         run.stop = Stop::Failed(SolverError::NonFinite { t });
         return run;
     }
-    let compliant = matches!(st.method, Method::Penalty | Method::PenaltyExplicit);
+    let compliant = st.method.compliant_contact();
     let wall = run.output.stats.wall_time;
     let closure = s.energy_closure_rel;
     let mut bounds = Vec::new();

@@ -76,11 +76,7 @@ pub(super) fn finish(
     resolution(scene, given.bridge, ck)?;
     initial_penetration(scene, given.bridge, ck)?;
     if scene.settings.method != Method::Event {
-        let penalty = matches!(
-            scene.settings.method,
-            Method::Penalty | Method::PenaltyExplicit
-        );
-        if penalty
+        if scene.settings.method.compliant_contact()
             && !given.contact_stiffness
             && let Some(k) = chosen_contact_stiffness(scene)
         {
