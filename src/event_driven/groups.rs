@@ -1,5 +1,5 @@
-//! Groups of islands (`solver.islands`): islands whose bodies may meet are integrated together,
-//! the others on their own. A group is an island, or islands joined while a contact between
+//! Groups of islands (`solver.islands`, [`super::islands`]): islands whose bodies may meet
+//! are integrated together, the others on their own. A group is an island, or islands joined while a contact between
 //! them may close or is closed ([`Scene::restrict`] of their bodies). Its contact events are
 //! applied by the whole scene at the group's instant, on the state gathered from every group
 //! there (the events' samples, impulses, log and ledger are the whole scene's), and handed back
@@ -8,6 +8,7 @@
 use super::driver::{Integration, process_event};
 use super::event_fn::EventFn;
 use super::events::due_now;
+use crate::dopri;
 use crate::run::SolverError;
 use crate::scene::{Restricted, Scene};
 
@@ -48,7 +49,7 @@ impl<'s> Group<'s> {
             return self.it.eng.state.y[i];
         }
         match ck.kept.at(t) {
-            Some((s, _)) => super::islands::dense(s, ((t - s.t0) / s.h).clamp(0.0, 1.0), i),
+            Some((s, _)) => dense(s, ((t - s.t0) / s.h).clamp(0.0, 1.0), i),
             None => self.it.eng.state.y[i],
         }
     }
@@ -57,6 +58,15 @@ impl<'s> Group<'s> {
     pub(super) fn ledger_at(&self, t: f64) -> [f64; crate::scene::LEDGER_TERMS] {
         let ni = self.it.eng.n;
         std::array::from_fn(|k| self.y_at(t, 2 * ni + k))
+    }
+}
+
+/// Component i of a step's dense output at θ (y1 itself at θ = 1).
+fn dense(step: &dopri::Step, theta: f64, i: usize) -> f64 {
+    if theta >= 1.0 {
+        step.y1[i]
+    } else {
+        step.dense_component(theta, i)
     }
 }
 

@@ -674,15 +674,6 @@ impl Watch {
     }
 }
 
-/// Component i of a step's dense output at θ (y1 itself at θ = 1).
-pub(super) fn dense(step: &dopri::Step, theta: f64, i: usize) -> f64 {
-    if theta >= 1.0 {
-        step.y1[i]
-    } else {
-        step.dense_component(theta, i)
-    }
-}
-
 impl<'a> Integration<'a> {
     /// The peaks of the window's steps up to `t` only.
     fn peaks_until(&mut self, t: f64) {
