@@ -1,9 +1,10 @@
 //! Groups of islands (`solver.islands`, [`super::islands`]): islands whose bodies may meet
-//! are integrated together, the others on their own. A group is an island, or islands joined while a contact between
-//! them may close or is closed ([`Scene::restrict`] of their bodies). Its contact events are
-//! applied by the whole scene at the group's instant, on the state gathered from every group
-//! there (the events' samples, impulses, log and ledger are the whole scene's), and handed back
-//! to the group; every other group goes on over the same window untouched.
+//! are integrated together, the others on their own. A group is an island, or islands joined
+//! while a contact between them may close or is closed ([`Scene::restrict`] of their
+//! bodies). Its contact events are applied by the whole scene at the group's instant, on the
+//! state gathered from every group there (the events' samples, impulses, log and ledger are
+//! the whole scene's), and handed back to the group; every other group goes on over the same
+//! window untouched.
 
 use super::driver::{Integration, process_event};
 use super::event_fn::EventFn;
