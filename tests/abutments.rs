@@ -374,7 +374,7 @@ fn a_key_failing_while_a_corner_slides_leaves_the_corner_on_its_face() {
                 c.gap_rate
             );
             if s.kind == SampleKind::PostEvent {
-                let mu = scene.contacts[i].mu;
+                let mu = scene.contacts[i].law.mu;
                 assert!(c.normal_force >= 0.0, "{name}: λ_N {}", c.normal_force);
                 let excess = c.tangential_force.abs() - mu * c.normal_force;
                 assert!(

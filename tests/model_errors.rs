@@ -68,9 +68,9 @@ fn overrides_set_scalars_by_path_index_name_and_wildcard() {
         ],
     )
     .unwrap();
-    assert!(s.contacts.iter().all(|c| c.mu == 0.3));
-    assert_eq!(s.contacts[2].restitution, 0.5);
-    assert_eq!(s.contacts[0].restitution, 1.0);
+    assert!(s.contacts.iter().all(|c| c.law.mu == 0.3));
+    assert_eq!(s.contacts[2].law.restitution, 0.5);
+    assert_eq!(s.contacts[0].law.restitution, 1.0);
     assert_eq!(s.settings.t_end, 2.0);
     // bad overrides
     for bad in [

@@ -1087,7 +1087,7 @@ fn reload_with_changed_content_reruns() {
     assert_eq!(start_ids(&fx), vec![2]);
     assert!(app.status.contains("reloaded"), "{}", app.status);
     assert_eq!(app.text, changed);
-    assert_eq!(app.scene.as_ref().unwrap().contacts[0].mu, 0.1);
+    assert_eq!(app.scene.as_ref().unwrap().contacts[0].law.mu, 0.1);
     assert_eq!(
         app.runs.overlays().first().map(|e| e.number),
         Some(1),
@@ -2161,7 +2161,7 @@ fn a_value_being_typed_survives_an_outside_change_to_another_field() {
     assert_eq!(app.form.selected().unwrap().path, "contact.0.mu");
     assert_eq!(app.text, disk, "the change on disk is the new base");
     assert_eq!(app.draft, disk, "and is in the model");
-    assert_eq!(app.scene.as_ref().unwrap().contacts[0].restitution, 0.2);
+    assert_eq!(app.scene.as_ref().unwrap().contacts[0].law.restitution, 0.2);
     assert_eq!(start_ids(&fx), vec![2], "the merged model reruns");
     assert!(
         app.status.contains("contact 1 restitution"),

@@ -351,8 +351,8 @@ pub fn model_screen(scene: &Scene, rigid_faces: bool) -> (Vec<ModelCorner>, Vec<
                     k.w_n.as_slice(),
                     k.w_t.as_slice(),
                     &qdot,
-                    c.mu,
-                    c.restitution,
+                    c.law.mu,
+                    c.law.restitution,
                 ) {
                     Ok(i) => impact = Some(i),
                     Err(e) => note = Some(e.to_string()),
@@ -369,8 +369,8 @@ pub fn model_screen(scene: &Scene, rigid_faces: bool) -> (Vec<ModelCorner>, Vec<
             impact,
             note,
             spin,
-            mu: c.mu,
-            restitution: c.restitution,
+            mu: c.law.mu,
+            restitution: c.law.restitution,
         });
     }
     (corners, model_ends(scene))
@@ -400,7 +400,10 @@ fn model_ends(scene: &Scene) -> Vec<ModelEnd> {
             let width = d.y.abs();
             let skew = (d.x / d.y).atan().abs();
             let l_over_b = 2.0 * mid.x.abs() / width;
-            let (mu, eps) = (a.mu.min(b.mu), a.restitution.min(b.restitution));
+            let (mu, eps) = (
+                a.law.mu.min(b.law.mu),
+                a.law.restitution.min(b.law.restitution),
+            );
             ends.push(ModelEnd {
                 contacts: [a.name.clone(), b.name.clone()],
                 l_over_b,

@@ -4,7 +4,6 @@
 use super::engine::Engine;
 use super::resolve::check_painleve;
 use super::workspace::Scratch;
-use crate::contact::coulomb;
 use crate::hysteresis::Hysteretic;
 use crate::linalg::solve_small_into;
 use crate::output::ContactState;
@@ -49,7 +48,7 @@ impl Engine<'_> {
             for (r, &(i, tangential)) in sc.slots.iter().enumerate() {
                 if !tangential
                     && matches!(contacts[i], ContactState::Slide(s) if s != 0.0)
-                    && scene.contacts[i].mu > 0.0
+                    && !scene.contacts[i].law.frictionless()
                 {
                     let w = &sc.kin[i].w_n;
                     let g = w
@@ -205,8 +204,8 @@ impl Scratch {
             let kin = &self.kin[i];
             let col = &mut self.forces.as_mut_slice()[r * n..(r + 1) * n];
             match contacts[i] {
-                ContactState::Slide(s) if scene.contacts[i].mu > 0.0 && s != 0.0 => {
-                    let mu_s = scene.contacts[i].mu * s;
+                ContactState::Slide(s) if !scene.contacts[i].law.frictionless() && s != 0.0 => {
+                    let mu_s = scene.contacts[i].law.mu * s;
                     let (wn, wt) = (kin.w_n.as_slice(), kin.w_t.as_slice());
                     for ((c, wn), wt) in col.iter_mut().zip(wn).zip(wt) {
                         *c = wn - mu_s * wt;
@@ -256,7 +255,7 @@ impl Scratch {
             } else {
                 self.lam_n[i] = lr;
                 if let ContactState::Slide(s) = contacts[i] {
-                    self.lam_t[i] = coulomb::sliding_force(scene.contacts[i].mu, s, lr);
+                    self.lam_t[i] = scene.contacts[i].law.sliding_force(s, lr);
                 }
             }
         }

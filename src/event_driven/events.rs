@@ -3,7 +3,6 @@
 
 use super::engine::Engine;
 use super::event_fn::EventFn;
-use crate::contact::coulomb;
 use crate::output::ContactState;
 use crate::run::SolverError;
 use nalgebra::DVector;
@@ -28,7 +27,7 @@ impl<'a> Engine<'a> {
                 }
                 ContactState::Slide(s) => {
                     f.push(EventFn::Release(i));
-                    if *s != 0.0 && self.scene.contacts[i].mu > 0.0 {
+                    if *s != 0.0 && !self.scene.contacts[i].law.frictionless() {
                         f.push(EventFn::SlideStop(i));
                     }
                 }
@@ -119,9 +118,7 @@ impl<'a> Engine<'a> {
                     gap
                 }
                 EventFn::Release(i) => d.lam_n[i],
-                EventFn::StickSlip(i) => {
-                    coulomb::stick_margin(scene.contacts[i].mu, d.lam_n[i], d.lam_t[i])
-                }
+                EventFn::StickSlip(i) => scene.contacts[i].law.stick_margin(d.lam_n[i], d.lam_t[i]),
                 EventFn::Unseat(k) => {
                     let seat = &scene.seats[k];
                     let (gap, gap_rate, _) = scene.contact_rates(fr, &scene.contacts[seat.contact]);

@@ -121,13 +121,13 @@ impl Engine<'_> {
             .map(|&i| {
                 let closing = approaching.contains(&i);
                 if closing {
-                    scene.contacts[i].restitution
+                    scene.contacts[i].law.restitution
                 } else {
                     0.0
                 }
             })
             .collect();
-        let mu: Vec<f64> = set.iter().map(|&i| scene.contacts[i].mu).collect();
+        let mu: Vec<f64> = set.iter().map(|&i| scene.contacts[i].law.mu).collect();
         let mut accumulated = vec![None; set.len()];
         for (a, &i) in set.iter().enumerate() {
             if !st.accumulation_rule || eps[a] <= 0.0 || !approaching.contains(&i) {
@@ -213,7 +213,7 @@ impl Engine<'_> {
             gap_rate_before: kin.gap_rate,
             gap_rate_after: imp.gap_rate_after[a],
             slip_rate_after: imp.slip_rate_after[a],
-            sticks: (self.scene.contacts[i].mu > 0.0).then_some(sticks),
+            sticks: (!self.scene.contacts[i].law.frictionless()).then_some(sticks),
             info: f64::NAN,
         };
         self.log(record.clone())?;
@@ -253,12 +253,12 @@ impl Engine<'_> {
         let laws = Some(self.state.laws.as_slice());
         smooth_forces(scene, laws, self.state.t, &q, &v, &mut h, &mut self.ws.jac);
         self.state.force_scale = self.state.force_scale.max(h.amax());
-        let mu: Vec<f64> = closed.iter().map(|&i| scene.contacts[i].mu).collect();
+        let mu: Vec<f64> = closed.iter().map(|&i| scene.contacts[i].law.mu).collect();
         let slide: Vec<Option<f64>> = closed
             .iter()
             .map(|&i| {
                 let s = kin[i].slip_rate;
-                (scene.contacts[i].mu > 0.0 && s.abs() > st.velocity_tol).then(|| sgn(s))
+                (!scene.contacts[i].law.frictionless() && s.abs() > st.velocity_tol).then(|| sgn(s))
             })
             .collect();
         let kin_set: Vec<&ContactKinematics> = closed.iter().map(|&i| &kin[i]).collect();
@@ -280,9 +280,9 @@ impl Engine<'_> {
         for (a, &i) in closed.iter().enumerate() {
             if let ContactState::Slide(s) = self.state.contacts[i] {
                 let c = &scene.contacts[i];
-                if c.mu > 0.0 && s != 0.0 {
+                if !c.law.frictionless() && s != 0.0 {
                     let k = kin_set[a];
-                    let wq = &k.w_n - &k.w_t * (c.mu * s);
+                    let wq = &k.w_n - &k.w_t * (c.law.mu * s);
                     let g: f64 = k
                         .w_n
                         .iter()

@@ -5,6 +5,7 @@ use super::check::{Check, ModelError};
 use super::limit_state::LimitStateSpec;
 use super::records::{Motions, record_error};
 use super::solver::{SolverSpec, settings};
+use crate::contact::ContactLaw;
 use crate::excitation::Processing;
 use crate::hysteresis::{Hysteretic, Law};
 use crate::scene::{
@@ -628,8 +629,10 @@ fn compile_contact(i: usize, c: &ContactSpec, refs: &Refs) -> Result<Contact, Mo
         face_body: fb,
         face_point: xa + point - xb - gap * normal,
         face_normal: normal,
-        mu,
-        restitution: eps,
+        law: ContactLaw {
+            mu,
+            restitution: eps,
+        },
     })
 }
 

@@ -61,7 +61,7 @@ impl SceneKey {
         let contacts = if no_mu {
             let mut c = contacts.clone();
             for x in &mut c {
-                x.mu = 0.0;
+                x.law.mu = 0.0;
             }
             format!("{c:?}")
         } else {

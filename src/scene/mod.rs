@@ -99,10 +99,8 @@ pub struct Contact {
     pub face_point: Vector2<f64>,
     /// Unit outward normal of the face in the face-body frame (g_N > 0 is open).
     pub face_normal: Vector2<f64>,
-    /// Coulomb coefficient μ.
-    pub mu: f64,
-    /// Newton restitution ε (eq. 3).
-    pub restitution: f64,
+    /// Friction and restitution (eq. 2–4).
+    pub law: crate::contact::ContactLaw,
 }
 
 /// How an element's deformation is measured.

@@ -2,7 +2,6 @@
 //! and dashpot per contact, Coulomb friction as an elastic stick–slip spring.
 
 use super::Stepper;
-use crate::contact::coulomb;
 use crate::scene::{Frame, PowerTerms, Scene};
 use nalgebra::DVector;
 
@@ -97,8 +96,8 @@ fn penalty_forces(
         // stick spring with a dashpot of the normal damping ratio (an undamped stick spring
         // would give the tangential motion a restitution of one)
         let mut lt = -k * s - c_t * kin.slip_rate;
-        if c.mu > 0.0 {
-            let on_cone = coulomb::onto_cone(c.mu, ln, lt);
+        if !c.law.frictionless() {
+            let on_cone = c.law.onto_cone(ln, lt);
             if on_cone != lt {
                 lt = on_cone;
                 s = -lt / k;
@@ -130,7 +129,7 @@ fn dashpots(scene: &Scene, k: f64) -> Vec<(f64, f64)> {
     (scene.contacts.iter())
         .map(|c| {
             let kin = scene.contact_kinematics(&fr, c);
-            let e = c.restitution;
+            let e = c.law.restitution;
             let zeta = if e <= 0.0 {
                 1.0
             } else {

@@ -148,14 +148,14 @@ fn percussions(
     let w_t: Vec<&DVector<f64>> = active.iter().map(|&i| &kin[i].w_t).collect();
     let q_n: Vec<f64> = (active.iter())
         .map(|&i| {
-            let e = scene.contacts[i].restitution;
+            let e = scene.contacts[i].law.restitution;
             kin[i].w_n.dot(&v_free) + driven[i].0 + e * kin[i].gap_rate.min(0.0)
         })
         .collect();
     let q_t: Vec<f64> = (active.iter())
         .map(|&i| kin[i].w_t.dot(&v_free) + driven[i].1)
         .collect();
-    let mu: Vec<f64> = active.iter().map(|&i| scene.contacts[i].mu).collect();
+    let mu: Vec<f64> = active.iter().map(|&i| scene.contacts[i].law.mu).collect();
     let g = |a: &DVector<f64>, b: &DVector<f64>| a.dot(&(winv * b));
     let lemke = &scene.settings.lemke;
     let (pn, pt, piv, delta) = frictional_velocity_lcp(&w_n, &w_t, &g, &q_n, &q_t, &mu, lemke)
@@ -198,10 +198,14 @@ fn set_contact_states(
     for (i, c) in s.scene.contacts.iter().enumerate() {
         s.state[i] = if active.contains(&i) && p.p_n[i] > 0.0 {
             let gt = kin[i].w_t.dot(&p.v_new) + driven[i].1;
-            if c.mu > 0.0 && gt.abs() <= 1e-9 {
+            if !c.law.frictionless() && gt.abs() <= 1e-9 {
                 ContactState::Stick
             } else {
-                ContactState::Slide(if c.mu > 0.0 { gt.signum() } else { 0.0 })
+                ContactState::Slide(if !c.law.frictionless() {
+                    gt.signum()
+                } else {
+                    0.0
+                })
             }
         } else {
             ContactState::Open

@@ -180,10 +180,14 @@ fn set_contact_states(s: &mut Stepper, pf: &PenaltyForces) {
         s.lam_n[i] = ln;
         s.lam_t[i] = lt;
         s.state[i] = if ln > 0.0 {
-            if c.mu > 0.0 && lt.abs() < c.mu * ln * (1.0 - 1e-9) {
+            if !c.law.frictionless() && lt.abs() < c.law.mu * ln * (1.0 - 1e-9) {
                 ContactState::Stick
             } else {
-                ContactState::Slide(if c.mu > 0.0 { -lt.signum() } else { 0.0 })
+                ContactState::Slide(if !c.law.frictionless() {
+                    -lt.signum()
+                } else {
+                    0.0
+                })
             }
         } else {
             ContactState::Open

@@ -10,6 +10,7 @@
 //! that of m (straight bridge, φ = skew: P = (∓L/2 ± (w/2) tan φ, ±w/2)).
 
 use super::schema::{BentSpec, BridgeFile, CORNERS, Kind};
+use crate::contact::ContactLaw;
 use crate::scene::{Body, BodyRef, Contact};
 use nalgebra::{DVector, Vector2};
 
@@ -289,8 +290,10 @@ fn contact(bodies: &[Body], c: Corner) -> Contact {
         face_body: BodyRef::Body(c.face_body),
         face_point: p - xb - c.gap * c.n,
         face_normal: c.n,
-        mu: c.mu,
-        restitution: c.restitution,
+        law: ContactLaw {
+            mu: c.mu,
+            restitution: c.restitution,
+        },
     }
 }
 
