@@ -10,7 +10,6 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 pub mod deck;
 pub mod files;
 mod history;
-pub mod journal;
 pub mod number;
 
 pub use history::HistoryWriter;

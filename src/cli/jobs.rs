@@ -1,7 +1,7 @@
-//! What `suite`, `sweep` and `stress` share: their journal (library `output::journal`), the
+//! What `suite`, `sweep` and `stress` share: their journal (library `shard::journal`), the
 //! stop on a signal with the runs kept, and the output joined in run order.
 
-use deckspin::output::journal::Journal;
+use deckspin::shard::journal::Journal;
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 
@@ -99,7 +99,7 @@ pub fn open_journal(
     runs: usize,
     header: &str,
     resume: bool,
-) -> Result<(Journal, BTreeMap<usize, String>), deckspin::output::journal::JournalError> {
+) -> Result<(Journal, BTreeMap<usize, String>), deckspin::shard::journal::JournalError> {
     let (journal, done) = Journal::open(out, kind, job, shard, runs, header, resume)?;
     if let Some(why) = &journal.replaced {
         eprintln!("deckspin: a journal not of this job was replaced ({why})");

@@ -8,7 +8,7 @@ use deckspin::design::cases::Cases;
 use deckspin::design::sensitivity::{Choice, Study, job_arguments};
 use deckspin::design::swings::{Sensitivity, read_runs, run_fields, runs_header, summarize, table};
 use deckspin::output::files::{FolderLock, write_atomic};
-use deckspin::output::journal::Journal;
+use deckspin::shard::journal::Journal;
 use deckspin::shard::{JobId, Shard, csv_line, part_text};
 use deckspin::suite::DEFAULT_TAIL;
 use deckspin::suite::intensity::{parse_levels, parse_measure};

@@ -2,8 +2,8 @@
 
 use super::jobs::{Recorder, joined, stop_if_signalled};
 use clap::Args;
-use deckspin::output::journal::Journal;
 use deckspin::shard::Shard;
+use deckspin::shard::journal::Journal;
 use deckspin::stress::{CSV_HEADER, StressRow, csv_line, stress_listed, tally};
 use std::collections::BTreeMap;
 use std::path::PathBuf;

@@ -4,7 +4,7 @@
 use super::jobs::{Recorder, counted, joined, stop_if_signalled};
 use super::progress::Bar;
 use clap::Args;
-use deckspin::output::journal::Journal;
+use deckspin::shard::journal::Journal;
 use deckspin::shard::{Shard, csv_line, part_text};
 use deckspin::studies::parse_axis;
 use deckspin::suite::intensity::{parse_levels, parse_measure};

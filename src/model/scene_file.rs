@@ -5,7 +5,7 @@ use super::check::{Check, ModelError};
 use super::limit_state::LimitStateSpec;
 use super::records::{Motions, record_error};
 use super::solver::{SolverSpec, settings};
-use crate::contact::ContactLaw;
+use crate::contact::law::ContactLaw;
 use crate::excitation::Processing;
 use crate::hysteresis::{Hysteretic, Law};
 use crate::scene::{

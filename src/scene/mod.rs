@@ -100,7 +100,7 @@ pub struct Contact {
     /// Unit outward normal of the face in the face-body frame (g_N > 0 is open).
     pub face_normal: Vector2<f64>,
     /// Friction and restitution (eq. 2–4).
-    pub law: crate::contact::ContactLaw,
+    pub law: crate::contact::law::ContactLaw,
 }
 
 /// How an element's deformation is measured.

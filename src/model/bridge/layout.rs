@@ -10,7 +10,7 @@
 //! that of m (straight bridge, φ = skew: P = (∓L/2 ± (w/2) tan φ, ±w/2)).
 
 use super::schema::{BentSpec, BridgeFile, CORNERS, Kind};
-use crate::contact::ContactLaw;
+use crate::contact::law::ContactLaw;
 use crate::scene::{Body, BodyRef, Contact};
 use nalgebra::{DVector, Vector2};
 

@@ -7,7 +7,7 @@
 //! ([`JobId`] fields), the line `run,HEADER`, then one line `INDEX,ROW` per finished run in the
 //! order they finished. A last line without its line break (cut by a kill) is dropped.
 
-use crate::shard::{JobId, Shard};
+use super::{JobId, Shard};
 use std::collections::BTreeMap;
 use std::fs::File;
 use std::io::Write;

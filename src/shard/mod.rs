@@ -10,6 +10,8 @@
 //! parts of another job are refused by the field that differs, and a part cut short (no end
 //! line, or a row count that is not R) is refused.
 
+pub mod journal;
+
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 
