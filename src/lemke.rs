@@ -19,6 +19,8 @@
 //!   Heldermann 1988, ch. 2 (complementary pivot algorithm) and ch. 6
 //!   (exponential examples).
 
+#![warn(missing_docs)]
+
 use nalgebra::{DMatrix, DVector};
 
 /// Options for [`lemke`].
@@ -66,22 +68,31 @@ pub enum LcpError {
     /// copositive-plus). Carries the problem.
     #[error("Lemke: ray termination after {pivots} pivots (no solution reachable from this start)")]
     Ray {
+        /// Pivots made.
         pivots: usize,
+        /// The problem's M.
         m: DMatrix<f64>,
+        /// The problem's q.
         q: DVector<f64>,
     },
     /// The pivot budget [`LemkeOptions::max_pivots`] was exhausted.
     #[error("Lemke: pivot cap reached after {pivots} pivots")]
     PivotCap {
+        /// Pivots made.
         pivots: usize,
+        /// The problem's M.
         m: DMatrix<f64>,
+        /// The problem's q.
         q: DVector<f64>,
     },
     /// The returned point fails the check w = Mz+q, w ≥ 0, z ≥ 0, wᵀz ≈ 0.
     #[error("Lemke: solution check failed (residual {residual:e})")]
     CheckFailed {
+        /// The largest violation of w = Mz + q, w ≥ 0, z ≥ 0, wᵀz = 0.
         residual: f64,
+        /// The problem's M.
         m: DMatrix<f64>,
+        /// The problem's q.
         q: DVector<f64>,
     },
     /// NaN or infinity in M or q.
@@ -90,8 +101,11 @@ pub enum LcpError {
     /// M is not square or q does not match its size.
     #[error("Lemke: dimension mismatch (M is {rows}x{cols}, q has length {q_len})")]
     DimensionMismatch {
+        /// Rows of M.
         rows: usize,
+        /// Columns of M.
         cols: usize,
+        /// Length of q.
         q_len: usize,
     },
 }

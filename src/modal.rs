@@ -1,6 +1,8 @@
 //! Modal analysis of any model at its initial state: K₀, modes (K₀ φ = ω² M φ) and Rayleigh
 //! damping. The `modes` command and the bridge's `[damping]` both use it.
 
+#![warn(missing_docs)]
+
 use crate::scene::{Attachment, MassDamping, Scene, spread};
 use nalgebra::{DMatrix, DVector};
 
@@ -58,8 +60,11 @@ pub fn omega_max_closed(scene: &Scene, contact_stiffness: f64) -> f64 {
 /// A mode of the initial system (K₀ φ = ω² M φ, φᵀMφ = 1).
 #[derive(Clone, Debug)]
 pub struct Mode {
+    /// Circular frequency ω, rad/s.
     pub omega: f64,
+    /// Period 2π/ω, s.
     pub period: f64,
+    /// φ, mass-normalised, per DOF of the scene.
     pub shape: DVector<f64>,
 }
 

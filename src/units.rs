@@ -2,6 +2,8 @@
 //! `"SI"` (kg, N, m, s) or `"kip-in"` (kip·s²/in, kip, in, s). The engine is unit-free (any
 //! consistent set); the system names each quantity's unit and converts records, which are in g.
 
+#![warn(missing_docs)]
+
 use std::fmt;
 
 /// A consistent set of units: mass = force · s² / length.
@@ -19,11 +21,15 @@ pub enum UnitSystem {
 /// A quantity whose unit depends on the system.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Quantity {
+    /// Mass.
     Mass,
     /// Mass moment of inertia (mass · length²).
     Inertia,
+    /// Length.
     Length,
+    /// Time.
     Time,
+    /// Force.
     Force,
     /// Force / length.
     Stiffness,
@@ -35,8 +41,11 @@ pub enum Quantity {
     RotationalStiffness,
     /// Moment · time / rad.
     RotationalDamping,
+    /// Energy (force · length).
     Energy,
+    /// Length / time.
     Velocity,
+    /// Length / time².
     Acceleration,
     /// Plane angle, rad.
     Angle,
@@ -75,6 +84,7 @@ impl UnitSystem {
             })
     }
 
+    /// The name in model files (`units = "…"`).
     pub fn name(self) -> &'static str {
         match self {
             UnitSystem::SiKn => "SI-kN",

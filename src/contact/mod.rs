@@ -1,6 +1,8 @@
 //! The two LCPs of the paper (§3.2): frictional impact at velocity level (eq. 5–7) and
 //! continuous contact / detachment at acceleration level (eq. 8–10), both solved by Lemke.
 
+#![warn(missing_docs)]
+
 pub mod law;
 
 pub use law::{ContactLaw, coulomb};
@@ -18,8 +20,11 @@ pub struct ImpactOutcome {
     pub normal_impulse: Vec<f64>,
     /// Λ_T = Λ_TR − μ Λ_N per participating contact.
     pub tangential_impulse: Vec<f64>,
+    /// ġ_N⁺ per participating contact.
     pub gap_rate_after: Vec<f64>,
+    /// ġ_T⁺ per participating contact.
     pub slip_rate_after: Vec<f64>,
+    /// Lemke's pivots.
     pub pivots: usize,
     /// δ of a regularised solve ([`crate::lemke::lemke_regularized`]), 0 if none was needed.
     pub regularization: f64,
@@ -145,19 +150,26 @@ pub fn frictional_velocity_lcp(
 /// What the acceleration LCP decides for a closed contact.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Decision {
+    /// λ_N = 0 and g̈_N ≥ 0: the contact opens.
     Detach,
+    /// |λ_T| ≤ μ λ_N and g̈_T = 0.
     Stick,
     /// Slides with ġ_T of this sign.
     Slide(f64),
 }
 
+/// The solution of the acceleration LCP (eq. 8–10) for the closed contacts.
 #[derive(Clone, Debug)]
 pub struct ContactOutcome {
+    /// Per closed contact.
     pub decision: Vec<Decision>,
+    /// λ_N per closed contact.
     pub normal_force: Vec<f64>,
+    /// λ_T per closed contact.
     pub tangential_force: Vec<f64>,
     /// g̈_N per contact (0 where closed).
     pub normal_accel: Vec<f64>,
+    /// Lemke's pivots.
     pub pivots: usize,
     /// δ of a regularised solve ([`crate::lemke::lemke_regularized`]), 0 if none was needed.
     pub regularization: f64,

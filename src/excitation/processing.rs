@@ -40,7 +40,10 @@ pub enum Baseline {
     /// linear term: starts at rest), its second derivative subtracted from the acceleration
     /// at the nodes, then the exact end correction (module docs, step 5).
     /// `order` in `2..=MAX_POLY_ORDER`.
-    Polynomial { order: usize },
+    Polynomial {
+        /// The polynomial's order.
+        order: usize,
+    },
 }
 
 impl Default for Baseline {

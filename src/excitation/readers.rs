@@ -13,11 +13,13 @@ pub const MAX_SAMPLES: usize = 50_000_000;
 /// A uniformly sampled record, accelerations in g.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Record {
+    /// The file it was read from.
     pub path: PathBuf,
     /// AT2: the 4 header lines; two-column: the comment lines.
     pub header: Vec<String>,
     /// Sampling interval, s.
     pub dt: f64,
+    /// Accelerations, g.
     pub accel_g: Vec<f64>,
 }
 

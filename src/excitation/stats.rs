@@ -8,6 +8,7 @@ use super::readers::G;
 /// Summary of a processed motion (SI units unless `_g`).
 #[derive(Clone, Copy, Debug, PartialEq, Deserialize, Serialize)]
 pub struct MotionStats {
+    /// Peak ground acceleration, g.
     pub pga_g: f64,
     /// m/s².
     pub pga: f64,
@@ -21,7 +22,9 @@ pub struct MotionStats {
     pub significant_duration: f64,
     /// Arias intensity `π/(2g)∫a²dt`, m/s.
     pub arias_intensity: f64,
+    /// Displacement at the record's end, m.
     pub final_displacement: f64,
+    /// Velocity at the record's end, m/s.
     pub final_velocity: f64,
     /// Relative PGA change from baseline correction + taper (before amplitude scaling).
     pub correction_pga_change: f64,

@@ -6,12 +6,19 @@
 /// it is `direction` (±1). Otherwise `direction` is the last known direction of motion.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Branch {
+    /// A point (u_ref, f_ref) of the branch: f = f_ref + stiffness·(u − u_ref).
     pub u_ref: f64,
+    /// The force at `u_ref`.
     pub f_ref: f64,
+    /// The branch's slope df/du.
     pub stiffness: f64,
+    /// The branch ends below this deformation (−∞: never).
     pub lower: f64,
+    /// The branch ends above this deformation (+∞: never).
     pub upper: f64,
+    /// The sign of the deformation rate on it (±1).
     pub direction: f64,
+    /// The branch ends when the deformation rate changes sign (a load reversal).
     pub ends_on_reversal: bool,
 }
 

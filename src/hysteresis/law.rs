@@ -5,8 +5,14 @@ use serde::{Deserialize, Serialize};
 /// Errors of law parameters; `field` is the offending parameter.
 #[derive(Debug, thiserror::Error)]
 pub enum HysteresisError {
+    /// A parameter out of its range.
     #[error("{field}: {reason}")]
-    Invalid { field: &'static str, reason: String },
+    Invalid {
+        /// The parameter.
+        field: &'static str,
+        /// What is wrong.
+        reason: String,
+    },
 }
 
 fn default_unloading_exponent() -> f64 {
@@ -19,11 +25,17 @@ fn default_unloading_exponent() -> f64 {
 #[serde(tag = "law", rename_all = "lowercase", deny_unknown_fields)]
 pub enum Law {
     /// `f = stiffness·u`.
-    Linear { stiffness: f64 },
+    Linear {
+        /// Stiffness, force / deformation.
+        stiffness: f64,
+    },
     /// Bilinear with kinematic hardening; post-yield slope `post_yield_ratio·stiffness`.
     Bilinear {
+        /// Initial stiffness, force / deformation.
         stiffness: f64,
+        /// Yield force.
         yield_force: f64,
+        /// Post-yield slope / initial stiffness.
         post_yield_ratio: f64,
     },
     /// Takeda (see the module rules T1–T7).
@@ -32,9 +44,13 @@ pub enum Law {
     /// trilinear `(0,0)–(f_c/k, f_c)–(yield_displacement, f_y)` then slope `r·k`
     /// (`k = stiffness`, the cracked-section stiffness, `r = post_yield_ratio`).
     Takeda {
+        /// Initial stiffness, force / deformation.
         stiffness: f64,
+        /// Yield force.
         yield_force: f64,
+        /// Post-yield slope / initial stiffness.
         post_yield_ratio: f64,
+        /// Cracking force of a trilinear backbone.
         #[serde(default, skip_serializing_if = "Option::is_none")]
         crack_force: Option<f64>,
         /// Yield displacement of the trilinear backbone; required with `crack_force` only.
@@ -48,16 +64,23 @@ pub enum Law {
     /// only (rules G1–G4): `f = 0` for `e < gap + e_p`, `f = stiffness·(e − gap − e_p)` up to
     /// `capacity`, then `f = capacity` while `e_p` grows; unloading along `stiffness`.
     Backfill {
+        /// Deformation at which contact begins.
         gap: f64,
+        /// Initial stiffness, force / deformation.
         stiffness: f64,
+        /// Largest force.
         capacity: f64,
     },
     /// Sacrificial shear key (Megally, Silva & Seible 2001): the backfill law (G1–G4), and once
     /// `e − gap` reaches `failure_displacement` the key is gone, `f = 0` for ever (G5).
     Key {
+        /// Deformation at which contact begins.
         gap: f64,
+        /// Initial stiffness, force / deformation.
         stiffness: f64,
+        /// Largest force.
         capacity: f64,
+        /// Deformation past the gap at which the key fails (G5).
         failure_displacement: f64,
     },
 }

@@ -51,6 +51,8 @@
 //!     `f = 0` for ever. The force drops there (the one branch change that is not continuous
 //!     in force); the work `∫f de` is continuous.
 
+#![warn(missing_docs)]
+
 mod bilinear;
 mod branch;
 mod gap;
