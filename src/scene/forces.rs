@@ -310,6 +310,7 @@ pub struct ForceModel {
 }
 
 impl ForceModel {
+    /// The scene's smooth forces, flattened once.
     pub fn new(scene: &Scene) -> Self {
         let mut springs: Vec<FlatElement> = Vec::new();
         let mut general = Vec::new();

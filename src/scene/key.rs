@@ -10,11 +10,14 @@ use std::sync::Arc;
 /// each f64 as its shortest round-trip text: equal text, equal bits), the recorded support
 /// motions apart (compared by content, most often the same shared motion).
 pub struct SceneKey {
+    /// Every field but the title and the recorded motions, as text.
     pub text: String,
+    /// The recorded support motions.
     pub motions: Vec<Arc<GroundMotion>>,
 }
 
 impl SceneKey {
+    /// The key of `scene`.
     pub fn of(scene: &Scene) -> Self {
         Self::with(scene, false)
     }

@@ -16,17 +16,22 @@ pub struct ContactKinematics {
     pub w_n: DVector<f64>,
     /// W_T: ġ_T = W_Tᵀ q̇, along the face tangent t = (n_y, −n_x) ((t, n) right-handed).
     pub w_t: DVector<f64>,
+    /// ġ_N.
     pub gap_rate: f64,
+    /// ġ_T.
     pub slip_rate: f64,
     /// ŵ_N, ŵ_T: g̈ = Wᵀ q̈ + ŵ.
     pub bias_n: f64,
+    /// ŵ_T.
     pub bias_t: f64,
     /// ∂g_N/∂t, ∂g_T/∂t: the parts of ġ_N, ġ_T that bodies driven by the ground make,
     /// n·(v_A − v_B) and t·(v_A − v_B) of the driven ones (ġ = Wᵀq̇ + these).
     pub driven_n: f64,
+    /// ∂g_T/∂t.
     pub driven_t: f64,
     /// World position of the contact point (for drawing).
     pub point: Vector2<f64>,
+    /// The face's unit normal n, world frame.
     pub normal: Vector2<f64>,
 }
 
@@ -58,9 +63,13 @@ pub fn perp(a: Vector2<f64>) -> Vector2<f64> {
 /// Pose and velocity of a body (or ground) from q, q̇.
 #[derive(Clone, Copy, Debug)]
 pub struct BodyState {
+    /// The centre's world position.
     pub position: Vector2<f64>,
+    /// θ.
     pub angle: f64,
+    /// The centre's velocity.
     pub velocity: Vector2<f64>,
+    /// θ̇.
     pub omega: f64,
     /// (cos θ, sin θ).
     pub cs: (f64, f64),
@@ -91,7 +100,9 @@ impl Default for BodyState {
 /// evaluation: body poses and support motions.
 #[derive(Clone, Debug, Default)]
 pub struct Frame {
+    /// Per body.
     pub poses: Vec<BodyState>,
+    /// The fixed ground's.
     pub ground: BodyState,
     /// (u_g, u̇_g, ü_g) per support.
     pub supports: Vec<(f64, f64, f64)>,
@@ -110,6 +121,7 @@ pub struct Frame {
 }
 
 impl Frame {
+    /// The pose of `b` (the ground's for [`BodyRef::Ground`]).
     #[inline]
     pub fn pose(&self, b: BodyRef) -> &BodyState {
         match b {

@@ -8,6 +8,8 @@
 //! - [`kinematics`]: poses, exact contact kinematics (gap, Jacobians), element deformations;
 //! - [`forces`]: the smooth forces h(t, q, q̇) of eq. 1 and the energy ledger's power terms.
 
+#![warn(missing_docs)]
+
 mod force_runs;
 mod forces;
 mod key;
@@ -30,19 +32,26 @@ use std::sync::Arc;
 /// Planar coordinate a body may have as a degree of freedom.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Axis {
+    /// Longitudinal translation.
     X = 0,
+    /// Transverse translation.
     Y = 1,
+    /// Rotation in plan.
     Theta = 2,
 }
 
 /// A planar rigid body. `dofs[a]` is the index in q of axis a, or `None` when that axis is fixed.
 #[derive(Clone, Debug)]
 pub struct Body {
+    /// Its name in outputs (`NAME.x`, `NAME.theta`, …).
     pub name: String,
+    /// Mass.
     pub mass: f64,
+    /// Mass moment of inertia about the vertical axis through the centre.
     pub inertia: f64,
     /// Centre position at the reference configuration (q = 0).
     pub reference: Vector2<f64>,
+    /// Per [`Axis`], its index in q (None: fixed or driven).
     pub dofs: [Option<usize>; 3],
     /// Supports whose motion drives the centre's x and y, on axes without a DOF:
     /// X(t) = X₀ + (u_g,x(t), u_g,y(t)) — a rigid abutment moving with the ground (no DOFs), or
@@ -65,7 +74,9 @@ impl Body {
 /// Which body: a scene body or the fixed ground.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum BodyRef {
+    /// The fixed ground.
     Ground,
+    /// A body of [`Scene::bodies`].
     Body(usize),
 }
 
@@ -90,10 +101,13 @@ pub struct Seat {
 /// (corner-on-face; the face at any angle, so skew abutments work).
 #[derive(Clone, Debug)]
 pub struct Contact {
+    /// Its name in outputs (`NAME.gap`, …).
     pub name: String,
+    /// The body of the contact point (the corner).
     pub point_body: BodyRef,
     /// Contact point, body frame, relative to the body centre.
     pub point: Vector2<f64>,
+    /// The body of the face.
     pub face_body: BodyRef,
     /// A point of the face, face-body frame, relative to the face body's centre.
     pub face_point: Vector2<f64>,
@@ -108,19 +122,30 @@ pub struct Contact {
 pub enum Attachment {
     /// e = d·(P(q) − P(0)) − u_g(t): a body point along a fixed world direction d.
     Point {
+        /// The body.
         body: usize,
+        /// The point, body frame, relative to the centre.
         point: Vector2<f64>,
+        /// The fixed world direction d (unit).
         direction: Vector2<f64>,
     },
     /// e = θ − u_g(t).
-    Rotation { body: usize },
+    Rotation {
+        /// The body.
+        body: usize,
+    },
     /// e = d·[(P_a(q) − P_a(0)) − (P_b(q) − P_b(0))] − u_g(t): two body points (a of `body`, b
     /// of `other`) along a fixed world direction d (a shear key between two frames).
     Relative {
+        /// Body a.
         body: usize,
+        /// Point a, body a's frame.
         point: Vector2<f64>,
+        /// Body b.
         other: usize,
+        /// Point b, body b's frame.
         other_point: Vector2<f64>,
+        /// The fixed world direction d (unit).
         direction: Vector2<f64>,
     },
 }
@@ -138,20 +163,30 @@ impl Attachment {
 /// Linear spring–dashpot to a fixed or moving support.
 #[derive(Clone, Debug)]
 pub struct Spring {
+    /// Its name.
     pub name: String,
+    /// What its deformation e measures.
     pub attachment: Attachment,
+    /// f = stiffness·e + damping·ė.
     pub stiffness: f64,
+    /// The dashpot's coefficient.
     pub damping: f64,
+    /// The support whose motion u_g enters e (None: fixed).
     pub support: Option<usize>,
 }
 
 /// Hysteretic element (a column in one direction) with an optional parallel dashpot.
 #[derive(Clone, Debug)]
 pub struct HystereticElement {
+    /// Its name in outputs (`NAME.deformation`, `NAME.force`).
     pub name: String,
+    /// What its deformation e measures.
     pub attachment: Attachment,
+    /// Its law and present branch.
     pub law: Hysteretic,
+    /// The parallel dashpot's coefficient.
     pub damping: f64,
+    /// The support whose motion u_g enters e (None: fixed).
     pub support: Option<usize>,
 }
 
@@ -160,18 +195,25 @@ pub struct HystereticElement {
 pub enum Motion {
     /// u_g = A sin(ω t + φ).
     Harmonic {
+        /// A.
         amplitude: f64,
+        /// ω, rad/s.
         omega: f64,
+        /// φ, rad.
         phase: f64,
     },
     /// A processed record (piecewise-linear acceleration, exact integrals).
     Record(Arc<GroundMotion>),
 }
 
+/// A support (a table, a bent's foundation, an actuator's base) and its motion.
 #[derive(Clone, Debug)]
 pub struct Support {
+    /// Its name.
     pub name: String,
+    /// u_g(t) before the factor.
     pub motion: Motion,
+    /// The motion's scale (a component's share, a unit change).
     pub factor: f64,
 }
 
@@ -202,6 +244,7 @@ impl Support {
 /// Σ_s r_{i,s} u̇_{g,s}; it vanishes for rigid-body support motion.
 #[derive(Clone, Debug, Default)]
 pub struct MassDamping {
+    /// a₀, 1/s.
     pub alpha: f64,
     /// (dof, support, factor) terms of q̇_ref.
     pub reference: Vec<(usize, usize, f64)>,
@@ -210,6 +253,7 @@ pub struct MassDamping {
 /// A compiled scene: what the integrators run.
 #[derive(Clone, Debug)]
 pub struct Scene {
+    /// The model's title.
     pub title: String,
     /// The model's unit system (names units; the engine itself is unit-free).
     pub units: crate::units::UnitSystem,
@@ -218,23 +262,34 @@ pub struct Scene {
     pub bridge: bool,
     /// Seats under the deck ends (bridge files with `abutment.seat_width`): one per corner.
     pub seats: Vec<Seat>,
+    /// The rigid bodies.
     pub bodies: Vec<Body>,
+    /// The unilateral frictional contacts.
     pub contacts: Vec<Contact>,
+    /// The linear spring–dashpots.
     pub springs: Vec<Spring>,
+    /// The hysteretic elements (columns, backfill, keys).
     pub hysteretic: Vec<HystereticElement>,
+    /// The supports and their motions.
     pub supports: Vec<Support>,
+    /// Mass-proportional damping.
     pub mass_damping: MassDamping,
     /// Constant generalized forces (gravity, loads).
     pub loads: DVector<f64>,
     /// Diagonal of M.
     pub mass: DVector<f64>,
+    /// Per DOF, its name in outputs (`deck.theta`).
     pub dof_names: Vec<String>,
+    /// Initial positions q(0).
     pub q0: DVector<f64>,
+    /// Initial velocities q̇(0).
     pub v0: DVector<f64>,
+    /// The solver's settings.
     pub settings: Settings,
 }
 
 impl Scene {
+    /// The number of DOFs, the length of q.
     pub fn ndof(&self) -> usize {
         self.mass.len()
     }
@@ -286,6 +341,7 @@ impl Scene {
             .fold(f64::INFINITY, f64::min)
     }
 
+    /// ½ q̇ᵀ M q̇.
     pub fn kinetic_energy(&self, v: &DVector<f64>) -> f64 {
         0.5 * v
             .iter()

@@ -11,6 +11,7 @@ use nalgebra::DVector;
 /// A scene restricted to one island, with its indices into the whole scene.
 #[derive(Clone, Debug)]
 pub struct Restricted {
+    /// The scene of the island's bodies (and every body without DOFs).
     pub scene: Scene,
     /// Whole-scene index of each DOF.
     pub dofs: Vec<usize>,
