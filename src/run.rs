@@ -1,6 +1,8 @@
 //! The run API every method shares: why a run stopped ([`SolverError`]), observers of a run
 //! in progress, and the batching of what a run adds for them.
 
+#![warn(missing_docs)]
+
 use crate::lemke::LcpError;
 use crate::methods::Method;
 use crate::output::number::MAX_NUMBER_BYTES;
@@ -15,90 +17,159 @@ use std::time::Instant;
 /// Why a run stopped early. Every variant names the time.
 #[derive(Debug, thiserror::Error)]
 pub enum SolverError {
+    /// An LCP (eq. 5–7 or 8–10) Lemke could not solve.
     #[error("t = {t:.9} s: {what} LCP failed: {source}")]
     Lcp {
+        /// Simulated time, s.
         t: f64,
+        /// Which LCP.
         what: &'static str,
+        /// The underlying error.
         #[source]
         source: LcpError,
     },
+    /// A sliding contact whose contact LCP has no solution or several (Painlevé).
     #[error(
         "t = {t:.9} s: Painlevé configuration at contact(s) {contacts}: {detail} (the contact LCP has no or several solutions)"
     )]
     Painleve {
+        /// Simulated time, s.
         t: f64,
+        /// The contacts involved.
         contacts: String,
+        /// What was found.
         detail: String,
     },
+    /// Impacts accumulating at one contact without end.
     #[error(
         "t = {t:.9} s: step collapse: {events} events of contact '{contact}' within {window:.3e} s ({})",
         if *rule { "impact accumulation that the accumulation rule did not close" } else { "impact accumulation; enable solver.accumulation_rule" }
     )]
     StepCollapse {
+        /// Simulated time, s.
         t: f64,
+        /// The contact's name.
         contact: String,
+        /// Events located.
         events: usize,
+        /// The window they fell in, s.
         window: f64,
         /// The accumulation rule was on.
         rule: bool,
     },
+    /// The DP5 step fell below its minimum.
     #[error("t = {t:.9} s: step size {h:.3e} s fell below the minimum")]
-    StepTooSmall { t: f64, h: f64 },
+    StepTooSmall {
+        /// Simulated time, s.
+        t: f64,
+        /// The step size, s.
+        h: f64,
+    },
+    /// More events than solver.max_events.
     #[error("t = {t:.9} s: more than {limit} events")]
-    TooManyEvents { t: f64, limit: usize },
+    TooManyEvents {
+        /// Simulated time, s.
+        t: f64,
+        /// The setting's value.
+        limit: usize,
+    },
+    /// More steps than solver.max_steps.
     #[error("t = {t:.9} s: more than {limit} steps")]
-    TooManySteps { t: f64, limit: usize },
+    TooManySteps {
+        /// Simulated time, s.
+        t: f64,
+        /// The setting's value.
+        limit: usize,
+    },
+    /// A corner inside its face at t = 0.
     #[error("initial penetration at contact '{contact}': g_N = {gap:.6e} m")]
-    InitialPenetration { contact: String, gap: f64 },
+    InitialPenetration {
+        /// The contact's name.
+        contact: String,
+        /// g_N, m.
+        gap: f64,
+    },
+    /// A NaN or an infinity in the state.
     #[error("t = {t:.9} s: state became non-finite")]
-    NonFinite { t: f64 },
+    NonFinite {
+        /// Simulated time, s.
+        t: f64,
+    },
+    /// The stiffest mode needs more DP5 steps than solver.max_steps.
     #[error(
         "too stiff for the step budget: the stiffest mode (ω = {omega:.4e} rad/s) needs at least {steps:.3e} DP5 steps over t_end, more than solver.max_steps = {limit}"
     )]
     TooStiff {
+        /// ω of the stiffest mode, rad/s.
         omega: f64,
+        /// Steps it needs.
         steps: f64,
+        /// The setting's value.
         limit: usize,
     },
+    /// Events without time advancing.
     #[error(
         "t = {t:.9} s: time stopped advancing: {events} events since t = {since:.9} s (contacts: {contacts})"
     )]
     Stalled {
+        /// Simulated time, s.
         t: f64,
+        /// The window's start, s.
         since: f64,
+        /// Events located.
         events: usize,
         /// Each contact's state, gap and gap rate at `t`.
         contacts: String,
     },
+    /// A fixed-step method's state blew up.
     #[error("t = {t:.9} s: {method} with step {step:.3e} s is unstable: {detail}")]
     Unstable {
+        /// Simulated time, s.
         t: f64,
+        /// The method.
         method: &'static str,
+        /// The step size, s.
         step: f64,
+        /// What was found.
         detail: String,
     },
+    /// A fixed-step method's iterations did not converge.
     #[error("t = {t:.9} s: {method} iterations did not converge: {detail}")]
     NoConvergence {
+        /// Simulated time, s.
         t: f64,
+        /// The method.
         method: &'static str,
+        /// What was found.
         detail: String,
     },
+    /// The observer asked the run to stop.
     #[error("t = {t:.9} s: cancelled")]
-    Cancelled { t: f64 },
+    Cancelled {
+        /// Simulated time, s.
+        t: f64,
+    },
+    /// A deck end left its seat.
     #[error(
         "t = {t:.9} s: the deck lost its seat at '{contact}': its gap reached {gap:.6e} m, the seat's edge (support length {width} m beyond the initial gap)"
     )]
     Unseated {
+        /// Simulated time, s.
         t: f64,
+        /// The contact's name.
         contact: String,
+        /// g_N, m.
         gap: f64,
+        /// The seat's support length, m.
         width: f64,
     },
+    /// A finished run outside its accuracy bounds.
     #[error(
         "t = {t:.9} s: finished outside the accuracy asked for: {}",
         Bound::list(bounds)
     )]
     Inaccurate {
+        /// Simulated time, s.
         t: f64,
         /// Every bound the run broke.
         bounds: Vec<Bound>,
@@ -110,9 +181,11 @@ pub enum SolverError {
 pub struct Bound {
     /// "energy closure" (relative) or "penetration" (m).
     pub what: &'static str,
+    /// The run's value.
     pub value: f64,
     /// The setting that bounds it: "max_closure" or "max_penetration".
     pub setting: &'static str,
+    /// The setting's value.
     pub limit: f64,
     /// A setting that would meet it and its estimated cost, or what else to do.
     pub remedy: String,
@@ -135,6 +208,7 @@ impl Bound {
 
 /// Receives results while a run goes on (for live charts); return false to cancel.
 pub trait Observer {
+    /// New samples and events up to `t`; false cancels the run.
     fn batch(&mut self, samples: &[Sample], events: &[EventRecord], t: f64) -> bool;
 
     /// True when the observer keeps (or writes) every sample it is handed: the run's output
@@ -222,7 +296,10 @@ pub enum Stop {
     /// It reached `t_end`.
     Finished,
     /// The observer asked it to stop at `t`.
-    Cancelled { t: f64 },
+    Cancelled {
+        /// Simulated time, s.
+        t: f64,
+    },
     /// The method could not go on.
     Failed(SolverError),
 }
@@ -231,7 +308,9 @@ pub enum Stop {
 /// the instant it stopped.
 #[derive(Debug)]
 pub struct Run {
+    /// What it computed.
     pub output: RunOutput,
+    /// How it ended.
     pub stop: Stop,
 }
 
@@ -252,6 +331,7 @@ impl Run {
         Self { output, stop }
     }
 
+    /// It reached `t_end`.
     pub fn finished(&self) -> bool {
         matches!(self.stop, Stop::Finished)
     }
@@ -519,6 +599,7 @@ pub struct OutputEstimate {
 }
 
 impl OutputEstimate {
+    /// The estimate for `scene`'s settings.
     pub fn of(scene: &Scene) -> Self {
         let st = &scene.settings;
         let mut grid_rows = (st.t_end / st.output_dt).floor() + 2.0;
@@ -564,7 +645,9 @@ fn nan_to_inf(x: f64) -> f64 {
 /// The most a run may write: runs whose estimate is above are refused before they start.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct OutputBudget {
+    /// The rows allowed.
     pub max_rows: f64,
+    /// The bytes allowed.
     pub max_bytes: f64,
 }
 
@@ -581,45 +664,70 @@ impl Default for OutputBudget {
 /// A run refused before it starts: what it would take, and the limit.
 #[derive(Debug, thiserror::Error)]
 pub enum LimitError {
+    /// history.csv would be larger than the budget.
     #[error(
         "history.csv would hold up to {rows:.3e} rows ({grid_rows:.3e} from solver.t_end = {t_end} s / solver.output_dt = {output_dt} s, {event_rows:.3e} at events from solver.max_events = {max_events}), about {bytes:.3e} bytes: above the limit of {max_rows:.0e} rows and {max_bytes:.0e} bytes (raise solver.output_dt, lower solver.t_end or solver.max_events)"
     )]
     History {
+        /// Rows it would hold.
         rows: f64,
+        /// Rows on the output grid.
         grid_rows: f64,
+        /// Rows at events, at most.
         event_rows: f64,
+        /// Bytes it would take.
         bytes: f64,
+        /// solver.t_end, s.
         t_end: f64,
+        /// solver.output_dt, s.
         output_dt: f64,
+        /// solver.max_events.
         max_events: usize,
+        /// The rows allowed.
         max_rows: f64,
+        /// The bytes allowed.
         max_bytes: f64,
     },
+    /// The output grid is more than a run kept in memory may hold.
     #[error(
         "the output grid alone is {rows:.3e} rows (solver.t_end = {t_end} s / solver.output_dt = {output_dt} s), more than the {max_rows:e} a run kept in memory may hold (raise solver.output_dt or lower solver.t_end; `deckspin run` streams its history to disk)"
     )]
     Memory {
+        /// Rows it would hold.
         rows: f64,
+        /// solver.t_end, s.
         t_end: f64,
+        /// solver.output_dt, s.
         output_dt: f64,
+        /// The rows allowed.
         max_rows: f64,
     },
+    /// A fixed-step run needs more steps than solver.max_steps.
     #[error(
         "solver.t_end = {t_end} s / solver.step = {step} s is {steps:.3e} steps, more than solver.max_steps = {max_steps} (raise solver.step or solver.max_steps, or lower solver.t_end)"
     )]
     Steps {
+        /// Steps it needs.
         steps: f64,
+        /// solver.t_end, s.
         t_end: f64,
+        /// The step size, s.
         step: f64,
+        /// solver.max_steps.
         max_steps: usize,
     },
+    /// solver.h_max needs more steps than solver.max_steps.
     #[error(
         "solver.t_end = {t_end} s / solver.h_max = {h_max} s is at least {steps:.3e} event-driven steps, more than solver.max_steps = {max_steps} (raise solver.h_max or solver.max_steps, or lower solver.t_end)"
     )]
     MaxStep {
+        /// Steps it needs.
         steps: f64,
+        /// solver.t_end, s.
         t_end: f64,
+        /// solver.h_max, s.
         h_max: f64,
+        /// solver.max_steps.
         max_steps: usize,
     },
 }
