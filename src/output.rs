@@ -1,6 +1,8 @@
 //! Run results: time history (output grid plus every event instant), event log, energy ledger
 //! and summary; writers for `history.csv`, `events.csv` and `summary.json`.
 
+#![warn(missing_docs)]
+
 use crate::hysteresis::{Hysteretic, Law};
 use crate::scene::Scene;
 use serde::Serialize;
@@ -17,13 +19,16 @@ pub use history::HistoryWriter;
 /// State of one contact.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub enum ContactState {
+    /// No force: g_N > 0, or released.
     Open,
+    /// Sticking (ġ_T = 0), or the transition to it.
     Stick,
     /// Closed and sliding with ġ_T of this sign (0: frictionless).
     Slide(f64),
 }
 
 impl ContactState {
+    /// Its name in outputs (`open`, `stick`, `slide`).
     pub fn label(&self) -> &'static str {
         match self {
             ContactState::Open => "open",
@@ -35,21 +40,31 @@ impl ContactState {
     }
 }
 
+/// Where a sample was taken.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub enum SampleKind {
+    /// On the output grid.
     Grid,
+    /// Just before an event.
     PreEvent,
+    /// Just after an event.
     PostEvent,
 }
 
+/// A contact at a sample.
 #[derive(Clone, Copy, Debug, Serialize)]
 pub struct ContactSample {
+    /// g_N, m.
     pub gap: f64,
+    /// ġ_N.
     pub gap_rate: f64,
+    /// ġ_T.
     pub slip_rate: f64,
     /// λ_N, λ_T (continuous contact forces; 0 when open).
     pub normal_force: f64,
+    /// λ_T.
     pub tangential_force: f64,
+    /// Open, stick or slide.
     pub state: ContactState,
 }
 
@@ -57,11 +72,15 @@ pub struct ContactSample {
 /// = E₀ + W_loads + W_supports.
 #[derive(Clone, Copy, Debug, Default, Serialize)]
 pub struct EnergySample {
+    /// Kinetic energy T.
     pub kinetic: f64,
     /// Linear springs ½ k e².
     pub elastic: f64,
+    /// Work of the constant loads.
     pub loads: f64,
+    /// Work delivered by the moving supports.
     pub supports: f64,
+    /// Energy dissipated in the dashpots and by mass-proportional damping.
     pub damping: f64,
     /// Work absorbed by hysteretic elements (stored + dissipated).
     pub hysteretic: f64,
@@ -69,7 +88,9 @@ pub struct EnergySample {
     pub friction: f64,
     /// Lost in impacts, normal and tangential parts (Λᵀ(ġ⁺ + ġ⁻)/2).
     pub impact_normal: f64,
+    /// Energy change by the tangential impulses.
     pub impact_tangential: f64,
+    /// The initial energy.
     pub initial: f64,
     /// Left minus right side of the balance.
     pub closure: f64,
@@ -95,6 +116,7 @@ impl EnergySample {
         .all(|x| x.is_finite())
     }
 
+    /// The closure: what the ledger does not account for (0 for an exact run).
     pub fn balance(&self) -> f64 {
         (self.kinetic
             + self.elastic
@@ -105,6 +127,7 @@ impl EnergySample {
             + self.impact_tangential)
             - (self.initial + self.loads + self.supports)
     }
+    /// The energy scale the closure is measured against.
     pub fn scale(&self) -> f64 {
         self.kinetic
             + self.elastic
@@ -119,24 +142,37 @@ impl EnergySample {
     }
 }
 
+/// The state at one instant of the output.
 #[derive(Clone, Debug, Serialize)]
 pub struct Sample {
+    /// Time, s.
     pub t: f64,
+    /// What kind.
     pub kind: SampleKind,
+    /// Positions q.
     pub q: Vec<f64>,
+    /// Velocities q̇.
     pub v: Vec<f64>,
+    /// Per contact.
     pub contacts: Vec<ContactSample>,
     /// (deformation, force) of each hysteretic element.
     pub elements: Vec<(f64, f64)>,
+    /// The energy ledger.
     pub energy: EnergySample,
 }
 
+/// What happened at an event of the log.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
 pub enum EventKind {
+    /// An impact.
     Impact,
+    /// Sticking (ġ_T = 0), or the transition to it.
     Stick,
+    /// The transition from stick to slip.
     Slip,
+    /// A detachment.
     Release,
+    /// An accumulation of impacts closed by the rule.
     Accumulation,
     /// A shear key's deformation beyond its gap reached its failure displacement (hysteresis
     /// rule G5): `EventRecord::contact` is the hysteretic element's index.
@@ -144,6 +180,7 @@ pub enum EventKind {
 }
 
 impl EventKind {
+    /// Its name in events.csv.
     pub fn label(&self) -> &'static str {
         match self {
             EventKind::Impact => "impact",
@@ -161,17 +198,24 @@ impl EventKind {
     }
 }
 
+/// An event of the log (events.csv).
 #[derive(Clone, Debug, Serialize)]
 pub struct EventRecord {
+    /// Time, s.
     pub t: f64,
     /// The contact's index (a key failure: the hysteretic element's).
     pub contact: usize,
+    /// What kind.
     pub kind: EventKind,
     /// Λ_N, Λ_T for impacts (N·s).
     pub normal: f64,
+    /// Λ_T.
     pub tangential: f64,
+    /// ġ_N⁻.
     pub gap_rate_before: f64,
+    /// ġ_N⁺.
     pub gap_rate_after: f64,
+    /// ġ_T⁺.
     pub slip_rate_after: f64,
     /// After the event: does the contact stick?
     pub sticks: Option<bool>,
@@ -200,22 +244,31 @@ impl EventRecord {
 /// A shear key that failed: its hysteretic element, when, and the largest force it carried.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct KeyFailure {
+    /// The element's name.
     pub element: String,
+    /// Time, s.
     pub t: f64,
+    /// The largest force it carried.
     pub peak_force: f64,
 }
 
+/// The counts of a run.
 #[derive(Clone, Debug, Default, Serialize)]
 pub struct RunStats {
+    /// Accepted steps.
     pub steps_accepted: usize,
+    /// Rejected steps.
     pub steps_rejected: usize,
+    /// Right-hand side evaluations.
     pub rhs_evals: usize,
     /// Event method: per state component (q, then q̇), the accepted DP5 steps whose error
     /// estimate it dominated — which motion sets the step size (labelled in
     /// [`Summary::step_control`]).
     #[serde(skip)]
     pub step_control: Vec<usize>,
+    /// LCPs solved.
     pub lcp_solves: usize,
+    /// Lemke's pivots over every LCP.
     pub lemke_pivots: usize,
     /// LCPs solved only after regularisation (degenerate contact sets).
     pub lcp_regularized: usize,
@@ -226,16 +279,24 @@ pub struct RunStats {
     /// alternating impacts of two corners; left out of summary.json while 0).
     #[serde(skip_serializing_if = "is_zero")]
     pub held_after_impact: usize,
+    /// Events located.
     pub events_located: usize,
+    /// Branch changes of the hysteretic elements.
     pub branch_events: usize,
+    /// Impacts.
     pub impacts: usize,
+    /// Transitions to stick.
     pub sticks: usize,
+    /// Transitions to slip.
     pub slips: usize,
+    /// Detachments.
     pub releases: usize,
+    /// Impact accumulations closed by the accumulation rule.
     pub accumulations: usize,
     /// Failed shear keys (left out of summary.json while 0).
     #[serde(skip_serializing_if = "is_zero")]
     pub key_failures: usize,
+    /// Wall time, s.
     pub wall_time: f64,
 }
 
@@ -244,6 +305,7 @@ fn is_zero(n: &usize) -> bool {
 }
 
 impl RunStats {
+    /// One more event of kind `k`.
     pub fn count(&mut self, k: EventKind) {
         match k {
             EventKind::Impact => self.impacts += 1,
@@ -256,60 +318,90 @@ impl RunStats {
     }
 }
 
+/// The peak of one DOF.
 #[derive(Clone, Debug, Serialize)]
 pub struct DofPeak {
+    /// Its name.
     pub name: String,
+    /// max |q|.
     pub max_abs: f64,
+    /// When, s.
     pub at: f64,
+    /// The value at the end of the run.
     pub residual: f64,
+    /// max |q̇|.
     pub max_abs_velocity: f64,
 }
 
 /// A deck corner's seat over the run: its margin width − (g_N − g_N(0)) at the largest gap.
 #[derive(Clone, Debug, Serialize)]
 pub struct SeatSummary {
+    /// The contact's name.
     pub contact: String,
+    /// Support length, m.
     pub width: f64,
     /// width − (max g_N − g_N(0)): below 0 the corner is unseated.
     pub min_margin: f64,
+    /// When, s.
     pub at: f64,
     /// AASHTO LRFD 4.7.4.4's N for this deck, times `percent` / 100, m (bridge files).
     pub required: Option<f64>,
+    /// The percentage of AASHTO's N applied.
     pub percent: Option<f64>,
 }
 
+/// The extremes of one contact.
 #[derive(Clone, Debug, Serialize)]
 pub struct ContactSummary {
+    /// Its name.
     pub name: String,
+    /// Smallest g_N, m.
     pub min_gap: f64,
     /// The largest gap over the samples, and when.
     pub max_gap: f64,
+    /// When g_N was largest, s.
     pub max_gap_at: f64,
+    /// Largest λ_N.
     pub max_normal_force: f64,
     /// The smallest normal force over the samples (0 if never below): below 0 a pull, which a
     /// unilateral contact never exerts.
     pub min_normal_force: f64,
+    /// Largest Λ_N.
     pub max_normal_impulse: f64,
+    /// Impacts.
     pub impacts: usize,
+    /// Time stuck, s.
     pub stick_time: f64,
+    /// Time sliding, s.
     pub slide_time: f64,
 }
 
+/// What summary.json holds.
 #[derive(Clone, Debug, Default, Serialize)]
 pub struct Summary {
+    /// The model's title.
     pub title: String,
+    /// End time, s.
     pub t_end: f64,
+    /// Per DOF.
     pub peaks: Vec<DofPeak>,
+    /// Per contact.
     pub contacts: Vec<ContactSummary>,
     /// Empty without seats.
     pub seats: Vec<SeatSummary>,
+    /// Deepest penetration, m.
     pub max_penetration: f64,
     /// The largest pull of any contact at any sample, max(0, −min λ_N), in force units.
     pub max_pull: f64,
+    /// The ledger at the end.
     pub energy_final: EnergySample,
+    /// The largest |closure|, energy.
     pub energy_closure_abs: f64,
+    /// The largest |closure| relative to the energy scale.
     pub energy_closure_rel: f64,
+    /// Each accumulation's contact and time.
     pub accumulation_times: Vec<(String, f64)>,
+    /// The run's counts.
     pub stats: RunStats,
     /// Event method: the state components (`x`, `d/dt x`) whose local error estimate set the
     /// accepted DP5 steps, with their step counts, most first (zero counts left out).
@@ -362,16 +454,24 @@ pub fn events_csv(
 /// One sample as the engine measures it, borrowed from its buffers.
 #[derive(Clone, Copy, Debug)]
 pub struct SampleView<'a> {
+    /// Time, s.
     pub t: f64,
+    /// What kind.
     pub kind: SampleKind,
+    /// Positions q.
     pub q: &'a [f64],
+    /// Velocities q̇.
     pub v: &'a [f64],
+    /// Per contact.
     pub contacts: &'a [ContactSample],
+    /// (deformation, force) per hysteretic element.
     pub elements: &'a [(f64, f64)],
+    /// The energy ledger.
     pub energy: EnergySample,
 }
 
 impl Sample {
+    /// The sample as a view (what the running summary reads).
     pub fn view(&self) -> SampleView<'_> {
         SampleView {
             t: self.t,
@@ -388,12 +488,19 @@ impl Sample {
 /// Running extremes of one contact over the samples.
 #[derive(Clone, Copy, Debug)]
 pub struct ContactTally {
+    /// Smallest g_N, m.
     pub min_gap: f64,
+    /// Largest g_N, m.
     pub max_gap: f64,
+    /// When g_N was largest, s.
     pub max_gap_at: f64,
+    /// Largest λ_N.
     pub max_normal_force: f64,
+    /// Smallest λ_N.
     pub min_normal_force: f64,
+    /// Time stuck, s.
     pub stick_time: f64,
+    /// Time sliding, s.
     pub slide_time: f64,
     /// State at the previous sample (it holds until the next one).
     state: ContactState,
@@ -405,15 +512,20 @@ pub struct ContactTally {
 pub struct Tally {
     /// (max |q|, its time, max |q̇|) per DOF.
     pub peaks: Vec<(f64, f64, f64)>,
+    /// Per contact.
     pub contacts: Vec<ContactTally>,
     /// Largest |energy balance| of a sample.
     pub closure: f64,
+    /// Time of the last sample.
     pub last_t: Option<f64>,
+    /// q of the last sample.
     pub last_q: Vec<f64>,
+    /// The ledger of the last sample.
     pub last_energy: EnergySample,
 }
 
 impl Tally {
+    /// The sample `s` into the running extremes.
     pub fn add(&mut self, s: &SampleView) {
         if self.peaks.len() != s.q.len() {
             self.peaks.resize(s.q.len(), (0.0, 0.0, 0.0));
@@ -469,22 +581,34 @@ impl Tally {
 /// sample's copy: a streamed run keeps no samples).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct FinalState {
+    /// Time, s.
     pub t: f64,
+    /// Positions q.
     pub q: Vec<f64>,
+    /// Velocities q̇.
     pub v: Vec<f64>,
 }
 
 /// Everything a run produces.
 #[derive(Clone, Debug)]
 pub struct RunOutput {
+    /// The model's title.
     pub title: String,
+    /// Per DOF, its name.
     pub dof_names: Vec<String>,
+    /// Per contact, its name.
     pub contact_names: Vec<String>,
+    /// Per hysteretic element, its name.
     pub element_names: Vec<String>,
+    /// The seats.
     pub seats: Vec<crate::scene::Seat>,
+    /// The samples kept.
     pub samples: Vec<Sample>,
+    /// The event log.
     pub events: Vec<EventRecord>,
+    /// The run's counts.
     pub stats: RunStats,
+    /// Each accumulation's contact and time.
     pub accumulation_times: Vec<(usize, f64)>,
     /// The failed keys so far (`None` without `key` elements).
     pub key_failures: Option<Vec<KeyFailure>>,
@@ -502,6 +626,7 @@ pub struct RunOutput {
     pub keep_history: bool,
     /// The summary so far, over every recorded sample.
     pub tally: Tally,
+    /// The summary.
     pub summary: Summary,
     /// The leading `samples` already handed to an observer that keeps them
     /// ([`crate::run::Observer::keeps_samples`]): the next sample recorded drops them.
@@ -556,6 +681,7 @@ impl std::fmt::Debug for Spare {
 const STREAMED_CAPACITY: usize = 1024;
 
 impl RunOutput {
+    /// An empty output of `scene`'s names.
     pub fn new(scene: &Scene) -> Self {
         Self {
             title: scene.title.clone(),
@@ -761,11 +887,13 @@ impl RunOutput {
         out
     }
 
+    /// events.csv into `path`, as one transaction.
     pub fn write_events(&self, path: &Path) -> std::io::Result<()> {
         let csv = events_csv(&self.events, &self.contact_names, &self.element_names);
         files::write_atomic(path, csv)
     }
 
+    /// summary.json into `path`, as one transaction.
     pub fn write_summary(&self, path: &Path) -> std::io::Result<()> {
         let s = serde_json::to_string_pretty(&self.summary).map_err(std::io::Error::other)?;
         files::write_atomic(path, s)

@@ -62,13 +62,18 @@ pub fn plane_bodies(names: &[String]) -> Vec<(usize, usize, Option<usize>)> {
 /// largest in magnitude (signed), max |x|, max |y|.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DeckPeaks {
+    /// Peak deck rotation, rad.
     pub rotation: f64,
+    /// The residual rotation θ(t_end) largest in magnitude, signed, rad.
     pub residual: f64,
+    /// Peak longitudinal displacement, m.
     pub x: f64,
+    /// Peak transverse displacement, m.
     pub y: f64,
 }
 
 impl DeckPeaks {
+    /// The deck's peaks of the run `r`.
     pub fn of(r: &RunOutput) -> Self {
         let peaks = &r.summary.peaks;
         let bodies = plane_bodies(&r.dof_names);

@@ -6,6 +6,8 @@ use std::io::Write;
 use std::path::Path;
 
 impl RunOutput {
+    /// history.csv into `path`, created or truncated (`write_all` writes it in a staging
+    /// folder first, so that the run's files change as one transaction).
     pub fn write_history(&self, path: &Path) -> std::io::Result<()> {
         let file = std::io::BufWriter::new(std::fs::File::create(path)?);
         let mut w = HistoryWriter::new(file, self)?;

@@ -10,6 +10,7 @@ use std::io::Write;
 pub struct Numbers(zmij::Buffer);
 
 impl Numbers {
+    /// A formatter with an empty buffer.
     pub fn new() -> Self {
         Self::default()
     }
