@@ -10,59 +10,89 @@ use std::path::{Path, PathBuf};
 /// argument rather than a line of the file.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Applied {
+    /// The `--set` argument as given.
     pub argument: String,
+    /// The field's dotted path.
     pub field: String,
 }
 
 /// Errors of reading, overriding or validating a model.
 #[derive(Debug, thiserror::Error)]
 pub enum ModelError {
+    /// The file could not be read.
     #[error("{}: cannot read: {source}", path.display())]
     Io {
+        /// The model file.
         path: PathBuf,
+        /// The underlying error.
         #[source]
         source: std::io::Error,
     },
+    /// Not TOML.
     #[error("{}:{line}:{column}: {message}", path.display())]
     Parse {
+        /// The model file.
         path: PathBuf,
+        /// Line in the file, from 1.
         line: usize,
+        /// Column, from 1.
         column: usize,
+        /// The parser's message.
         message: String,
     },
+    /// A value the model refuses.
     #[error("{}:{line}: {field}: {reason}", path.display())]
     Invalid {
+        /// The model file.
         path: PathBuf,
         /// 0 when the field is absent from the file.
         line: usize,
+        /// The field's dotted path.
         field: String,
+        /// What is wrong.
         reason: String,
     },
+    /// A `--set` argument that is not `key=value` or names no field.
     #[error("--set {key}: {reason}")]
-    Override { key: String, reason: String },
+    Override {
+        /// The key of the `--set` argument.
+        key: String,
+        /// What is wrong.
+        reason: String,
+    },
     /// A value given by a `--set` argument that the model refuses: the argument is named, not
     /// the line of the file it replaced.
     #[error("--set {argument}: {field}: {reason}")]
     OverrideInvalid {
+        /// The `--set` argument as given.
         argument: String,
+        /// The field's dotted path.
         field: String,
+        /// What is wrong.
         reason: String,
     },
     /// A record refused for what processing made of it (no signal left, absurd scaling), with
     /// the model field naming it.
     #[error("{}:{line}: {field}: {record}: {source}", path.display())]
     Record {
+        /// The model file.
         path: PathBuf,
         /// 0 when the field is absent from the file.
         line: usize,
+        /// The field's dotted path.
         field: String,
+        /// The record's file.
         record: String,
+        /// The underlying error.
         #[source]
         source: Box<ExcitationError>,
     },
+    /// A record that could not be read or processed.
     #[error("{}: {source}", path.display())]
     Excitation {
+        /// The model file.
         path: PathBuf,
+        /// The underlying error.
         #[source]
         source: ExcitationError,
     },
@@ -182,7 +212,9 @@ pub(super) fn parse_error(
 /// Validation context: builds `Invalid` errors located in the text, or naming the `--set`
 /// argument that gave the field its value.
 pub struct Check<'a> {
+    /// The model's text.
     pub text: &'a str,
+    /// The model file.
     pub path: &'a Path,
     /// The fields `--set` arguments wrote.
     pub applied: &'a [Applied],
@@ -202,6 +234,7 @@ impl Check<'_> {
         locate(self.text, field).map_or(0, |l| l.0)
     }
 
+    /// An `Invalid` error at `field` (its line, or the `--set` argument that wrote it).
     pub fn err(&self, field: &str, reason: impl Into<String>) -> ModelError {
         if let Some(a) = self.set_by(field) {
             return ModelError::OverrideInvalid {
@@ -217,6 +250,7 @@ impl Check<'_> {
             reason: reason.into(),
         }
     }
+    /// `x`, or an error at `field` if it is not finite.
     pub fn finite(&self, field: &str, x: f64) -> Result<f64, ModelError> {
         if x.is_finite() {
             Ok(x)
@@ -224,6 +258,7 @@ impl Check<'_> {
             Err(self.err(field, format!("must be a finite number, got {x}")))
         }
     }
+    /// `x`, or an error at `field` if it is not finite and > 0.
     pub fn positive(&self, field: &str, x: f64) -> Result<f64, ModelError> {
         self.finite(field, x)?;
         if x > 0.0 {
@@ -232,6 +267,7 @@ impl Check<'_> {
             Err(self.err(field, format!("must be > 0, got {x}")))
         }
     }
+    /// `x`, or an error at `field` if it is not finite and ≥ 0.
     pub fn nonneg(&self, field: &str, x: f64) -> Result<f64, ModelError> {
         self.finite(field, x)?;
         if x >= 0.0 {
@@ -240,6 +276,7 @@ impl Check<'_> {
             Err(self.err(field, format!("must be ≥ 0, got {x}")))
         }
     }
+    /// `v` as a vector, or an error at `field` if a component is not finite.
     pub fn vec2(&self, field: &str, v: [f64; 2]) -> Result<Vector2<f64>, ModelError> {
         for (i, x) in v.iter().enumerate() {
             self.finite(&format!("{field}[{i}]"), *x)
@@ -247,6 +284,7 @@ impl Check<'_> {
         }
         Ok(Vector2::new(v[0], v[1]))
     }
+    /// `v` normalised, or an error at `field` if it is not finite or zero.
     pub fn unit(&self, field: &str, v: [f64; 2]) -> Result<Vector2<f64>, ModelError> {
         let v = self.vec2(field, v)?;
         let n = v.norm();

@@ -12,6 +12,7 @@ use toml::de::{DeTable, Deserializer};
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct LimitStateSpec {
+    /// Its name.
     pub name: String,
     /// `column>threshold` or `column<threshold`.
     pub expression: String,
@@ -31,9 +32,13 @@ pub enum Op {
 /// A limit state: exceeded when `column` `op` `threshold`.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct LimitState {
+    /// Its name.
     pub name: String,
+    /// The suite CSV's column it reads.
     pub column: String,
+    /// The comparison.
     pub op: Op,
+    /// The threshold.
     pub threshold: f64,
 }
 
@@ -41,7 +46,9 @@ pub struct LimitState {
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 #[error("limit state '{text}': {reason}")]
 pub struct LimitStateError {
+    /// The expression as given.
     pub text: String,
+    /// What is wrong.
     pub reason: String,
 }
 

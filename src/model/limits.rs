@@ -110,7 +110,9 @@ pub(super) fn finish(
 /// four-span bridge each lands within 1 % of the event-driven peak rotation
 /// (`docs/engine.md`, "Fixed-step methods by default").
 pub const MOREAU_STEPS_PER_PERIOD: f64 = 100.0;
+/// Steps per shortest period of the Newmark penalty method's default step.
 pub const PENALTY_STEPS_PER_PERIOD: f64 = 16.0;
+/// Steps per shortest period of the explicit penalty method's default step.
 pub const EXPLICIT_STEPS_PER_PERIOD: f64 = 25.0;
 /// The implicit methods (Moreau–Jean, Newmark) take at most this many steps per output
 /// interval when they choose their step: they are stable at any step, and dynamics faster than

@@ -5,6 +5,8 @@
 //! [`load_str_with`] is the one entry: the text is read once, `--set` overrides applied, the
 //! TOML parsed once, and the file compiled as a bridge or a general scene.
 
+#![warn(missing_docs)]
+
 pub mod bridge;
 pub mod check;
 pub mod limit_state;
@@ -36,6 +38,7 @@ use toml::de::{DeTable, Deserializer};
 /// A compiled model and what it was compiled with that its file does not say.
 #[derive(Debug)]
 pub struct Loaded {
+    /// The compiled scene.
     pub scene: Scene,
     /// Defaults taken, records cut, unresolved steps (docs/engine.md, bad input); the front
     /// ends show them, the library never prints.

@@ -17,11 +17,15 @@ use serde::Deserialize;
 use std::collections::HashMap;
 use std::path::Path;
 
+/// A `[[body]]` table of a scene file.
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct BodySpec {
+    /// The file's `name`.
     pub name: String,
+    /// The file's `mass`.
     pub mass: f64,
+    /// The file's `inertia`.
     #[serde(default)]
     pub inertia: f64,
     /// Subset of "x", "y", "theta" (empty for a body driven by the ground).
@@ -32,10 +36,13 @@ pub struct BodySpec {
     pub drive_x: Option<String>,
     /// Support whose motion moves the body's y.
     pub drive_y: Option<String>,
+    /// The file's `position`.
     #[serde(default)]
     pub position: [f64; 2],
+    /// The file's `initial_displacement`.
     #[serde(default)]
     pub initial_displacement: [f64; 3],
+    /// The file's `initial_velocity`.
     #[serde(default)]
     pub initial_velocity: [f64; 3],
     /// Constant force (x, y) and moment on the body.
@@ -43,9 +50,11 @@ pub struct BodySpec {
     pub load: [f64; 3],
 }
 
+/// A `[[contact]]` table.
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ContactSpec {
+    /// The file's `name`.
     pub name: String,
     /// Body carrying the contact point.
     pub body: String,
@@ -59,8 +68,10 @@ pub struct ContactSpec {
     pub normal: [f64; 2],
     /// g_N at the reference configuration (q = 0), m.
     pub gap: f64,
+    /// The file's `mu`.
     #[serde(default)]
     pub mu: f64,
+    /// The file's `restitution`.
     #[serde(default)]
     pub restitution: f64,
     /// Support length of the contact point on a seat at the reference configuration, m: the
@@ -73,11 +84,15 @@ fn ground() -> String {
     "ground".into()
 }
 
+/// A `[[spring]]` table.
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SpringSpec {
+    /// The file's `name`.
     pub name: String,
+    /// The file's `body`.
     pub body: String,
+    /// The file's `point`.
     #[serde(default)]
     pub point: [f64; 2],
     /// World direction of a translational spring.
@@ -89,44 +104,63 @@ pub struct SpringSpec {
     /// Torsional spring on θ instead.
     #[serde(default)]
     pub rotational: bool,
+    /// The file's `stiffness`.
     pub stiffness: f64,
+    /// The file's `damping`.
     #[serde(default)]
     pub damping: f64,
+    /// The file's `support`.
     pub support: Option<String>,
 }
 
+/// A `[[hysteretic]]` table.
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct HystereticSpec {
+    /// The file's `name`.
     pub name: String,
+    /// The file's `body`.
     pub body: String,
+    /// The file's `point`.
     #[serde(default)]
     pub point: [f64; 2],
+    /// The file's `direction`.
     pub direction: Option<[f64; 2]>,
     /// A second body, as for springs.
     pub other: Option<String>,
+    /// The file's `other_point`.
     pub other_point: Option<[f64; 2]>,
+    /// The file's `rotational`.
     #[serde(default)]
     pub rotational: bool,
+    /// The file's `law`.
     pub law: Law,
+    /// The file's `damping`.
     #[serde(default)]
     pub damping: f64,
+    /// The file's `support`.
     pub support: Option<String>,
 }
 
+/// A `[[support]]` table.
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SupportSpec {
+    /// The file's `name`.
     pub name: String,
     /// "harmonic" or "record".
     pub kind: String,
+    /// The file's `amplitude`.
     pub amplitude: Option<f64>,
     /// Hz.
     pub frequency: Option<f64>,
+    /// The file's `phase`.
     pub phase: Option<f64>,
     /// Record file (AT2 or two columns), relative to the model file.
     pub file: Option<String>,
+    /// The file's `processing`.
     pub processing: Option<Processing>,
+    /// The file's `factor`.
     #[serde(default = "one")]
     pub factor: f64,
 }
@@ -139,22 +173,29 @@ fn one() -> f64 {
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SceneFile {
+    /// The file's `title`.
     pub title: Option<String>,
     /// The unit system (read before the rest: `Check::units`).
     #[allow(dead_code)]
     pub units: Option<String>,
+    /// The file's `solver`.
     #[serde(default)]
     pub solver: SolverSpec,
     /// Gravity vector (x, y), m/s², applied as m·g to x/y DOFs.
     pub gravity: Option<[f64; 2]>,
+    /// The file's `bodies`.
     #[serde(default, rename = "body")]
     pub bodies: Vec<BodySpec>,
+    /// The file's `contacts`.
     #[serde(default, rename = "contact")]
     pub contacts: Vec<ContactSpec>,
+    /// The file's `springs`.
     #[serde(default, rename = "spring")]
     pub springs: Vec<SpringSpec>,
+    /// The file's `hysteretic`.
     #[serde(default, rename = "hysteretic")]
     pub hysteretic: Vec<HystereticSpec>,
+    /// The file's `supports`.
     #[serde(default, rename = "support")]
     pub supports: Vec<SupportSpec>,
     /// Limit states of a fragility (`deckspin fragility --model`).

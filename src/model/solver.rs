@@ -9,25 +9,41 @@ use serde::Deserialize;
 #[derive(Clone, Debug, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SolverSpec {
+    /// `solver.method`.
     pub method: Option<String>,
+    /// `solver.t_end`.
     pub t_end: Option<f64>,
+    /// `solver.output_dt`.
     pub output_dt: Option<f64>,
+    /// `solver.rtol`.
     pub rtol: Option<f64>,
+    /// `solver.atol`.
     pub atol: Option<f64>,
+    /// `solver.h_max`.
     pub h_max: Option<f64>,
+    /// `solver.event_time_tol`.
     pub event_time_tol: Option<f64>,
+    /// `solver.gap_tol`.
     pub gap_tol: Option<f64>,
+    /// `solver.velocity_tol`.
     pub velocity_tol: Option<f64>,
+    /// `solver.accumulation_rule`.
     pub accumulation_rule: Option<bool>,
+    /// `solver.zeno_velocity`.
     pub zeno_velocity: Option<f64>,
+    /// `solver.min_event_spacing`.
     pub min_event_spacing: Option<f64>,
+    /// `solver.max_events`.
     pub max_events: Option<usize>,
+    /// `solver.max_steps`.
     pub max_steps: Option<usize>,
+    /// `solver.stop_at_samples`.
     pub stop_at_samples: Option<bool>,
     /// Islands on their own steps while every contact is open.
     pub islands: Option<bool>,
     /// Window (s) within which hysteretic branch events are applied together.
     pub branch_window: Option<f64>,
+    /// `solver.lemke_max_pivots`.
     pub lemke_max_pivots: Option<usize>,
     /// Fixed step of time-stepping / penalty methods.
     pub step: Option<f64>,
@@ -35,7 +51,9 @@ pub struct SolverSpec {
     pub contact_stiffness: Option<f64>,
     /// θ of the Moreau–Jean scheme (0.5–1).
     pub theta: Option<f64>,
+    /// `solver.max_closure`.
     pub max_closure: Option<f64>,
+    /// `solver.max_penetration`.
     pub max_penetration: Option<f64>,
 }
 

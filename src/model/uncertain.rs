@@ -12,11 +12,14 @@ use serde::Deserialize;
 #[derive(Clone, Debug, Deserialize, PartialEq)]
 #[serde(untagged)]
 pub enum Keys {
+    /// One key.
     One(String),
+    /// Several keys varied together.
     Many(Vec<String>),
 }
 
 impl Keys {
+    /// The keys.
     pub fn list(&self) -> Vec<String> {
         match self {
             Keys::One(k) => vec![k.clone()],
@@ -29,8 +32,11 @@ impl Keys {
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct UncertainSpec {
+    /// The key of the `--set` argument.
     pub key: Keys,
+    /// The low value.
     pub low: f64,
+    /// The high value.
     pub high: f64,
     /// `low` and `high` are factors on the model's value (every element of an array).
     #[serde(default)]
@@ -51,7 +57,9 @@ impl UncertainSpec {
 /// What a path names in the model: one number, or an array of numbers.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Leaf {
+    /// One value.
     Number(f64),
+    /// A list of values.
     Numbers(Vec<f64>),
     /// Not a number: its TOML type.
     Other(String),

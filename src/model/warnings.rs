@@ -14,14 +14,22 @@ pub enum ModelWarning {
          atol 1e-10, output_dt 0.01 s; docs/engine.md)",
         path.display()
     )]
-    NoSolver { path: PathBuf, t_end: f64 },
+    NoSolver {
+        /// The model file.
+        path: PathBuf,
+        /// End time, s.
+        t_end: f64,
+    },
     /// A bridge file without a `[damping]` table: Rayleigh damping at its default.
     #[error(
         "{}: no [damping] table: Rayleigh damping of 2 % at modes 1 and 3 is used (the paper's; \
          docs/bridges.md)",
         path.display()
     )]
-    NoDamping { path: PathBuf },
+    NoDamping {
+        /// The model file.
+        path: PathBuf,
+    },
     /// `solver.t_end` absent: the end of the longest record plus the free-vibration tail.
     #[error(
         "{}: solver.t_end absent: {t_end:.3} s = end of the longest record ({record_end:.3} s, \
@@ -29,15 +37,25 @@ pub enum ModelWarning {
         path.display()
     )]
     TEndFromRecords {
+        /// The model file.
         path: PathBuf,
+        /// End time, s.
         t_end: f64,
+        /// The record's end, s.
         record_end: f64,
+        /// The free vibration after it, s.
         tail: f64,
+        /// The field's dotted path.
         field: String,
     },
     /// `solver.t_end` absent and no record to end with: the default.
     #[error("{}: solver.t_end absent: {t_end} s (the default)", path.display())]
-    TEndDefault { path: PathBuf, t_end: f64 },
+    TEndDefault {
+        /// The model file.
+        path: PathBuf,
+        /// End time, s.
+        t_end: f64,
+    },
     /// A record runs past `t_end`: its end is not applied.
     #[error(
         "{}:{line}: solver.t_end: {t_end} s ends before the record of {field} ({record_end:.3} \
@@ -46,10 +64,15 @@ pub enum ModelWarning {
         record_end - t_end
     )]
     RecordCut {
+        /// The model file.
         path: PathBuf,
+        /// Line in the file, from 1.
         line: usize,
+        /// End time, s.
         t_end: f64,
+        /// The record's end, s.
         record_end: f64,
+        /// The field's dotted path.
         field: String,
     },
     /// A bridge without `[excitation]`: it starts at rest and nothing moves it.
@@ -58,14 +81,22 @@ pub enum ModelWarning {
          zero; modes and settings are still meaningful)",
         path.display()
     )]
-    NoExcitation { path: PathBuf },
+    NoExcitation {
+        /// The model file.
+        path: PathBuf,
+    },
     /// `[[run]]` tables present but no `excitation.run` to pick one: records unscaled.
     #[error(
         "{}: excitation.run absent: the {runs} [[run]] tables are not used, the records keep \
          their own amplitude",
         path.display()
     )]
-    RunsUnused { path: PathBuf, runs: usize },
+    RunsUnused {
+        /// The model file.
+        path: PathBuf,
+        /// The `[[run]]` tables.
+        runs: usize,
+    },
     /// An implicit fixed step longer than 2/ω_max of the stiffest linearised system: the
     /// fastest modes (contact, with the penalty method) are not resolved, only damped.
     #[error(
@@ -74,12 +105,19 @@ pub enum ModelWarning {
         path.display()
     )]
     StepUnresolved {
+        /// The model file.
         path: PathBuf,
+        /// Line in the file, from 1.
         line: usize,
+        /// The step, s.
         step: f64,
+        /// The limit, s.
         limit: f64,
+        /// ω of the stiffest mode, rad/s.
         omega: f64,
+        /// What sets it.
         what: String,
+        /// The method.
         method: String,
     },
     /// An explicit step above the stability limit of the system with its contacts closed
@@ -91,11 +129,17 @@ pub enum ModelWarning {
         path.display()
     )]
     StepAboveStability {
+        /// The model file.
         path: PathBuf,
+        /// Line in the file, from 1.
         line: usize,
+        /// The step, s.
         step: f64,
+        /// The limit, s.
         limit: f64,
+        /// ω of the stiffest mode, rad/s.
         omega: f64,
+        /// What sets it.
         what: String,
     },
     /// A field the chosen kind of abutment does not read.
@@ -104,9 +148,13 @@ pub enum ModelWarning {
         path.display()
     )]
     AbutmentUnread {
+        /// The model file.
         path: PathBuf,
+        /// Line in the file, from 1.
         line: usize,
+        /// The field's dotted path.
         field: String,
+        /// The kind chosen.
         kind: String,
     },
     /// A field the chosen kind of excitation does not read.
@@ -115,9 +163,13 @@ pub enum ModelWarning {
         path.display()
     )]
     Unread {
+        /// The model file.
         path: PathBuf,
+        /// Line in the file, from 1.
         line: usize,
+        /// The field's dotted path.
         field: String,
+        /// The kind chosen.
         kind: String,
     },
     /// Tolerances too loose for error control, with `h_max` set: a fixed-step DP5 at h_max.
@@ -127,9 +179,13 @@ pub enum ModelWarning {
         path.display()
     )]
     ErrorControlOff {
+        /// The model file.
         path: PathBuf,
+        /// solver.rtol.
         rtol: f64,
+        /// solver.atol.
         atol: f64,
+        /// solver.h_max, s.
         h_max: f64,
     },
 }

@@ -11,6 +11,7 @@ use serde::Deserialize;
 /// Names of the four abutment corners (paper: point 1 is the left, upper corner).
 pub const CORNERS: [&str; 4] = ["left_top", "left_bottom", "right_top", "right_bottom"];
 
+/// The `[deck]` table of a bridge file.
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct DeckSpec {
@@ -54,6 +55,7 @@ pub struct FrameSpec {
     /// false: the frame translates, θ held at 0 (as `deck.rotation`).
     #[serde(default = "yes")]
     pub rotation: bool,
+    /// The file's `bents`.
     #[serde(default, rename = "bent")]
     pub bents: Vec<BentSpec>,
 }
@@ -68,6 +70,7 @@ pub struct JointSpec {
     pub gaps: [f64; 2],
     /// Absent: `contacts.mu`, `contacts.restitution`.
     pub mu: Option<f64>,
+    /// The file's `restitution`.
     pub restitution: Option<f64>,
     /// Skew of the joint line, degrees, from the normal to the bisector of the two frames'
     /// centrelines (absent: the left frame's `skew`).
@@ -82,6 +85,7 @@ pub struct JointSpec {
     pub key: Option<KeySpec>,
 }
 
+/// The `[abutment]` table.
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct AbutmentSpec {
@@ -106,6 +110,7 @@ pub struct AbutmentSpec {
     /// `backfill`: Caltrans' passive stiffness and capacity of the whole backwall (absent: from
     /// its height, the deck's width along the skewed backwall and the skew reduction).
     pub backfill_stiffness: Option<f64>,
+    /// The file's `backfill_capacity`.
     pub backfill_capacity: Option<f64>,
     /// Bearings under each deck end at an abutment: one at each end corner, in x and in y
     /// (world axes), to the ground (e.g. `{ law = "bilinear", … post_yield_ratio = 0 }` for
@@ -120,6 +125,7 @@ pub struct AbutmentSpec {
     pub seat_percent: Option<f64>,
     /// Skew of the left and right abutment faces, degrees (absent: the end frame's `skew`).
     pub left_skew: Option<f64>,
+    /// The file's `right_skew`.
     pub right_skew: Option<f64>,
 }
 
@@ -138,13 +144,16 @@ pub struct KeySpec {
     pub failure_displacement: f64,
 }
 
+/// The `[contacts]` table.
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ContactsSpec {
     /// false: no deck–abutment contact (paper §4.2).
     #[serde(default = "yes")]
     pub enabled: bool,
+    /// The file's `mu`.
     pub mu: f64,
+    /// The file's `restitution`.
     pub restitution: f64,
     /// Initial gaps of corners 1–4 (left +y, left −y, right +y, right −y), m: exactly four.
     #[serde(deserialize_with = "four_gaps")]
@@ -178,9 +187,11 @@ fn yes() -> bool {
     true
 }
 
+/// A `[[bent]]` table.
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct BentSpec {
+    /// The file's `name`.
     pub name: String,
     /// Plan position along the deck from its centre, m.
     pub x: f64,
@@ -188,11 +199,13 @@ pub struct BentSpec {
     pub height: f64,
 }
 
+/// The `[column]` table.
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ColumnSpec {
     /// Law of one column in x and in y at `reference_height` (uncoupled directions).
     pub law: Law,
+    /// The file's `reference_height`.
     pub reference_height: f64,
     /// Lateral offset ± of the two columns of a bent from the centreline, m.
     pub offset: f64,
@@ -200,11 +213,13 @@ pub struct ColumnSpec {
     pub torsion_stiffness: f64,
 }
 
+/// The `[damping]` table.
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct DampingSpec {
     /// Rayleigh ζ at two modes of the initial system (paper: 2 % at modes 1 and 3).
     pub ratio: f64,
+    /// The file's `modes`.
     pub modes: [usize; 2],
 }
 
@@ -217,18 +232,22 @@ impl Default for DampingSpec {
     }
 }
 
+/// A `[[run]]` table: a test run's target PGAs.
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RunSpec {
+    /// The file's `name`.
     pub name: String,
     /// Target PGA, g, longitudinal and transverse.
     pub pga_x: f64,
+    /// The file's `pga_y`.
     pub pga_y: f64,
     /// Gaps of corners 1–4 measured before this run, m: set at its start in a sequence
     /// (`deckspin sequence`); a single run uses `contacts.gaps`.
     pub gaps: Option<Vec<f64>>,
 }
 
+/// The `[excitation]` table.
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ExcitationSpec {
@@ -236,6 +255,7 @@ pub struct ExcitationSpec {
     pub kind: String,
     /// Records (AT2 or two-column), relative to the model file.
     pub longitudinal: Option<String>,
+    /// The file's `transverse`.
     pub transverse: Option<String>,
     /// Which `[[run]]` sets the target PGAs (1-based).
     #[serde(default)]
@@ -246,16 +266,20 @@ pub struct ExcitationSpec {
     /// Polynomial baseline order.
     #[serde(default = "three")]
     pub baseline_order: usize,
+    /// The file's `taper`.
     #[serde(default)]
     pub taper: Option<f64>,
     /// Per-bent and per-abutment time lags, s.
     #[serde(default)]
     pub lag_bents: Vec<f64>,
+    /// The file's `lag_abutments`.
     #[serde(default)]
     pub lag_abutments: Vec<f64>,
     /// Harmonic input: displacement amplitude x and y (m), frequency (Hz).
     pub amplitude_x: Option<f64>,
+    /// The file's `amplitude_y`.
     pub amplitude_y: Option<f64>,
+    /// The file's `frequency`.
     pub frequency: Option<f64>,
     /// Abutment actuators follow the longitudinal input (true) or stay fixed.
     #[serde(default = "yes")]
@@ -280,26 +304,37 @@ fn three() -> usize {
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct BridgeFile {
+    /// The file's `title`.
     pub title: Option<String>,
     /// The unit system (read before the rest: `Check::units`).
     #[allow(dead_code)]
     pub units: Option<String>,
     /// One frame (with `[[bent]]`), or none with `[[frame]]`.
     pub deck: Option<DeckSpec>,
+    /// The file's `frames`.
     #[serde(default, rename = "frame")]
     pub frames: Vec<FrameSpec>,
+    /// The file's `joints`.
     #[serde(default, rename = "joint")]
     pub joints: Vec<JointSpec>,
+    /// The file's `abutment`.
     pub abutment: AbutmentSpec,
+    /// The file's `contacts`.
     pub contacts: ContactsSpec,
+    /// The file's `bents`.
     #[serde(default, rename = "bent")]
     pub bents: Vec<BentSpec>,
+    /// The file's `column`.
     pub column: ColumnSpec,
+    /// The file's `damping`.
     #[serde(default)]
     pub damping: DampingSpec,
+    /// The file's `excitation`.
     pub excitation: Option<ExcitationSpec>,
+    /// The file's `runs`.
     #[serde(default, rename = "run")]
     pub runs: Vec<RunSpec>,
+    /// The file's `solver`.
     #[serde(default)]
     pub solver: SolverSpec,
     /// Limit states of the bridge's fragility (`deckspin fragility --model`).
@@ -313,12 +348,16 @@ pub struct BridgeFile {
 /// The kind of an abutment.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Kind {
+    /// On two actuators (spring–dashpots to the table).
     Actuators,
+    /// Rigid walls moved by the ground.
     Rigid,
+    /// A backwall on passive backfill.
     Backfill,
 }
 
 impl Kind {
+    /// The kind `abutment.kind` names (actuators when absent).
     pub fn of(a: &AbutmentSpec, ck: &Check) -> Result<Self, ModelError> {
         match a.kind.as_deref() {
             None | Some("actuators") => Ok(Kind::Actuators),
@@ -331,6 +370,7 @@ impl Kind {
         }
     }
 
+    /// Its name in model files.
     pub fn name(self) -> &'static str {
         match self {
             Kind::Actuators => "actuators",
