@@ -3,6 +3,8 @@
 //! never more than a limit of bytes (a file past it is refused by its size, without reading the
 //! rest).
 
+#![warn(missing_docs)]
+
 use std::io::Read;
 use std::path::Path;
 

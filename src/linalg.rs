@@ -2,6 +2,8 @@
 //! solutions of redundant constraint systems (regularized Cholesky, SVD fallback), on the stack
 //! for up to 12 unknowns.
 
+#![warn(missing_docs)]
+
 use nalgebra::{DMatrix, DVector};
 
 /// Minimum-norm solution of a rank-deficient (redundant constraints), consistent system:

@@ -1,5 +1,7 @@
 //! Dispatch of a scene to the method its settings name.
 
+#![warn(missing_docs)]
+
 use crate::methods::Method;
 use crate::output::RunOutput;
 use crate::run::{Observer, Run, SolverError, Stop};

@@ -358,7 +358,8 @@ fn no_import_circle_between_files() {
 
 /// The engine (what a core crate would hold: scene, contact LCPs, Lemke, integrators,
 /// hysteresis, excitation, model files, modes, the run API and its outputs) imports nothing
-/// of the studies, the design answers or the front ends above it.
+/// of the studies, the design answers or the front ends above it, and documents every public
+/// item.
 #[test]
 fn the_engine_imports_nothing_of_the_layers_above_it() {
     const ENGINE: [&str; 18] = [
@@ -396,9 +397,18 @@ fn the_engine_imports_nothing_of_the_layers_above_it() {
         "the engine imports from above it:\n{}",
         up.join("\n")
     );
-    // every engine module exists, and the check sees edges upward into it (it can fail)
+    // every engine module exists, documents every public item (`missing_docs`, a warning that
+    // the lints in CI make an error), and the check sees edges upward into it (it can fail)
     for m in ENGINE {
-        assert!(files.iter().any(|p| top(p) == m), "no module {m}");
+        let root = (files.iter())
+            .find(|p| module_of(p) == [m.to_string()])
+            .unwrap_or_else(|| panic!("no module {m}"));
+        let text = std::fs::read_to_string(root).unwrap();
+        assert!(
+            text.contains("#![warn(missing_docs)]"),
+            "{}: no #![warn(missing_docs)]",
+            rel(root)
+        );
     }
     assert!(
         (edges.iter()).any(|(f, t)| top(f) == "suite" && t.iter().any(|p| top(p) == "simulate")),

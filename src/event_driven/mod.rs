@@ -16,6 +16,8 @@
 //! - [`islands`]: islands of bodies on their own steps while their contacts are open;
 //!   [`groups`]: islands joined while a contact between them may close or is closed.
 
+#![warn(missing_docs)]
+
 mod driver;
 mod dynamics;
 mod engine;

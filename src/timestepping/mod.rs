@@ -7,6 +7,8 @@
 //! This module holds what they share: the committed state, the hysteretic laws, the energy
 //! ledger and the output recording ([`Stepper`]).
 
+#![warn(missing_docs)]
+
 mod gap_elements;
 mod moreau;
 mod newmark;
