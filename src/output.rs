@@ -15,7 +15,7 @@ mod history;
 pub mod number;
 mod summary;
 
-pub use history::HistoryWriter;
+pub use history::{HistoryColumn, HistoryWriter, history_columns};
 pub use summary::{ContactSummary, DofPeak, RunStats, SeatSummary, Summary};
 
 /// State of one contact.
@@ -51,6 +51,17 @@ pub enum SampleKind {
     PreEvent,
     /// Just after an event.
     PostEvent,
+}
+
+impl SampleKind {
+    /// Its name in history.csv's `row` column.
+    pub fn label(&self) -> &'static str {
+        match self {
+            SampleKind::Grid => "grid",
+            SampleKind::PreEvent => "pre-event",
+            SampleKind::PostEvent => "post-event",
+        }
+    }
 }
 
 /// A contact at a sample.

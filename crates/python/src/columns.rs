@@ -2,7 +2,7 @@
 //! reads them without a copy per value), strings as lists; history.csv's and events.csv's
 //! columns at full precision, in the files' order.
 
-use deckspin::output::{EventRecord, RunOutput, Sample, SampleKind};
+use deckspin::output::{EventRecord, RunOutput};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyList, PyTuple};
 
@@ -36,77 +36,25 @@ pub(crate) fn columns_to_py<'py>(
     Ok(list)
 }
 
-/// The columns of history.csv, in its order, at full precision.
+/// The columns of history.csv, in its order, at full precision (the library's layout,
+/// [`deckspin::output::history_columns`]).
 pub(crate) fn history_columns(out: &RunOutput) -> Vec<(String, Column)> {
     let s = &out.samples;
-    let f = |g: &dyn Fn(&Sample) -> f64| Column::F64(s.iter().map(g).collect());
-    let mut cols = vec![
-        ("t".to_string(), f(&|x| x.t)),
-        (
-            "row".to_string(),
-            Column::Str(
-                (s.iter())
-                    .map(|x| match x.kind {
-                        SampleKind::Grid => "grid",
-                        SampleKind::PreEvent => "pre-event",
-                        SampleKind::PostEvent => "post-event",
-                    })
-                    .map(String::from)
-                    .collect(),
-            ),
-        ),
-    ];
-    for (i, n) in out.dof_names.iter().enumerate() {
-        cols.push((n.clone(), f(&|x| x.q[i])));
-    }
-    for (i, n) in out.dof_names.iter().enumerate() {
-        cols.push((format!("d/dt {n}"), f(&|x| x.v[i])));
-    }
-    type Field = fn(&deckspin::output::ContactSample) -> f64;
-    let fields: [(&str, Field); 5] = [
-        ("gap", |c| c.gap),
-        ("gap_rate", |c| c.gap_rate),
-        ("slip_rate", |c| c.slip_rate),
-        ("normal_force", |c| c.normal_force),
-        ("tangential_force", |c| c.tangential_force),
-    ];
-    for (i, c) in out.contact_names.iter().enumerate() {
-        for (name, g) in fields {
-            cols.push((format!("{c}.{name}"), f(&|x| g(&x.contacts[i]))));
-        }
-        let states = s.iter().map(|x| x.contacts[i].state.label().to_string());
-        cols.push((format!("{c}.state"), Column::Str(states.collect())));
-    }
-    for (i, e) in out.element_names.iter().enumerate() {
-        cols.push((format!("{e}.deformation"), f(&|x| x.elements[i].0)));
-        cols.push((format!("{e}.force"), f(&|x| x.elements[i].1)));
-    }
-    type Energy = fn(&deckspin::output::EnergySample) -> f64;
-    let energies: [(&str, Energy); 10] = [
-        ("kinetic", |e| e.kinetic),
-        ("elastic", |e| e.elastic),
-        ("hysteretic", |e| e.hysteretic),
-        ("damping", |e| e.damping),
-        ("friction", |e| e.friction),
-        ("impact_normal", |e| e.impact_normal),
-        ("impact_tangential", |e| e.impact_tangential),
-        ("loads", |e| e.loads),
-        ("supports", |e| e.supports),
-        ("closure", |e| e.closure),
-    ];
-    for (name, g) in energies {
-        cols.push((format!("energy.{name}"), f(&|x| g(&x.energy))));
-    }
-    for seat in &out.seats {
-        let name = out
-            .contact_names
-            .get(seat.contact)
-            .map_or("?", String::as_str);
-        let (c, edge) = (seat.contact, seat.edge);
-        let margin = f(&|x| x.contacts.get(c).map_or(f64::NAN, |k| edge - k.gap));
-        cols.push((format!("{name}.seat_margin"), margin));
-    }
-    cols
+    (deckspin::output::history_columns(out).into_iter())
+        .map(|(name, col)| {
+            let values = if col.is_text() {
+                Column::Str(
+                    s.iter()
+                        .filter_map(|x| col.text(x))
+                        .map(String::from)
+                        .collect(),
+                )
+            } else {
+                Column::F64(s.iter().map(|x| col.value(x)).collect())
+            };
+            (name, values)
+        })
+        .collect()
 }
 
 /// The columns of events.csv, in its order, at full precision (an empty field is NaN).
