@@ -2,7 +2,8 @@
 //! rotate in plan (reference: "Nonsmooth seismic response analysis of a straight bridge with
 //! deck rotation induced by abutment impact").
 //!
-//! The engine is plain modules; the CLI and the terminal workbench are thin layers over it.
+//! The engine is its own crate (`deckspin-core`, re-exported here by its module names); the
+//! studies, the CLI and the terminal workbench are layers over it.
 //! - [`lemke`]: Lemke's algorithm for the LCP.
 //! - [`scene`]: planar rigid bodies, contacts, force elements (eq. 1–2).
 //! - [`contact`]: the impact LCP (eq. 5–7) and the contact LCP (eq. 8–10).
@@ -24,42 +25,12 @@
 //! - [`studies`]: sweeps and the paper's studies; [`study_table`], [`study_csv`]: a study's
 //!   results as a table that fills while it runs, and its CSV.
 
-pub mod clock;
-pub mod contact;
-pub mod design;
-pub mod dopri;
-pub mod event_driven;
-pub mod excitation;
-pub mod figures;
-pub mod hysteresis;
-pub mod input;
-pub mod lemke;
-pub mod linalg;
-pub mod methods;
-pub mod modal;
-pub mod model;
-pub mod output;
-pub mod plot;
-pub mod precision;
-pub mod precision_study;
-pub mod progress;
-pub mod run;
-pub mod scene;
-pub mod sequence;
-pub mod shard;
-pub mod simulate;
-pub mod stress;
-pub mod studies;
-pub mod study_csv;
-pub mod study_table;
-pub mod suite;
-pub mod timestepping;
 #[cfg(feature = "workbench")]
 pub mod tui;
-pub mod units;
 
-pub use event_driven::{FrictionFork, run};
-pub use model::{ModelError, load};
-pub use output::RunOutput;
-pub use run::{Observer, Run, Silent, SolverError, Stop};
-pub use simulate::simulate;
+pub use deckspin_studies::{
+    FrictionFork, ModelError, Observer, Run, RunOutput, Silent, SolverError, Stop, clock, contact,
+    design, dopri, event_driven, excitation, figures, hysteresis, input, lemke, linalg, load,
+    methods, modal, model, output, plot, precision, precision_study, progress, run, scene,
+    sequence, shard, simulate, stress, studies, study_csv, study_table, suite, timestepping, units,
+};
