@@ -530,3 +530,35 @@ fn modes_name_every_dof_in_full_and_print_no_negative_zero() {
     // mode 1: the deck's transverse sway with its rotation, -0.1814 rad per m
     assert!(out.lines().nth(2).unwrap().contains("-0.1814"), "{out}");
 }
+
+/// Methods and studies are named from one list each (clap value enums): an unknown name is
+/// refused before any run (exit 2) with the names it could be.
+#[test]
+fn unknown_methods_and_studies_are_refused_with_the_known_names() {
+    let m = model("models/four-span.toml");
+    let o = dir("unknown-names").join("out").display().to_string();
+    for args in [
+        vec!["run", &m, "--out", &o, "--method", "newmark"],
+        vec!["precision", &m, "--out", &o, "--methods", "event,newmark"],
+        vec!["study", "pgv", &m, "--out", &o],
+        vec!["sequence", &m, "--out", &o, "--study", "pgv"],
+    ] {
+        let r = deckspin(&args);
+        assert_eq!(r.status.code(), Some(2), "{args:?}");
+        let e = text(&r.stderr);
+        let names = if args.contains(&"pgv") {
+            "[possible values: pga, mu]"
+        } else {
+            "[possible values: event, moreau, penalty, penalty-explicit]"
+        };
+        assert!(e.contains(names), "{args:?}: {e}");
+        assert!(!std::path::Path::new(&o).exists(), "{args:?} wrote {o}");
+    }
+    // a known name goes through to the model: the method is the run's (Moreau–Jean chooses
+    // its step from K₀ and says so)
+    let r = deckspin(&[
+        "run", &m, "--out", &o, "--method", "moreau", "--set", "solver.t_end=0.05",
+    ]);
+    assert_eq!(r.status.code(), Some(0), "{}", text(&r.stderr));
+    assert!(text(&r.stderr).contains("moreau chose solver.step"), "{}", text(&r.stderr));
+}

@@ -17,10 +17,8 @@ use std::path::{Component, Path, PathBuf};
 /// quantity against the full model and its cost; the cheapest within a tolerance.
 #[derive(Args)]
 pub struct AdequacyArgs {
-    pub model: PathBuf,
-    /// Overrides applied to the full model and every variant.
-    #[arg(long = "set", value_name = "KEY=VALUE")]
-    pub set: Vec<String>,
+    #[command(flatten)]
+    pub model: super::args::ModelArgs,
     /// Run on a record suite instead of the model's [[run]]s: a folder of .AT2 pairs or a
     /// list file, as `deckspin suite --records`.
     #[arg(long)]
@@ -60,7 +58,7 @@ pub struct AdequacyArgs {
     pub write: Option<PathBuf>,
 }
 
-type CliResult = Result<(), Box<dyn std::error::Error>>;
+use super::CliResult;
 
 pub fn cmd_adequacy(a: &AdequacyArgs) -> CliResult {
     let only = if a.only.is_empty() {
@@ -91,10 +89,10 @@ pub fn cmd_adequacy(a: &AdequacyArgs) -> CliResult {
             }
         }
     };
-    let text = deckspin::input::read_bounded(&a.model, deckspin::input::MAX_MODEL_BYTES)
-        .map_err(|e| format!("{}: {e}", a.model.display()))?;
+    let text = deckspin::input::read_bounded(&a.model.path, deckspin::input::MAX_MODEL_BYTES)
+        .map_err(|e| format!("{}: {e}", a.model.path.display()))?;
     if let Some(w) = &a.write
-        && same_file(w, &a.model)
+        && same_file(w, &a.model.path)
     {
         return Err(format!(
             "--write {}: that is the model itself; choose another file (nothing written)",
@@ -112,7 +110,7 @@ pub fn cmd_adequacy(a: &AdequacyArgs) -> CliResult {
         combine: !a.no_combine,
     };
     let bar = Bar::with_lines();
-    let study = adequacy(&text, &a.model, &a.set, &cases, &opts, &bar)?;
+    let study = adequacy(&text, &a.model.path, &a.model.set, &cases, &opts, &bar)?;
     drop(bar);
     print!("{}", table(&study));
     write_atomic(a.out.join("adequacy.csv"), variants_csv(&study))?;
@@ -150,10 +148,10 @@ fn write_reduced(
     };
     let variant = &study.variants[v].variant;
     let mut reduced = variant.text(text, true)?;
-    reduced = rebase_records(&reduced, &a.model, to)?;
+    reduced = rebase_records(&reduced, &a.model.path, to)?;
     let head = format!(
         "# Reduced by `deckspin adequacy` from {}: {} (within {} % of the full model in {} over {} runs).\n",
-        a.model.display(),
+        a.model.path.display(),
         variant.name,
         100.0 * study.tolerance,
         study.quantities.join(", "),

@@ -24,7 +24,7 @@ pub struct BenchArgs {
     pub instructions: bool,
 }
 
-type CliResult = Result<(), Box<dyn std::error::Error>>;
+use super::CliResult;
 
 fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(f64::total_cmp);

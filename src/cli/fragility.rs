@@ -13,7 +13,7 @@ use deckspin::model::limit_state::{self, LimitState};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-type CliResult = Result<(), Box<dyn std::error::Error>>;
+use super::CliResult;
 
 /// Fragility curves of a record suite.
 #[derive(Args)]

@@ -14,9 +14,8 @@ use std::path::PathBuf;
 /// Closed-form screening by the impact law; `--equivalence` adds the gap-element table.
 #[derive(Args)]
 pub struct ScreenArgs {
-    pub model: PathBuf,
-    #[arg(long = "set", value_name = "KEY=VALUE")]
-    pub set: Vec<String>,
+    #[command(flatten)]
+    pub model: super::args::ModelArgs,
     /// Also run the penalty method over contact stiffness × step against the event-driven peak
     /// rotation (tens of runs of the whole record).
     #[arg(long)]
@@ -30,7 +29,7 @@ pub struct ScreenArgs {
 }
 
 pub fn cmd_screen(a: &ScreenArgs) -> Result<(), Box<dyn std::error::Error>> {
-    let scene = deckspin::load(&a.model, &a.set)?;
+    let scene = deckspin::load(&a.model.path, &a.model.set)?;
     let (rigid, blocks) = (model_screen(&scene, true).0, model_screen(&scene, false).0);
     let ends = model_screen(&scene, true).1;
     println!(
@@ -82,7 +81,7 @@ pub fn cmd_screen(a: &ScreenArgs) -> Result<(), Box<dyn std::error::Error>> {
     // one job writes this folder at a time
     let _lock = deckspin::output::files::FolderLock::acquire(&a.out)?;
     let json = serde_json::json!({
-        "model": a.model.display().to_string(),
+        "model": a.model.path.display().to_string(),
         "ends": ends,
         "corners_rigid_face": rigid,
         "corners_face_body": blocks,
@@ -199,7 +198,7 @@ fn write_map_csv(cells: &[MapCell], path: &std::path::Path) -> std::io::Result<(
 /// The penalty method over k × h against the event-driven reference.
 fn equivalence(a: &ScreenArgs) -> Result<(), Box<dyn std::error::Error>> {
     use deckspin::methods::Method;
-    let bench = deckspin::precision::Bench::open(&a.model, &a.set)?;
+    let bench = deckspin::precision::Bench::open(&a.model.path, &a.model.set)?;
     deckspin::run::check_memory(&bench.study.scene(&[])?)?;
     let reference = bench.reference(1e-10)?;
     let (ks, hs) = default_grid(a.quick);

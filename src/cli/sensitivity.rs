@@ -16,7 +16,7 @@ use deckspin::suite::records::{SuitePair, suite_pairs};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-type CliResult = Result<(), Box<dyn std::error::Error>>;
+use super::CliResult;
 
 /// Which uncertain inputs the answer is most sensitive to: each at its low and high value.
 #[derive(Args)]

@@ -7,12 +7,14 @@ use deckspin::run::{OutputBudget, RunFiles, check_output};
 use deckspin::sequence::{BridgeSequence, Sequence, csv, table};
 use std::path::{Path, PathBuf};
 
-type CliResult = Result<(), Box<dyn std::error::Error>>;
+use super::CliResult;
+use super::args::StudyKind;
 
 /// Runs of a bridge file in sequence, each from the final state of the one before.
 #[derive(Args)]
 pub struct SequenceArgs {
-    pub model: PathBuf,
+    #[command(flatten)]
+    pub model: super::args::ModelArgs,
     /// Runs of the model's [[run]] tables, in order: `a..b` (inclusive) or `a,b,c` (default:
     /// all).
     #[arg(long)]
@@ -21,22 +23,19 @@ pub struct SequenceArgs {
     /// DIR/sequence.csv.
     #[arg(long, default_value = "out")]
     pub out: PathBuf,
-    /// Override a scalar by its dotted TOML path (key.path=value); repeatable.
-    #[arg(long = "set", value_name = "KEY=VALUE")]
-    pub set: Vec<String>,
     /// Instead: the Fig. 7 (`pga`) or Fig. 8 (`mu`) analog with the runs in sequence
     /// (DIR/sequence_rotation_vs_pga.{csv,txt,svg} or DIR/sequence_increase_vs_mu.{csv,txt,svg}).
-    #[arg(long, value_parser = ["pga", "mu"])]
-    pub study: Option<String>,
+    #[arg(long)]
+    pub study: Option<super::args::StudyKind>,
 }
 
 pub fn cmd_sequence(a: &SequenceArgs) -> CliResult {
-    let model = BridgeSequence::open(&a.model, &a.set)?;
+    let model = BridgeSequence::open(&a.model.path, &a.model.set)?;
     let runs = model.parse_runs(a.runs.as_deref())?;
     std::fs::create_dir_all(&a.out)?;
     // one job writes this folder at a time
     let _lock = deckspin::output::files::FolderLock::acquire(&a.out)?;
-    if let Some(kind) = &a.study {
+    if let Some(kind) = a.study {
         return study(&model, &runs, kind, &a.out);
     }
     let mut seq = Sequence::new();
@@ -80,16 +79,16 @@ fn one_run(model: &BridgeSequence, seq: &mut Sequence, k: usize, dir: &Path) -> 
 }
 
 /// `--study pga|mu`: the Fig. 7 or Fig. 8 analog of the sequence.
-fn study(model: &BridgeSequence, runs: &[usize], kind: &str, out: &Path) -> CliResult {
+fn study(model: &BridgeSequence, runs: &[usize], kind: StudyKind, out: &Path) -> CliResult {
     let t0 = std::time::Instant::now();
     let note = " — runs in one sequence";
     let (mut text, csv, figure) = match kind {
-        "pga" => {
+        StudyKind::Pga => {
             let rows = model.rotation_vs_pga(runs);
             let (text, csv) = pga_table(&rows, note)?;
             (text, csv, deckspin::figures::rotation_vs_pga(&rows))
         }
-        _ => {
+        StudyKind::Mu => {
             let mus: Vec<f64> = (0..=7).map(|i| i as f64 / 10.0).collect();
             let m = model.increase_vs_mu(&mus, runs);
             let (text, csv) = mu_table(&m, runs, note)?;
@@ -103,8 +102,8 @@ fn study(model: &BridgeSequence, runs: &[usize], kind: &str, out: &Path) -> CliR
     );
     print!("{text}");
     let stem = match kind {
-        "pga" => "sequence_rotation_vs_pga",
-        _ => "sequence_increase_vs_mu",
+        StudyKind::Pga => "sequence_rotation_vs_pga",
+        StudyKind::Mu => "sequence_increase_vs_mu",
     };
     deckspin::output::files::write_atomic(out.join(format!("{stem}.csv")), csv)?;
     deckspin::output::files::write_atomic(out.join(format!("{stem}.txt")), text)?;

@@ -55,7 +55,7 @@ pub struct SuiteArgs {
     pub resume: bool,
 }
 
-type CliResult = Result<(), Box<dyn std::error::Error>>;
+use super::CliResult;
 
 /// The fingerprint of a suite's job: the model text, the records' names and contents in pair
 /// order, the measure, levels, damping, tail and swept and fixed keys, deckspin's version.
