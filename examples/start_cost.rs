@@ -8,8 +8,8 @@
 //!     cargo run --release --example start_cost -- prepare DIR N
 //!     cargo run --release --example start_cost -- measure DIR
 
-use deckspin::tui::run_list::{Entry, Series};
-use deckspin::tui::{self, App, Effect, Options, run_store};
+use deckspin::tui::runs::list::{Entry, Series};
+use deckspin::tui::{self, App, Effect, Options, runs::store as run_store};
 use std::path::{Path, PathBuf};
 
 /// DIR/models/four-span.toml (the bridge shortened to 2 s) with its records, and N runs kept:

@@ -934,7 +934,7 @@ fn a_failed_runs_whole_reason_from_the_run_list() {
     let text = text.join(" ");
     // the panic's place (file:line:column), then its message on the next line
     assert!(
-        text.contains("the engine panicked: panicked at src/tui/worker.rs:"),
+        text.contains("the engine panicked: panicked at src/tui/workers/run.rs:"),
         "{text}\n{s}"
     );
     assert!(

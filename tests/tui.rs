@@ -13,8 +13,8 @@ use deckspin::output::ContactState;
 use deckspin::tui::app::{Confirm, Mode, StatusKind, View};
 use deckspin::tui::keymap::{Action, Ctx, KEYMAP};
 use deckspin::tui::msg::RunOutcome;
-use deckspin::tui::run_data::{RunData, RunStatus};
-use deckspin::tui::run_list::{Ended, Entry};
+use deckspin::tui::runs::data::{RunData, RunStatus};
+use deckspin::tui::runs::list::{Ended, Entry};
 use deckspin::tui::{self, App, Effect, Msg, Options, chart, form, update};
 use ratatui::Terminal;
 use ratatui::backend::TestBackend;
@@ -243,7 +243,7 @@ fn every_binding_is_handled_in_its_context() {
                 }
                 Ctx::Merge => {
                     app.mode = Mode::Confirm(Confirm::Merge {
-                        conflicts: vec![tui::merge::Conflict {
+                        conflicts: vec![tui::form::merge::Conflict {
                             path: "contact.0.mu".into(),
                             mine: Some("0.3".into()),
                             theirs: Some("0.5".into()),
@@ -257,7 +257,7 @@ fn every_binding_is_handled_in_its_context() {
                     let mut text = app.text.clone();
                     text.push_str("\n# an edit\n");
                     app.mode = Mode::Confirm(Confirm::Recover {
-                        found: tui::swap::Found {
+                        found: tui::form::swap::Found {
                             path: PathBuf::from("/nonexistent/.x.toml.swp"),
                             pid: 1,
                             text,
@@ -292,7 +292,7 @@ fn every_binding_is_handled_in_its_context() {
                     }
                 }
                 Ctx::RunInfo => {
-                    app.mode = Mode::RunInfo(Box::new(tui::run_info::Info {
+                    app.mode = Mode::RunInfo(Box::new(tui::runs::info::Info {
                         number: 1,
                         title: "#1".into(),
                         rows: vec![("status".into(), "finished".into())],
@@ -623,7 +623,7 @@ fn save_of_a_hard_linked_model_keeps_the_link() {
 
 #[test]
 fn the_swap_file_holds_the_edits_and_the_value_being_typed() {
-    use deckspin::tui::swap;
+    use deckspin::tui::form::swap;
     let mut app = App::new_from_text(&read(&corner_path()), &corner_path());
     assert_eq!(
         deckspin::tui::signals::swap_content(&app),
@@ -649,14 +649,14 @@ fn the_swap_file_holds_the_edits_and_the_value_being_typed() {
     let typing = typing.unwrap();
     assert!(typing.ends_with("= 0.3x"), "{typing}");
     // the differences shown at recovery name the field and both values
-    let diff = deckspin::tui::merge::differences(&app.text, &app.draft);
+    let diff = deckspin::tui::form::merge::differences(&app.text, &app.draft);
     assert_eq!(diff.len(), 1, "{diff:?}");
     assert!(diff[0].contains("0.2"), "{diff:?}");
 }
 
 #[test]
 fn the_swap_writer_writes_within_a_second_and_a_recovery_file_falls_back() {
-    use deckspin::tui::swap;
+    use deckspin::tui::form::swap;
     let d = scratch("swap-writer");
     let model = d.join("models/m.toml");
     std::fs::write(&model, read(&corner_path())).unwrap();
@@ -733,7 +733,7 @@ fn run_starts_a_worker_and_batches_stream_in() {
     let Effect::StartRun { id, scene } = fx.into_iter().next().unwrap() else {
         unreachable!()
     };
-    let msgs = tui::worker::run_blocking(id, &scene);
+    let msgs = tui::workers::run::run_blocking(id, &scene);
     let mut n = 0;
     for m in msgs {
         let done = matches!(m, Msg::RunDone { .. });
@@ -774,7 +774,7 @@ fn the_workbench_refines_a_chosen_step_like_the_command_line() {
         panic!("no run started")
     };
     let first_step = scene.settings.step;
-    let msgs = tui::worker::run_blocking(id, &scene);
+    let msgs = tui::workers::run::run_blocking(id, &scene);
     let refined: Vec<&String> = (msgs.iter())
         .filter_map(|m| match m {
             Msg::Refined { why, .. } => Some(why),
@@ -874,7 +874,7 @@ fn batches_of_a_stale_run_are_ignored() {
     let mut app = corner_app();
     let fx = act(&mut app, Action::Rerun);
     assert_eq!(start_ids(&fx), vec![2]);
-    let stale = tui::worker::run_blocking(1, app.scene.as_ref().unwrap());
+    let stale = tui::workers::run::run_blocking(1, app.scene.as_ref().unwrap());
     for m in stale {
         update(&mut app, m);
     }
@@ -928,7 +928,7 @@ fn the_worker_streams_and_cancel_stops_the_engine() {
     // a short run in the worker thread: batches, then the finished output
     let scene = deckspin::load(&corner_path(), &[]).unwrap();
     let (tx, rx) = mpsc::channel();
-    let _h = tui::worker::spawn(3, scene, tx);
+    let _h = tui::workers::run::spawn(3, scene, tx);
     let mut batches = 0;
     loop {
         match rx
@@ -950,7 +950,7 @@ fn the_worker_streams_and_cancel_stops_the_engine() {
     // the full 16 s bridge, cancelled: the engine stops at its next batch
     let scene = deckspin::load(&bridge_path(), &[]).unwrap();
     let (tx, rx) = mpsc::channel();
-    let h = tui::worker::spawn(7, scene, tx);
+    let h = tui::workers::run::spawn(7, scene, tx);
     h.cancel();
     // a batch may have left before the flag was set (the thread runs while we cancel)
     loop {
@@ -2081,7 +2081,7 @@ fn notify_watcher_sees_writes_and_rename_saves() {
     let model = d.join("models/m.toml");
     std::fs::write(&model, "a = 1\n").unwrap();
     let (tx, rx) = mpsc::channel();
-    let _w = match tui::watch::notify_watch(&model, tx) {
+    let _w = match tui::workers::watch::notify_watch(&model, tx) {
         Ok(w) => w,
         Err(e) => {
             // the workbench falls back to polling (tested below)
@@ -2112,7 +2112,7 @@ fn polling_fallback_sees_changes_by_content() {
     let model = d.join("models/m.toml");
     std::fs::write(&model, "a = 1\n").unwrap();
     let (tx, rx) = mpsc::channel();
-    tui::watch::spawn_poll(model.clone(), tx, Duration::from_millis(50));
+    tui::workers::watch::spawn_poll(model.clone(), tx, Duration::from_millis(50));
     std::thread::sleep(Duration::from_millis(120));
     std::fs::write(&model, "a = 22\n").unwrap();
     assert!(wait_for_change(&rx, "a = 22"));
@@ -2480,7 +2480,7 @@ fn the_recovery_file_holds_the_unsaved_work_next_to_the_model() {
 fn a_run_whose_output_grid_exceeds_the_memory_limit_is_refused_before_it_starts() {
     // 0.5 s at 1e-9 s: 5e8 rows, above the 1e6 the workbench keeps in memory
     let scene = deckspin::load(&corner_path(), &["solver.output_dt=1e-9".into()]).unwrap();
-    let msgs = tui::worker::run_blocking(5, &scene);
+    let msgs = tui::workers::run::run_blocking(5, &scene);
     let [
         Msg::RunDone {
             run: 5,
@@ -2497,7 +2497,7 @@ fn a_run_whose_output_grid_exceeds_the_memory_limit_is_refused_before_it_starts(
     );
     // 1e-6 s: 5e5 rows, within the limit
     let scene = deckspin::load(&corner_path(), &["solver.output_dt=1e-6".into()]).unwrap();
-    let msgs = tui::worker::run_blocking(6, &scene);
+    let msgs = tui::workers::run::run_blocking(6, &scene);
     assert!(
         matches!(
             msgs.last(),
@@ -2617,7 +2617,7 @@ fn key_failures_have_their_own_row_and_mark_in_the_event_strip() {
 
 #[test]
 fn frames_bents_and_keys_are_added_and_removed_as_lists() {
-    use deckspin::tui::list_edit::{duplicate, remove};
+    use deckspin::tui::form::list_edit::{duplicate, remove};
     let path = root().join("models/three-frame.toml");
     let text = std::fs::read_to_string(&path).unwrap();
     let load = |t: &str| deckspin::model::load_str(t, &path, &[]).unwrap_or_else(|e| panic!("{e}"));
@@ -2692,15 +2692,15 @@ fn frames_bents_and_keys_are_added_and_removed_as_lists() {
 use deckspin::study_csv::to_csv;
 use deckspin::study_table::{PointStatus, StudyKind, StudyTable};
 use deckspin::tui::msg::StudyOutcome;
-use deckspin::tui::out_folder::out_dirs;
-use deckspin::tui::study::{Phase, Source};
+use deckspin::tui::runs::out_folder::out_dirs;
+use deckspin::tui::studies::{Phase, Source};
 
 fn study_index(kind: StudyKind) -> usize {
     StudyKind::ALL.iter().position(|k| *k == kind).unwrap()
 }
 
 /// `Enter` on `kind` in the studies view: the study's id and its worker's spec.
-fn start_study(app: &mut App, kind: StudyKind) -> (u64, Box<tui::study::StudySpec>) {
+fn start_study(app: &mut App, kind: StudyKind) -> (u64, Box<tui::studies::StudySpec>) {
     app.view = View::Studies;
     app.studies.selected = study_index(kind);
     let mut fx = act(app, Action::StudyRun);
@@ -2734,7 +2734,7 @@ fn study_tables() -> &'static [StudyTable; 7] {
             (sub.pairs, sub.levels) = (2, vec![0.2, 0.4]);
             app.studies.suite = Some(sub);
             let (id, spec) = start_study(&mut app, k);
-            final_table(tui::study_worker::run_blocking(id, &spec))
+            final_table(tui::workers::study::run_blocking(id, &spec))
         })
     })
 }
@@ -2874,7 +2874,7 @@ fn a_study_starts_in_a_worker_on_the_form_model() {
 fn study_rows_arrive_as_progress_and_the_end_writes_its_csv() {
     let mut app = bridge_app();
     let (id, spec) = start_study(&mut app, StudyKind::Pga);
-    let msgs = tui::study_worker::run_blocking(id, &spec);
+    let msgs = tui::workers::study::run_blocking(id, &spec);
     assert_eq!(msgs.len(), 15, "14 rows and the end");
     let mut done = 0;
     for m in msgs {
@@ -2947,7 +2947,7 @@ fn a_cancelled_study_keeps_its_finished_rows() {
             cancel.store(true, Ordering::SeqCst);
         }
     };
-    let done = tui::study_worker::run(id, &spec, &cancel, &send);
+    let done = tui::workers::study::run(id, &spec, &cancel, &send);
     let rows = sent.into_inner().unwrap();
     let n = rows.len();
     assert!((3..14).contains(&n), "{n} rows before the runs stopped");
@@ -3146,7 +3146,7 @@ fn a_study_that_cannot_run_says_why() {
     let mut app = bridge_app();
     app.studies.overrides = vec!["solver.t_end=-1".into()];
     let (id, spec) = start_study(&mut app, StudyKind::Mu);
-    let msgs = tui::study_worker::run_blocking(id, &spec);
+    let msgs = tui::workers::study::run_blocking(id, &spec);
     assert_eq!(msgs.len(), 1, "no row, the end");
     for m in msgs {
         assert!(update(&mut app, m).is_empty(), "no CSV");

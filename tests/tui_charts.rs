@@ -15,10 +15,10 @@ use deckspin::tui::app::{Mode, StatusKind};
 use deckspin::tui::chart_prefs::{self, ChartPrefs, ThetaUnit};
 use deckspin::tui::eng::{Scale, eng_sig};
 use deckspin::tui::keymap::Action;
-use deckspin::tui::run_data::RunData;
-use deckspin::tui::run_list::Entry;
-use deckspin::tui::series::{Kind, SeriesId};
-use deckspin::tui::{self, App, Effect, Msg, Options, chart, nav, update};
+use deckspin::tui::runs::data::RunData;
+use deckspin::tui::runs::list::Entry;
+use deckspin::tui::runs::series::{Kind, SeriesId};
+use deckspin::tui::{self, App, Effect, Msg, Options, chart, runs::nav, update};
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
@@ -330,7 +330,7 @@ fn the_series_list_filters_and_marks_what_is_shown() {
     );
     // every series a run records is there to pick: coordinates and velocities, five per
     // contact, two per element, the eight energy terms
-    let all = deckspin::tui::series::catalogue(run);
+    let all = deckspin::tui::runs::series::catalogue(run);
     let want = 2 * run.dof_names.len() + 5 * n + 2 * run.element_names.len() + 8;
     assert_eq!(all.len(), want, "{all:?}");
     // the gaps of chart 2 marked shown, deselected one by one

@@ -520,7 +520,7 @@ fn another_model_opens_without_restart() {
         panic!("{fx:?}")
     };
     assert_eq!(dir, Path::new("models"));
-    let files = tui::model_files::list(dir).unwrap();
+    let files = tui::form::model_files::list(dir).unwrap();
     assert!(
         files.contains(&PathBuf::from("models/validation/corner-impact.toml")),
         "{files:?}"

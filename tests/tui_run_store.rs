@@ -13,9 +13,9 @@ use common::tui::*;
 use crossterm::event::KeyCode;
 use deckspin::tui::app::{Confirm, Mode, View};
 use deckspin::tui::keymap::Action;
-use deckspin::tui::run_data::{RunData, RunStatus};
-use deckspin::tui::run_list::{self, Ended, Entry, Series};
-use deckspin::tui::{self, App, Effect, Msg, Options, run_store, update};
+use deckspin::tui::runs::data::{RunData, RunStatus};
+use deckspin::tui::runs::list::{self as run_list, Ended, Entry, Series};
+use deckspin::tui::{self, App, Effect, Msg, Options, runs::store as run_store, update};
 use std::path::{Path, PathBuf};
 
 /// A scratch folder with models/four-span.toml (the short bridge, 4 mm gaps) and

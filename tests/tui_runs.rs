@@ -12,9 +12,9 @@ use common::tui::*;
 use crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
 use deckspin::tui::app::{Mode, StatusKind, View};
 use deckspin::tui::keymap::Action;
-use deckspin::tui::run_data::{RunData, RunStatus};
-use deckspin::tui::run_list::{self, Ended, Entry, KEEP, MAX_SAMPLES, Runs};
-use deckspin::tui::{self, App, Effect, Msg, Options, form, run_store, update};
+use deckspin::tui::runs::data::{RunData, RunStatus};
+use deckspin::tui::runs::list::{self as run_list, Ended, Entry, KEEP, MAX_SAMPLES, Runs};
+use deckspin::tui::{self, App, Effect, Msg, Options, form, runs::store as run_store, update};
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 

@@ -19,7 +19,7 @@ use deckspin::tui::app::{Mode, View};
 use deckspin::tui::chart::fmt_sig;
 use deckspin::tui::keymap::Action;
 use deckspin::tui::msg::StudyOutcome;
-use deckspin::tui::study_points::{cell, points};
+use deckspin::tui::studies::points::{cell, points};
 use deckspin::tui::{self, App, Effect, Msg, update};
 use ratatui::style::Modifier;
 use std::path::{Path, PathBuf};
@@ -282,7 +282,7 @@ fn study_tables_go_to_the_output_folder_and_the_older_folder_is_still_read() {
     std::fs::write(out.join("pga-1.csv"), "mine\n").unwrap();
     let fx = vec![Effect::WriteStudy {
         id: 0,
-        dirs: deckspin::tui::out_folder::out_dirs(&model),
+        dirs: deckspin::tui::runs::out_folder::out_dirs(&model),
         table: Box::new(pga_table()),
     }];
     tui::execute_blocking(&mut app, fx);
@@ -337,7 +337,7 @@ fn snapshot_studies_pga_table_80x24() {
 
 use deckspin::design::adequacy::Adequacy;
 use deckspin::design::swings::Sensitivity;
-use deckspin::tui::study::{Phase, StudySpec};
+use deckspin::tui::studies::{Phase, StudySpec};
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -389,7 +389,7 @@ fn design_run(kind: StudyKind) -> &'static (Vec<(usize, usize)>, StudyTable) {
         assert_eq!(spec.text, app.draft, "the form's model, its edit included");
         let mut counts = Vec::new();
         let mut table = None;
-        for m in tui::study_worker::run_blocking(id, &spec) {
+        for m in tui::workers::study::run_blocking(id, &spec) {
             match m {
                 Msg::StudyProgress { done, all, .. } => counts.push((done, all)),
                 Msg::StudyDone {
@@ -651,7 +651,7 @@ fn esc_cancels_the_design_studies() {
             }
             sent.lock().unwrap().push(m);
         };
-        let done = tui::study_worker::run(id, &spec, &cancel, &send);
+        let done = tui::workers::study::run(id, &spec, &cancel, &send);
         let sent = sent.into_inner().unwrap();
         let progress: Vec<(usize, usize)> = (sent.iter())
             .filter_map(|m| match m {
@@ -723,7 +723,7 @@ fn the_swings_run_in_a_worker_and_n_shows_the_next_quantity() {
         app.status
     );
     // every input, widest swing of the first quantity first, with its tornado bar
-    let order = deckspin::tui::design_rows::order(s, 0);
+    let order = deckspin::tui::studies::design_rows::order(s, 0);
     let sc = lines(&render(&mut app, 80, 24));
     let screen_text = sc.join("\n");
     assert!(screen_text.contains(&s.quantities[0]), "{screen_text}");
@@ -742,7 +742,7 @@ fn the_swings_run_in_a_worker_and_n_shows_the_next_quantity() {
     );
     // the tornado's numbers: the swing of the widest input
     let sw = &s.inputs[order[0]].swings[0];
-    let swing = deckspin::tui::study_points::cell(sw.swing().unwrap());
+    let swing = deckspin::tui::studies::points::cell(sw.swing().unwrap());
     assert!(widest.contains(&swing), "{swing} {widest}");
     // n: the next quantity, the row at the cursor keeps its input; round to the first
     update(&mut app, key('j'));
@@ -751,7 +751,7 @@ fn the_swings_run_in_a_worker_and_n_shows_the_next_quantity() {
     update(&mut app, key('n'));
     let want = format!("sensitivity: the tornado of {} (2/{n})", s.quantities[1]);
     assert!(app.status.starts_with(&want), "{}", app.status);
-    let order1 = deckspin::tui::design_rows::order(s, 1);
+    let order1 = deckspin::tui::studies::design_rows::order(s, 1);
     assert_eq!(order1[app.studies.cursor()], input);
     let sc = screen(&render(&mut app, 80, 24));
     assert!(
@@ -774,7 +774,7 @@ fn the_design_studies_write_their_csv_and_are_not_reopened() {
     std::fs::write(&model, read(&bridge_path())).unwrap();
     let mut app = App::new_from_text(&read(&model), &model);
     app.view = View::Studies;
-    let dirs = deckspin::tui::out_folder::out_dirs(&model);
+    let dirs = deckspin::tui::runs::out_folder::out_dirs(&model);
     for kind in [StudyKind::Adequacy, StudyKind::Sensitivity] {
         let table = Box::new(design_run(kind).1.clone());
         let fx = vec![Effect::WriteStudy {

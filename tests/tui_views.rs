@@ -16,7 +16,7 @@ use deckspin::tui::app::{StatusKind, View};
 use deckspin::tui::keymap::Action;
 use deckspin::tui::msg::StudyOutcome;
 use deckspin::tui::results::{JobState, Page};
-use deckspin::tui::run_data::{RunData, RunStatus};
+use deckspin::tui::runs::data::{RunData, RunStatus};
 use deckspin::tui::{self, App, Effect, Msg, update};
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
@@ -118,7 +118,7 @@ fn the_energy_page_carries_the_ledger_and_its_closure_is_the_summarys() {
         tui::chart::fmt_sig(summary.energy_closure_abs, 3)
     );
     assert!(s.contains(&shown), "{shown}\n{s}");
-    for term in tui::run_results::TERMS {
+    for term in tui::runs::results::TERMS {
         assert!(s.contains(term), "{term}\n{s}");
     }
 }
@@ -256,7 +256,7 @@ fn a_results_computation_runs_in_a_worker_and_esc_cancels_it() {
     // a worker whose flag is set stops before the end and says so
     let spec = tui::results::ResultSpec::Records(Box::new(app.scene.clone().unwrap()));
     let flag = std::sync::atomic::AtomicBool::new(true);
-    let done = tui::results_worker::run(id, &spec, &flag, &|_| {});
+    let done = tui::workers::results::run(id, &spec, &flag, &|_| {});
     update(&mut app, done);
     assert!(matches!(
         app.results.records.as_ref().unwrap().state,
@@ -269,7 +269,7 @@ fn a_results_computation_runs_in_a_worker_and_esc_cancels_it() {
         Some(Effect::StartResult { id, spec }) => (id, spec),
         e => panic!("{e:?}"),
     };
-    let msgs = tui::results_worker::run_blocking(id, &spec);
+    let msgs = tui::workers::results::run_blocking(id, &spec);
     assert!(msgs.iter().any(|m| matches!(m, Msg::ResultProgress { .. })));
     for m in msgs {
         update(&mut app, m);
@@ -304,7 +304,7 @@ fn precision_run() -> &'static (Vec<usize>, StudyTable) {
             Some(Effect::StartStudy { id, spec }) => (id, spec),
             e => panic!("{e:?} {}", app.status),
         };
-        let msgs = tui::study_worker::run_blocking(id, &spec);
+        let msgs = tui::workers::study::run_blocking(id, &spec);
         let mut points = Vec::new();
         let mut table = None;
         for m in msgs {
@@ -566,7 +566,7 @@ fn the_results_worker_runs_in_its_own_named_thread_and_sends_its_end() {
     let app = bridge_app();
     let scene = app.scene.clone().expect("the model loads");
     let (tx, rx) = std::sync::mpsc::channel();
-    let h = tui::results_worker::spawn(7, ResultSpec::Modes(Box::new(scene)), tx);
+    let h = tui::workers::results::spawn(7, ResultSpec::Modes(Box::new(scene)), tx);
     assert_eq!(h.id, 7);
     let msg = rx
         .recv_timeout(std::time::Duration::from_secs(30))
@@ -579,7 +579,7 @@ fn the_results_worker_runs_in_its_own_named_thread_and_sends_its_end() {
         panic!("{outcome:?}")
     };
     // the same modes as in this thread
-    let blocking = tui::results_worker::run_blocking(
+    let blocking = tui::workers::results::run_blocking(
         7,
         &ResultSpec::Modes(Box::new(app.scene.clone().unwrap())),
     );

@@ -1,13 +1,13 @@
 //! Workbench state: [`App`], its modes and presentation options. Changed only by
 //! [`super::update`]; drawn by [`super::ui`].
 
-use super::form::{self, Form};
+use crate::tui::form::{self, Form};
 use super::keymap::{self, Ctx};
-pub use super::merge::Conflict;
+pub use crate::tui::form::merge::Conflict;
 use super::results::Results;
-use super::run_data::RunData;
-use super::run_list::Runs;
-use super::study::Studies;
+use crate::tui::runs::data::RunData;
+use crate::tui::runs::list::Runs;
+use crate::tui::studies::Studies;
 use super::term::{ColorDepth, Glyphs};
 use crate::scene::Scene;
 use std::hash::{Hash, Hasher};
@@ -58,10 +58,10 @@ pub enum Confirm {
     DeleteRun { number: u64 },
     /// Open another model (chosen in the list of models) and lose the unsaved edits.
     OpenModel { path: PathBuf },
-    /// A swap file of unsaved edits found at the start (`tui::swap`), with the values that
+    /// A swap file of unsaved edits found at the start (`tui::form::swap`), with the values that
     /// differ from the model.
     Recover {
-        found: super::swap::Found,
+        found: crate::tui::form::swap::Found,
         differences: Vec<String>,
     },
 }
@@ -108,7 +108,7 @@ pub enum Mode {
         selected: usize,
     },
     /// A run's whole status (`i`): its failure's reason, time reached, method and step.
-    RunInfo(Box<super::run_info::Info>),
+    RunInfo(Box<crate::tui::runs::info::Info>),
 }
 
 pub use super::messages::StatusKind;
@@ -258,9 +258,9 @@ pub struct App {
     pub charts: super::chart_prefs::ChartPrefs,
     /// The first line of the run info shown.
     pub info_scroll: usize,
-    /// What opening the run list read ([`super::run_store::ReadCount`]), and the runs whose
+    /// What opening the run list read ([`crate::tui::runs::store::ReadCount`]), and the runs whose
     /// model diff it computed (stored again at the start).
-    pub runs_read: super::run_store::ReadCount,
+    pub runs_read: crate::tui::runs::store::ReadCount,
     pub runs_rediffed: Vec<u64>,
 }
 
@@ -345,8 +345,8 @@ impl App {
     /// Reads the runs stored beside the model (`<stem>.runs/`) and keeps storing there; says
     /// on the status line what came back and what was skipped.
     pub fn open_runs(&mut self) {
-        let dir = super::run_store::runs_dir(&self.path);
-        let loaded = super::run_store::load(&dir);
+        let dir = crate::tui::runs::store::runs_dir(&self.path);
+        let loaded = crate::tui::runs::store::load(&dir);
         self.runs = loaded.runs;
         self.runs_older = loaded.older;
         self.runs_read = loaded.read;

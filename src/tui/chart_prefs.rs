@@ -4,8 +4,8 @@
 //! `<model stem>.runs/charts.json`, written atomically; a missing file gives the defaults, a
 //! corrupt one the defaults and a message.
 
-use super::run_data::RunData;
-use super::series::{self, Dim, SeriesId};
+use crate::tui::runs::data::RunData;
+use crate::tui::runs::series::{self, Dim, SeriesId};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 pub const CHARTS: usize = 3;
 
 /// The file's name in the model's runs folder.
-pub const FILE: &str = super::run_store::CHARTS_FILE;
+pub const FILE: &str = crate::tui::runs::store::CHARTS_FILE;
 
 /// The first field of the file.
 const FORMAT: &str = "deckspin charts 1";
@@ -175,7 +175,7 @@ impl ChartPrefs {
 
 /// `models/four-span.runs/charts.json` for `models/four-span.toml`.
 pub fn path(model: &Path) -> PathBuf {
-    super::run_store::runs_dir(model).join(FILE)
+    crate::tui::runs::store::runs_dir(model).join(FILE)
 }
 
 /// The preferences stored for `model`: the defaults when there are none; the defaults and
@@ -203,7 +203,7 @@ pub fn store(path: &Path, text: &str) -> Result<(), String> {
     if let Some(d) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(d).map_err(|e| format!("{}: {e}", d.display()))?;
     }
-    super::run_store::write_atomic(path, text)
+    crate::tui::runs::store::write_atomic(path, text)
 }
 
 /// The series of `run` whose label or key holds `query` (any case).
@@ -222,7 +222,7 @@ pub fn matching(run: &RunData, query: &str) -> Vec<SeriesId> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::tui::series::Kind;
+    use crate::tui::runs::series::Kind;
 
     #[test]
     fn the_file_reads_back_and_refuses_what_it_is_not() {

@@ -2,13 +2,13 @@
 //! (threads or blocking calls, timing) is a [`Host`].
 
 use super::app::App;
-use super::export;
+use crate::tui::runs::export;
 use super::msg::{Effect, Msg};
 use super::results::ResultSpec;
-use super::results_worker;
-use super::study::StudySpec;
+use crate::tui::workers::results as results_worker;
+use crate::tui::studies::StudySpec;
 use super::update::update;
-use super::{model_files, run_store, study_files, study_worker, worker};
+use super::{form::model_files, runs::store as run_store, studies::files as study_files, workers::study as study_worker, workers::run as worker};
 use crate::scene::Scene;
 use std::collections::VecDeque;
 use std::io::{self, Write};

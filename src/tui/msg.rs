@@ -2,9 +2,9 @@
 
 use super::keymap::Action;
 use super::results::{ModesData, RecordsData, ResultSpec};
-use super::run_data::{RunData, RunFailure};
-use super::run_store;
-use super::study::StudySpec;
+use crate::tui::runs::data::{RunData, RunFailure};
+use crate::tui::runs::store as run_store;
+use crate::tui::studies::StudySpec;
 use crate::output::{EventRecord, RunOutput, Sample};
 use crate::precision::Point;
 use crate::scene::Scene;
@@ -40,7 +40,7 @@ pub enum StudyOutcome {
     Failed(String),
 }
 
-/// What a results computation gives ([`super::results_worker`]).
+/// What a results computation gives ([`crate::tui::workers::results`]).
 #[derive(Debug)]
 pub enum ResultData {
     Modes(Box<ModesData>),
@@ -186,7 +186,7 @@ pub enum Effect {
         window: (f64, f64),
         element: usize,
     },
-    /// Run a study in a worker thread ([`super::study_worker`]).
+    /// Run a study in a worker thread ([`crate::tui::workers::study`]).
     StartStudy {
         id: u64,
         spec: Box<StudySpec>,
@@ -229,7 +229,7 @@ pub enum Effect {
         runs: Vec<(u64, f64)>,
     },
     // -- the results pages
-    /// Compute a results page's data in a worker ([`super::results_worker`]).
+    /// Compute a results page's data in a worker ([`crate::tui::workers::results`]).
     StartResult {
         id: u64,
         spec: Box<ResultSpec>,
@@ -238,7 +238,7 @@ pub enum Effect {
         id: u64,
     },
     // another model
-    /// List the model files of `dir` and its subfolders ([`super::model_files`]).
+    /// List the model files of `dir` and its subfolders ([`crate::tui::form::model_files`]).
     ListModels {
         dir: PathBuf,
     },

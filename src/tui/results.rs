@@ -1,7 +1,7 @@
 //! The results pages of the studies view (after the studies in its list, reached with h/l):
 //! the energy ledger and the contact forces of the current run (carried by the run's worker,
-//! [`super::run_results`]), the modes of the form's model and its input records with their
-//! 5 %-damped response spectrum (each computed by [`super::results_worker`]). Here: which
+//! [`crate::tui::runs::results`]), the modes of the form's model and its input records with their
+//! 5 %-damped response spectrum (each computed by [`crate::tui::workers::results`]). Here: which
 //! page is shown, what is selected on it, and the computed data with its state.
 
 use crate::excitation::G;
@@ -32,7 +32,7 @@ impl Page {
         }
     }
 
-    /// Computed by [`super::results_worker`] from the form's model (not carried by the run).
+    /// Computed by [`crate::tui::workers::results`] from the form's model (not carried by the run).
     pub fn of_model(self) -> bool {
         matches!(self, Page::Modes | Page::Records)
     }

@@ -7,11 +7,11 @@
 use super::app::{App, Confirm, Mode, Options, StatusKind};
 use super::effects::{Host, Job, perform};
 use super::msg::Msg;
-use super::study::StudySpec;
+use crate::tui::studies::StudySpec;
 use super::term::{ColorDepth, Glyphs, SgrFilter};
 use super::ui;
 use super::update::update;
-use super::{results_worker, signals, study_worker, swap, watch, worker};
+use super::{workers::results as results_worker, signals, workers::study as study_worker, form::swap, workers::watch, workers::run as worker};
 use crate::scene::Scene;
 use crossterm::event::{self, Event};
 use crossterm::execute;
@@ -397,7 +397,7 @@ fn offer_swap(app: &mut App) -> Option<swap::Swapper> {
         if found.text == app.text && found.typing.is_none() {
             let _ = std::fs::remove_file(&found.path);
         } else {
-            let differences = crate::tui::merge::differences(&app.text, &found.text);
+            let differences = crate::tui::form::merge::differences(&app.text, &found.text);
             app.mode = Mode::Confirm(Confirm::Recover { found, differences });
             app.set_status(
                 StatusKind::Warn,

@@ -91,7 +91,7 @@ pub fn unsaved(app: &App) -> Unsaved {
     }
 }
 
-/// The swap text of `app`'s unsaved work (`tui::swap`; None: nothing unsaved).
+/// The swap text of `app`'s unsaved work (`tui::form::swap`; None: nothing unsaved).
 pub fn swap_content(app: &App) -> Option<String> {
     let typing = match &app.mode {
         Mode::Editing { buffer, .. } => {
@@ -107,12 +107,12 @@ pub fn swap_content(app: &App) -> Option<String> {
     let text = u.text.unwrap_or_else(|| app.draft.clone());
     let mut out = format!(
         "{} pid={} model={}\n",
-        super::swap::HEADER,
+        crate::tui::form::swap::HEADER,
         std::process::id(),
         app.path.display()
     );
     if let Some(t) = typing {
-        out += &format!("{}{t}\n", super::swap::TYPING);
+        out += &format!("{}{t}\n", crate::tui::form::swap::TYPING);
     }
     out += &text;
     Some(out)
@@ -140,13 +140,13 @@ pub fn recovery_path(model: &Path) -> PathBuf {
 }
 
 /// Where a recovery file may go, in order: next to the model, the state directory
-/// (`tui::swap::state_dir`/recovered), the temp directory; the last two under the model's
+/// (`tui::form::swap::state_dir`/recovered), the temp directory; the last two under the model's
 /// whole path with `/` as `%`.
 pub fn recovery_places(model: &Path) -> Vec<PathBuf> {
-    let flat = super::swap::flattened(model);
+    let flat = crate::tui::form::swap::flattened(model);
     vec![
         recovery_path(model),
-        recovery_path_in(&super::swap::state_dir().join("recovered"), &flat),
+        recovery_path_in(&crate::tui::form::swap::state_dir().join("recovered"), &flat),
         recovery_path_in(&std::env::temp_dir(), &format!("deckspin-{flat}")),
     ]
 }
@@ -196,7 +196,7 @@ pub fn exit_after(sig: i32, app: &App, owns_swap: bool) -> ! {
             Ok(p) => {
                 // the edits are safe: this workbench's swap file goes
                 if owns_swap {
-                    super::swap::remove_all(&app.path);
+                    crate::tui::form::swap::remove_all(&app.path);
                 }
                 writeln!(
                     err,

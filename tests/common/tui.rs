@@ -4,7 +4,7 @@
 use super::root;
 use crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
 use deckspin::tui::keymap::Action;
-use deckspin::tui::run_data::{RunData, RunStatus};
+use deckspin::tui::runs::data::{RunData, RunStatus};
 use deckspin::tui::{self, App, Effect, Msg, form, update};
 use ratatui::Terminal;
 use ratatui::backend::TestBackend;
@@ -57,7 +57,7 @@ pub fn messages_of_started_run(fx: Vec<Effect>) -> Vec<Msg> {
     else {
         panic!("no run started")
     };
-    tui::worker::run_blocking(id, &scene)
+    tui::workers::run::run_blocking(id, &scene)
 }
 
 pub fn key(c: char) -> Msg {

@@ -10,7 +10,7 @@ use super::common::{Theme, fit, fit_lines};
 use super::line_plot::{Curve, LinePlot, Marks, RefLine, draw_line_plot};
 use crate::design::adequacy::{Adequacy, Outcome};
 use crate::design::adequacy_report::{chart, percent, short};
-use crate::tui::design_rows::variant_of_row;
+use crate::tui::studies::design_rows::variant_of_row;
 use ratatui::Frame;
 use ratatui::layout::Rect;
 use ratatui::style::Style;

@@ -3,7 +3,7 @@
 //! window, plot size, …).
 
 use crate::tui::chart::downsample_minmax;
-use crate::tui::run_data::RunData;
+use crate::tui::runs::data::RunData;
 use std::collections::HashMap;
 use std::time::{Duration, Instant};
 

@@ -5,7 +5,7 @@ use super::common::Theme;
 use super::event_list::scroll;
 use crate::tui::app::App;
 use crate::tui::chart_prefs;
-use crate::tui::nav;
+use crate::tui::runs::nav;
 use ratatui::Frame;
 use ratatui::layout::Rect;
 use ratatui::text::{Line, Span};

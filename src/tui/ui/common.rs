@@ -2,7 +2,7 @@
 //! are shown.
 
 use crate::tui::app::{App, StatusKind};
-use crate::tui::run_data::RunData;
+use crate::tui::runs::data::RunData;
 use ratatui::buffer::Buffer;
 use ratatui::layout::Rect;
 use ratatui::style::{Color, Modifier, Style};

@@ -4,7 +4,7 @@
 use super::common::Theme;
 use crate::tui::app::App;
 use crate::tui::chart;
-use crate::tui::run_list::{Results, cell};
+use crate::tui::runs::list::{Results, cell};
 use ratatui::Frame;
 use ratatui::layout::{Constraint, Rect};
 use ratatui::widgets::{Row, Table};
@@ -167,7 +167,7 @@ pub(super) fn rows(cols: &[Column], len: &str) -> Vec<(String, Vec<String>)> {
 pub(super) fn draw_compare(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
     let cols = columns(app);
     // as drawn (ASCII spelled out) before it is measured
-    let rows: Vec<(String, Vec<String>)> = rows(&cols, crate::tui::nav::length_unit(app))
+    let rows: Vec<(String, Vec<String>)> = rows(&cols, crate::tui::runs::nav::length_unit(app))
         .into_iter()
         .map(|(l, cells)| (th.text(&l), cells.iter().map(|c| th.text(c)).collect()))
         .collect();

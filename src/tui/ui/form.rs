@@ -7,7 +7,7 @@ use super::side::draw_summary;
 use super::studies::draw_picker;
 use crate::tui::app::{App, Mode, StatusKind};
 use crate::tui::form::{self, Field, Row};
-use crate::tui::model_files::folder_of;
+use crate::tui::form::model_files::folder_of;
 use ratatui::Frame;
 use ratatui::layout::{Constraint, Layout, Rect};
 use ratatui::style::{Color, Style};
@@ -126,7 +126,7 @@ fn list_lines<'a>(app: &App, area: Rect, th: &Theme) -> Vec<Line<'a>> {
                 // a value typed with its own unit ("20 mm_") is not followed by the field's
                 let own_unit = match &app.mode {
                     Mode::Editing { buffer, .. } if editing => {
-                        crate::tui::units::carries_unit(buffer)
+                        crate::tui::form::units::carries_unit(buffer)
                     }
                     _ => false,
                 };
@@ -230,7 +230,7 @@ fn draw_field_detail(frame: &mut Frame, area: Rect, app: &App, th: &Theme) {
         ),
         Line::from(th.text(&format!("{}{unit}", f.kind.name()))),
     ];
-    let others = crate::tui::units::others_taken(f.dim, sys);
+    let others = crate::tui::form::units::others_taken(f.dim, sys);
     if f.kind == form::Kind::Float && !others.is_empty() {
         lines.push(Line::styled(
             th.text(&format!("also takes {}", others.join(", "))),

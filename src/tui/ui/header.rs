@@ -2,8 +2,8 @@
 
 use super::common::{Theme, cut_words};
 use crate::tui::app::{App, LoadError, StatusKind, View};
-use crate::tui::run_data::RunStatus;
-use crate::tui::study::short_title;
+use crate::tui::runs::data::RunStatus;
+use crate::tui::studies::short_title;
 use ratatui::Frame;
 use ratatui::layout::{Alignment, Constraint, Layout, Rect};
 use ratatui::style::Color;
@@ -81,7 +81,7 @@ fn run_progress(app: &App, th: &Theme) -> Line<'static> {
                 th.status(StatusKind::Warn),
             ),
         ]),
-        RunStatus::Failed(e) if crate::tui::run_list::is_inaccurate(e) => Line::from(vec![
+        RunStatus::Failed(e) if crate::tui::runs::list::is_inaccurate(e) => Line::from(vec![
             Span::styled(label, th.bold()),
             Span::styled(
                 " done, outside its accuracy bounds",

@@ -6,7 +6,7 @@ use crate::output::ContactState;
 use crate::scene::{BodyRef, Contact, Scene};
 use crate::tui::app::{App, StatusKind};
 use crate::tui::chart::{self, fmt_num};
-use crate::tui::run_data::RunData;
+use crate::tui::runs::data::RunData;
 use nalgebra::Vector2;
 use ratatui::Frame;
 use ratatui::layout::Rect;
@@ -208,7 +208,7 @@ pub(super) fn draw_plan(frame: &mut Frame, area: Rect, app: &App, tc: f64, th: &
             fmt_num(s, 8),
             fmt_num(tc, 7),
             fmt_num(m, 5),
-            crate::tui::nav::length_unit(app)
+            crate::tui::runs::nav::length_unit(app)
         )),
         None => short.clone(),
     };

@@ -252,7 +252,7 @@ pub(super) fn draw_records(frame: &mut Frame, area: Rect, app: &App, th: &Theme)
     let pd = history(
         format!(
             "displacement [{}], PGD {}",
-            crate::tui::nav::length_unit(app),
+            crate::tui::runs::nav::length_unit(app),
             fmt_sig(c.pgd(), 3)
         ),
         'd',

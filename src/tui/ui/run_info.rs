@@ -1,9 +1,9 @@
-//! A run's whole status over the body of the screen (`tui::run_info`): its rows wrapped to the
+//! A run's whole status over the body of the screen (`tui::runs::info`): its rows wrapped to the
 //! width, scrolled from `app.info_scroll`.
 
 use super::common::Theme;
 use crate::tui::app::App;
-use crate::tui::run_info::{Info, lines};
+use crate::tui::runs::info::{Info, lines};
 use ratatui::Frame;
 use ratatui::layout::Rect;
 use ratatui::text::Line;

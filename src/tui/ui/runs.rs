@@ -5,7 +5,7 @@
 use super::common::Theme;
 use super::compare::draw_compare;
 use crate::tui::app::{App, Mode};
-use crate::tui::run_list::{Entry, cell};
+use crate::tui::runs::list::{Entry, cell};
 use ratatui::Frame;
 use ratatui::layout::{Constraint, Layout, Rect};
 use ratatui::text::Line;

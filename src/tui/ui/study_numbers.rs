@@ -4,7 +4,7 @@
 
 use super::common::{Theme, fit};
 use crate::tui::chart::fmt_sig;
-use crate::tui::study_points::{Points, cell};
+use crate::tui::studies::points::{Points, cell};
 use ratatui::Frame;
 use ratatui::layout::{Constraint, Layout, Rect};
 use ratatui::text::{Line, Span};

@@ -6,7 +6,7 @@ use crate::tui::app::{App, Mode, StatusKind};
 use crate::tui::chart_prefs::{self, CHARTS};
 use crate::tui::keymap::Action;
 use crate::tui::msg::Effect;
-use crate::tui::series;
+use crate::tui::runs::series;
 
 /// The keys of the time charts and of their list of series.
 pub(super) fn chart_action(app: &mut App, a: Action) -> Vec<Effect> {

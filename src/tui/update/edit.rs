@@ -119,15 +119,15 @@ pub(super) fn accept_draft(app: &mut App, text: String) {
 
 /// `u`: revert the field to its saved value.
 /// `+` / `-`: a copy of the selected field's list element added after it, or the element
-/// removed (`tui::list_edit`); the draft is checked by the engine first, as an edit is.
+/// removed (`tui::form::list_edit`); the draft is checked by the engine first, as an edit is.
 fn list_edit(app: &mut App, add: bool) {
     let Some(f) = app.form.selected().cloned() else {
         return;
     };
     let edit = if add {
-        crate::tui::list_edit::duplicate(&app.draft, &f.path)
+        crate::tui::form::list_edit::duplicate(&app.draft, &f.path)
     } else {
-        crate::tui::list_edit::remove(&app.draft, &f.path)
+        crate::tui::form::list_edit::remove(&app.draft, &f.path)
     };
     let checked = edit.and_then(|(t, what)| match form::validate(&t, &app.path) {
         Ok(_) => Ok((t, what)),

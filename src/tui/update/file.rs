@@ -154,7 +154,7 @@ pub(super) fn export(app: &mut App) -> Vec<Effect> {
         return Vec::new();
     };
     let fx = vec![Effect::Export {
-        dirs: crate::tui::out_folder::out_dirs(&app.path),
+        dirs: crate::tui::runs::out_folder::out_dirs(&app.path),
         run: Box::new(run.clone()),
         window: app.window(),
         element: app.element,
@@ -167,7 +167,7 @@ pub(super) fn export(app: &mut App) -> Vec<Effect> {
 /// recovery file with the model opened as on disk (`k`), or deleted (`d`).
 pub(super) fn answer_swap(app: &mut App, a: crate::tui::keymap::Action) -> Vec<Effect> {
     use crate::tui::keymap::Action as A;
-    use crate::tui::swap;
+    use crate::tui::form::swap;
     let Mode::Confirm(Confirm::Recover { found, differences }) =
         std::mem::replace(&mut app.mode, Mode::Normal)
     else {

@@ -4,9 +4,9 @@
 use crate::methods::Method;
 use crate::tui::app::App;
 use crate::tui::form;
-use crate::tui::run_data::RunStatus;
-use crate::tui::run_info::Info;
-use crate::tui::run_list::{Ended, cell};
+use crate::tui::runs::data::RunStatus;
+use crate::tui::runs::info::Info;
+use crate::tui::runs::list::{Ended, cell};
 
 /// The info of run `n`: the run going when it is shown, else the kept run (None: no such
 /// run). The method and step come from the model text it ran (compiled here, as the form

@@ -107,7 +107,7 @@ fn on_exported(app: &mut App, r: Result<Vec<PathBuf>, String>) -> Vec<Effect> {
             let n = (paths.first().and_then(|p| p.file_name()))
                 .map(|f| f.to_string_lossy().into_owned())
                 .and_then(|f| {
-                    let rest = f.strip_prefix(crate::tui::out_folder::EXPORT_PREFIX)?;
+                    let rest = f.strip_prefix(crate::tui::runs::out_folder::EXPORT_PREFIX)?;
                     rest.split('-').next()?.parse::<usize>().ok()
                 })
                 .unwrap_or(1);

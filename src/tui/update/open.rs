@@ -3,7 +3,7 @@
 
 use crate::tui::app::{App, Confirm, Mode, StatusKind};
 use crate::tui::keymap::Action;
-use crate::tui::model_files::folder_of;
+use crate::tui::form::model_files::folder_of;
 use crate::tui::msg::Effect;
 use std::path::{Path, PathBuf};
 

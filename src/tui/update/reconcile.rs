@@ -6,7 +6,7 @@ use super::edit::recheck;
 use super::run::start_run;
 use crate::tui::app::{App, Confirm, Conflict, LoadError, Mode, StatusKind, hash_text};
 use crate::tui::form;
-use crate::tui::merge;
+use crate::tui::form::merge;
 use crate::tui::msg::Effect;
 
 /// What was going on when a change arrived, to give back afterwards.

@@ -152,7 +152,7 @@ pub(super) fn action(app: &mut App, a: Action) -> Vec<Effect> {
         (Action::ResultGrid, _) => {
             r.grid = !r.grid;
             if r.page.is_none() {
-                app.studies.selected = crate::tui::study::Studies::index_of(StudyKind::Precision);
+                app.studies.selected = crate::tui::studies::Studies::index_of(StudyKind::Precision);
             }
         }
         (Action::ResultUp | Action::ResultDown, None) => {

@@ -4,7 +4,7 @@ use super::runs::keep;
 use crate::output::{EventKind, EventRecord, Sample};
 use crate::tui::app::{About, App, StatusKind};
 use crate::tui::msg::{Effect, RunOutcome};
-use crate::tui::run_data::{RunData, RunStatus};
+use crate::tui::runs::data::{RunData, RunStatus};
 
 impl App {
     /// The first run, or the kept run of the same model text shown

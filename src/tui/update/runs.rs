@@ -4,9 +4,9 @@
 use crate::tui::app::{App, Confirm, Mode, StatusKind, View};
 use crate::tui::keymap::Action;
 use crate::tui::msg::Effect;
-use crate::tui::run_data::RunData;
-use crate::tui::run_list::{Ended, Entry, derived_name};
-use crate::tui::run_store::Job;
+use crate::tui::runs::data::RunData;
+use crate::tui::runs::list::{Ended, Entry, derived_name};
+use crate::tui::runs::store::Job;
 
 /// Longest name of a run, in characters.
 const NAME_MAX: usize = 48;

@@ -9,9 +9,9 @@
 use super::run::{start_run, supersede};
 use crate::tui::app::{About, App, StatusKind};
 use crate::tui::msg::Effect;
-use crate::tui::run_data::RunData;
-use crate::tui::run_list::Series;
-use crate::tui::run_store;
+use crate::tui::runs::data::RunData;
+use crate::tui::runs::list::Series;
+use crate::tui::runs::store as run_store;
 use std::path::PathBuf;
 
 /// What an automatic run did: reused run `n`, or started one.

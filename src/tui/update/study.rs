@@ -6,9 +6,9 @@ use crate::study_table::{StudyKind, StudyTable};
 use crate::tui::app::{App, Mode, StatusKind, View};
 use crate::tui::keymap::Action;
 use crate::tui::msg::{Effect, StudyOutcome};
-use crate::tui::out_folder::{out_dirs, reopen_dirs};
-use crate::tui::study::{self, Entry, Phase, Source, Studies, StudySpec, title};
-use crate::tui::study_points::points;
+use crate::tui::runs::out_folder::{out_dirs, reopen_dirs};
+use crate::tui::studies::{self as study, Entry, Phase, Source, Studies, StudySpec, title};
+use crate::tui::studies::points::points;
 use std::path::PathBuf;
 
 /// The most record pairs the workbench's suite takes (the far-field set has 19).

@@ -40,7 +40,7 @@ pub(super) fn scroll_help(app: &mut App, a: Action) {
         return scroll_log(app, a);
     }
     if let crate::tui::app::Mode::RunInfo(info) = &app.mode {
-        let total = crate::tui::run_info::lines(info, info_width(app.size)).len();
+        let total = crate::tui::runs::info::lines(info, info_width(app.size)).len();
         let rows = info_rows(app.size);
         let page = rows.saturating_sub(1).max(1);
         app.info_scroll = scrolled(app.info_scroll, a, page, total.saturating_sub(rows));

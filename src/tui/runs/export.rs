@@ -1,9 +1,9 @@
 //! CSV export of the charted data in the window, of the whole run and of the event log, into
-//! the model's output folder ([`super::out_folder`]) under a new number each time.
+//! the model's output folder ([`crate::tui::runs::out_folder`]) under a new number each time.
 
-use super::chart;
-use super::out_folder::EXPORT_PREFIX;
-use super::run_data::RunData;
+use crate::tui::chart;
+use crate::tui::runs::out_folder::EXPORT_PREFIX;
+use crate::tui::runs::data::RunData;
 use crate::output::files::write_new;
 use crate::output::number::Numbers;
 use std::path::{Path, PathBuf};
@@ -81,7 +81,7 @@ pub fn history_csv(run: &RunData) -> String {
     out
 }
 
-/// The export files of an [`super::msg::Effect::Export`]: (kind, content) — `chart` the
+/// The export files of an [`crate::tui::msg::Effect::Export`]: (kind, content) — `chart` the
 /// charted columns in the window, `history` the whole run, `events` the event log; written as
 /// `export-<n>-<kind>.csv`.
 pub fn export_files(run: &RunData, window: (f64, f64), element: usize) -> Vec<(String, String)> {

@@ -9,8 +9,8 @@
 //! from then on it is not listed), then removing its other files and that one; a deletion cut
 //! short is finished at the next opening.
 
-use super::run_data::{RunData, RunStatus, fresh_token};
-use super::run_list::{Change, Ended, Entry, KEEP, Results, Runs, Series};
+use crate::tui::runs::data::{RunData, RunStatus, fresh_token};
+use crate::tui::runs::list::{Change, Ended, Entry, KEEP, Results, Runs, Series};
 use crate::output::number::Numbers;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -18,7 +18,7 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
 
-/// The time charts' preferences, kept in the same folder ([`super::chart_prefs`]): not a
+/// The time charts' preferences, kept in the same folder ([`crate::tui::chart_prefs`]): not a
 /// run's file.
 pub const CHARTS_FILE: &str = "charts.json";
 

@@ -1,7 +1,7 @@
 //! The charted history of one run, in columns, with the engine's running summary
 //! ([`Tally`]) of its samples.
 
-use super::run_results::RunResults;
+use crate::tui::runs::results::RunResults;
 use crate::output::{ContactState, EventKind, EventRecord, RunOutput, Sample, Summary, Tally};
 use crate::run::SolverError;
 use crate::scene::Scene;
@@ -60,7 +60,7 @@ pub struct RunData {
     pub element_names: Vec<String>,
     pub t: Vec<f64>,
     pub q: Vec<Vec<f64>>,
-    /// Velocities per DOF (none in a kept run, [`super::run_list::thin`]).
+    /// Velocities per DOF (none in a kept run, [`crate::tui::runs::list::thin`]).
     pub v: Vec<Vec<f64>>,
     pub gap: Vec<Vec<f64>>,
     /// Gap rate and slip rate per contact (none in a kept run).

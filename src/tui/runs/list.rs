@@ -2,12 +2,12 @@
 //! name, status, key results, the model text it ran and a decimated copy of its charted series;
 //! one pinned baseline that every comparison and overlay is against; the model diff of each
 //! run against it. Bounded: the newest [`KEEP`] runs plus the baseline. Stored on disk by
-//! [`super::run_store`].
+//! [`crate::tui::runs::store`].
 
-use super::chart;
-use super::form;
-use super::form_spec;
-use super::run_data::{RunData, RunStatus};
+use crate::tui::chart;
+use crate::tui::form;
+use crate::tui::form::spec as form_spec;
+use crate::tui::runs::data::{RunData, RunStatus};
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 
@@ -110,10 +110,10 @@ pub fn text_hash(text: &str) -> u64 {
 }
 
 /// A failure that is a finished run outside its accuracy bounds.
-pub fn is_inaccurate(e: &super::run_data::RunFailure) -> bool {
+pub fn is_inaccurate(e: &crate::tui::runs::data::RunFailure) -> bool {
     matches!(
         e,
-        super::run_data::RunFailure::Solver(crate::run::SolverError::Inaccurate { .. })
+        crate::tui::runs::data::RunFailure::Solver(crate::run::SolverError::Inaccurate { .. })
     )
 }
 
@@ -159,7 +159,7 @@ impl Results {
         // a run outside its accuracy bounds ran to its end: its summary is whole
         let bounds = match &r.status {
             RunStatus::Failed(e) => match e.as_ref() {
-                super::run_data::RunFailure::Solver(crate::run::SolverError::Inaccurate {
+                crate::tui::runs::data::RunFailure::Solver(crate::run::SolverError::Inaccurate {
                     bounds,
                     ..
                 }) => Some(bounds.as_slice()),
@@ -385,7 +385,7 @@ pub struct Entry {
 pub enum Series {
     InMemory,
     OnDisk,
-    /// Asked for ([`super::msg::Effect::LoadSeries`]), not back yet.
+    /// Asked for ([`crate::tui::msg::Effect::LoadSeries`]), not back yet.
     Asked,
     /// The file does not read: why.
     Unreadable(String),

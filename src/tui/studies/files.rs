@@ -1,9 +1,9 @@
 //! The study CSVs on disk: written as `<study>-<n>.csv` (the first free n, never over an
 //! earlier file, each a transaction) in the first folder that accepts them (the model's
-//! output folder, [`super::out_folder`]), listed newest first (the exports beside them left
+//! output folder, [`crate::tui::runs::out_folder`]), listed newest first (the exports beside them left
 //! out), read back.
 
-use super::out_folder::is_export;
+use crate::tui::runs::out_folder::is_export;
 use crate::output::files::write_new;
 use crate::study_csv::{read_file, to_csv};
 use crate::study_table::StudyTable;

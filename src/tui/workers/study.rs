@@ -5,10 +5,10 @@
 //! at its end (the ladder, the swings) counts its runs in [`Msg::StudyProgress`] instead. A
 //! cancel flag, read before each run starts, skips the runs not started.
 
-use super::form::shown_error;
-use super::msg::{Msg, StudyOutcome};
-use super::study::StudySpec;
-use super::worker::{JobBody, THREAD_PREFIX, panic_text, spawn_job};
+use crate::tui::form::shown_error;
+use crate::tui::msg::{Msg, StudyOutcome};
+use crate::tui::studies::StudySpec;
+use crate::tui::workers::run::{JobBody, THREAD_PREFIX, panic_text, spawn_job};
 use crate::precision_study::run_precision;
 use crate::progress::Progress;
 use crate::studies::{Row, Study, Watch};

@@ -2,11 +2,11 @@
 //! response spectrum (a period at a time, with progress, stopped by a cancel flag). The end
 //! is a [`Msg::ResultDone`]; a panic is reported as a failure, the terminal left alone.
 
-use super::msg::{Msg, ResultData, ResultOutcome};
-use super::results::{
+use crate::tui::msg::{Msg, ResultData, ResultOutcome};
+use crate::tui::results::{
     Component, RecordsData, ResultSpec, modes_data, record_supports, spectrum, spectrum_periods,
 };
-use super::worker::{JobBody, panic_text, spawn_job};
+use crate::tui::workers::run::{JobBody, panic_text, spawn_job};
 use crate::excitation::G;
 use crate::scene::Scene;
 use crate::suite::intensity::pseudo_acceleration;
@@ -52,7 +52,7 @@ fn records(
         };
         let spectrum = spectrum(&acc, dt, &periods, cancel, &mut step)?;
         let sa_t1 = if t1.is_finite() {
-            pseudo_acceleration(&acc, dt, t1, super::results::SPECTRUM_DAMPING) / G
+            pseudo_acceleration(&acc, dt, t1, crate::tui::results::SPECTRUM_DAMPING) / G
         } else {
             f64::NAN
         };

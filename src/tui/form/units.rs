@@ -2,7 +2,7 @@
 //! quantity in any of the unit systems (`20 mm` or `0.5 in` into a length in m, `12.7 mm` into
 //! a length in in, `10 kN/mm`, `3 kip`, `50 ms` …), converted to the field's unit.
 
-use super::form_spec::{Dim, Kind};
+use crate::tui::form::spec::{Dim, Kind};
 use crate::units::{Quantity, UnitSystem, ascii_unit};
 use toml_edit::Value;
 

@@ -3,8 +3,8 @@
 //! as a [`Msg::Batch`]; the end of the run is a [`Msg::RunDone`]. A run is cancelled through a
 //! flag the observer checks at every batch.
 
-use super::msg::{Msg, RunOutcome};
-use super::run_data::RunFailure;
+use crate::tui::msg::{Msg, RunOutcome};
+use crate::tui::runs::data::RunFailure;
 use crate::output::{EventRecord, Sample};
 use crate::run::{Observer, Run, Stop};
 use crate::scene::Scene;

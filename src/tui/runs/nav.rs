@@ -2,10 +2,10 @@
 //! instant, what happened at an instant, the state of each contact at the cursor and the last
 //! impact before it. Used by `]`/`[`, the event list and the readouts.
 
-use super::app::App;
-use super::chart;
-use super::eng;
-use super::run_data::RunData;
+use crate::tui::app::App;
+use crate::tui::chart;
+use crate::tui::eng;
+use crate::tui::runs::data::RunData;
 use crate::output::{ContactState, EventKind, EventRecord};
 use crate::units::Quantity;
 
@@ -64,13 +64,13 @@ pub fn length_unit(app: &App) -> &'static str {
 
 /// The model's units of length, force and energy for the time charts (a scene file's force
 /// and energy: none, its author's).
-pub fn units(app: &App) -> super::chart_prefs::Units {
+pub fn units(app: &App) -> crate::tui::chart_prefs::Units {
     let force = force_unit(app);
     let energy = match &app.scene {
         Some(s) if s.bridge => s.units.unit(Quantity::Energy),
         _ => "",
     };
-    super::chart_prefs::Units {
+    crate::tui::chart_prefs::Units {
         length: length_unit(app),
         force,
         energy,

@@ -4,7 +4,7 @@
 //! are applied on top; a value changed on both sides, differently, is a [`Conflict`] (mine is
 //! applied until it is answered).
 
-use super::form;
+use crate::tui::form;
 use std::collections::HashMap;
 use toml_edit::Value;
 

@@ -1,11 +1,11 @@
 //! Hot reload: watches the model file's directory (so editors that save by writing a temporary
 //! file and renaming it over the model are seen) with a debounced notify watcher, and falls
 //! back to polling mtime + content every second when the watcher cannot start or fails.
-//! Every change sends the file's content; [`super::update`] compares content hashes, so
+//! Every change sends the file's content; [`crate::tui::update`] compares content hashes, so
 //! events that do not change the content are ignored there.
 
-use super::app::hash_text;
-use super::msg::Msg;
+use crate::tui::app::hash_text;
+use crate::tui::msg::Msg;
 use notify::RecursiveMode;
 use notify_debouncer_full::{DebounceEventResult, Debouncer, RecommendedCache, new_debouncer};
 use std::path::{Path, PathBuf};

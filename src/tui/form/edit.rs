@@ -2,8 +2,8 @@
 //! comments, the layout and the column of a trailing comment kept), a key removed, a
 //! hysteretic law's keys fixed after its kind changed.
 
-use super::form_spec::{Dim, Kind, law_keys};
-use super::units::parse_input;
+use crate::tui::form::spec::{Dim, Kind, law_keys};
+use crate::tui::form::units::parse_input;
 use crate::units::UnitSystem;
 use toml_edit::{DocumentMut, Item, Value};
 

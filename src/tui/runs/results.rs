@@ -1,6 +1,6 @@
 //! What a run carries besides its charted history, for the results pages: the energy ledger
 //! over time and the contact forces per corner, one column per term or contact, filled from
-//! the same samples as [`super::run_data::RunData`].
+//! the same samples as [`crate::tui::runs::data::RunData`].
 
 use crate::output::{EnergySample, Sample};
 use crate::units::{Quantity, UnitSystem};

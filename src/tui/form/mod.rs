@@ -4,12 +4,19 @@
 //! applied to the text with `toml_edit`, keeping comments and layout (`form_edit`); validation
 //! is the engine's own (`load_str`).
 
-pub use super::form_edit::{remove_value, set_leaf, set_value, system_of};
-pub use super::form_spec::{Dim, Kind, fit_label, group_of, group_title, label_of, place_of};
-pub use super::units::parse_input;
+pub mod edit;
+pub mod list_edit;
+pub mod merge;
+pub mod model_files;
+pub mod spec;
+pub mod swap;
+pub mod units;
 
-use super::form_edit;
-use super::form_spec::{self as spec, BRIDGE, SOLVER, law_keys};
+pub use edit::{remove_value, set_leaf, set_value, system_of};
+pub use spec::{Dim, Kind, fit_label, group_of, group_title, label_of, place_of};
+pub use units::parse_input;
+
+use spec::{BRIDGE, SOLVER, law_keys};
 use std::collections::BTreeSet;
 use std::path::Path;
 use toml_edit::{DocumentMut, Item, Value};
@@ -359,7 +366,7 @@ pub fn build(draft: &str, saved: &str) -> Form {
             .find(|l| l.path == p)
             .map(|l| l.value.clone())
     };
-    let sys = form_edit::system_of(&doc);
+    let sys = edit::system_of(&doc);
     let mut fields = Vec::new();
     let bridge = doc.contains_key("deck") || doc.contains_key("frame");
     let law = draft_leaves

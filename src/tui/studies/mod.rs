@@ -5,6 +5,10 @@
 //! in the library: `study_table`, `study_csv`), its texts in [`title`], [`what`] and
 //! [`plan`] below, and its panel in `ui/studies.rs`.
 
+pub mod design_rows;
+pub mod files;
+pub mod points;
+
 use crate::study_table::{RunTable, StudyKind, StudyTable, SuiteSubset};
 use std::path::{Path, PathBuf};
 
@@ -89,7 +93,7 @@ pub struct Studies {
     /// number of pairs.
     pub suite: Option<SuiteSubset>,
     /// The cursor of each study (in [`StudyKind::ALL`]'s order): a row of its table of
-    /// points (`super::study_points`), moved by `[` and `]` (the rows of the ladder's and the
+    /// points (`crate::tui::studies::points`), moved by `[` and `]` (the rows of the ladder's and the
     /// swings' tables by `j`/`k` too).
     pub cursor: Vec<usize>,
     /// The quantity of the swings' table and tornado (an index into their quantities), `n`
