@@ -57,7 +57,7 @@ const D: [f64; 7] = [
 ];
 
 /// A right-hand side f(t, y) → out.
-pub type Rhs<'a, E> = dyn FnMut(f64, &DVector<f64>, &mut DVector<f64>) -> Result<(), E> + 'a;
+pub(crate) type Rhs<'a, E> = dyn FnMut(f64, &DVector<f64>, &mut DVector<f64>) -> Result<(), E> + 'a;
 
 /// One attempted step with its dense output.
 #[derive(Clone, Debug)]
@@ -83,7 +83,7 @@ pub struct Step {
 impl Step {
     /// y(t0 + θh), 0 ≤ θ ≤ 1, written into `out`; y1 itself at θ = 1 (y0 + (y1 − y0) may
     /// differ from y1 in the last bit).
-    pub fn dense_into(&self, theta: f64, out: &mut DVector<f64>) {
+    pub(crate) fn dense_into(&self, theta: f64, out: &mut DVector<f64>) {
         let n = out.len();
         if theta == 1.0 {
             out.as_mut_slice().copy_from_slice(&self.y1.as_slice()[..n]);
@@ -100,7 +100,7 @@ impl Step {
 
     /// Component i of y(t0 + θh).
     #[inline]
-    pub fn dense_component(&self, theta: f64, i: usize) -> f64 {
+    pub(crate) fn dense_component(&self, theta: f64, i: usize) -> f64 {
         let th1 = 1.0 - theta;
         let [r3, r4, r5] = self.cont.each_ref().map(|r| r.as_slice()[i]);
         let (y0, y1) = (self.y0.as_slice()[i], self.y1.as_slice()[i]);
@@ -111,7 +111,7 @@ impl Step {
     /// The coefficients (y0, y1 − y0, r3, r4, r5) of component i of the dense output, for
     /// [`dense_value`].
     #[inline]
-    pub fn dense_coefficients(&self, i: usize) -> [f64; 5] {
+    pub(crate) fn dense_coefficients(&self, i: usize) -> [f64; 5] {
         let [r3, r4, r5] = self.cont.each_ref().map(|r| r.as_slice()[i]);
         let (y0, y1) = (self.y0.as_slice()[i], self.y1.as_slice()[i]);
         [y0, y1 - y0, r3, r4, r5]
@@ -125,7 +125,7 @@ impl Step {
     }
 
     /// y(t) for t in [t0, t0 + h], written into `out`.
-    pub fn dense_at_into(&self, t: f64, out: &mut DVector<f64>) {
+    pub(crate) fn dense_at_into(&self, t: f64, out: &mut DVector<f64>) {
         let theta = if self.h == 0.0 {
             0.0
         } else {
@@ -142,7 +142,7 @@ impl Step {
 
 /// Component i of y(t0 + θh), 0 ≤ θ < 1, from its [`Step::dense_coefficients`] `c`.
 #[inline]
-pub fn dense_value(c: &[f64; 5], theta: f64) -> f64 {
+pub(crate) fn dense_value(c: &[f64; 5], theta: f64) -> f64 {
     let th1 = 1.0 - theta;
     c[0] + theta * (c[1] + th1 * (c[2] + theta * (c[3] + th1 * c[4])))
 }
@@ -167,7 +167,7 @@ pub fn step<E>(
 
 /// Reusable storage of [`step_into`]: the stages and the last step.
 #[derive(Clone, Debug)]
-pub struct Workspace {
+pub(crate) struct Workspace {
     k: [DVector<f64>; 7],
     /// The last step taken.
     pub step: Step,
@@ -194,7 +194,7 @@ impl Default for Workspace {
 
 /// [`step`] without allocation: the result is `ws.step`.
 #[allow(clippy::too_many_arguments)]
-pub fn step_into<E>(
+pub(crate) fn step_into<E>(
     ws: &mut Workspace,
     rhs: &mut Rhs<'_, E>,
     t0: f64,
@@ -306,7 +306,7 @@ fn stage_argument<const S: usize>(
 
 /// Step-size controller (PI, Hairer's DOPRI5 defaults): new h from the error of the last step.
 #[derive(Clone, Debug)]
-pub struct Controller {
+pub(crate) struct Controller {
     prev_error: f64,
 }
 
@@ -320,7 +320,7 @@ impl Controller {
     /// The next step size after a step of size `h` with error estimate `error` (PI control,
     /// Hairer's β = 0.04, α = 0.2 − 0.75 β; safety 0.9, growth 0.2 … 10, after a rejection
     /// 0.1 … 1).
-    pub fn next_h(&mut self, h: f64, error: f64, accepted: bool) -> f64 {
+    pub(crate) fn next_h(&mut self, h: f64, error: f64, accepted: bool) -> f64 {
         let (beta, alpha) = (0.04, 0.2 - 0.04 * 0.75);
         let err = error.max(1e-10);
         let mut fac = 0.9 * err.powf(-alpha);
@@ -335,7 +335,7 @@ impl Controller {
 }
 
 /// Initial step guess (Hairer's `hinit`, simplified).
-pub fn initial_h(y0: &DVector<f64>, f0: &DVector<f64>, rtol: f64, atol: f64, n_err: usize) -> f64 {
+pub(crate) fn initial_h(y0: &DVector<f64>, f0: &DVector<f64>, rtol: f64, atol: f64, n_err: usize) -> f64 {
     let mut d0 = 0.0;
     let mut d1 = 0.0;
     for i in 0..n_err.min(y0.len()) {

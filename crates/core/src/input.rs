@@ -10,7 +10,7 @@ use std::path::Path;
 /// The largest model file read, bytes.
 pub const MAX_MODEL_BYTES: u64 = 16 << 20;
 /// The largest record file read when its header gives no count, bytes.
-pub const MAX_RECORD_BYTES: u64 = 512 << 20;
+pub(crate) const MAX_RECORD_BYTES: u64 = 512 << 20;
 
 /// The text of the regular file at `path`, at most `limit` bytes: a path that is not a regular
 /// file (after symlinks) or a file longer than `limit` is an error of kind `InvalidInput`
@@ -30,7 +30,7 @@ pub fn read_bounded(path: &Path, limit: u64) -> std::io::Result<String> {
 }
 
 /// The first `limit` bytes of the regular file at `path` and whether more follow.
-pub fn read_prefix(path: &Path, limit: u64) -> std::io::Result<(Vec<u8>, bool)> {
+pub(crate) fn read_prefix(path: &Path, limit: u64) -> std::io::Result<(Vec<u8>, bool)> {
     let bad = |msg: String| std::io::Error::new(std::io::ErrorKind::InvalidInput, msg);
     let meta = std::fs::metadata(path)?;
     if !meta.is_file() {

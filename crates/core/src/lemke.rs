@@ -230,7 +230,7 @@ pub fn lemke_with_tie_break(
 }
 
 /// Regularisations tried by [`lemke_regularized`], relative to max|M|.
-pub const REGULARIZATIONS: [f64; 3] = [1e-12, 1e-10, 1e-8];
+pub(crate) const REGULARIZATIONS: [f64; 3] = [1e-12, 1e-10, 1e-8];
 
 /// [`lemke`]; if it fails (degenerate problems: nearly dependent rows, such as the friction rows
 /// of two corners on one face of a body that cannot move along it), Lemke again on

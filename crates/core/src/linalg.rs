@@ -8,7 +8,7 @@ use nalgebra::{DMatrix, DVector};
 /// Minimum-norm solution of a rank-deficient (redundant constraints), consistent system:
 /// λ = Aᵀ(AAᵀ + δI)⁻¹ b (→ A⁺b as δ → 0), δ = 1e-12 max diag(AAᵀ), by Cholesky; the SVD
 /// solution if that does not reproduce b. It splits forces equally between redundant rows.
-pub fn min_norm_solve(a: &DMatrix<f64>, b: &DVector<f64>) -> DVector<f64> {
+pub(crate) fn min_norm_solve(a: &DMatrix<f64>, b: &DVector<f64>) -> DVector<f64> {
     // a non-finite system has no solution to find (and nalgebra's SVD panics on NaN): NaN goes
     // on, and the integrator reports a non-finite state
     if !a.iter().chain(b.iter()).all(|x| x.is_finite()) {
@@ -36,7 +36,7 @@ pub fn min_norm_solve(a: &DMatrix<f64>, b: &DVector<f64>) -> DVector<f64> {
 /// the minimum-norm solution of [`min_norm_solve`] (on the stack for n ≤ 12); into `x`.
 /// `singular`: the system is known to be rank-deficient (skip the direct attempt); set when
 /// the direct elimination fails.
-pub fn solve_small_into(
+pub(crate) fn solve_small_into(
     a: &DMatrix<f64>,
     b: &DVector<f64>,
     x: &mut DVector<f64>,
@@ -98,7 +98,7 @@ fn on_stack<const N: usize>(
 /// [`solve_small_into`] of the leading k × k block of `a` (rows) and `b`, k ≤ N, into
 /// `x[..k]`; false when the minimum-norm solution on the stack fails (then [`min_norm_solve`]
 /// decides).
-pub fn solve_stack<const N: usize>(
+pub(crate) fn solve_stack<const N: usize>(
     a: &[[f64; N]; N],
     b: &[f64; N],
     k: usize,
@@ -166,7 +166,7 @@ fn min_norm_stack<const N: usize>(
 /// Solves S x = r in place (`x` holds r on entry) for symmetric positive definite S, read from
 /// its lower triangle (which is overwritten by the Cholesky factor L, S = L Lᵀ); false if a pivot is not
 /// positive or the solution not finite.
-pub fn cholesky_solve_stack<const N: usize>(
+pub(crate) fn cholesky_solve_stack<const N: usize>(
     s: &mut [[f64; N]; N],
     n: usize,
     x: &mut [f64],
@@ -203,7 +203,7 @@ const ELIM_N: usize = 12;
 
 /// Gaussian elimination with complete pivoting (on the stack for n ≤ 12) into `out`; false
 /// when a pivot falls below `tol` of the largest (rank-deficient) or the result is not finite.
-pub fn eliminate_into(a: &DMatrix<f64>, b: &DVector<f64>, tol: f64, out: &mut [f64]) -> bool {
+pub(crate) fn eliminate_into(a: &DMatrix<f64>, b: &DVector<f64>, tol: f64, out: &mut [f64]) -> bool {
     // the smallest stack array that holds the system (the elimination is the same)
     match a.nrows() {
         0..=4 => eliminate_on::<4>(a, b, tol, out),
@@ -292,7 +292,7 @@ fn eliminate_stack<const N: usize>(
 
 /// δ = M⁻¹Jᵀ (J M⁻¹ Jᵀ)⁺ r: the minimum-M-norm correction with J δ = r.
 /// `singular` as in [`solve_small_into`].
-pub fn min_norm_correction(
+pub(crate) fn min_norm_correction(
     rows: &[&DVector<f64>],
     res: &[f64],
     minv: &DVector<f64>,
@@ -306,7 +306,7 @@ pub fn min_norm_correction(
 
 /// Reused storage of [`min_norm_correction`]: the Gram matrix, right-hand side and multipliers.
 #[derive(Clone, Debug, Default)]
-pub struct Correction {
+pub(crate) struct Correction {
     a: DMatrix<f64>,
     b: DVector<f64>,
     lam: DVector<f64>,

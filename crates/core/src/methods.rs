@@ -59,7 +59,7 @@ impl Method {
 
     /// Contacts by gap elements (penalty): a compliant contact law whose compression is the
     /// law itself, not a penetration to judge; the others hold g_N ≥ 0 (eq. 5–10).
-    pub fn compliant_contact(&self) -> bool {
+    pub(crate) fn compliant_contact(&self) -> bool {
         match self {
             Method::Event | Method::Moreau => false,
             Method::Penalty | Method::PenaltyExplicit => true,

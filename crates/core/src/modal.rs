@@ -38,7 +38,7 @@ fn omega_max_of(scene: &Scene, k: &DMatrix<f64>) -> f64 {
 }
 
 /// ω_max of the initial system: the fastest mode of K₀ (contacts open).
-pub fn omega_max(scene: &Scene) -> f64 {
+pub(crate) fn omega_max(scene: &Scene) -> f64 {
     omega_max_of(scene, &initial_stiffness(scene))
 }
 
@@ -46,7 +46,7 @@ pub fn omega_max(scene: &Scene) -> f64 {
 /// contact, `contact_stiffness` along its normal and (sticking) its tangent, W_N W_Nᵀ and
 /// W_T W_Tᵀ at the initial state, as if every contact were closed. For each contact alone this
 /// contains ω_c = √(k / m_eff), m_eff = 1/(W_Nᵀ M⁻¹ W_N); together it bounds them all.
-pub fn omega_max_closed(scene: &Scene, contact_stiffness: f64) -> f64 {
+pub(crate) fn omega_max_closed(scene: &Scene, contact_stiffness: f64) -> f64 {
     let mut k = initial_stiffness(scene);
     let fr = scene.frame(0.0, &scene.q0, &scene.v0);
     for c in &scene.contacts {
@@ -143,7 +143,7 @@ fn coupled_blocks(k: &DMatrix<f64>) -> Vec<Vec<usize>> {
 }
 
 /// The DOF name endings of the three directions of [`participation`].
-pub const DIRECTIONS: [&str; 3] = [".x", ".y", ".theta"];
+pub(crate) const DIRECTIONS: [&str; 3] = [".x", ".y", ".theta"];
 
 /// Participating mass ratios of each mode along x, y and θ: (φᵀMr)² / (φᵀMφ · rᵀMr), with r
 /// 1 on every DOF whose name ends as [`DIRECTIONS`] says (all bodies translating together;
@@ -193,7 +193,7 @@ pub fn apply_rayleigh(
 }
 
 /// (a₀, a₁) of [`apply_rayleigh`] from the modes of `scene` (numbered from 1 by frequency).
-pub fn rayleigh_coefficients(
+pub(crate) fn rayleigh_coefficients(
     scene: &Scene,
     zeta: f64,
     modes_ij: [usize; 2],
@@ -216,7 +216,7 @@ pub fn rayleigh_coefficients(
 }
 
 /// Rayleigh damping C = a₀M + a₁K₀ of given coefficients ([`apply_rayleigh`]).
-pub fn apply_rayleigh_coefficients(scene: &mut Scene, a0: f64, a1: f64) {
+pub(crate) fn apply_rayleigh_coefficients(scene: &mut Scene, a0: f64, a1: f64) {
     for s in &mut scene.springs {
         s.damping += a1 * s.stiffness;
     }

@@ -237,7 +237,7 @@ pub struct EventRecord {
 
 impl EventRecord {
     /// The failure of key `element` at `t`: no impulse, no contact rates.
-    pub fn key_failure(t: f64, element: usize) -> Self {
+    pub(crate) fn key_failure(t: f64, element: usize) -> Self {
         Self {
             t,
             contact: element,
@@ -613,7 +613,7 @@ impl RunOutput {
 
     /// Notes the failure of key `element` at `t` having carried `peak_force` (the event is
     /// logged by the integrator).
-    pub fn note_key_failure(&mut self, t: f64, element: usize, peak_force: f64) {
+    pub(crate) fn note_key_failure(&mut self, t: f64, element: usize, peak_force: f64) {
         let name = self.element_names.get(element).cloned().unwrap_or_default();
         if let Some(list) = self.key_failures.as_mut() {
             list.push(KeyFailure {
@@ -625,7 +625,7 @@ impl RunOutput {
     }
 
     /// Time of the last recorded sample.
-    pub fn last_sample_time(&self) -> Option<f64> {
+    pub(crate) fn last_sample_time(&self) -> Option<f64> {
         self.tally.last_t
     }
 
@@ -741,13 +741,13 @@ impl RunOutput {
     }
 
     /// events.csv into `path`, as one transaction.
-    pub fn write_events(&self, path: &Path) -> std::io::Result<()> {
+    pub(crate) fn write_events(&self, path: &Path) -> std::io::Result<()> {
         let csv = events_csv(&self.events, &self.contact_names, &self.element_names);
         files::write_atomic(path, csv)
     }
 
     /// summary.json into `path`, as one transaction.
-    pub fn write_summary(&self, path: &Path) -> std::io::Result<()> {
+    pub(crate) fn write_summary(&self, path: &Path) -> std::io::Result<()> {
         let s = serde_json::to_string_pretty(&self.summary).map_err(std::io::Error::other)?;
         files::write_atomic(path, s)
     }

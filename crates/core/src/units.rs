@@ -55,7 +55,7 @@ pub enum Quantity {
 }
 
 /// The names the `units` key takes, with their systems.
-pub const NAMES: [(&str, UnitSystem); 3] = [
+pub(crate) const NAMES: [(&str, UnitSystem); 3] = [
     ("SI-kN", UnitSystem::SiKn),
     ("SI", UnitSystem::Si),
     ("kip-in", UnitSystem::KipIn),
@@ -93,7 +93,7 @@ impl UnitSystem {
     }
 
     /// Length units per metre (records and their processing are in m and g).
-    pub fn per_metre(self) -> f64 {
+    pub(crate) fn per_metre(self) -> f64 {
         match self {
             UnitSystem::SiKn | UnitSystem::Si => 1.0,
             UnitSystem::KipIn => IN_PER_M,
@@ -101,7 +101,7 @@ impl UnitSystem {
     }
 
     /// Force units per kN.
-    pub fn per_kilonewton(self) -> f64 {
+    pub(crate) fn per_kilonewton(self) -> f64 {
         match self {
             UnitSystem::SiKn => 1.0,
             UnitSystem::Si => 1000.0,

@@ -234,13 +234,13 @@ pub fn knobs(method: Method, t_end: f64, k: f64, quick: bool) -> Vec<(String, Ve
 
 /// The family of a knob: its contact stiffness (`h=1e-3 k=1e6` → `k=1e6`), empty for
 /// methods with one knob. Points of one method and family form one curve.
-pub fn knob_family(knob: &str) -> &str {
+pub(crate) fn knob_family(knob: &str) -> &str {
     knob.split_once(" k=")
         .map_or("", |(_, k)| &knob[knob.len() - k.len() - 2..])
 }
 
 /// The knob without its family (`h=1e-3 k=1e6` → `h=1e-3`).
-pub fn knob_step(knob: &str) -> &str {
+pub(crate) fn knob_step(knob: &str) -> &str {
     knob.split_once(" k=").map_or(knob, |(h, _)| h)
 }
 

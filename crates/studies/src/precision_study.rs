@@ -13,7 +13,7 @@ use crate::studies::{RunFailure, Study};
 use std::sync::Arc;
 
 /// The reference's relative tolerance (as `deckspin precision`).
-pub const REFERENCE_RTOL: f64 = 1e-10;
+pub(crate) const REFERENCE_RTOL: f64 = 1e-10;
 
 /// The CSV header of a work–precision study.
 pub const HEADER: [&str; 9] = [
@@ -63,13 +63,13 @@ impl PartialEq for PrecisionTable {
 }
 
 /// A point's status as written: `ok` or its failure's text.
-pub fn status_text(p: &Point) -> String {
+pub(crate) fn status_text(p: &Point) -> String {
     p.failure.as_ref().map_or("ok".into(), |e| e.to_string())
 }
 
 /// A failure read back from its text: `unstable: …` stays an instability (the stability
 /// grid's verdict; its text becomes the detail), anything else keeps its words.
-pub fn failure_of(text: &str) -> Arc<RunFailure> {
+pub(crate) fn failure_of(text: &str) -> Arc<RunFailure> {
     Arc::new(match text.strip_prefix("unstable: ") {
         Some(detail) => RunFailure::Unstable(SolverError::Unstable {
             t: f64::NAN,
@@ -162,7 +162,7 @@ pub fn run_precision(
 }
 
 /// Writes the table's rows (the header first), `num` formatting the numbers.
-pub fn write_rows(
+pub(crate) fn write_rows(
     w: &mut csv::Writer<Vec<u8>>,
     t: &PrecisionTable,
     num: &mut dyn FnMut(f64) -> String,
@@ -182,7 +182,7 @@ pub fn write_rows(
 }
 
 /// The table of the rows after the header ((line, record) pairs); Err: (line, reason).
-pub fn read_rows(body: &[(u64, csv::StringRecord)]) -> Result<PrecisionTable, (u64, String)> {
+pub(crate) fn read_rows(body: &[(u64, csv::StringRecord)]) -> Result<PrecisionTable, (u64, String)> {
     let mut t = PrecisionTable {
         planned: Vec::new(),
         points: Vec::new(),

@@ -121,7 +121,7 @@ pub fn handover(scene: &Scene, out: &RunOutput) -> Option<Handover> {
 
 /// `scene` starting from `h`: q0, v0 and each element's law (with its state) replaced. The
 /// scene must have the same DOFs and the same element laws (parameters) as the run handing over.
-pub fn start_from(scene: &mut Scene, h: &Handover) -> Result<(), String> {
+pub(crate) fn start_from(scene: &mut Scene, h: &Handover) -> Result<(), String> {
     let n = scene.ndof();
     if h.q.len() != n || h.v.len() != n {
         return Err(format!("{} DOFs handed to a scene of {n}", h.q.len()));
@@ -154,7 +154,7 @@ pub fn start_gaps(scene: &Scene) -> Vec<f64> {
 /// pose q0 is `gaps[i]`: g_N = n·(P − O), so O − δ n with δ = gap − g_N(q0) gives the gap asked
 /// for. A seat moves with its face (its edge by δ). Err((given, contacts)) when there are more
 /// gaps than contacts.
-pub fn set_gaps(scene: &mut Scene, gaps: &[f64]) -> Result<(), (usize, usize)> {
+pub(crate) fn set_gaps(scene: &mut Scene, gaps: &[f64]) -> Result<(), (usize, usize)> {
     if gaps.len() > scene.contacts.len() {
         return Err((gaps.len(), scene.contacts.len()));
     }
@@ -374,7 +374,7 @@ impl BridgeSequence {
 
     /// The runs `runs` in one sequence with extra overrides, without observers (`keep_history`
     /// false: the summaries only).
-    pub fn run_silent(&self, runs: &[usize], set: &[String]) -> (Sequence, Option<SequenceError>) {
+    pub(crate) fn run_silent(&self, runs: &[usize], set: &[String]) -> (Sequence, Option<SequenceError>) {
         let mut seq = Sequence::new();
         for &k in runs {
             let r = self.stage(k, set).and_then(|mut stage| {

@@ -102,7 +102,7 @@ pub enum StressError {
 }
 
 /// The largest pull a stress run may show, relative to its largest normal force.
-pub const PULL_TOL: f64 = 1e-9;
+pub(crate) const PULL_TOL: f64 = 1e-9;
 
 /// One run of a stress test.
 #[derive(Clone, Debug)]
@@ -255,7 +255,7 @@ pub fn stress(
 }
 
 /// [`stress`], `progress` told of each run as it is done.
-pub fn stress_watched(
+pub(crate) fn stress_watched(
     path: &Path,
     pairs: &[RecordPair],
     grid: &StressGrid,

@@ -5,15 +5,13 @@
 use crate::FrictionFork;
 use crate::model::{self, ModelError};
 use crate::output::RunOutput;
-pub use crate::output::deck::{
-    DeckPeaks, deck_bodies, free_body_rotation, largest_rotation_dof, rotation_dof,
-};
+pub use crate::output::deck::{DeckPeaks, deck_bodies, free_body_rotation, largest_rotation_dof, rotation_dof};
+pub use csv::{csv_fields, csv_header, csv_text, row_from_csv, write_csv};
 use crate::progress::{Progress, Unwatched};
 
 mod csv;
 use crate::run::SolverError;
 use crate::scene::{Scene, SceneKey};
-pub use csv::{csv_fields, csv_header, csv_text, row_from_csv, write_csv};
 use rayon::prelude::*;
 use serde::{Serialize, Serializer};
 use std::collections::HashMap;
@@ -59,7 +57,7 @@ impl From<SolverError> for RunFailure {
 }
 
 /// A failure shared by the rows and points that report it.
-pub type Failure = Arc<RunFailure>;
+pub(crate) type Failure = Arc<RunFailure>;
 
 /// A failure serialized as its message.
 pub(crate) fn failure_text<S: Serializer>(e: &Option<Failure>, s: S) -> Result<S::Ok, S::Error> {
@@ -258,14 +256,8 @@ impl Study {
         }
     }
 
-    /// [`Study::sweep`] if the axes make at most [`MAX_SWEEP_RUNS`] runs.
-    pub fn try_sweep(&self, axes: &[Axis]) -> Result<Vec<Row>, SweepTooLarge> {
-        sweep_size(axes, MAX_SWEEP_RUNS)?;
-        Ok(self.sweep(axes))
-    }
-
     /// All combinations of the axes, run in parallel on all cores; rows in input order (axes
-    /// from the user go through [`Study::try_sweep`]). Rows whose scenes are the same
+    /// from the user are first counted by [`sweep_size`] against [`MAX_SWEEP_RUNS`]). Rows whose scenes are the same
     /// ([`same_scenes`]) are run once and share the result, each row with its own settings.
     pub fn sweep(&self, axes: &[Axis]) -> Vec<Row> {
         self.sweep_counted(axes).rows
@@ -471,7 +463,7 @@ impl Job<'_> {
 /// (rows that did not compile are their own). Equal: the same bodies, contacts, elements,
 /// supports, loads, initial state and settings ([`SceneKey`]); the title, which names the
 /// run, is not compared.
-pub fn same_scenes(scenes: &[Option<Scene>]) -> Vec<usize> {
+pub(crate) fn same_scenes(scenes: &[Option<Scene>]) -> Vec<usize> {
     let keys: Vec<Option<SceneKey>> = (scenes.par_iter())
         .map(|s| s.as_ref().map(SceneKey::of))
         .collect();
@@ -528,7 +520,7 @@ impl Watch for Offset<'_> {
 }
 
 /// The sweep key whose variants share their motion until the first contact ([`FrictionFork`]).
-pub const FRICTION_KEY: &str = "contacts.mu";
+pub(crate) const FRICTION_KEY: &str = "contacts.mu";
 
 fn simulate_scene(scene: &Scene) -> Result<(RunOutput, f64), RunFailure> {
     let t0 = std::time::Instant::now();

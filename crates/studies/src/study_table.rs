@@ -70,7 +70,7 @@ impl StudyKind {
 
 /// The tolerance of the workbench's adequacy study (as `deckspin adequacy`'s default): a
 /// variant within 5 % of the full model in a quantity is adequate for it.
-pub const ADEQUACY_TOLERANCE: f64 = 0.05;
+pub(crate) const ADEQUACY_TOLERANCE: f64 = 0.05;
 
 /// How one run of a study ended.
 #[derive(Clone, Debug, PartialEq)]
@@ -176,7 +176,7 @@ impl SuiteSubset {
 }
 
 /// A suite's run as a sweep's row (what the studies' tables and the workbench take).
-pub fn suite_row(r: &SuiteRow) -> Row {
+pub(crate) fn suite_row(r: &SuiteRow) -> Row {
     let m = |k: usize| r.metrics[k].unwrap_or(f64::NAN);
     let error = match &r.status {
         SuiteStatus::Finished => None,

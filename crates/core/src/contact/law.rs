@@ -20,19 +20,19 @@ impl ContactLaw {
 
     /// The friction force while sliding in direction `s`: λ_T = −μ s λ_N.
     #[inline]
-    pub fn sliding_force(&self, s: f64, lam_n: f64) -> f64 {
+    pub(crate) fn sliding_force(&self, s: f64, lam_n: f64) -> f64 {
         coulomb::sliding_force(self.mu, s, lam_n)
     }
 
     /// How far a sticking force lies inside the friction cone: μ λ_N − |λ_T| (< 0: it slips).
     #[inline]
-    pub fn stick_margin(&self, lam_n: f64, lam_t: f64) -> f64 {
+    pub(crate) fn stick_margin(&self, lam_n: f64, lam_t: f64) -> f64 {
         coulomb::stick_margin(self.mu, lam_n, lam_t)
     }
 
     /// λ_T brought back onto the cone |λ_T| ≤ μ λ_N (a return map).
     #[inline]
-    pub fn onto_cone(&self, lam_n: f64, lam_t: f64) -> f64 {
+    pub(crate) fn onto_cone(&self, lam_n: f64, lam_t: f64) -> f64 {
         coulomb::onto_cone(self.mu, lam_n, lam_t)
     }
 }
@@ -41,19 +41,19 @@ impl ContactLaw {
 pub mod coulomb {
     /// The friction force of a contact sliding in direction `s`: λ_T = −μ s λ_N.
     #[inline]
-    pub fn sliding_force(mu: f64, s: f64, lam_n: f64) -> f64 {
+    pub(crate) fn sliding_force(mu: f64, s: f64, lam_n: f64) -> f64 {
         -mu * s * lam_n
     }
 
     /// How far a sticking force lies inside the friction cone: μ λ_N − |λ_T| (< 0: it slips).
     #[inline]
-    pub fn stick_margin(mu: f64, lam_n: f64, lam_t: f64) -> f64 {
+    pub(crate) fn stick_margin(mu: f64, lam_n: f64, lam_t: f64) -> f64 {
         mu * lam_n - lam_t.abs()
     }
 
     /// λ_T brought back onto the cone |λ_T| ≤ μ λ_N (a return map).
     #[inline]
-    pub fn onto_cone(mu: f64, lam_n: f64, lam_t: f64) -> f64 {
+    pub(crate) fn onto_cone(mu: f64, lam_n: f64, lam_t: f64) -> f64 {
         if lam_t.abs() > mu * lam_n {
             mu * lam_n * lam_t.signum()
         } else {

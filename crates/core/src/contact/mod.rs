@@ -4,7 +4,7 @@
 
 pub mod law;
 
-pub use law::{ContactLaw, coulomb};
+pub use law::coulomb;
 
 use crate::lemke::{LcpError, LcpSolution, LemkeOptions, lemke_regularized};
 use crate::scene::ContactKinematics;

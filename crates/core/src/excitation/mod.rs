@@ -38,10 +38,6 @@ mod stats;
 
 pub use error::ExcitationError;
 pub use motion::GroundMotion;
-pub use processing::{
-    Baseline, END_TOLERANCE, MAX_POLY_ORDER, MAX_SCALE_FACTOR, MIN_SIGNAL_FRACTION, Processing,
-};
-pub use readers::{
-    G, MAX_SAMPLES, Record, parse_at2, parse_two_column, read_any, read_at2, read_two_column,
-};
+pub use processing::{Baseline, END_TOLERANCE, Processing};
+pub use readers::{G, MAX_SAMPLES, Record, parse_at2, read_any, read_at2, read_two_column};
 pub use stats::MotionStats;

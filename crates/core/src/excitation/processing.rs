@@ -12,23 +12,23 @@ use super::readers::{G, MAX_SAMPLES, Record};
 pub const END_TOLERANCE: f64 = 1e-9;
 
 /// Highest accepted [`Baseline::Polynomial`] order.
-pub const MAX_POLY_ORDER: usize = 10;
+pub(crate) const MAX_POLY_ORDER: usize = 10;
 
 /// A processed record must keep at least this fraction of its raw PGA: baseline correction
 /// and taper change the PGA of a real accelerogram by a few per cent; a record they reduce
 /// below 1 % (a constant, a pure drift) has no signal left, and scaling its round-off to a
 /// target PGA would be noise.
-pub const MIN_SIGNAL_FRACTION: f64 = 1e-2;
+pub(crate) const MIN_SIGNAL_FRACTION: f64 = 1e-2;
 
 /// A `target_pga` factor must lie in [1/MAX_SCALE_FACTOR, MAX_SCALE_FACTOR]: recorded PGAs and
 /// test targets both lie within 0.05–2 g (at most a factor 40 apart), while a record read in
 /// the wrong unit is off by 981 (cm/s² as g) or a noise record by far more.
-pub const MAX_SCALE_FACTOR: f64 = 100.0;
+pub(crate) const MAX_SCALE_FACTOR: f64 = 100.0;
 
 /// Largest ground acceleration a record may hold or be scaled to, g: the strongest recorded is
 /// 4.4 g (Iwate–Miyagi 2008); a larger value is a unit mistake (cm/s² read as g) or a corrupt
 /// file, and would drive the scene kilometres.
-pub const MAX_PGA_G: f64 = 10.0;
+pub(crate) const MAX_PGA_G: f64 = 10.0;
 
 /// Baseline correction (Boore & Bommer 2005).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Serialize)]

@@ -309,7 +309,7 @@ fn unit_to_g(unit: &str) -> Option<f64> {
 }
 
 /// Parses two-column text; see [`read_two_column`].
-pub fn parse_two_column(path: &Path, text: &str) -> Result<Record> {
+pub(crate) fn parse_two_column(path: &Path, text: &str) -> Result<Record> {
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let mut header = Vec::new();
     let mut factor: Option<f64> = None;

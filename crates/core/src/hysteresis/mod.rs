@@ -61,7 +61,7 @@ mod takeda;
 pub use branch::Branch;
 pub use gap::GapState;
 pub use law::{HysteresisError, Law};
-pub use takeda::MEMORY;
+pub(crate) use takeda::MEMORY;
 
 use bilinear::{bilinear_elastic, bilinear_next};
 use branch::sgn;

@@ -9,7 +9,7 @@ fn ix(s: f64) -> usize {
 }
 
 /// Depth of the local-peak memory per direction (Takeda rule T5); older peaks are forgotten.
-pub const MEMORY: usize = 16;
+pub(crate) const MEMORY: usize = 16;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct Pt {

@@ -224,7 +224,7 @@ pub struct Check<'a> {
 
 impl Check<'_> {
     /// The `--set` argument that wrote `field`, a table containing it, or a part of it.
-    pub fn set_by(&self, field: &str) -> Option<&Applied> {
+    pub(crate) fn set_by(&self, field: &str) -> Option<&Applied> {
         let within = |a: &str, b: &str| a == b || a.starts_with(&format!("{b}."));
         (self.applied.iter().rev()).find(|a| within(field, &a.field) || within(&a.field, field))
     }
@@ -268,7 +268,7 @@ impl Check<'_> {
         }
     }
     /// `x`, or an error at `field` if it is not finite and ≥ 0.
-    pub fn nonneg(&self, field: &str, x: f64) -> Result<f64, ModelError> {
+    pub(crate) fn nonneg(&self, field: &str, x: f64) -> Result<f64, ModelError> {
         self.finite(field, x)?;
         if x >= 0.0 {
             Ok(x)
@@ -277,7 +277,7 @@ impl Check<'_> {
         }
     }
     /// `v` as a vector, or an error at `field` if a component is not finite.
-    pub fn vec2(&self, field: &str, v: [f64; 2]) -> Result<Vector2<f64>, ModelError> {
+    pub(crate) fn vec2(&self, field: &str, v: [f64; 2]) -> Result<Vector2<f64>, ModelError> {
         for (i, x) in v.iter().enumerate() {
             self.finite(&format!("{field}[{i}]"), *x)
                 .map_err(|_| self.err(field, "must be finite"))?;

@@ -17,11 +17,11 @@ pub const FREE_VIBRATION_TAIL: f64 = 5.0;
 /// A tolerance on gaps (`gap_tol`, `atol`) must be at most this fraction of the smallest
 /// positive initial gap, and `velocity_tol` this fraction of the speed of a fundamental-mode
 /// oscillation with that gap as amplitude (gap·ω₁): three digits of the quantity it decides on.
-pub const TOLERANCE_FRACTION: f64 = 1e-3;
+pub(crate) const TOLERANCE_FRACTION: f64 = 1e-3;
 
 /// What to do with an explicit step above its stability limit.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum StepLimit {
+pub(crate) enum StepLimit {
     /// Refuse it (every entry but the studies').
     Refuse,
     /// Accept it with a warning (studies that map where methods fail).
@@ -109,23 +109,23 @@ pub(super) fn finish(
 /// at `contact_stiffness` (well inside the explicit scheme's limit 2/ω, which is T/π). On the
 /// four-span bridge each lands within 1 % of the event-driven peak rotation
 /// (`docs/engine.md`, "Fixed-step methods by default").
-pub const MOREAU_STEPS_PER_PERIOD: f64 = 100.0;
+pub(crate) const MOREAU_STEPS_PER_PERIOD: f64 = 100.0;
 /// Steps per shortest period of the Newmark penalty method's default step.
-pub const PENALTY_STEPS_PER_PERIOD: f64 = 16.0;
+pub(crate) const PENALTY_STEPS_PER_PERIOD: f64 = 16.0;
 /// Steps per shortest period of the explicit penalty method's default step.
-pub const EXPLICIT_STEPS_PER_PERIOD: f64 = 25.0;
+pub(crate) const EXPLICIT_STEPS_PER_PERIOD: f64 = 25.0;
 /// The implicit methods (Moreau–Jean, Newmark) take at most this many steps per output
 /// interval when they choose their step: they are stable at any step, and dynamics faster than
 /// that are not in the output.
-pub const IMPLICIT_STEPS_PER_OUTPUT: f64 = 50.0;
+pub(crate) const IMPLICIT_STEPS_PER_OUTPUT: f64 = 50.0;
 /// Steps over the run when the scene has no stiffness to take a period from (at most one
 /// output interval each).
-pub const STEPS_WITHOUT_STIFFNESS: f64 = 5000.0;
+pub(crate) const STEPS_WITHOUT_STIFFNESS: f64 = 5000.0;
 
 /// The step of a fixed-step method when the model sets none, and how it was chosen: from the
 /// fastest dynamics (`MOREAU_STEPS_PER_PERIOD`, `PENALTY_STEPS_PER_PERIOD`), at most the
 /// sample interval of a recorded support motion, at least `t_end`/10⁷.
-pub fn chosen_step(scene: &Scene) -> (f64, String) {
+pub(crate) fn chosen_step(scene: &Scene) -> (f64, String) {
     let st = &scene.settings;
     let (omega, per, what) = match st.method {
         Method::Moreau | Method::Event => (
@@ -196,17 +196,17 @@ pub fn chosen_step(scene: &Scene) -> (f64, String) {
 /// The contact frequency of the penalty methods' gap elements when `solver.contact_stiffness`
 /// is absent, in multiples of K₀'s highest frequency: the contacts' compliance then leaves the
 /// structure's modes alone.
-pub const CONTACT_FREQUENCY_RATIO: f64 = 10.0;
+pub(crate) const CONTACT_FREQUENCY_RATIO: f64 = 10.0;
 /// Moreau–Jean's penetration bound when the scene has no positive gap: this fraction of the
 /// run's largest translation.
-pub const MOREAU_PENETRATION_OF_PEAK: f64 = 0.01;
+pub(crate) const MOREAU_PENETRATION_OF_PEAK: f64 = 0.01;
 /// Moreau–Jean's penetration bound: this fraction of the smallest positive initial gap.
-pub const MOREAU_PENETRATION_OF_GAP: f64 = 0.05;
+pub(crate) const MOREAU_PENETRATION_OF_GAP: f64 = 0.05;
 
 /// The gap elements' stiffness when the model sets none: m_eff (CONTACT_FREQUENCY_RATIO ω_max)²
 /// with m_eff = 1/(W_Nᵀ M⁻¹ W_N) the lightest contact's effective mass and ω_max K₀'s highest
 /// frequency; none (the default stays) for a scene without stiffness.
-pub fn chosen_contact_stiffness(scene: &Scene) -> Option<f64> {
+pub(crate) fn chosen_contact_stiffness(scene: &Scene) -> Option<f64> {
     let omega = omega_max(scene);
     if !(omega.is_finite() && omega > 0.0) {
         return None;
@@ -233,7 +233,7 @@ pub fn chosen_contact_stiffness(scene: &Scene) -> Option<f64> {
 /// [`MOREAU_PENETRATION_OF_GAP`] of the smallest positive initial gap (without one,
 /// [`MOREAU_PENETRATION_OF_PEAK`] of the run's largest translation, judged after the run). Newmark's average acceleration is second order:
 /// closure 10⁻². The penalty methods are not judged on penetration (it is their contact law).
-pub fn method_bounds(scene: &Scene) -> (f64, f64) {
+pub(crate) fn method_bounds(scene: &Scene) -> (f64, f64) {
     let st = &scene.settings;
     match st.method {
         Method::Event => (st.max_closure, st.max_penetration),
@@ -259,10 +259,10 @@ fn smallest_positive_gap(scene: &Scene) -> Option<f64> {
 /// Events a run may log per simulated second when `solver.max_events` is absent: a light
 /// abutment rattling against the deck at ε = 1 makes about 21 000 per second under the
 /// far-field records (docs/robustness.md).
-pub const EVENTS_PER_SECOND: f64 = 50_000.0;
+pub(crate) const EVENTS_PER_SECOND: f64 = 50_000.0;
 /// The event limit when `solver.max_events` is absent: at least 200 000, at most 5·10⁶ (an
 /// event record is 88 bytes, two history rows).
-pub const EVENT_LIMIT: (usize, usize) = (200_000, 5_000_000);
+pub(crate) const EVENT_LIMIT: (usize, usize) = (200_000, 5_000_000);
 
 /// `solver.max_events` absent: [`EVENTS_PER_SECOND`] × `t_end` within [`EVENT_LIMIT`].
 pub fn event_limit(t_end: f64) -> usize {
@@ -289,9 +289,9 @@ fn default_max_events(scene: &Scene) -> usize {
 /// Steps a run may take per simulated second when `solver.max_steps` is absent: the bridge
 /// needs 220 per second at ε = 0 and up to 14 000 with a light abutment rattling at ε = 1; a
 /// scene far faster than that fails with its step count instead of running for minutes.
-pub const STEPS_PER_SECOND: f64 = 200_000.0;
+pub(crate) const STEPS_PER_SECOND: f64 = 200_000.0;
 /// The step limit when `solver.max_steps` is absent: at least 10⁶, at most 5·10⁷.
-pub const STEP_LIMIT: (usize, usize) = (1_000_000, 50_000_000);
+pub(crate) const STEP_LIMIT: (usize, usize) = (1_000_000, 50_000_000);
 
 /// `solver.max_steps` absent: [`STEPS_PER_SECOND`] × `t_end` within [`STEP_LIMIT`].
 pub fn step_limit(t_end: f64) -> usize {
@@ -360,10 +360,10 @@ fn run_length(scene: &mut Scene, given: &Given, ck: &Check, warnings: &mut Vec<M
 
 /// Rounding of a coordinate x after the pose arithmetic, in ulp(x): a gap is resolved to
 /// `gap_tol` only while 640 ε |x| ≤ gap_tol / 10 (7 km at the default 1e-9 m).
-pub const ROUNDING_ULPS: f64 = 640.0;
+pub(crate) const ROUNDING_ULPS: f64 = 640.0;
 /// Largest ratio of two body masses: the impact LCP's Delassus matrix has a condition number
 /// of that order, and at 1e12 it keeps 4 of the 16 digits.
-pub const MAX_MASS_RATIO: f64 = 1e12;
+pub(crate) const MAX_MASS_RATIO: f64 = 1e12;
 
 /// What double precision can resolve: contact points and faces within the reach where
 /// rounding stays below `gap_tol` ([`ROUNDING_ULPS`]); initial speeds at which an event located

@@ -19,13 +19,13 @@ pub mod uncertain;
 pub mod warnings;
 
 pub use check::{Applied, Check, ModelError, locate};
-pub use limits::{FREE_VIBRATION_TAIL, StepLimit, TOLERANCE_FRACTION, event_limit, step_limit};
-pub use overrides::{apply_overrides, apply_overrides_traced};
-pub use records::{Motions, load_motion};
-pub use scene_file::{
-    BodySpec, ContactSpec, HystereticSpec, SceneFile, SpringSpec, SupportSpec, compile,
-};
-pub use solver::{SolverSpec, settings};
+pub use limits::{FREE_VIBRATION_TAIL, event_limit, step_limit};
+pub(crate) use limits::StepLimit;
+pub use overrides::apply_overrides;
+pub(crate) use overrides::apply_overrides_traced;
+pub use records::Motions;
+pub use scene_file::{SceneFile, compile};
+pub use solver::settings;
 pub use warnings::ModelWarning;
 
 use crate::scene::Scene;
@@ -163,7 +163,7 @@ fn compile_text(
 
 /// `text` with each control character written as its escape (`\u{1b}`): a model's title and
 /// names go to terminals and CSV headers, where a raw escape sequence or line break would act.
-pub fn escape_controls(text: &str) -> String {
+pub(crate) fn escape_controls(text: &str) -> String {
     if !text.chars().any(char::is_control) {
         return text.to_string();
     }

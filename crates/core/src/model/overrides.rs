@@ -9,7 +9,7 @@ pub fn apply_overrides(text: &str, overrides: &[String]) -> Result<String, Model
 }
 
 /// As [`apply_overrides`], also returning the concrete fields each argument set.
-pub fn apply_overrides_traced(
+pub(crate) fn apply_overrides_traced(
     text: &str,
     overrides: &[String],
 ) -> Result<(String, Vec<Applied>), ModelError> {

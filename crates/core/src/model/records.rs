@@ -6,15 +6,6 @@ use crate::excitation::{ExcitationError, GroundMotion, Processing, Record};
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex, MutexGuard};
 
-/// Read and process a record named relative to the model file.
-pub fn load_motion(
-    model: &Path,
-    file: &str,
-    p: Processing,
-) -> Result<Arc<GroundMotion>, ModelError> {
-    Motions::default().get(model, file, p)
-}
-
 /// The record file a model names: relative to the model file, else to the working directory,
 /// else to a directory above the model (the project root above `models/`).
 fn resolve_record(model: &Path, file: &str) -> PathBuf {

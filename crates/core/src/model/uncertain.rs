@@ -192,7 +192,7 @@ pub fn check_key(text: &str, key: &str, relative: bool) -> Result<(), String> {
 }
 
 /// A number as TOML text (always with a point or an exponent: a float).
-pub fn toml_number(x: f64) -> String {
+pub(crate) fn toml_number(x: f64) -> String {
     format!("{x:?}")
 }
 
@@ -228,7 +228,7 @@ pub fn side_overrides(
 
 /// Checks of the `[[uncertain]]` tables: keys that name numbers of the model (arrays only
 /// with `relative`), finite `low` < `high`, names distinct and without commas.
-pub fn check_specs(specs: &[UncertainSpec], ck: &Check) -> Result<(), ModelError> {
+pub(crate) fn check_specs(specs: &[UncertainSpec], ck: &Check) -> Result<(), ModelError> {
     for (i, s) in specs.iter().enumerate() {
         let field = |f: &str| format!("uncertain.{i}.{f}");
         ck.finite(&field("low"), s.low)?;

@@ -46,7 +46,7 @@ pub fn deck_bodies(names: &[String]) -> Vec<[usize; 3]> {
 
 /// The bodies free in x and y, as their (x, y) DOFs and θ DOF, None for a body without one
 /// (a translating deck, `deck.rotation = false`): the deck's bodies for its peaks.
-pub fn plane_bodies(names: &[String]) -> Vec<(usize, usize, Option<usize>)> {
+pub(crate) fn plane_bodies(names: &[String]) -> Vec<(usize, usize, Option<usize>)> {
     let dof = |n: String| names.iter().position(|m| *m == n);
     (names.iter())
         .filter_map(|n| n.strip_suffix(".x"))

@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
 
 /// The lock file of an output folder.
-pub const LOCK_FILE: &str = ".deckspin.lock";
+pub(crate) const LOCK_FILE: &str = ".deckspin.lock";
 /// The prefix of a staging folder inside an output folder.
 const STAGING_PREFIX: &str = ".deckspin-staging-";
 
@@ -151,7 +151,7 @@ impl Drop for FolderLock {
 /// end ([`Staging::commit`]); the output folder locked meanwhile. Staging folders left by a
 /// killed process are removed when the next one locks the folder.
 #[derive(Debug)]
-pub struct Staging {
+pub(crate) struct Staging {
     dir: PathBuf,
     stage: PathBuf,
     _lock: FolderLock,
@@ -160,7 +160,7 @@ pub struct Staging {
 impl Staging {
     /// Creates `dir` if needed, locks it, clears staging folders of earlier killed runs and
     /// makes a new one.
-    pub fn begin(dir: &Path) -> std::io::Result<Self> {
+    pub(crate) fn begin(dir: &Path) -> std::io::Result<Self> {
         std::fs::create_dir_all(dir)?;
         let lock = FolderLock::acquire(dir)?;
         if let Ok(entries) = std::fs::read_dir(dir) {
@@ -188,11 +188,6 @@ impl Staging {
     /// Where a file of the new result is written before the commit.
     pub fn path(&self, name: &str) -> PathBuf {
         self.stage.join(name)
-    }
-
-    /// The output folder.
-    pub fn dir(&self) -> &Path {
-        &self.dir
     }
 
     /// Moves the staged files into the output folder: first `summary.json` is replaced by

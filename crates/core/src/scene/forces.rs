@@ -23,7 +23,7 @@ pub struct PowerTerms {
 
 /// Number of integrated ledger terms appended to the ODE state (loads, supports, damping,
 /// hysteretic, sliding friction).
-pub const LEDGER_TERMS: usize = 5;
+pub(crate) const LEDGER_TERMS: usize = 5;
 
 /// Smooth (non-contact) generalized forces h(t, q, q̇) of eq. 1 (F_D + F_S + loads), and their powers.
 pub fn smooth_forces(
@@ -428,7 +428,7 @@ impl ForceModel {
     }
 
     /// Some body of the scene is driven by the ground ([`super::Body::drive`]).
-    pub fn driven_bodies(&self) -> bool {
+    pub(crate) fn driven_bodies(&self) -> bool {
         self.driven_bodies
     }
 
@@ -448,7 +448,7 @@ impl ForceModel {
     }
 
     /// [`ForceModel::eval`] with q̇ and h as slices.
-    pub fn eval_in(
+    pub(crate) fn eval_in(
         &self,
         scene: &Scene,
         laws: &[Hysteretic],

@@ -24,7 +24,7 @@ impl SceneKey {
 
     /// [`SceneKey::of`] with every contact's friction coefficient left out: scenes with equal
     /// such keys differ at most in μ (the friction fork's runs).
-    pub fn without_friction(scene: &Scene) -> Self {
+    pub(crate) fn without_friction(scene: &Scene) -> Self {
         Self::with(scene, true)
     }
 
@@ -83,7 +83,7 @@ impl SceneKey {
     }
 
     /// The same recorded motions, in order (the same shared motion, or equal ones).
-    pub fn same_motions(&self, other: &SceneKey) -> bool {
+    pub(crate) fn same_motions(&self, other: &SceneKey) -> bool {
         self.motions.len() == other.motions.len()
             && (self.motions.iter().zip(&other.motions)).all(|(a, b)| Arc::ptr_eq(a, b) || a == b)
     }

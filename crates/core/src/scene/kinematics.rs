@@ -37,7 +37,7 @@ pub struct ContactKinematics {
 
 impl ContactKinematics {
     /// An open contact whose kinematics were not needed (no allocation).
-    pub fn placeholder() -> Self {
+    pub(crate) fn placeholder() -> Self {
         Self {
             gap: f64::INFINITY,
             w_n: DVector::zeros(0),
@@ -56,7 +56,7 @@ impl ContactKinematics {
 
 /// k × a for a planar vector a.
 #[inline]
-pub fn perp(a: Vector2<f64>) -> Vector2<f64> {
+pub(crate) fn perp(a: Vector2<f64>) -> Vector2<f64> {
     Vector2::new(-a.y, a.x)
 }
 
@@ -180,7 +180,7 @@ impl Scene {
 
     /// Velocity of body `b` prescribed by the ground at t: a driven body's centre velocity,
     /// else 0.
-    pub fn driven_velocity(&self, b: BodyRef, t: f64) -> Vector2<f64> {
+    pub(crate) fn driven_velocity(&self, b: BodyRef, t: f64) -> Vector2<f64> {
         match b {
             BodyRef::Body(i) if self.bodies[i].is_driven() => {
                 let rate = |s: Option<usize>| s.map_or(0.0, |s| self.supports[s].at(t).1);
@@ -229,12 +229,12 @@ impl Scene {
 
     /// [`Scene::frame`] written into `fr`, reusing its storage: the support motions first, then
     /// the poses (driven bodies from the supports).
-    pub fn frame_into(&self, fr: &mut Frame, t: f64, q: &DVector<f64>, v: &DVector<f64>) {
+    pub(crate) fn frame_into(&self, fr: &mut Frame, t: f64, q: &DVector<f64>, v: &DVector<f64>) {
         self.frame_of(fr, t, q.as_slice(), v.as_slice());
     }
 
     /// [`Scene::frame_into`] from q and q̇ as slices.
-    pub fn frame_of(&self, fr: &mut Frame, t: f64, q: &[f64], v: &[f64]) {
+    pub(crate) fn frame_of(&self, fr: &mut Frame, t: f64, q: &[f64], v: &[f64]) {
         let n = self.supports.len();
         if fr.roots.len() + fr.copies.len() != n {
             let alias: Vec<Option<usize>> = (self.supports.iter().enumerate())
@@ -273,7 +273,7 @@ impl Scene {
 
     /// The poses of [`Scene::frame_into`] at t alone (the support motions are left as they
     /// were; a driven body's supports are evaluated for it): enough for contact kinematics.
-    pub fn poses_into(&self, fr: &mut Frame, t: f64, q: &DVector<f64>, v: &DVector<f64>) {
+    pub(crate) fn poses_into(&self, fr: &mut Frame, t: f64, q: &DVector<f64>, v: &DVector<f64>) {
         self.dof_poses(fr, q.as_slice(), v.as_slice());
         self.drive_poses(fr, |_, s| self.supports[s].at(t));
     }
@@ -307,14 +307,14 @@ impl Scene {
     }
 
     /// (g_N, ġ_N, ġ_T) of a contact without its Jacobians (event functions).
-    pub fn contact_rates(&self, fr: &Frame, c: &Contact) -> (f64, f64, f64) {
+    pub(crate) fn contact_rates(&self, fr: &Frame, c: &Contact) -> (f64, f64, f64) {
         self.contact_rates_between(fr.pose(c.point_body), fr.pose(c.face_body), c)
     }
 
     /// [`Scene::contact_kinematics`] written into `out`, reusing its Jacobian storage. A body
     /// driven by the ground adds its velocity to ∂g/∂t and its acceleration a to ŵ:
     /// ŵ_N ∋ n·(a_A − a_B), ŵ_T ∋ t·(a_A − a_B).
-    pub fn contact_kinematics_into(&self, fr: &Frame, c: &Contact, out: &mut ContactKinematics) {
+    pub(crate) fn contact_kinematics_into(&self, fr: &Frame, c: &Contact, out: &mut ContactKinematics) {
         self.contact_kinematics_fill(c, fr.pose(c.point_body), fr.pose(c.face_body), out);
         if !fr.drive.is_empty() {
             let ((va, aa), (vb, ab)) = (fr.drive(c.point_body), fr.drive(c.face_body));
@@ -448,7 +448,7 @@ impl Scene {
     /// [`Scene::deformation`] from the pose `s` of the element's body, the pose `o` of the
     /// other body of a two-body element (ignored otherwise) and the motion (u_g, u̇_g, ü_g) of
     /// its support.
-    pub fn deformation_at(
+    pub(crate) fn deformation_at(
         &self,
         att: &Attachment,
         s: &BodyState,
@@ -557,7 +557,7 @@ impl Scene {
 
     /// [`Scene::body_state_at`] with DOF values read by `q(k)` and rates by `v(k)`.
     #[inline]
-    pub fn body_state_with(
+    pub(crate) fn body_state_with(
         &self,
         i: usize,
         t: f64,
@@ -576,7 +576,7 @@ impl Scene {
 
     /// [`Scene::contact_rates`] from the poses `a` of the point body and `b` of the face body.
     #[inline]
-    pub fn contact_rates_between(
+    pub(crate) fn contact_rates_between(
         &self,
         a: &BodyState,
         b: &BodyState,
@@ -654,7 +654,7 @@ fn planar_pose(body: &Body, [x, y, angle]: [f64; 3], [vx, vy, omega]: [f64; 3]) 
 /// (cos a, sin a). For |a| ≤ 0.1 (decks and abutments turn by milliradians) by their Taylor
 /// series to a¹² and a¹¹, whose remainders are below 2⁻⁵³ relative there; otherwise libm.
 #[inline]
-pub fn cos_sin(a: f64) -> (f64, f64) {
+pub(crate) fn cos_sin(a: f64) -> (f64, f64) {
     if a == 0.0 {
         return (1.0, 0.0);
     }

@@ -17,9 +17,10 @@ mod restrict;
 mod settings;
 
 pub use crate::methods::Method;
-pub use forces::{ForceModel, LEDGER_TERMS, PowerTerms, smooth_forces, smooth_forces_in};
+pub use forces::{ForceModel, PowerTerms, smooth_forces, smooth_forces_in};
+pub(crate) use forces::LEDGER_TERMS;
 pub use key::SceneKey;
-pub use kinematics::{BodyState, ContactKinematics, Deformation, Frame, cos_sin, perp, spread};
+pub use kinematics::{BodyState, ContactKinematics, Deformation, Frame, spread};
 pub use restrict::Restricted;
 pub use settings::Settings;
 
@@ -65,7 +66,7 @@ impl Body {
     }
 
     /// No DOF: fixed, or driven by the ground.
-    pub fn has_no_dofs(&self) -> bool {
+    pub(crate) fn has_no_dofs(&self) -> bool {
         self.dofs.iter().all(Option::is_none)
     }
 }
@@ -326,7 +327,7 @@ impl Scene {
     /// the supports even where the state rests (a body held against a fixed stop, whose error
     /// estimate is then 0), and the event search samples them at ½ and 1 of a step. 1/16 of a
     /// harmonic period, 8 samples of a record; ∞ without supports.
-    pub fn closed_step_cap(&self) -> f64 {
+    pub(crate) fn closed_step_cap(&self) -> f64 {
         self.supports
             .iter()
             .map(|s| match &s.motion {
@@ -341,7 +342,7 @@ impl Scene {
     }
 
     /// ½ q̇ᵀ M q̇.
-    pub fn kinetic_energy(&self, v: &DVector<f64>) -> f64 {
+    pub(crate) fn kinetic_energy(&self, v: &DVector<f64>) -> f64 {
         0.5 * v
             .iter()
             .zip(self.mass.iter())

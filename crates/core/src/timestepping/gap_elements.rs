@@ -35,7 +35,7 @@ impl GapElements {
     /// M⁻¹ (h(t, q, q̇) + W λ) with the laws and tangential springs on trial: accelerations,
     /// smooth-force powers, contact forces.
     #[allow(clippy::too_many_arguments)]
-    pub fn accel(
+    pub(crate) fn accel(
         &self,
         s: &Stepper,
         t: f64,

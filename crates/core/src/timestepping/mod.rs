@@ -13,8 +13,8 @@ mod moreau;
 mod newmark;
 mod penalty;
 
-pub use moreau::{integrate_moreau, run_moreau};
-pub use penalty::{integrate_penalty, run_penalty};
+pub(crate) use moreau::integrate_moreau;
+pub(crate) use penalty::integrate_penalty;
 
 use crate::hysteresis::Hysteretic;
 use crate::output::{

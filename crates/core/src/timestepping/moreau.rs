@@ -4,23 +4,18 @@
 
 use super::{Stepper, number_of_steps};
 use crate::contact::frictional_velocity_lcp;
-use crate::output::{ContactState, RunOutput};
+use crate::output::ContactState;
 use crate::run::{Batcher, Observer, Run, SolverError};
 use crate::scene::{ContactKinematics, Scene};
 use nalgebra::{DMatrix, DVector};
 use std::time::Instant;
 
-/// Moreau–Jean θ-method: Ŵ = M + hθC + h²θ²K,
+/// Moreau–Jean θ-method, keeping what was computed before a cancel or a failure: Ŵ = M + hθC + h²θ²K,
 /// v_free = v_k + Ŵ⁻¹ h[θ f(t_{k+1}, q_k, v_k) + (1−θ) f_k − hθ K v_k],
 /// LCP over contacts with g_N(q_k) + h/2 ġ_N ≤ 0 (Siconos' γ = ½) on ġ_N⁺ = W_Nᵀv_{k+1} +
 /// ∂g_N/∂t(t_{k+1}) (faces moved by the ground), v_{k+1} = v_free + Ŵ⁻¹(W_N P_N + W_T P_T),
 /// q_{k+1} = q_k + h(θ v_{k+1} + (1−θ) v_k).
-pub fn run_moreau(scene: &Scene, observer: &mut dyn Observer) -> Result<RunOutput, SolverError> {
-    integrate_moreau(scene, observer).into_result()
-}
-
-/// [`run_moreau`], keeping what was computed before a cancel or a failure.
-pub fn integrate_moreau(scene: &Scene, observer: &mut dyn Observer) -> Run {
+pub(crate) fn integrate_moreau(scene: &Scene, observer: &mut dyn Observer) -> Run {
     let wall = Instant::now();
     let mut s = Stepper::new(scene);
     s.key_acts_to_step_end = true;

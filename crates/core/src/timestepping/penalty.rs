@@ -7,24 +7,16 @@ use super::gap_elements::{GapElements, PenaltyForces};
 use super::newmark::{StepState, newmark_step};
 use super::{Stepper, number_of_steps};
 use crate::methods::Method;
-use crate::output::{ContactState, RunOutput};
+use crate::output::ContactState;
 use crate::run::{Batcher, Observer, Run, SolverError};
 use crate::scene::Scene;
 use nalgebra::DVector;
 use std::time::Instant;
 
 /// Penalty method: explicit central difference (`explicit`) or Newmark average acceleration.
-/// Runs stop with [`SolverError::Unstable`] when the energy grows without a source.
-pub fn run_penalty(
-    scene: &Scene,
-    explicit: bool,
-    observer: &mut dyn Observer,
-) -> Result<RunOutput, SolverError> {
-    integrate_penalty(scene, explicit, observer).into_result()
-}
-
-/// [`run_penalty`], keeping what was computed before a cancel or a failure.
-pub fn integrate_penalty(scene: &Scene, explicit: bool, observer: &mut dyn Observer) -> Run {
+/// Runs stop with [`SolverError::Unstable`] when the energy grows without a source; what was
+/// computed before a cancel or a failure is kept.
+pub(crate) fn integrate_penalty(scene: &Scene, explicit: bool, observer: &mut dyn Observer) -> Run {
     let wall = Instant::now();
     let mut s = Stepper::new(scene);
     let mut contact_elastic = 0.0;

@@ -14,7 +14,7 @@ use rayon::prelude::*;
 use std::path::Path;
 
 /// The relative floor of an error's denominator: 5 % of the largest |value| over the runs.
-pub const FLOOR: f64 = 0.05;
+pub(crate) const FLOOR: f64 = 0.05;
 
 /// A model of the ladder: the full model (no simplification) or a set of them.
 #[derive(Clone, Debug, PartialEq)]

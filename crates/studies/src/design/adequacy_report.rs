@@ -183,7 +183,7 @@ pub fn runs_csv(s: &Adequacy) -> String {
 }
 
 /// The least error drawn on the chart's log axis (an error of exactly 0 is drawn there).
-pub const CHART_FLOOR: f64 = 1e-9;
+pub(crate) const CHART_FLOOR: f64 = 1e-9;
 
 /// CPU time against error: a point per variant at its error in `q`, or with none its largest
 /// error over the quantities (`CHART_FLOOR` for 0), the tolerance and the full model's time as

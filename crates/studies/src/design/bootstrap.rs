@@ -6,10 +6,10 @@ use rayon::prelude::*;
 
 /// SplitMix64: x ← x + 0x9E3779B97F4A7C15, output mixed by two xor-shift-multiplies.
 #[derive(Clone, Debug)]
-pub struct SplitMix64(pub u64);
+pub(crate) struct SplitMix64(pub u64);
 
 impl SplitMix64 {
-    pub fn next_u64(&mut self) -> u64 {
+    pub(crate) fn next_u64(&mut self) -> u64 {
         self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
         let mut z = self.0;
         z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
@@ -20,11 +20,6 @@ impl SplitMix64 {
     /// An index in 0..n (n > 0): ⌊n·u/2⁶⁴⌋ (bias below n/2⁶⁴).
     pub fn below(&mut self, n: usize) -> usize {
         ((self.next_u64() as u128 * n as u128) >> 64) as usize
-    }
-
-    /// A uniform number in [0, 1) with 53 random bits.
-    pub fn uniform(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
     }
 
     /// The generator of replicate `k` of a bootstrap seeded with `seed`.
@@ -38,7 +33,7 @@ impl SplitMix64 {
 
 /// The q-quantile of sorted values, linearly interpolated (Hyndman & Fan type 7):
 /// h = (n − 1)q, x₍⌊h⌋₎ + (h − ⌊h⌋)(x₍⌊h⌋₊₁₎ − x₍⌊h⌋₎); NaN when empty.
-pub fn quantile(sorted: &[f64], q: f64) -> f64 {
+pub(crate) fn quantile(sorted: &[f64], q: f64) -> f64 {
     match sorted.len() {
         0 => f64::NAN,
         1 => sorted[0],
@@ -52,7 +47,7 @@ pub fn quantile(sorted: &[f64], q: f64) -> f64 {
 
 /// `replicates` resamplings of `records` indices with replacement, each given to `fit`;
 /// the results in replicate order (`None`: the replicate could not be fitted).
-pub fn resample<T: Send>(
+pub(crate) fn resample<T: Send>(
     records: usize,
     replicates: usize,
     seed: u64,

@@ -60,7 +60,7 @@ impl Measured {
 }
 
 /// A model text compiled for a study: its runs as scenes.
-pub struct CaseSet {
+pub(crate) struct CaseSet {
     path: PathBuf,
     text: String,
     fix: Vec<String>,
@@ -141,10 +141,6 @@ impl CaseSet {
             Runs::Model(r) => r.len(),
             Runs::Suite(s) => s.runs(),
         }
-    }
-
-    pub fn is_empty(&self) -> bool {
-        self.len() == 0
     }
 
     /// A name for run `i`: the `[[run]]`'s name, or the suite's pair and level.

@@ -24,7 +24,7 @@ pub const MAX_BOOTSTRAP: usize = 100_000;
 /// Points of a fitted curve (and its band), from x = 0.
 pub const CURVE_POINTS: usize = 101;
 /// The band's quantiles.
-pub const BAND: [f64; 2] = [0.05, 0.95];
+pub(crate) const BAND: [f64; 2] = [0.05, 0.95];
 
 /// Which likelihood.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -208,7 +208,7 @@ pub fn records(
 }
 
 /// The runs per level of `records`, levels in increasing order.
-pub fn level_counts<'a>(records: impl IntoIterator<Item = &'a Record>) -> Vec<LevelCount> {
+pub(crate) fn level_counts<'a>(records: impl IntoIterator<Item = &'a Record>) -> Vec<LevelCount> {
     let mut by: BTreeMap<u64, LevelCount> = BTreeMap::new();
     for r in records {
         for &(level, o) in &r.runs {

@@ -73,7 +73,7 @@ impl Simplification {
     }
 
     /// What it leaves out, in a line (the comment `--write` puts beside the change).
-    pub fn leaves_out(self) -> &'static str {
+    pub(crate) fn leaves_out(self) -> &'static str {
         match self {
             Self::RigidAbutments => {
                 "the abutments' own masses on their actuators or backfill: the walls move as the ground does"
@@ -99,7 +99,7 @@ impl Simplification {
     }
 
     /// The simplifications this one makes moot when combined with it.
-    pub fn supersedes(self) -> &'static [Self] {
+    pub(crate) fn supersedes(self) -> &'static [Self] {
         match self {
             Self::LinearColumns => &[Self::BilinearColumns],
             Self::NoContacts => &[Self::Frictionless, Self::PlasticImpacts],

@@ -21,10 +21,10 @@ use serde::Serialize;
 
 /// Largest β of a fit: above it the fraction hardly rises with the level (a factor e^β of
 /// intensity between P = 16 % and 50 %) and the data say no fragility.
-pub const MAX_BETA: f64 = 10.0;
+pub(crate) const MAX_BETA: f64 = 10.0;
 
 /// Newton iterations before a fit is given up.
-pub const MAX_ITERATIONS: usize = 100;
+pub(crate) const MAX_ITERATIONS: usize = 100;
 /// Halvings of a step before the line search gives up.
 const MAX_HALVINGS: usize = 60;
 
@@ -58,13 +58,13 @@ pub struct Fit {
 
 impl Fit {
     /// P(exceed | x) = Φ(ln(x/θ)/β); 0 at x ≤ 0.
-    pub fn probability(&self, x: f64) -> f64 {
+    pub(crate) fn probability(&self, x: f64) -> f64 {
         probability(x, self.theta, self.beta)
     }
 }
 
 /// Φ(ln(x/θ)/β), 0 at x ≤ 0.
-pub fn probability(x: f64, theta: f64, beta: f64) -> f64 {
+pub(crate) fn probability(x: f64, theta: f64, beta: f64) -> f64 {
     if x <= 0.0 {
         0.0
     } else {

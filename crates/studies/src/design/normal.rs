@@ -8,12 +8,12 @@ use std::f64::consts::{PI, SQRT_2};
 const TAIL: f64 = -30.0;
 
 /// φ(z) = exp(−z²/2)/√(2π).
-pub fn pdf(z: f64) -> f64 {
+pub(crate) fn pdf(z: f64) -> f64 {
     (-0.5 * z * z).exp() / (2.0 * PI).sqrt()
 }
 
 /// Φ(z).
-pub fn cdf(z: f64) -> f64 {
+pub(crate) fn cdf(z: f64) -> f64 {
     0.5 * libm::erfc(-z / SQRT_2)
 }
 
@@ -24,7 +24,7 @@ fn mills_series(x: f64) -> f64 {
 }
 
 /// ln Φ(z), finite for every finite z.
-pub fn ln_cdf(z: f64) -> f64 {
+pub(crate) fn ln_cdf(z: f64) -> f64 {
     if z < TAIL {
         let x = -z;
         -0.5 * x * x - 0.5 * (2.0 * PI).ln() - x.ln() + mills_series(x).ln()
@@ -36,7 +36,7 @@ pub fn ln_cdf(z: f64) -> f64 {
 }
 
 /// λ(z) = φ(z)/Φ(z), the inverse Mills ratio: d ln Φ(z)/dz.
-pub fn mills(z: f64) -> f64 {
+pub(crate) fn mills(z: f64) -> f64 {
     if z < TAIL {
         -z / mills_series(-z)
     } else {
@@ -45,7 +45,7 @@ pub fn mills(z: f64) -> f64 {
 }
 
 /// λ′(z) = −λ(z)(z + λ(z)) = d² ln Φ(z)/dz² (negative: Φ is log-concave).
-pub fn mills_slope(z: f64) -> f64 {
+pub(crate) fn mills_slope(z: f64) -> f64 {
     let l = mills(z);
     -l * (z + l)
 }

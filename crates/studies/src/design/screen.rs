@@ -39,7 +39,7 @@ pub struct CornerImpact {
 /// rates ġ_N⁻ < 0, ġ_T⁻, stick solves G Λ = (−(1+ε) ġ_N⁻, −ġ_T⁻) and holds iff |Λ_T| ≤ μ Λ_N;
 /// else Λ_T = −μ s Λ_N with Λ_N = −(1+ε) ġ_N⁻/(a − μ s b) and s the sign of
 /// ġ_T⁺ = ġ_T⁻ + (b − μ s c) Λ_N (Newton's law in the normal, Coulomb's on the impulses).
-pub fn corner_impact(
+pub(crate) fn corner_impact(
     minv: &[f64],
     w_n: &[f64],
     w_t: &[f64],
@@ -483,7 +483,7 @@ pub struct ScreenStudy {
 }
 
 /// [`ScreenStudy`] of a compiled model.
-pub fn screen_study(scene: &Scene) -> ScreenStudy {
+pub(crate) fn screen_study(scene: &Scene) -> ScreenStudy {
     let (rigid, ends) = model_screen(scene, true);
     let body = model_screen(scene, false).0;
     let (mu, restitution) = ends

@@ -24,7 +24,7 @@ use std::path::Path;
 /// The quantities of a study when none are asked for (those that apply to the model are
 /// kept: a quantity no base run has, such as the seat margin of a model without seats, is
 /// left out of the swings).
-pub const DEFAULT_QUANTITIES: [&str; 7] = [
+pub(crate) const DEFAULT_QUANTITIES: [&str; 7] = [
     "peak_rotation",
     "residual_rotation",
     "peak_x",
@@ -35,7 +35,7 @@ pub const DEFAULT_QUANTITIES: [&str; 7] = [
 ];
 
 /// Most runs one study makes (as a sweep, `studies::MAX_SWEEP_RUNS`).
-pub const MAX_RUNS: usize = crate::studies::MAX_SWEEP_RUNS;
+pub(crate) const MAX_RUNS: usize = crate::studies::MAX_SWEEP_RUNS;
 
 /// What an input moves.
 #[derive(Clone, Debug, PartialEq)]
@@ -156,20 +156,20 @@ pub enum SensitivityError {
 
 /// Why each default is one (docs/sensitivity.md says the same).
 pub mod why {
-    pub const GAPS: &str = "as-built gaps differ from the design gap (tolerances, temperature, \
+    pub(crate) const GAPS: &str = "as-built gaps differ from the design gap (tolerances, temperature, \
         shrinkage and creep), and a deck turns only once a corner has closed its gap";
-    pub const JOINT_GAPS: &str = "the gaps of the expansion joints, for the same reasons";
-    pub const MU: &str = "concrete on concrete at an abutment: about 0.3 to 0.7 around the \
+    pub(crate) const JOINT_GAPS: &str = "the gaps of the expansion joints, for the same reasons";
+    pub(crate) const MU: &str = "concrete on concrete at an abutment: about 0.3 to 0.7 around the \
         0.5 usually taken; a μ outside that range is varied by ×0.5/×1.5";
-    pub const RESTITUTION: &str = "from a perfectly plastic impact (contacts of finite \
+    pub(crate) const RESTITUTION: &str = "from a perfectly plastic impact (contacts of finite \
         duration) to a moderately elastic one";
-    pub const STIFFNESS: &str = "a cracked-section stiffness is an estimate (E_c, I_cr/I_g)";
-    pub const YIELD: &str = "material strengths and the axial load scatter";
-    pub const DAMPING: &str = "damping is the least known property of a structure: a factor \
+    pub(crate) const STIFFNESS: &str = "a cracked-section stiffness is an estimate (E_c, I_cr/I_g)";
+    pub(crate) const YIELD: &str = "material strengths and the axial load scatter";
+    pub(crate) const DAMPING: &str = "damping is the least known property of a structure: a factor \
         of two either way";
-    pub const ACTUATORS: &str = "an assumed value (the actuators' servo stiffness, or the \
+    pub(crate) const ACTUATORS: &str = "an assumed value (the actuators' servo stiffness, or the \
         backwall's stem and piles)";
-    pub const BACKFILL: &str = "Caltrans' passive backfill stiffness scatters by about a factor \
+    pub(crate) const BACKFILL: &str = "Caltrans' passive backfill stiffness scatters by about a factor \
         of two";
     pub const PGA: &str = "a scaled record's intensity is known within about ±20 %; the \
         other inputs are read against it";
@@ -191,7 +191,7 @@ fn present(text: &str, key: &str) -> bool {
 
 /// The default inputs of model `text` (its overrides applied) that apply to it; `suite` the
 /// measure of a record suite's levels, when the cases are a suite's.
-pub fn default_inputs(text: &str, suite: Option<&MeasureSpec>) -> Vec<Input> {
+pub(crate) fn default_inputs(text: &str, suite: Option<&MeasureSpec>) -> Vec<Input> {
     let doc: toml::Table = toml::from_str(text).unwrap_or_default();
     let get = |t: &str, k: &str| doc.get(t).and_then(|t| t.get(k)).cloned();
     let contacts = get("contacts", "enabled").and_then(|v| v.as_bool()) != Some(false);

@@ -8,10 +8,10 @@
 use std::path::{Path, PathBuf};
 
 /// The leading columns, in order (those the suite writes).
-pub use crate::suite::row::LEAD as HEAD;
+pub(crate) use crate::suite::row::LEAD as HEAD;
 
 /// Most runs a suite file may hold (the read keeps them all in memory).
-pub const MAX_RUNS: usize = 1_000_000;
+pub(crate) const MAX_RUNS: usize = 1_000_000;
 
 /// How a run ended.
 #[derive(Clone, Debug, PartialEq)]

@@ -68,7 +68,7 @@ pub struct RunRow {
 }
 
 /// The runs CSV's columns before the quantities.
-pub const LEAD: [&str; 8] = [
+pub(crate) const LEAD: [&str; 8] = [
     "input", "key", "relative", "low", "high", "side", "case", "status",
 ];
 
@@ -341,7 +341,7 @@ pub fn sort_by_swing(inputs: &mut [InputSwings], q: usize) {
 }
 
 /// The columns of `sensitivity.csv`.
-pub const SUMMARY_HEADER: [&str; 13] = [
+pub(crate) const SUMMARY_HEADER: [&str; 13] = [
     "input",
     "key",
     "relative",

@@ -6,9 +6,9 @@ use super::swings::{Sensitivity, range_text, sort_by_swing};
 use crate::plot::{Axis, Bars, Chart, RefLine};
 
 /// Mark of the bars to the value at an input's low value in the text chart.
-pub const LOW_GLYPH: char = '=';
+pub(crate) const LOW_GLYPH: char = '=';
 /// Mark of the bars to the value at an input's high value.
-pub const HIGH_GLYPH: char = '#';
+pub(crate) const HIGH_GLYPH: char = '#';
 
 /// The unit of a quantity of `suite::row::METRICS` (lengths are in the model's units).
 pub fn unit(quantity: &str) -> &'static str {

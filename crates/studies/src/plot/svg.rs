@@ -7,17 +7,17 @@ use super::ticks::{Span, span, y_span, y_ticks};
 use std::fmt::Write as _;
 
 /// Left margin: y tick labels and the y axis title, px.
-pub const MARGIN_LEFT: f64 = 72.0;
+pub(crate) const MARGIN_LEFT: f64 = 72.0;
 /// Top margin: the title, px.
-pub const MARGIN_TOP: f64 = 36.0;
+pub(crate) const MARGIN_TOP: f64 = 36.0;
 /// Bottom margin: x tick labels and the x axis title, px.
-pub const MARGIN_BOTTOM: f64 = 52.0;
+pub(crate) const MARGIN_BOTTOM: f64 = 52.0;
 /// Right margin without a legend, px.
-pub const MARGIN_RIGHT: f64 = 24.0;
+pub(crate) const MARGIN_RIGHT: f64 = 24.0;
 /// Width of a character at the legend's font size (11 px), px: an estimate, no font is read.
-pub const CHAR_WIDTH: f64 = 7.0;
+pub(crate) const CHAR_WIDTH: f64 = 7.0;
 /// Smallest canvas drawn, px (a smaller request is widened to it).
-pub const MIN_SIZE: (f64, f64) = (320.0, 200.0);
+pub(crate) const MIN_SIZE: (f64, f64) = (320.0, 200.0);
 
 /// The plot area inside the canvas, px.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -436,7 +436,7 @@ fn legend(out: &mut String, c: &Chart, a: &Area) {
 }
 
 /// Cell size of a grid, px.
-pub const GRID_CELL: (f64, f64) = (96.0, 26.0);
+pub(crate) const GRID_CELL: (f64, f64) = (96.0, 26.0);
 
 /// `grid` as an SVG document: a row label, then one cell per column, filled with its
 /// category's colour and showing its text; the legend of categories below.

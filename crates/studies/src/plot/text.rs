@@ -7,11 +7,11 @@ use super::chart::{Chart, Grid, Marker, Series, Stroke};
 use super::ticks::{Span, span, y_span};
 
 /// Character of a band's fill.
-pub const BAND: char = '.';
+pub(crate) const BAND: char = '.';
 /// Character of a vertical reference line.
-pub const VERTICAL: char = ':';
+pub(crate) const VERTICAL: char = ':';
 /// Character of a horizontal reference line.
-pub const HORIZONTAL: char = '-';
+pub(crate) const HORIZONTAL: char = '-';
 
 /// Where the grid of a text chart sits: grid cell (r, c) is character `gutter + 1 + c` of
 /// line `top + r`.

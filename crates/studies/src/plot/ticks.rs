@@ -89,7 +89,7 @@ impl Span {
 }
 
 /// The smallest of 1, 2, 5 × 10ᵏ at least `raw` (1 for a step that is not positive).
-pub fn nice_step(raw: f64) -> f64 {
+pub(crate) fn nice_step(raw: f64) -> f64 {
     if raw.is_nan() || raw <= 0.0 || !raw.is_finite() {
         return 1.0;
     }
@@ -103,7 +103,7 @@ pub fn nice_step(raw: f64) -> f64 {
 
 /// The tick step of a linear range: the smallest of 1, 2, 5 × 10ᵏ at least 0.7·range/5
 /// (5 to 7 intervals).
-pub fn linear_step(range: f64) -> f64 {
+pub(crate) fn linear_step(range: f64) -> f64 {
     nice_step(0.7 * range / TARGET_INTERVALS)
 }
 
@@ -209,7 +209,7 @@ pub fn span(axis: &Axis, values: &[f64]) -> Span {
 
 /// The span of a chart's y axis: with labelled rows ([`Chart::rows`]) 0.5 … n + 0.5, a tick
 /// at each row; else [`span`] of its y values.
-pub fn y_span(chart: &Chart) -> Span {
+pub(crate) fn y_span(chart: &Chart) -> Span {
     if chart.rows.is_empty() {
         return span(&chart.y, &chart.ys());
     }
@@ -223,7 +223,7 @@ pub fn y_span(chart: &Chart) -> Span {
 
 /// The y ticks of a chart on its span `sy` ([`y_span`]) with their text: a row's label at each
 /// row, else round numbers.
-pub fn y_ticks(chart: &Chart, sy: &Span) -> Vec<(f64, String)> {
+pub(crate) fn y_ticks(chart: &Chart, sy: &Span) -> Vec<(f64, String)> {
     if !chart.rows.is_empty() {
         let rows = chart.rows.iter().enumerate();
         return rows.map(|(i, l)| (chart.row_y(i), l.clone())).collect();

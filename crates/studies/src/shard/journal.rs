@@ -61,7 +61,7 @@ pub struct Journal {
 }
 
 /// `OUT.journal`: the journal beside the output `out`.
-pub fn journal_path(out: &Path) -> PathBuf {
+pub(crate) fn journal_path(out: &Path) -> PathBuf {
     let mut name = out.file_name().unwrap_or_default().to_os_string();
     name.push(".journal");
     out.with_file_name(name)

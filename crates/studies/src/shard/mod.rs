@@ -16,7 +16,7 @@ use std::ops::Range;
 use std::path::{Path, PathBuf};
 
 /// Most shards a job is cut into.
-pub const MAX_SHARDS: usize = 1_000_000;
+pub(crate) const MAX_SHARDS: usize = 1_000_000;
 
 /// Shard `k` (1-based) of `n`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -89,7 +89,7 @@ pub fn csv_line<S: AsRef<str>>(fields: &[S]) -> String {
 }
 
 /// The fields of one CSV line ([`csv_line`]'s inverse).
-pub fn csv_fields_of(line: &str) -> Result<Vec<String>, String> {
+pub(crate) fn csv_fields_of(line: &str) -> Result<Vec<String>, String> {
     let mut rd = csv::ReaderBuilder::new()
         .has_headers(false)
         .from_reader(line.as_bytes());

@@ -32,7 +32,7 @@ pub enum Measure {
 }
 
 /// Damping ratio of Sa when `--damping` is not given (the usual 5 %).
-pub const DEFAULT_DAMPING: f64 = 0.05;
+pub(crate) const DEFAULT_DAMPING: f64 = 0.05;
 
 /// A `--measure`, `--damping` or `--levels` argument that cannot be used.
 #[derive(Debug, thiserror::Error)]
@@ -228,7 +228,7 @@ impl Oscillator {
 
 /// max |u(t)| of the oscillator (ω, ζ) under `acc` from rest, over the record and the free
 /// vibration after it.
-pub fn peak_displacement(acc: &[f64], dt: f64, omega: f64, zeta: f64) -> f64 {
+pub(crate) fn peak_displacement(acc: &[f64], dt: f64, omega: f64, zeta: f64) -> f64 {
     let osc = Oscillator::new(omega, zeta, dt);
     let trig = (osc.decay, osc.cos, osc.sin);
     let (mut u, mut v, mut peak) = (0.0f64, 0.0f64, 0.0f64);
@@ -245,7 +245,7 @@ pub fn peak_displacement(acc: &[f64], dt: f64, omega: f64, zeta: f64) -> f64 {
 }
 
 /// The geometric mean √(I_L I_T) of two components' intensities.
-pub fn pair_intensity(longitudinal: f64, transverse: f64) -> f64 {
+pub(crate) fn pair_intensity(longitudinal: f64, transverse: f64) -> f64 {
     (longitudinal * transverse).sqrt()
 }
 

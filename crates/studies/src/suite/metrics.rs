@@ -72,7 +72,7 @@ impl Columns {
 
 /// An observer that keeps the largest column drift ratio of every sample it is handed (and
 /// lets the run drop them).
-pub struct DriftWatch {
+pub(crate) struct DriftWatch {
     columns: Columns,
     pub max: f64,
 }
@@ -109,7 +109,7 @@ impl Observer for DriftWatch {
 
 /// `scene` run with its history kept and its column drift watched (the bents' `heights`):
 /// the run and its metrics in the order of `row::METRICS`.
-pub fn run_measured(
+pub(crate) fn run_measured(
     mut scene: crate::scene::Scene,
     heights: &[(String, f64)],
 ) -> (Run, [Option<f64>; 11]) {

@@ -83,7 +83,7 @@ pub enum SuiteError {
 }
 
 /// The key an override or axis argument sets, if the suite reserves it.
-pub fn reserved(key: &str) -> Option<&'static str> {
+pub(crate) fn reserved(key: &str) -> Option<&'static str> {
     let key = key.trim();
     RESERVED
         .into_iter()
@@ -300,7 +300,7 @@ impl Suite {
     /// [`Suite::run`], `each` handed every row (by its index in the suite) as soon as it is
     /// final; once [`Progress::go_on`] says no, the runs not started are refused as
     /// [`CANCELLED`].
-    pub fn run_each(
+    pub(crate) fn run_each(
         &self,
         range: Range<usize>,
         progress: &dyn Progress,
@@ -479,7 +479,7 @@ fn first_period(scene: &Scene) -> Option<f64> {
 }
 
 /// The end of the scene's last support record, s (0 without records).
-pub fn records_end(scene: &Scene) -> f64 {
+pub(crate) fn records_end(scene: &Scene) -> f64 {
     (scene.supports.iter())
         .filter_map(|s| match &s.motion {
             Motion::Record(g) => Some(g.end_time()),

@@ -23,10 +23,10 @@ pub const METRICS: [&str; 11] = [
 ];
 
 /// The metrics that count events (written as whole numbers).
-pub const COUNTS: [&str; 2] = ["key_failures", "impacts"];
+pub(crate) const COUNTS: [&str; 2] = ["key_failures", "impacts"];
 
 /// The columns before the swept keys.
-pub const LEAD: [&str; 6] = [
+pub(crate) const LEAD: [&str; 6] = [
     "pair",
     "longitudinal",
     "transverse",

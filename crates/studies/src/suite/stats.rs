@@ -61,7 +61,7 @@ pub fn median(v: &[f64]) -> Option<f64> {
 }
 
 /// β: the sample standard deviation of ln x over the positive values, and their number.
-pub fn dispersion(v: &[f64]) -> (Option<f64>, usize) {
+pub(crate) fn dispersion(v: &[f64]) -> (Option<f64>, usize) {
     let logs: Vec<f64> = v.iter().filter(|x| **x > 0.0).map(|x| x.ln()).collect();
     let n = logs.len();
     if n < 2 {

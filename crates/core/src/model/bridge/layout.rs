@@ -165,7 +165,7 @@ impl Plan {
 
     /// A point of frame k's bent at x along its axis, y across it (bents parallel to the
     /// frame's skew), relative to the frame's centre.
-    pub fn bent_point(&self, frame: &Frame, k: usize, x: f64, y: f64) -> Vector2<f64> {
+    pub(crate) fn bent_point(&self, frame: &Frame, k: usize, x: f64, y: f64) -> Vector2<f64> {
         let (a, p) = self.axes[k];
         let tan = frame.skew.to_radians().tan();
         a * (x + y * tan) + p * y

@@ -21,7 +21,6 @@ mod validate;
 
 pub use abutments::{caltrans_backfill, skew_reduction};
 pub use schema::*;
-pub use seat::aashto_support_length;
 
 use super::check::{Check, ModelError};
 use super::records::Motions;
@@ -272,7 +271,7 @@ const BRIDGE_TABLES: [&str; 8] = [
 
 /// A file without `[deck]` or `[[frame]]` but with a bridge's tables is a bridge missing its
 /// deck (not a general scene with unknown fields).
-pub fn refuse_without_deck(table: &toml::Table, ck: &Check) -> Result<(), ModelError> {
+pub(crate) fn refuse_without_deck(table: &toml::Table, ck: &Check) -> Result<(), ModelError> {
     let Some(key) = BRIDGE_TABLES.iter().find(|k| table.contains_key(**k)) else {
         return Ok(());
     };

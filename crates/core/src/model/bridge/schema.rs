@@ -9,7 +9,7 @@ use crate::model::limit_state::LimitStateSpec;
 use serde::Deserialize;
 
 /// Names of the four abutment corners (paper: point 1 is the left, upper corner).
-pub const CORNERS: [&str; 4] = ["left_top", "left_bottom", "right_top", "right_bottom"];
+pub(crate) const CORNERS: [&str; 4] = ["left_top", "left_bottom", "right_top", "right_bottom"];
 
 /// The `[deck]` table of a bridge file.
 #[derive(Clone, Debug, Deserialize)]

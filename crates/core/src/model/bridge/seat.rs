@@ -12,7 +12,7 @@ const M_PER_IN: f64 = 0.0254;
 /// AASHTO LRFD 4.7.4.4: N = (8 + 0.02 L + 0.08 H)(1 + 0.000125 S²) in., with L the deck length
 /// to the next joint or its end (ft), H the average height of the columns supporting it (ft)
 /// and S the skew (degrees); in metres.
-pub fn aashto_support_length(length: f64, height: f64, skew_deg: f64) -> f64 {
+pub(crate) fn aashto_support_length(length: f64, height: f64, skew_deg: f64) -> f64 {
     let n_in = (8.0 + 0.02 * length * FT_PER_M + 0.08 * height * FT_PER_M)
         * (1.0 + 0.000125 * skew_deg * skew_deg);
     n_in * M_PER_IN
