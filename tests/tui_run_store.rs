@@ -550,3 +550,86 @@ fn a_kept_run_reused_after_the_first_resize_is_drawn() {
     let s = screen(&render(&mut again, 120, 40));
     assert!(s.contains("deck.theta ["), "{s}");
 }
+
+/// A kept run's series file has the layout and column names of the engine's `history.csv`
+/// (one writer and reader, `output::series`): every column of it is a column of the CLI's
+/// history.csv for the same model, its time column holds the same instants, and each value is
+/// the f32 of the engine's; a file of the workbench's first layout (`q:`, `gap:`, `def:`,
+/// `force:`) still reads, to the same run.
+#[test]
+fn a_kept_runs_series_is_history_csvs_layout() {
+    let model = scratch("layout");
+    let mut app = App::new_from_path(&model, Options::default()).unwrap();
+    let fx = app.start();
+    run(&mut app, fx);
+    let dir = runs_dir(&model);
+    let kept = std::fs::read_to_string(dir.join("0001.csv")).unwrap();
+    // the CLI's history.csv of the same model
+    let out = model.parent().unwrap().join("cli-out");
+    let r = std::process::Command::new(env!("CARGO_BIN_EXE_deckspin"))
+        .args(["run", &model.display().to_string(), "--out", &out.display().to_string()])
+        .output()
+        .unwrap();
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let history = std::fs::read_to_string(out.join("history.csv")).unwrap();
+    let head: Vec<&str> = history.lines().next().unwrap().split(',').collect();
+    let cols = deckspin::output::series::read_columns(&kept).unwrap();
+    assert!(cols.len() > 10, "{}", cols.len());
+    let rows: Vec<Vec<&str>> = history.lines().skip(1).map(|l| l.split(',').collect()).collect();
+    let mut checked = 0;
+    for (name, values) in &cols {
+        let j = (head.iter().position(|h| h == name))
+            .unwrap_or_else(|| panic!("{name} is no column of history.csv"));
+        // each kept sample is one of history.csv's, its value the f32 of the engine's
+        let mut k = 0;
+        for (i, v) in values.iter().enumerate() {
+            let t = cols[0].1[i];
+            while rows[k][0].parse::<f64>().unwrap() < t {
+                k += 1;
+            }
+            // (an event's instant has its samples before and after the event)
+            let same: Vec<f64> = (rows[k..].iter())
+                .take_while(|r| r[0].parse::<f64>().unwrap() == t)
+                .map(|r| r[j].parse().unwrap())
+                .collect();
+            assert!(!same.is_empty(), "t = {t} is no sample of history.csv");
+            if name == "t" {
+                assert_eq!(*v, same[0], "t");
+            } else {
+                assert!(
+                    same.iter().any(|&e| *v as f32 == e as f32),
+                    "{name} at t = {t}: {v} is none of {same:?}"
+                );
+            }
+            checked += 1;
+        }
+    }
+    assert!(checked > 1000, "{checked}");
+    // the first layout, written by hand from the kept file: the same run reads back
+    let mut lines = kept.lines();
+    let names: Vec<String> = (lines.next().unwrap().split(','))
+        .map(|h| {
+            if let Some(c) = h.strip_suffix(".gap") {
+                format!("gap:{c}")
+            } else if let Some(e) = h.strip_suffix(".deformation") {
+                format!("def:{e}")
+            } else if let Some(e) = h.strip_suffix(".force") {
+                format!("force:{e}")
+            } else if h == "t" {
+                h.to_string()
+            } else {
+                format!("q:{h}")
+            }
+        })
+        .collect();
+    let old = std::iter::once(names.join(",")).chain(lines.map(str::to_string));
+    let old: String = old.map(|l| l + "\n").collect();
+    let t_end = app.runs.get(1).unwrap().data.t_end;
+    let now = run_store::load_series(&dir, 1, t_end).unwrap();
+    std::fs::write(dir.join("0001.csv"), old).unwrap();
+    let then = run_store::load_series(&dir, 1, t_end).unwrap();
+    assert_eq!((then.t.len(), then.q.len(), then.gap.len()), (now.t.len(), now.q.len(), now.gap.len()));
+    assert_eq!((&then.dof_names, &then.contact_names, &then.element_names), (&now.dof_names, &now.contact_names, &now.element_names));
+    assert_eq!((&then.q, &then.gap, &then.el), (&now.q, &now.gap, &now.el));
+    cleanup(&model);
+}

@@ -12,6 +12,7 @@ pub mod deck;
 pub mod files;
 mod history;
 pub mod number;
+pub mod series;
 mod summary;
 
 pub use history::{HistoryColumn, HistoryWriter, history_columns};

@@ -227,6 +227,32 @@ def test_ctrl_c_cancels_a_long_run_and_keeps_what_it_computed():
     assert r.summary["status"] == "cancelled" and r.summary["cancelled_at"] == stopped
 
 
+def test_ctrl_c_stops_a_sweep_and_keeps_its_finished_rows():
+    # 24 runs of 16 s on two cores: the signal comes while most have not started
+    sent = []
+
+    def interrupt():
+        sent.append(True)
+        os.kill(os.getpid(), signal.SIGINT)
+
+    timer = threading.Timer(0.5, interrupt)
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt) as e:
+            deckspin.sweep(MODEL, {"contacts.mu": "0.05:0.6:0.05", "excitation.run": [3, 4]})
+    finally:
+        timer.cancel()
+    assert sent, "the signal was sent during the sweep"
+    table = e.value.result
+    assert len(table) == 24
+    errors = list(table["error"])
+    not_run = [x for x in errors if x == "cancelled before it ran"]
+    finished = [i for i, x in enumerate(errors) if x == ""]
+    # the runs not started are marked, the finished ones keep their numbers, nothing else
+    assert not_run and len(not_run) + len(finished) == 24
+    assert all(table["peak_rotation"][i] > 0 for i in finished)
+
+
 def test_progress_returning_false_cancels():
     calls = []
 

@@ -5,14 +5,16 @@ use crate::tui::chart;
 use crate::tui::runs::out_folder::EXPORT_PREFIX;
 use crate::tui::runs::data::RunData;
 use crate::output::files::write_new;
-use crate::output::number::Numbers;
+use crate::output::series::{Column, columns_csv};
 use std::path::{Path, PathBuf};
 
 /// CSV of what is charted (full resolution, in the time window) and of the event log (the
-/// engine's `events.csv` columns).
+/// engine's `events.csv` columns); both in the layout of the engine's files
+/// ([`crate::output::series`]).
 pub fn export_csv(run: &RunData, window: (f64, f64), element: usize) -> (String, String) {
     let (t0, t1) = window;
-    let mut cols: Vec<(String, &Vec<f64>)> = Vec::new();
+    let rows = chart::window(&run.t, t0, t1);
+    let mut cols: Vec<(String, &[f64])> = vec![("t".into(), &run.t)];
     if let Some(r) = run.rot {
         cols.push((run.dof_names[r].clone(), &run.q[r]));
     }
@@ -30,29 +32,22 @@ pub fn export_csv(run: &RunData, window: (f64, f64), element: usize) -> (String,
         ));
         cols.push((format!("{}.force", run.element_names[j]), &run.el[j].1));
     }
-    let mut chart = String::from("t");
-    for (n, _) in &cols {
-        chart.push(',');
-        chart.push_str(n);
-    }
-    chart.push('\n');
-    let mut n = Numbers::new();
-    for i in chart::window(&run.t, t0, t1) {
-        n.push(&mut chart, run.t[i]);
-        for (_, c) in &cols {
-            chart.push(',');
-            n.push(&mut chart, c[i]);
-        }
-        chart.push('\n');
-    }
+    let columns: Vec<Column> = (cols.iter())
+        .map(|(name, v)| Column {
+            name,
+            values: v.get(rows.clone()).unwrap_or(&[]),
+            single: false,
+        })
+        .collect();
+    let chart = columns_csv(&columns);
     let ev = crate::output::events_csv(&run.events, &run.contact_names, &run.element_names);
     (chart, ev)
 }
 
-/// CSV of the whole run: every sample (not only the window), every DOF, every contact's gap
-/// and every element's deformation and force, in the model's order.
-pub fn history_csv(run: &RunData) -> String {
-    let mut cols: Vec<(String, &Vec<f64>)> = Vec::new();
+/// A run's series by the names of `history.csv`: `t`, every DOF, every contact's gap, every
+/// element's deformation and force, in the model's order.
+pub fn series_columns(run: &RunData) -> Vec<(String, &[f64])> {
+    let mut cols: Vec<(String, &[f64])> = vec![("t".into(), &run.t)];
     for (k, n) in run.dof_names.iter().enumerate() {
         cols.push((n.clone(), &run.q[k]));
     }
@@ -63,22 +58,20 @@ pub fn history_csv(run: &RunData) -> String {
         cols.push((format!("{n}.deformation"), &run.el[j].0));
         cols.push((format!("{n}.force"), &run.el[j].1));
     }
-    let mut out = String::from("t");
-    for (n, _) in &cols {
-        out.push(',');
-        out.push_str(n);
-    }
-    out.push('\n');
-    let mut n = Numbers::new();
-    for (i, &t) in run.t.iter().enumerate() {
-        n.push(&mut out, t);
-        for (_, c) in &cols {
-            out.push(',');
-            n.push(&mut out, c.get(i).copied().unwrap_or(f64::NAN));
-        }
-        out.push('\n');
-    }
-    out
+    cols
+}
+
+/// CSV of the whole run: every sample (not only the window), [`series_columns`] exactly.
+pub fn history_csv(run: &RunData) -> String {
+    let cols = series_columns(run);
+    let columns: Vec<Column> = (cols.iter())
+        .map(|(name, values)| Column {
+            name,
+            values,
+            single: false,
+        })
+        .collect();
+    columns_csv(&columns)
 }
 
 /// The export files of an [`crate::tui::msg::Effect::Export`]: (kind, content) — `chart` the

@@ -11,7 +11,8 @@
 
 use crate::tui::runs::data::{RunData, RunStatus, fresh_token};
 use crate::tui::runs::list::{Change, Ended, Entry, KEEP, Results, Runs, Series};
-use crate::output::number::Numbers;
+use crate::output::series::{Column, columns_csv, read_columns};
+use crate::tui::runs::export::series_columns;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::io::Write;
@@ -89,49 +90,19 @@ pub fn meta_text(e: &Entry, baseline: bool) -> String {
     serde_json::to_string_pretty(&m).unwrap_or_default() + "\n"
 }
 
-/// A value of the series file: the time exactly, the others to single precision.
-fn push_value(s: &mut String, nums: &mut Numbers, v: f64, exact: bool) {
-    if exact {
-        nums.push(s, v);
-    } else if v.is_finite() && v != 0.0 && !(1e-3..1e6).contains(&v.abs()) {
-        s.push_str(&format!("{:e}", v as f32));
-    } else {
-        s.push_str(&format!("{}", v as f32));
-    }
-}
-
-/// The series file: `t`, `q:<dof>`, `gap:<contact>`, `def:<element>`, `force:<element>`.
+/// The series file: the run's columns by the names of `history.csv`
+/// ([`crate::tui::runs::export::series_columns`]), the time exactly and the rest in single
+/// precision ([`crate::output::series`]).
 pub fn series_text(d: &RunData) -> String {
-    let mut cols: Vec<(String, &[f64])> = vec![("t".into(), &d.t)];
-    for (n, c) in d.dof_names.iter().zip(&d.q) {
-        cols.push((format!("q:{n}"), c));
-    }
-    for (n, c) in d.contact_names.iter().zip(&d.gap) {
-        cols.push((format!("gap:{n}"), c));
-    }
-    for (n, (a, b)) in d.element_names.iter().zip(&d.el) {
-        cols.push((format!("def:{n}"), a));
-        cols.push((format!("force:{n}"), b));
-    }
-    let mut w = csv::Writer::from_writer(Vec::new());
-    let _ = w.write_record(cols.iter().map(|c| c.0.as_str()));
-    let mut out = String::from_utf8(w.into_inner().unwrap_or_default()).unwrap_or_default();
-    let mut nums = Numbers::new();
-    for i in 0..d.t.len() {
-        for (j, (_, c)) in cols.iter().enumerate() {
-            if j > 0 {
-                out.push(',');
-            }
-            push_value(
-                &mut out,
-                &mut nums,
-                c.get(i).copied().unwrap_or(f64::NAN),
-                j == 0,
-            );
-        }
-        out.push('\n');
-    }
-    out
+    let cols = series_columns(d);
+    let columns: Vec<Column> = (cols.iter().enumerate())
+        .map(|(j, (name, values))| Column {
+            name,
+            values,
+            single: j > 0,
+        })
+        .collect();
+    columns_csv(&columns)
 }
 
 /// Writes `text` to `path` through a temporary file in the same folder and a rename.
@@ -231,61 +202,59 @@ pub fn load_series(dir: &Path, n: u64, t_end: f64) -> Result<RunData, String> {
     Ok(d)
 }
 
-/// Reads the series file of run `n`.
+/// A column name of a series file as `history.csv` names it; the names of the workbench's
+/// first layout (`q:<dof>`, `gap:<contact>`, `def:<element>`, `force:<element>`) read too.
+fn history_name(h: &str) -> String {
+    if let Some(d) = h.strip_prefix("q:") {
+        d.to_string()
+    } else if let Some(c) = h.strip_prefix("gap:") {
+        format!("{c}.gap")
+    } else if let Some(e) = h.strip_prefix("def:") {
+        format!("{e}.deformation")
+    } else if let Some(e) = h.strip_prefix("force:") {
+        format!("{e}.force")
+    } else {
+        h.to_string()
+    }
+}
+
+/// Reads the series file of run `n`: `t`, then the DOFs, the gaps (`<contact>.gap`) and each
+/// element's deformation and force (`<element>.deformation`, `<element>.force`, in pairs).
 fn read_series(text: &str, n: u64, t_end: f64) -> Result<RunData, String> {
-    let mut r = csv::ReaderBuilder::new()
-        .has_headers(true)
-        .from_reader(text.as_bytes());
-    let head: Vec<String> = r
-        .headers()
-        .map_err(|e| e.to_string())?
-        .iter()
-        .map(str::to_string)
-        .collect();
-    if head.first().map(String::as_str) != Some("t") {
-        return Err("the first column is not t".into());
-    }
-    let named = |p: &str| -> Vec<String> {
-        head.iter()
-            .filter_map(|h| h.strip_prefix(p).map(str::to_string))
-            .collect()
-    };
-    let (dofs, contacts, elements) = (named("q:"), named("gap:"), named("def:"));
-    let mut d = RunData::new(n, format!("#{n}"), dofs, contacts, elements, t_end);
-    let want = 1 + d.q.len() + d.gap.len() + 2 * d.el.len();
-    if head.len() != want {
-        return Err(format!("{} columns, expected {want}", head.len()));
-    }
-    for (line, rec) in r.records().enumerate() {
-        let rec = rec.map_err(|e| e.to_string())?;
-        let mut vals = Vec::with_capacity(want);
-        for f in rec.iter() {
-            vals.push(
-                f.trim()
-                    .parse::<f64>()
-                    .map_err(|_| format!("line {}: `{f}` is not a number", line + 2))?,
-            );
-        }
-        if vals.len() != want {
-            return Err(format!("line {}: {} values", line + 2, vals.len()));
-        }
-        let mut it = vals.into_iter();
-        d.t.extend(it.next());
-        for c in &mut d.q {
-            c.extend(it.next());
-        }
-        for c in &mut d.gap {
-            c.extend(it.next());
-        }
-        for (j, (a, b)) in d.el.iter_mut().enumerate() {
-            let (x, y) = (it.next().unwrap_or(f64::NAN), it.next().unwrap_or(f64::NAN));
-            a.push(x);
-            b.push(y);
-            let e = &mut d.el_range[j];
-            if x.is_finite() && y.is_finite() {
-                *e = [e[0].min(x), e[1].max(x), e[2].min(y), e[3].max(y)];
+    let mut cols = read_columns(text).map_err(|e| e.to_string())?.into_iter();
+    let (_, t) = cols.next().ok_or("no columns")?;
+    let (mut dofs, mut contacts, mut elements) = (Vec::new(), Vec::new(), Vec::new());
+    let (mut q, mut gap, mut el) = (Vec::new(), Vec::new(), Vec::new());
+    while let Some((h, values)) = cols.next() {
+        let h = history_name(&h);
+        if let Some(c) = h.strip_suffix(".gap") {
+            contacts.push(c.to_string());
+            gap.push(values);
+        } else if let Some(e) = h.strip_suffix(".deformation") {
+            let (force, f) = cols.next().ok_or(format!("{h} without its force"))?;
+            if history_name(&force) != format!("{e}.force") {
+                return Err(format!("{h} is followed by {force}, not {e}.force"));
             }
+            elements.push(e.to_string());
+            el.push((values, f));
+        } else if !contacts.is_empty() || !elements.is_empty() {
+            return Err(format!("{h}: a DOF after the gaps and elements"));
+        } else {
+            dofs.push(h);
+            q.push(values);
         }
+    }
+    let mut d = RunData::new(n, format!("#{n}"), dofs, contacts, elements, t_end);
+    d.t = t;
+    d.q = q;
+    d.gap = gap;
+    for (j, (a, b)) in el.into_iter().enumerate() {
+        let (x, y) = (&a, &b);
+        let finite = x.iter().zip(y).filter(|(x, y)| x.is_finite() && y.is_finite());
+        d.el_range[j] = finite.fold(d.el_range[j], |e, (&x, &y)| {
+            [e[0].min(x), e[1].max(x), e[2].min(y), e[3].max(y)]
+        });
+        d.el[j] = (a, b);
     }
     d.state = vec![Vec::new(); d.gap.len()];
     Ok(d)

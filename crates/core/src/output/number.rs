@@ -26,9 +26,14 @@ impl Numbers {
     }
 
     /// Writes `,` then `x` to `w`.
-    pub fn write_field<W: Write>(&mut self, w: &mut W, x: f64) -> std::io::Result<()> {
+    pub(crate) fn write_field<W: Write>(&mut self, w: &mut W, x: f64) -> std::io::Result<()> {
         w.write_all(b",")?;
         self.write(w, x)
+    }
+
+    /// The shortest text that parses back to `x` as an f32.
+    pub fn format_single(&mut self, x: f32) -> &str {
+        self.0.format(x)
     }
 
     /// Appends `x` to `s`.
@@ -39,7 +44,7 @@ impl Numbers {
 
 /// The most bytes [`Numbers`] writes for one f64: a sign, 17 digits, a point, `e`, an
 /// exponent sign and three exponent digits (`-1.2345678901234567e-308`).
-pub const MAX_NUMBER_BYTES: usize = 24;
+pub(crate) const MAX_NUMBER_BYTES: usize = 24;
 
 #[cfg(test)]
 mod tests {
