@@ -228,7 +228,8 @@ def test_ctrl_c_cancels_a_long_run_and_keeps_what_it_computed():
 
 
 def test_ctrl_c_stops_a_sweep_and_keeps_its_finished_rows():
-    # 24 runs of 16 s on two cores: the signal comes while most have not started
+    # 12 long runs (Moreau-Jean at a step far below its own, seconds each): the signal comes
+    # while the first ones run
     sent = []
 
     def interrupt():
@@ -239,17 +240,18 @@ def test_ctrl_c_stops_a_sweep_and_keeps_its_finished_rows():
     timer.start()
     try:
         with pytest.raises(KeyboardInterrupt) as e:
-            deckspin.sweep(MODEL, {"contacts.mu": "0.05:0.6:0.05", "excitation.run": [3, 4]})
+            deckspin.sweep(MODEL, {"contacts.mu": "0.05:0.6:0.05"},
+                           fix={"solver.method": "moreau", "solver.step": 1e-5, "solver.t_end": 4})
     finally:
         timer.cancel()
     assert sent, "the signal was sent during the sweep"
     table = e.value.result
-    assert len(table) == 24
+    assert len(table) == 12
     errors = list(table["error"])
     not_run = [x for x in errors if x == "cancelled before it ran"]
     finished = [i for i, x in enumerate(errors) if x == ""]
-    # the runs not started are marked, the finished ones keep their numbers, nothing else
-    assert not_run and len(not_run) + len(finished) == 24
+    # the runs not started are marked, those in progress finished and keep their numbers
+    assert len(not_run) >= 6 and len(not_run) + len(finished) == 12, errors
     assert all(table["peak_rotation"][i] > 0 for i in finished)
 
 
