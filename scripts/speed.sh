@@ -22,7 +22,7 @@ frames="2 4 8 16"
 count() {
     local toggle=()
     if [ "$1" = "--integration" ]; then
-        toggle=(--toggle-collect='deckspin::simulate::integrate*')
+        toggle=(--toggle-collect='deckspin_core::simulate::integrate*')
         shift
     fi
     valgrind --tool=callgrind --callgrind-out-file="$tmp/cg" "${toggle[@]}" "$@" 2>&1 >/dev/null \

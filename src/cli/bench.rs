@@ -127,10 +127,14 @@ fn instructions(model: &Path) -> CliResult {
         collected(&err)
             .ok_or_else(|| format!("no instruction count in valgrind's output: {err}").into())
     };
-    let counts =
-        count(None).and_then(|all| Ok((all, count(Some("deckspin::simulate::integrate*"))?)));
+    // the function's path as the compiler names it (its crate's, not this one's)
+    let toggle = format!("{}*", std::any::type_name_of_val(&deckspin::simulate::integrate));
+    let counts = count(None).and_then(|all| Ok((all, count(Some(&toggle))?)));
     let _ = std::fs::remove_dir_all(&dir);
     let (all, integration) = counts?;
+    if integration == 0 {
+        return Err(format!("callgrind counted nothing inside {toggle}").into());
+    }
     println!(
         "`deckspin run {} --out DIR` under callgrind: {:.1} M instructions, {:.1} M inside simulate::integrate (the run, history.csv written as it goes), {:.1} M the rest (setup, events.csv, summary.json)",
         model.display(),
