@@ -7,7 +7,8 @@
 //! and its error in every quantity, and what `a` does with it.
 
 use super::common::{Theme, fit, fit_lines};
-use super::line_plot::{Curve, LinePlot, Marks, RefLine, draw_line_plot};
+use super::line_plot::{Look, draw_line_plot};
+use crate::plot::Chart;
 use crate::design::adequacy::{Adequacy, Outcome};
 use crate::design::adequacy_report::{chart, percent, short};
 use crate::tui::studies::design_rows::variant_of_row;
@@ -83,8 +84,8 @@ pub(super) fn draw_adequacy(
     if chart_w {
         let x = body.x + tw + 2;
         let cw = (body.x + body.width).saturating_sub(x);
-        let plot = plot(a, cursor, th);
-        draw_line_plot(frame, Rect::new(x, body.y, cw, body.height), &plot, th);
+        let (chart, look) = plot(a, cursor);
+        draw_line_plot(frame, Rect::new(x, body.y, cw, body.height), &chart, &look, th);
     }
 }
 
@@ -234,38 +235,18 @@ fn readout(a: &Adequacy, cursor: usize, w: usize, th: &Theme) -> Vec<Line<'stati
     out
 }
 
-/// The chart of CPU time against the worst error, the selected variant highlighted; its
-/// legend is the table's letter column.
-fn plot(a: &Adequacy, cursor: usize, th: &Theme) -> LinePlot {
-    let c = chart(a, None);
-    let mut p = LinePlot::new(
-        th.text("worst error [-], log"),
-        th.text("CPU time [s], log"),
-    );
-    p.log_x = true;
-    p.log_y = true;
-    p.legend = false;
-    for l in &c.lines {
-        p.lines.push(RefLine {
-            vertical: l.vertical,
-            at: l.at,
-            label: th.text(&l.label),
-        });
-    }
+/// The chart `deckspin adequacy` draws (CPU time against the worst error), its axes titled
+/// for the panel, and the selected variant highlighted; its legend is the table's letter
+/// column.
+fn plot(a: &Adequacy, cursor: usize) -> (Chart, Look) {
+    let mut c = chart(a, None);
+    (c.y.title, c.y.unit) = ("worst error [-], log".into(), String::new());
+    (c.x.title, c.x.unit) = ("CPU time [s], log".into(), String::new());
     let selected = variant_of_row(a, cursor).map(letter);
-    for s in &c.series {
-        let style = if Some(s.glyph) == selected {
-            th.selected().patch(th.bold())
-        } else {
-            th.series(s.color)
-        };
-        p.curves.push(Curve {
-            name: th.text(&s.label),
-            mark: s.glyph,
-            style,
-            points: s.points.clone(),
-            marks: Marks::Every,
-        });
-    }
-    p
+    let look = Look {
+        legend: false,
+        selected: c.series.iter().position(|s| Some(s.glyph) == selected),
+        ..Look::default()
+    };
+    (c, look)
 }

@@ -1,9 +1,12 @@
-//! A line plot for the results pages: curves over linear or log axes (time histories, the
-//! response spectrum, work-precision), with reference lines (the zero line, a period, the
-//! 1 % error) and stems (impulses). Each curve carries its own mark, printed along it and in
-//! the legend, so curves differ without colour; the y labels are the data's own extremes.
+//! The workbench's renderer of the library's charts ([`crate::plot::Chart`], the same data the
+//! CLI draws as SVG and text): series over linear or log axes (time histories, the response
+//! spectrum, work-precision, the model ladder's cost and error), with reference lines (the zero
+//! line, a period, the 1 % error) and, from the [`Look`], stems (impulses). Each series carries
+//! its own glyph, printed along it and in the legend, so series differ without colour; the y
+//! labels are the data's own extremes.
 
 use super::common::Theme;
+use crate::plot::{Chart, Marker, Scale};
 use crate::tui::chart::fmt_sig;
 use ratatui::Frame;
 use ratatui::layout::Rect;
@@ -15,60 +18,23 @@ use ratatui::widgets::canvas::{Canvas, Context, Line as CLine};
 /// Width of the y labels.
 const LABEL_W: u16 = 9;
 
-/// Where a curve's mark is printed: at every point (a few points), or at a few points spread
-/// along it (a history).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(super) enum Marks {
-    Every,
-    Spread,
-}
-
-pub(super) struct Curve {
-    pub name: String,
-    pub mark: char,
-    pub style: Style,
-    pub points: Vec<(f64, f64)>,
-    pub marks: Marks,
-}
-
-/// A reference line: horizontal at y (or vertical at x), its label.
-pub(super) struct RefLine {
-    pub vertical: bool,
-    pub at: f64,
-    pub label: String,
-}
-
-pub(super) struct LinePlot {
-    /// What and unit of the y axis: `energy [kJ]`.
-    pub y_title: String,
-    pub x_title: String,
-    pub curves: Vec<Curve>,
-    pub lines: Vec<RefLine>,
-    /// (x, y) stems from 0, drawn with `stem_mark`.
+/// What the workbench adds to a chart: the legend (off where a table beside the plot names
+/// the series), the series drawn as selected, and stems from 0 (impulses) with their mark.
+#[derive(Clone, Debug)]
+pub(super) struct Look {
+    pub legend: bool,
+    pub selected: Option<usize>,
     pub stems: Vec<(f64, f64)>,
     pub stem_mark: char,
-    pub log_x: bool,
-    pub log_y: bool,
-    /// The x range (default: the data's).
-    pub x_range: Option<[f64; 2]>,
-    /// The curves' marks and names in the legend (off where a table beside the plot names
-    /// them).
-    pub legend: bool,
 }
 
-impl LinePlot {
-    pub fn new(y_title: String, x_title: String) -> Self {
+impl Default for Look {
+    fn default() -> Self {
         Self {
-            y_title,
-            x_title,
-            curves: Vec::new(),
-            lines: Vec::new(),
+            legend: true,
+            selected: None,
             stems: Vec::new(),
             stem_mark: '|',
-            log_x: false,
-            log_y: false,
-            x_range: None,
-            legend: true,
         }
     }
 }
@@ -83,9 +49,15 @@ fn on(v: f64, log: bool) -> Option<f64> {
     }
 }
 
+/// (log x, log y) of a chart.
+fn logs(c: &Chart) -> (bool, bool) {
+    (c.x.scale == Scale::Log, c.y.scale == Scale::Log)
+}
+
 /// The data's bounds on the axes [x lo, x hi, y lo, y hi] (a linear y range holds 0; a flat
-/// range is widened).
-fn extent(p: &LinePlot) -> [f64; 4] {
+/// range is widened; a fixed x range of the chart is kept).
+fn extent(c: &Chart, look: &Look) -> [f64; 4] {
+    let (log_x, log_y) = logs(c);
     let mut b = [
         f64::INFINITY,
         f64::NEG_INFINITY,
@@ -102,30 +74,30 @@ fn extent(p: &LinePlot) -> [f64; 4] {
             b[3] = b[3].max(y);
         }
     };
-    for c in &p.curves {
-        for &(x, y) in &c.points {
-            if let (Some(x), Some(y)) = (on(x, p.log_x), on(y, p.log_y)) {
+    for s in &c.series {
+        for &(x, y) in &s.points {
+            if let (Some(x), Some(y)) = (on(x, log_x), on(y, log_y)) {
                 add(Some(x), Some(y));
             }
         }
     }
-    for &(x, y) in &p.stems {
-        add(on(x, p.log_x), on(y, p.log_y));
-        add(None, on(0.0, p.log_y));
+    for &(x, y) in &look.stems {
+        add(on(x, log_x), on(y, log_y));
+        add(None, on(0.0, log_y));
     }
-    for l in &p.lines {
+    for l in &c.lines {
         if l.vertical {
-            add(on(l.at, p.log_x), None);
+            add(on(l.at, log_x), None);
         } else {
-            add(None, on(l.at, p.log_y));
+            add(None, on(l.at, log_y));
         }
     }
-    if let Some([a, e]) = p.x_range
-        && let (Some(a), Some(e)) = (on(a, p.log_x), on(e, p.log_x))
+    if let Some((a, e)) = c.x.range
+        && let (Some(a), Some(e)) = (on(a, log_x), on(e, log_x))
     {
         (b[0], b[1]) = (a, e);
     }
-    if !p.log_y && b[2] <= b[3] {
+    if !log_y && b[2] <= b[3] {
         b[2] = b[2].min(0.0);
         b[3] = b[3].max(0.0);
     }
@@ -140,6 +112,15 @@ fn extent(p: &LinePlot) -> [f64; 4] {
     b
 }
 
+/// The style of series `i`: its palette colour, or the selection's.
+fn style_of(c: &Chart, look: &Look, i: usize, th: &Theme) -> Style {
+    if look.selected == Some(i) {
+        th.selected().patch(th.bold())
+    } else {
+        th.series(c.series[i].color)
+    }
+}
+
 /// An axis label: the value (10^v on a log axis), 3 significant digits, at most 8 characters.
 fn label(v: f64, log: bool) -> String {
     let x = if log { 10f64.powf(v) } else { v };
@@ -151,18 +132,20 @@ fn label(v: f64, log: bool) -> String {
     }
 }
 
-/// The legend: the y title, then `mark name` per curve; what does not fit is left out whole
-/// and counted.
-fn legend(p: &LinePlot, width: usize, lines: usize, th: &Theme) -> Vec<Line<'static>> {
+/// The legend: the y axis's title, then `glyph label` per series; what does not fit is left
+/// out whole and counted.
+fn legend(c: &Chart, look: &Look, width: usize, lines: usize, th: &Theme) -> Vec<Line<'static>> {
+    let y_title = th.text(&c.y.label());
     let mut out: Vec<(Vec<Span<'static>>, usize)> = vec![(
-        vec![Span::styled(p.y_title.clone(), th.bold())],
-        p.y_title.chars().count(),
+        vec![Span::styled(y_title.clone(), th.bold())],
+        y_title.chars().count(),
     )];
     let mut left = 0;
-    for c in p.curves.iter().filter(|_| p.legend) {
-        let w = 4 + c.name.chars().count();
-        let mark = Span::styled(c.mark.to_string(), c.style.patch(th.bold()));
-        let name = Span::raw(format!(" {}", c.name));
+    for (i, s) in c.series.iter().enumerate().filter(|_| look.legend) {
+        let name = th.text(&s.label);
+        let w = 4 + name.chars().count();
+        let mark = Span::styled(s.glyph.to_string(), style_of(c, look, i, th).patch(th.bold()));
+        let name = Span::raw(format!(" {name}"));
         let last = out.last_mut().expect("a first line");
         if last.1 + w <= width {
             last.0.extend([Span::raw("  "), mark, name]);
@@ -183,20 +166,21 @@ fn legend(p: &LinePlot, width: usize, lines: usize, th: &Theme) -> Vec<Line<'sta
     out.into_iter().map(|(s, _)| Line::from(s)).collect()
 }
 
-/// Draws the plot in `area` (nothing below 5 rows or 24 columns).
-pub(super) fn draw_line_plot(frame: &mut Frame, area: Rect, p: &LinePlot, th: &Theme) {
+/// Draws the chart in `area` (nothing below 5 rows or 24 columns).
+pub(super) fn draw_line_plot(frame: &mut Frame, area: Rect, c: &Chart, look: &Look, th: &Theme) {
     if area.height < 5 || area.width < LABEL_W + 15 {
         return;
     }
+    let (log_x, log_y) = logs(c);
     let legend_rows = if area.height >= 10 { 2 } else { 1 };
-    let head = legend(p, area.width as usize, legend_rows, th);
+    let head = legend(c, look, area.width as usize, legend_rows, th);
     let hh = head.len() as u16;
     frame.render_widget(Paragraph::new(head), Rect { height: hh, ..area });
     let rows = area.height - hh - 2;
     if rows < 2 {
         return;
     }
-    let b = extent(p);
+    let b = extent(c, look);
     let top = area.y + hh;
     let cw = area.width - LABEL_W - 1;
     let (vbar, corner, hbar) = if th.ascii {
@@ -208,15 +192,15 @@ pub(super) fn draw_line_plot(frame: &mut Frame, area: Rect, p: &LinePlot, th: &T
     let mut labels: Vec<Line> = (0..rows)
         .map(|_| Line::styled(format!("{:>w$}{vbar}", ""), th.dim()))
         .collect();
-    let lab = |v: f64| Line::styled(format!("{:>w$}{vbar}", label(v, p.log_y)), th.dim());
+    let lab = |v: f64| Line::styled(format!("{:>w$}{vbar}", label(v, log_y)), th.dim());
     labels[0] = lab(b[3]);
     labels[rows as usize - 1] = lab(b[2]);
     labels.push(Line::styled(
         format!("{:>w$}{corner}{}", "", hbar.repeat(cw as usize)),
         th.dim(),
     ));
-    let (xa, xb) = (label(b[0], p.log_x), label(b[1], p.log_x));
-    let title = th.text(&p.x_title);
+    let (xa, xb) = (label(b[0], log_x), label(b[1], log_x));
+    let title = th.text(&c.x.label());
     let room = cw as usize;
     let (na, nb, nt) = (xa.len(), xb.len(), title.chars().count());
     let row = if na + nt + nb + 2 <= room {
@@ -239,12 +223,12 @@ pub(super) fn draw_line_plot(frame: &mut Frame, area: Rect, p: &LinePlot, th: &T
     let canvas = Rect::new(area.x + LABEL_W + 1, top, cw, rows);
     let marker = th.marker();
     let size = (cw as f64, rows as f64);
-    let c = Canvas::default()
+    let canvas_widget = Canvas::default()
         .marker(marker)
         .x_bounds([b[0], b[1]])
         .y_bounds([b[2], b[3]])
-        .paint(|ctx| paint(ctx, p, b, size, th));
-    frame.render_widget(c, canvas);
+        .paint(|ctx| paint(ctx, c, look, b, size, th));
+    frame.render_widget(canvas_widget, canvas);
 }
 
 /// A segment: Braille line, or in ASCII mode `mark` in each cell it crosses.
@@ -280,11 +264,12 @@ fn segment(
     }
 }
 
-fn paint(ctx: &mut Context, p: &LinePlot, b: [f64; 4], (w, h): (f64, f64), th: &Theme) {
+fn paint(ctx: &mut Context, c: &Chart, look: &Look, b: [f64; 4], size: (f64, f64), th: &Theme) {
+    let (log_x, log_y) = logs(c);
     // cells per unit along x and y
-    let scale = ((w - 1.0) / (b[1] - b[0]), (h - 1.0) / (b[3] - b[2]));
-    for l in &p.lines {
-        let Some(v) = on(l.at, if l.vertical { p.log_x } else { p.log_y }) else {
+    let scale = ((size.0 - 1.0) / (b[1] - b[0]), (size.1 - 1.0) / (b[3] - b[2]));
+    for l in &c.lines {
+        let Some(v) = on(l.at, if l.vertical { log_x } else { log_y }) else {
             continue;
         };
         let (a, e) = if l.vertical {
@@ -300,34 +285,40 @@ fn paint(ctx: &mut Context, p: &LinePlot, b: [f64; 4], (w, h): (f64, f64), th: &
         ctx.print(at.0, at.1, Span::styled(th.text(&l.label), th.dim()));
     }
     ctx.layer();
-    let pt = |x: f64, y: f64| Some((on(x, p.log_x)?, on(y, p.log_y)?));
-    let y0 = on(0.0, p.log_y).unwrap_or(b[2]);
-    for &(x, y) in &p.stems {
+    let pt = |x: f64, y: f64| Some((on(x, log_x)?, on(y, log_y)?));
+    let y0 = on(0.0, log_y).unwrap_or(b[2]);
+    for &(x, y) in &look.stems {
         if let Some((x, y)) = pt(x, y) {
             segment(ctx, ((x, y0), (x, y)), ".", th.series(5), scale, th);
-            ctx.print(
-                x,
-                y,
-                Span::styled(p.stem_mark.to_string(), th.series(5).patch(th.bold())),
-            );
+            let mark = look.stem_mark.to_string();
+            ctx.print(x, y, Span::styled(mark, th.series(5).patch(th.bold())));
         }
     }
-    for c in &p.curves {
-        let pts: Vec<(f64, f64)> = c.points.iter().filter_map(|&(x, y)| pt(x, y)).collect();
-        for s in pts.windows(2) {
-            segment(ctx, (s[0], s[1]), ".", c.style, scale, th);
+    let points = |i: usize| -> Vec<(f64, f64)> {
+        (c.series[i].points.iter()).filter_map(|&(x, y)| pt(x, y)).collect()
+    };
+    for (i, s) in c.series.iter().enumerate() {
+        if s.stroke == crate::plot::Stroke::None {
+            continue;
+        }
+        for w in points(i).windows(2) {
+            segment(ctx, (w[0], w[1]), ".", style_of(c, look, i, th), scale, th);
         }
     }
     ctx.layer();
-    for c in &p.curves {
-        let pts: Vec<(f64, f64)> = c.points.iter().filter_map(|&(x, y)| pt(x, y)).collect();
-        let every = match c.marks {
-            Marks::Every => 1,
-            Marks::Spread => (pts.len() / 5).max(1),
+    // a series with markers has its glyph at every point; a line without, at a few spread
+    // along it
+    for (i, s) in c.series.iter().enumerate() {
+        let pts = points(i);
+        let every = if s.marker == Marker::None {
+            (pts.len() / 5).max(1)
+        } else {
+            1
         };
-        let mark = Span::styled(c.mark.to_string(), c.style.patch(th.bold()));
-        for (i, q) in pts.iter().enumerate() {
-            if i % every == every / 2 || c.marks == Marks::Every {
+        let style = style_of(c, look, i, th).patch(th.bold());
+        let mark = Span::styled(s.glyph.to_string(), style);
+        for (k, q) in pts.iter().enumerate() {
+            if every == 1 || k % every == every / 2 {
                 ctx.print(q.0, q.1, mark.clone());
             }
         }

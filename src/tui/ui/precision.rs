@@ -5,7 +5,7 @@
 //! share ([`INACCURATE_ABOVE`]).
 
 use super::common::Theme;
-use super::line_plot::{Curve, LinePlot, Marks, RefLine, draw_line_plot};
+use super::line_plot::{Look, draw_line_plot};
 use crate::figures;
 use crate::precision::INACCURATE_ABOVE;
 use crate::precision_study::PrecisionTable;
@@ -29,33 +29,19 @@ pub(super) fn draw_precision(
     if grid {
         return draw_grid(frame, area, t, th);
     }
-    let chart = figures::work_precision(&points, "peak", CHART_TOL);
-    let mut p = LinePlot::new(
-        th.text("peak error of the watched rotation [-], log (g: stability grid)"),
-        "CPU time [s], log".into(),
+    // the chart `deckspin precision` draws, its axes titled for the panel
+    let mut chart = figures::work_precision(&points, "peak", CHART_TOL);
+    (chart.y.title, chart.y.unit) = (
+        "peak error of the watched rotation [-], log (g: stability grid)".into(),
+        String::new(),
     );
-    p.log_x = true;
-    p.log_y = true;
-    p.lines.push(RefLine {
-        vertical: false,
-        at: CHART_TOL,
-        label: "1 %".into(),
-    });
-    for s in &chart.series {
-        p.curves.push(Curve {
-            name: th.text(&s.label),
-            mark: s.glyph,
-            style: th.series(s.color),
-            points: s.points.clone(),
-            marks: Marks::Every,
-        });
-    }
-    if p.curves.is_empty() {
+    (chart.x.title, chart.x.unit) = ("CPU time [s], log".into(), String::new());
+    if chart.series.is_empty() {
         let msg = th.text("no point with a finite error yet…");
         frame.render_widget(Paragraph::new(msg), area);
         return;
     }
-    draw_line_plot(frame, area, &p, th);
+    draw_line_plot(frame, area, &chart, &Look::default(), th);
 }
 
 /// The stability grid as text: a row per method (and contact stiffness), its knobs coarse to

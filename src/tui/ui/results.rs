@@ -3,7 +3,8 @@
 //! impulses of one corner (the modes and the records: `results_model.rs`).
 
 use super::common::{Theme, fit, shown_run};
-use super::line_plot::{Curve, LinePlot, Marks, RefLine, draw_line_plot};
+use super::line_plot::{Look, draw_line_plot};
+use crate::plot::{Axis, Chart, RefLine, Series};
 use super::results_model::{draw_modes, draw_records, note};
 use crate::output::EventKind;
 use crate::tui::app::App;
@@ -153,23 +154,19 @@ fn decimate(r: &RunData, y: &[f64], width: u16, th: &Theme) -> Vec<(f64, f64)> {
 }
 
 fn draw_energy(frame: &mut Frame, area: Rect, r: &RunData, u: &ResultUnits, th: &Theme) {
-    let mut p = LinePlot::new(th.text(&format!("energy [{}]", u.energy)), "t [s]".into());
+    let [t0, t1] = time_range(r);
+    let mut p = Chart::new(
+        "",
+        Axis::linear("t [s]", "").with_range(t0, t1),
+        Axis::linear(&format!("energy [{}]", u.energy), ""),
+    );
     for (k, col) in r.results.ledger.terms.iter().enumerate() {
-        p.curves.push(Curve {
-            name: TERMS[k].into(),
-            mark: TERM_MARKS[k],
-            style: th.series(k),
-            points: decimate(r, col, area.width, th),
-            marks: Marks::Spread,
-        });
+        let points = decimate(r, col, area.width, th);
+        p.series
+            .push(Series::line(TERMS[k], points).color(k).glyph(TERM_MARKS[k]));
     }
-    p.lines.push(RefLine {
-        vertical: false,
-        at: 0.0,
-        label: String::new(),
-    });
-    p.x_range = Some(time_range(r));
-    draw_line_plot(frame, area, &p, th);
+    p.lines.push(RefLine::horizontal(0.0, "", 7));
+    draw_line_plot(frame, area, &p, &Look::default(), th);
 }
 
 /// The run's time span: 0 to its last sample.
@@ -188,10 +185,10 @@ fn draw_contacts(
     let [top, bottom] =
         Layout::vertical([Constraint::Percentage(55), Constraint::Min(0)]).areas(area);
     let f = &r.results.forces;
-    let mut p = LinePlot::new(
-        format!("{} forces [{}]", r.contact_names[i], u.force),
-        "t [s]".into(),
-    );
+    let [t0, t1] = time_range(r);
+    let time = || Axis::linear("t [s]", "").with_range(t0, t1);
+    let title = format!("{} forces [{}]", r.contact_names[i], u.force);
+    let mut p = Chart::new("", time(), Axis::linear(&title, ""));
     for (k, (name, mark, col)) in [
         ("λN normal", 'N', &f.normal[i]),
         ("λT friction", 'T', &f.tangential[i]),
@@ -199,36 +196,24 @@ fn draw_contacts(
     .into_iter()
     .enumerate()
     {
-        p.curves.push(Curve {
-            name: th.text(name),
-            mark,
-            style: th.series(k),
-            points: decimate(r, col, top.width, th),
-            marks: Marks::Spread,
-        });
+        let points = decimate(r, col, top.width, th);
+        p.series
+            .push(Series::line(name, points).color(k).glyph(mark));
     }
-    p.lines.push(RefLine {
-        vertical: false,
-        at: 0.0,
-        label: String::new(),
-    });
-    p.x_range = Some(time_range(r));
-    draw_line_plot(frame, top, &p, th);
-    let mut s = LinePlot::new(
-        th.text(&format!(
-            "impulses at impacts ΛN [{}], | each impact",
-            u.impulse
-        )),
-        "t [s]".into(),
-    );
-    s.stems = (r.events.iter())
-        .filter(|e| e.kind == EventKind::Impact && e.contact == i)
-        .map(|e| (e.t, e.normal))
-        .collect();
-    s.x_range = Some(time_range(r));
-    if s.stems.is_empty() {
+    p.lines.push(RefLine::horizontal(0.0, "", 7));
+    draw_line_plot(frame, top, &p, &Look::default(), th);
+    let title = format!("impulses at impacts ΛN [{}], | each impact", u.impulse);
+    let s = Chart::new("", time(), Axis::linear(&title, ""));
+    let look = Look {
+        stems: (r.events.iter())
+            .filter(|e| e.kind == EventKind::Impact && e.contact == i)
+            .map(|e| (e.t, e.normal))
+            .collect(),
+        ..Look::default()
+    };
+    if look.stems.is_empty() {
         note(frame, bottom, "no impact at this corner", th);
     } else {
-        draw_line_plot(frame, bottom, &s, th);
+        draw_line_plot(frame, bottom, &s, &look, th);
     }
 }

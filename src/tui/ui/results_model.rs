@@ -5,7 +5,8 @@
 //! pseudo-acceleration spectrum with the first mode's period marked).
 
 use super::common::Theme;
-use super::line_plot::{Curve, LinePlot, Marks, RefLine, draw_line_plot};
+use super::line_plot::{Look, draw_line_plot};
+use crate::plot::{Axis, Chart, RefLine, Series};
 use super::plan::draw_mode_plan;
 use crate::tui::app::App;
 use crate::tui::chart::{downsample_minmax, fmt_sig};
@@ -225,20 +226,15 @@ pub(super) fn draw_records(frame: &mut Frame, area: Rect, app: &App, th: &Theme)
         downsample_minmax(&t, y, t0, t1, width as usize * th.per_cell())
     };
     let history = |title: String, mark: char, y: &[f64], area: Rect, k: usize| {
-        let mut p = LinePlot::new(title, "t [s]".into());
-        p.curves.push(Curve {
-            name: String::new(),
-            mark,
-            style: th.series(k),
-            points: series(y, area.width),
-            marks: Marks::Spread,
-        });
-        p.lines.push(RefLine {
-            vertical: false,
-            at: 0.0,
-            label: String::new(),
-        });
-        p.x_range = Some([c.t0, c.t0 + y.len().saturating_sub(1) as f64 * c.dt]);
+        let t1 = c.t0 + y.len().saturating_sub(1) as f64 * c.dt;
+        let mut p = Chart::new(
+            "",
+            Axis::linear("t [s]", "").with_range(c.t0, t1),
+            Axis::linear(&title, ""),
+        );
+        let points = series(y, area.width);
+        p.series.push(Series::line("", points).color(k).glyph(mark));
+        p.lines.push(RefLine::horizontal(0.0, "", 7));
         p
     };
     let pa = history(
@@ -248,7 +244,7 @@ pub(super) fn draw_records(frame: &mut Frame, area: Rect, app: &App, th: &Theme)
         acc,
         0,
     );
-    draw_line_plot(frame, acc, &pa, th);
+    draw_line_plot(frame, acc, &pa, &Look::default(), th);
     let pd = history(
         format!(
             "displacement [{}], PGD {}",
@@ -260,12 +256,13 @@ pub(super) fn draw_records(frame: &mut Frame, area: Rect, app: &App, th: &Theme)
         disp,
         1,
     );
-    draw_line_plot(frame, disp, &pd, th);
-    draw_line_plot(frame, right, &spectrum_plot(c, d.t1, th), th);
+    draw_line_plot(frame, disp, &pd, &Look::default(), th);
+    let (spectrum, look) = spectrum_plot(c, d.t1);
+    draw_line_plot(frame, right, &spectrum, &look, th);
 }
 
-/// The spectrum of a component with T₁ marked.
-fn spectrum_plot(c: &Component, t1: f64, th: &Theme) -> LinePlot {
+/// The spectrum of a component with T₁ marked (a vertical line and a stem to Sa(T₁)).
+fn spectrum_plot(c: &Component, t1: f64) -> (Chart, Look) {
     let title = if t1.is_finite() {
         format!(
             "Sa 5 % [g]; T1 {} s: Sa {} g",
@@ -275,25 +272,16 @@ fn spectrum_plot(c: &Component, t1: f64, th: &Theme) -> LinePlot {
     } else {
         "Sa 5 % [g]".to_string()
     };
-    let mut p = LinePlot::new(th.text(&title), "T [s], log".into());
-    p.log_x = true;
-    p.curves.push(Curve {
-        name: String::new(),
-        mark: 's',
-        style: th.series(2),
-        points: c.spectrum.clone(),
-        marks: Marks::Spread,
-    });
+    let mut p = Chart::new("", Axis::log("T [s], log", ""), Axis::linear(&title, ""));
+    p.series
+        .push(Series::line("", c.spectrum.clone()).color(2).glyph('s'));
+    let mut look = Look::default();
     if t1.is_finite() {
-        p.lines.push(RefLine {
-            vertical: true,
-            at: t1,
-            label: "T1".into(),
-        });
-        p.stems.push((t1, c.sa_t1));
-        p.stem_mark = '*';
+        p.lines.push(RefLine::vertical(t1, "T1", 7));
+        look.stems.push((t1, c.sa_t1));
+        look.stem_mark = '*';
     }
-    p
+    (p, look)
 }
 
 /// A sentence in place of a page's chart.
