@@ -1,7 +1,8 @@
 //! The workbench's renderer of the library's charts ([`crate::plot::Chart`], the same data the
 //! CLI draws as SVG and text): series over linear or log axes (time histories, the response
 //! spectrum, work-precision, the model ladder's cost and error), with reference lines (the zero
-//! line, a period, the 1 % error) and, from the [`Look`], stems (impulses). Each series carries
+//! line, a period, the 1 % error) and, from the [`Look`], stems (impulses) and a study's
+//! cursor; the studies' figures (Fig. 7, Fig. 8, a record suite) too. Each series carries
 //! its own glyph, printed along it and in the legend, so series differ without colour; the y
 //! labels are the data's own extremes.
 
@@ -26,6 +27,8 @@ pub(super) struct Look {
     pub selected: Option<usize>,
     pub stems: Vec<(f64, f64)>,
     pub stem_mark: char,
+    /// The x of a study's cursor: a dim vertical line.
+    pub cursor: Option<f64>,
 }
 
 impl Default for Look {
@@ -35,6 +38,7 @@ impl Default for Look {
             selected: None,
             stems: Vec::new(),
             stem_mark: '|',
+            cursor: None,
         }
     }
 }
@@ -96,6 +100,11 @@ fn extent(c: &Chart, look: &Look) -> [f64; 4] {
         && let (Some(a), Some(e)) = (on(a, log_x), on(e, log_x))
     {
         (b[0], b[1]) = (a, e);
+    }
+    if let Some((a, e)) = c.y.range
+        && let (Some(a), Some(e)) = (on(a, log_y), on(e, log_y))
+    {
+        (b[2], b[3]) = (a, e);
     }
     if !log_y && b[2] <= b[3] {
         b[2] = b[2].min(0.0);
@@ -283,6 +292,9 @@ fn paint(ctx: &mut Context, c: &Chart, look: &Look, b: [f64; 4], size: (f64, f64
         segment(ctx, (a, e), mark, th.dim(), scale, th);
         let at = if l.vertical { (v, b[3]) } else { (b[0], v) };
         ctx.print(at.0, at.1, Span::styled(th.text(&l.label), th.dim()));
+    }
+    if let Some(x) = look.cursor.and_then(|x| on(x, log_x)) {
+        segment(ctx, ((x, b[2]), (x, b[3])), ":", th.dim(), scale, th);
     }
     ctx.layer();
     let pt = |x: f64, y: f64| Some((on(x, log_x)?, on(y, log_y)?));

@@ -30,7 +30,6 @@ mod study_numbers;
 mod time;
 mod timeline;
 mod tornado;
-mod xy_plot;
 
 pub use ascii::{ascii_only, ascii_symbol};
 pub use cache::{Cache, READOUT_PERIOD};

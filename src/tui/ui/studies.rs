@@ -7,7 +7,8 @@
 use super::common::{Theme, fit};
 use super::screen_map::draw_screen;
 use super::study_numbers::{draw_table, readout, split};
-use super::xy_plot::{Plot, Series, draw_plot};
+use super::line_plot::{Look, draw_line_plot};
+use crate::plot::{Axis, Chart, Marker, Series};
 use crate::figures::{FIG7_WITH_CONTACT, FIG7_WITHOUT_CONTACT};
 use crate::study_table::{RunTable, StudyKind, StudyTable};
 use crate::tui::app::{App, StatusKind};
@@ -376,13 +377,16 @@ fn draw_figure(
             return super::tornado::draw_tornado(frame, area, s, at, th);
         }
     };
-    let mut plot = match t.kind {
-        StudyKind::Mu => fig8(t, th),
-        StudyKind::Suite => fig_suite(t, th),
-        _ => fig7(t, th),
+    let chart = match t.kind {
+        StudyKind::Mu => fig8(t),
+        StudyKind::Suite => fig_suite(t),
+        _ => fig7(t),
     };
-    plot.cursor = at;
-    draw_plot(frame, area, &plot, th);
+    let look = Look {
+        cursor: at.filter(|x| x.is_finite()),
+        ..Look::default()
+    };
+    draw_line_plot(frame, area, &chart, &look, th);
 }
 
 /// Bounds of a finite range, padded ([`bounds`]).
@@ -391,115 +395,82 @@ fn range(v: impl Iterator<Item = f64>) -> [f64; 2] {
     bounds(v.iter())
 }
 
-fn fig7(t: &RunTable, th: &Theme) -> Plot {
+/// A series of a study's points: joined, its glyph at every point.
+fn points_series(label: &str, points: Vec<(f64, f64)>, color: usize, glyph: char) -> Series {
+    Series::line(label, points)
+        .marker(Marker::Circle)
+        .color(color)
+        .glyph(glyph)
+}
+
+/// The x range 0 … 1.05 × the largest PGA of the runs.
+fn pga_axis(t: &RunTable, title: &str) -> Axis {
+    let hi = 1.05 * (t.runs.iter().map(|r| r.pga_x)).fold(0.0, f64::max);
+    Axis::linear(title, "").with_range(0.0, hi)
+}
+
+/// The y range 0 … 1.08 × the largest peak (0 … 1 without one).
+fn peak_axis(peak: f64) -> Axis {
+    let hi = if peak > 0.0 { peak * 1.08 } else { 1.0 };
+    Axis::linear("peak |θ| [rad]", "").with_range(0.0, hi)
+}
+
+fn fig7(t: &RunTable) -> Chart {
     let [without, with] = t.fig7();
     let peak = (with.iter().chain(&without))
         .map(|p| p.1)
         .fold(0.0, f64::max);
-    let yb = if peak > 0.0 {
-        [0.0, peak * 1.08]
-    } else {
-        [0.0, 1.0]
-    };
-    Plot {
-        y_title: th.text("peak |θ| [rad]"),
-        x_title: "PGA x [g]".into(),
-        xb: [
-            0.0,
-            1.05 * (t.runs.iter().map(|r| r.pga_x)).fold(0.0, f64::max),
-        ],
-        yb,
-        cursor: None,
-        series: vec![
-            Series {
-                name: "without contact".into(),
-                mark: FIG7_WITHOUT_CONTACT,
-                style: th.series(1),
-                points: without,
-            },
-            Series {
-                name: "with contact".into(),
-                mark: FIG7_WITH_CONTACT,
-                style: th.series(0),
-                points: with,
-            },
-        ],
-    }
+    let mut c = Chart::new("", pga_axis(t, "PGA x [g]"), peak_axis(peak));
+    c.series = vec![
+        points_series("without contact", without, 1, FIG7_WITHOUT_CONTACT),
+        points_series("with contact", with, 0, FIG7_WITH_CONTACT),
+    ];
+    c
 }
 
 /// The record suite: each pair's peak |θ| against PGA (marked by its number, joined across
 /// the levels: its IDA curve), and the median per level (`#`).
-fn fig_suite(t: &RunTable, th: &Theme) -> Plot {
+fn fig_suite(t: &RunTable) -> Chart {
     let [runs, medians] = t.suite_points();
     let peak = runs.iter().map(|p| p.1).fold(0.0, f64::max);
-    let yb = if peak > 0.0 {
-        [0.0, peak * 1.08]
-    } else {
-        [0.0, 1.0]
-    };
+    let mut c = Chart::new("", pga_axis(t, "PGA [g]"), peak_axis(peak));
     let pairs = t.runs.iter().map(|r| r.run).max().unwrap_or(0);
-    let mut series: Vec<Series> = (1..=pairs)
-        .map(|p| Series {
-            name: format!("pair {p}"),
-            mark: run_mark(p),
-            style: th.series(p),
-            points: (t.runs.iter())
+    c.series = (1..=pairs)
+        .map(|p| {
+            let pts = (t.runs.iter())
                 .filter(|r| r.run == p && r.is_ok())
                 .map(|r| (r.pga_x, r.peak_rotation))
-                .collect(),
+                .collect();
+            points_series(&format!("pair {p}"), pts, p, run_mark(p))
         })
         .collect();
-    series.push(Series {
-        name: "median".into(),
-        mark: '#',
-        style: th.series(0),
-        points: medians,
-    });
-    Plot {
-        y_title: th.text("peak |θ| [rad]"),
-        x_title: "PGA [g]".into(),
-        xb: [
-            0.0,
-            1.05 * (t.runs.iter().map(|r| r.pga_x)).fold(0.0, f64::max),
-        ],
-        yb,
-        series,
-        cursor: None,
-    }
+    c.series.push(points_series("median", medians, 0, '#'));
+    c
 }
 
-fn fig8(t: &RunTable, th: &Theme) -> Plot {
+fn fig8(t: &RunTable) -> Chart {
     let curves = t.fig8();
     let ys = (curves.iter()).flat_map(|c| c.points.iter().map(|p| p.1));
     let mut yb = range(ys.chain([0.0]));
     if yb[0] > 0.0 {
         yb[0] = 0.0;
     }
-    let series = (curves.iter().enumerate())
-        .map(|(i, c)| Series {
-            name: format!("{} g", crate::tui::chart::fmt_sig(c.pga_x, 3)),
-            mark: run_mark(c.run),
-            style: th.series(i),
-            points: c.points.clone(),
+    let mus = t.mus();
+    let lo = mus.iter().copied().fold(f64::INFINITY, f64::min);
+    let hi = mus.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    let xb = if hi > lo { [lo, hi] } else { range(mus.into_iter()) };
+    let mut c = Chart::new(
+        "",
+        Axis::linear("μ [-]", "").with_range(xb[0], xb[1]),
+        Axis::linear("increase of peak |θ| [%] by run (PGA x)", "").with_range(yb[0], yb[1]),
+    );
+    c.series = (curves.iter().enumerate())
+        .map(|(i, cv)| {
+            let label = format!("{} g", crate::tui::chart::fmt_sig(cv.pga_x, 3));
+            points_series(&label, cv.points.clone(), i, run_mark(cv.run))
         })
         .collect();
-    Plot {
-        y_title: th.text("increase of peak |θ| [%] by run (PGA x)"),
-        x_title: th.text("μ [-]"),
-        xb: {
-            let mus = t.mus();
-            let lo = mus.iter().copied().fold(f64::INFINITY, f64::min);
-            let hi = mus.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-            if hi > lo {
-                [lo, hi]
-            } else {
-                range(mus.into_iter())
-            }
-        },
-        yb,
-        series,
-        cursor: None,
-    }
+    c
 }
 
 /// Draws the list of CSVs to reopen over the screen.
