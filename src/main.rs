@@ -187,11 +187,20 @@ fn main() -> ExitCode {
             lag,
             baseline,
             csv,
-        }) => cli::inspect::cmd_excitation(&file, target_pga, time_scale, lag, baseline, csv.as_deref()),
+        }) => cli::inspect::cmd_excitation(
+            &file,
+            target_pga,
+            time_scale,
+            lag,
+            baseline,
+            csv.as_deref(),
+        ),
         Some(Command::Sweep(a)) => cli::sweep::cmd_sweep(&a),
-        Some(Command::Study { kind, model: m, out }) => {
-            cli::study::cmd_study(kind, &m.path, &m.set, &out)
-        }
+        Some(Command::Study {
+            kind,
+            model: m,
+            out,
+        }) => cli::study::cmd_study(kind, &m.path, &m.set, &out),
         Some(Command::Precision {
             model: m,
             methods,

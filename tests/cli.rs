@@ -557,8 +557,19 @@ fn unknown_methods_and_studies_are_refused_with_the_known_names() {
     // a known name goes through to the model: the method is the run's (Moreau–Jean chooses
     // its step from K₀ and says so)
     let r = deckspin(&[
-        "run", &m, "--out", &o, "--method", "moreau", "--set", "solver.t_end=0.05",
+        "run",
+        &m,
+        "--out",
+        &o,
+        "--method",
+        "moreau",
+        "--set",
+        "solver.t_end=0.05",
     ]);
     assert_eq!(r.status.code(), Some(0), "{}", text(&r.stderr));
-    assert!(text(&r.stderr).contains("moreau chose solver.step"), "{}", text(&r.stderr));
+    assert!(
+        text(&r.stderr).contains("moreau chose solver.step"),
+        "{}",
+        text(&r.stderr)
+    );
 }

@@ -377,14 +377,24 @@ fn no_import_circle_between_files() {
     let core = root().join("crates/core/src");
     assert!(edges.iter().any(|(f, t)| {
         module_of(f).first().is_some_and(|m| m == "suite")
-            && t.iter().any(|p| p.starts_with(&core) && module_of(p) == ["simulate"])
+            && t.iter()
+                .any(|p| p.starts_with(&core) && module_of(p) == ["simulate"])
     }));
 }
 
 /// The names of the crates `cargo tree` lists for `package` (normal and build dependencies).
 fn dependency_tree(package: &str) -> BTreeSet<String> {
     let out = std::process::Command::new(env!("CARGO"))
-        .args(["tree", "--offline", "-e", "normal,build", "--prefix", "none", "-p", package])
+        .args([
+            "tree",
+            "--offline",
+            "-e",
+            "normal,build",
+            "--prefix",
+            "none",
+            "-p",
+            package,
+        ])
         .current_dir(root())
         .output()
         .expect("cargo runs");
@@ -417,7 +427,10 @@ fn the_engine_and_studies_crates_hold_no_front_end() {
     ];
     let held: Vec<&&str> = FRONT_ENDS.iter().filter(|c| tree.contains(**c)).collect();
     assert!(held.is_empty(), "deckspin-core depends on {held:?}");
-    let held: Vec<&&str> = FRONT_ENDS.iter().filter(|c| studies.contains(**c)).collect();
+    let held: Vec<&&str> = FRONT_ENDS
+        .iter()
+        .filter(|c| studies.contains(**c))
+        .collect();
     assert!(held.is_empty(), "deckspin-studies depends on {held:?}");
     assert!(studies.contains("rayon") && studies.contains("deckspin-core"));
     // the check sees the tree (it can fail): the engine's own crates are in it, and the top

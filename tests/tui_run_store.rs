@@ -567,7 +567,12 @@ fn a_kept_runs_series_is_history_csvs_layout() {
     // the CLI's history.csv of the same model
     let out = model.parent().unwrap().join("cli-out");
     let r = std::process::Command::new(env!("CARGO_BIN_EXE_deckspin"))
-        .args(["run", &model.display().to_string(), "--out", &out.display().to_string()])
+        .args([
+            "run",
+            &model.display().to_string(),
+            "--out",
+            &out.display().to_string(),
+        ])
         .output()
         .unwrap();
     assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
@@ -575,7 +580,11 @@ fn a_kept_runs_series_is_history_csvs_layout() {
     let head: Vec<&str> = history.lines().next().unwrap().split(',').collect();
     let cols = deckspin::output::series::read_columns(&kept).unwrap();
     assert!(cols.len() > 10, "{}", cols.len());
-    let rows: Vec<Vec<&str>> = history.lines().skip(1).map(|l| l.split(',').collect()).collect();
+    let rows: Vec<Vec<&str>> = history
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').collect())
+        .collect();
     let mut checked = 0;
     for (name, values) in &cols {
         let j = (head.iter().position(|h| h == name))
@@ -628,8 +637,14 @@ fn a_kept_runs_series_is_history_csvs_layout() {
     let now = run_store::load_series(&dir, 1, t_end).unwrap();
     std::fs::write(dir.join("0001.csv"), old).unwrap();
     let then = run_store::load_series(&dir, 1, t_end).unwrap();
-    assert_eq!((then.t.len(), then.q.len(), then.gap.len()), (now.t.len(), now.q.len(), now.gap.len()));
-    assert_eq!((&then.dof_names, &then.contact_names, &then.element_names), (&now.dof_names, &now.contact_names, &now.element_names));
+    assert_eq!(
+        (then.t.len(), then.q.len(), then.gap.len()),
+        (now.t.len(), now.q.len(), now.gap.len())
+    );
+    assert_eq!(
+        (&then.dof_names, &then.contact_names, &then.element_names),
+        (&now.dof_names, &now.contact_names, &now.element_names)
+    );
     assert_eq!((&then.q, &then.gap, &then.el), (&now.q, &now.gap, &now.el));
     cleanup(&model);
 }

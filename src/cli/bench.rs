@@ -128,7 +128,10 @@ fn instructions(model: &Path) -> CliResult {
             .ok_or_else(|| format!("no instruction count in valgrind's output: {err}").into())
     };
     // the function's path as the compiler names it (its crate's, not this one's)
-    let toggle = format!("{}*", std::any::type_name_of_val(&deckspin::simulate::integrate));
+    let toggle = format!(
+        "{}*",
+        std::any::type_name_of_val(&deckspin::simulate::integrate)
+    );
     let counts = count(None).and_then(|all| Ok((all, count(Some(&toggle))?)));
     let _ = std::fs::remove_dir_all(&dir);
     let (all, integration) = counts?;

@@ -1,15 +1,15 @@
 //! Workbench state: [`App`], its modes and presentation options. Changed only by
 //! [`super::update`]; drawn by [`super::ui`].
 
-use crate::tui::form::{self, Form};
 use super::keymap::{self, Ctx};
-pub use crate::tui::form::merge::Conflict;
 use super::results::Results;
+use super::term::{ColorDepth, Glyphs};
+use crate::scene::Scene;
+pub use crate::tui::form::merge::Conflict;
+use crate::tui::form::{self, Form};
 use crate::tui::runs::data::RunData;
 use crate::tui::runs::list::Runs;
 use crate::tui::studies::Studies;
-use super::term::{ColorDepth, Glyphs};
-use crate::scene::Scene;
 use std::hash::{Hash, Hasher};
 use std::path::{Path, PathBuf};
 

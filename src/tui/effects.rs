@@ -2,14 +2,17 @@
 //! (threads or blocking calls, timing) is a [`Host`].
 
 use super::app::App;
-use crate::tui::runs::export;
 use super::msg::{Effect, Msg};
 use super::results::ResultSpec;
-use crate::tui::workers::results as results_worker;
-use crate::tui::studies::StudySpec;
 use super::update::update;
-use super::{form::model_files, runs::store as run_store, studies::files as study_files, workers::study as study_worker, workers::run as worker};
+use super::{
+    form::model_files, runs::store as run_store, studies::files as study_files,
+    workers::run as worker, workers::study as study_worker,
+};
 use crate::scene::Scene;
+use crate::tui::runs::export;
+use crate::tui::studies::StudySpec;
+use crate::tui::workers::results as results_worker;
 use std::collections::VecDeque;
 use std::io::{self, Write};
 use std::path::Path;

@@ -27,7 +27,7 @@ pub mod workers;
 
 pub use app::{App, Options};
 pub use effects::{Blocking, Host, execute_blocking, perform, save_atomic};
-pub use runs::export::write_exports;
 pub use msg::{Effect, Msg};
+pub use runs::export::write_exports;
 pub use runtime::run;
 pub use update::update;

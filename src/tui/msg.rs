@@ -2,14 +2,14 @@
 
 use super::keymap::Action;
 use super::results::{ModesData, RecordsData, ResultSpec};
-use crate::tui::runs::data::{RunData, RunFailure};
-use crate::tui::runs::store as run_store;
-use crate::tui::studies::StudySpec;
 use crate::output::{EventRecord, RunOutput, Sample};
 use crate::precision::Point;
 use crate::scene::Scene;
 use crate::studies::Row;
 use crate::study_table::StudyTable;
+use crate::tui::runs::data::{RunData, RunFailure};
+use crate::tui::runs::store as run_store;
+use crate::tui::studies::StudySpec;
 use crossterm::event::KeyEvent;
 use std::path::PathBuf;
 use std::sync::Arc;

@@ -7,12 +7,15 @@
 use super::app::{App, Confirm, Mode, Options, StatusKind};
 use super::effects::{Host, Job, perform};
 use super::msg::Msg;
-use crate::tui::studies::StudySpec;
 use super::term::{ColorDepth, Glyphs, SgrFilter};
 use super::ui;
 use super::update::update;
-use super::{workers::results as results_worker, signals, workers::study as study_worker, form::swap, workers::watch, workers::run as worker};
+use super::{
+    form::swap, signals, workers::results as results_worker, workers::run as worker,
+    workers::study as study_worker, workers::watch,
+};
 use crate::scene::Scene;
+use crate::tui::studies::StudySpec;
 use crossterm::event::{self, Event};
 use crossterm::execute;
 use crossterm::terminal::{

@@ -146,7 +146,10 @@ pub fn recovery_places(model: &Path) -> Vec<PathBuf> {
     let flat = crate::tui::form::swap::flattened(model);
     vec![
         recovery_path(model),
-        recovery_path_in(&crate::tui::form::swap::state_dir().join("recovered"), &flat),
+        recovery_path_in(
+            &crate::tui::form::swap::state_dir().join("recovered"),
+            &flat,
+        ),
         recovery_path_in(&std::env::temp_dir(), &format!("deckspin-{flat}")),
     ]
 }

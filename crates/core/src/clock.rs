@@ -2,7 +2,6 @@
 //! process (a parallel sweep, all its threads). Time spent waiting for a core does not count;
 //! a core the host slows still does. NaN where the clock is not available.
 
-
 /// CPU seconds the calling thread has used (`CLOCK_THREAD_CPUTIME_ID`).
 pub fn thread_cpu_seconds() -> f64 {
     #[cfg(unix)]

@@ -1,7 +1,6 @@
 //! Dormand–Prince 5(4) with FSAL and Hairer's 4th-order dense output
 //! (Hairer, Nørsett & Wanner, *Solving ODEs I*, §II.5–6, code DOPRI5).
 
-
 use nalgebra::DVector;
 
 const C: [f64; 7] = [0.0, 1.0 / 5.0, 3.0 / 10.0, 4.0 / 5.0, 8.0 / 9.0, 1.0, 1.0];
@@ -335,7 +334,13 @@ impl Controller {
 }
 
 /// Initial step guess (Hairer's `hinit`, simplified).
-pub(crate) fn initial_h(y0: &DVector<f64>, f0: &DVector<f64>, rtol: f64, atol: f64, n_err: usize) -> f64 {
+pub(crate) fn initial_h(
+    y0: &DVector<f64>,
+    f0: &DVector<f64>,
+    rtol: f64,
+    atol: f64,
+    n_err: usize,
+) -> f64 {
     let mut d0 = 0.0;
     let mut d1 = 0.0;
     for i in 0..n_err.min(y0.len()) {

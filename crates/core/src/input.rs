@@ -3,7 +3,6 @@
 //! never more than a limit of bytes (a file past it is refused by its size, without reading the
 //! rest).
 
-
 use std::io::Read;
 use std::path::Path;
 

@@ -19,7 +19,6 @@
 //!   Heldermann 1988, ch. 2 (complementary pivot algorithm) and ch. 6
 //!   (exponential examples).
 
-
 use nalgebra::{DMatrix, DVector};
 
 /// Options for [`lemke`].

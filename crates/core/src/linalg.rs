@@ -2,7 +2,6 @@
 //! solutions of redundant constraint systems (regularized Cholesky, SVD fallback), on the stack
 //! for up to 12 unknowns.
 
-
 use nalgebra::{DMatrix, DVector};
 
 /// Minimum-norm solution of a rank-deficient (redundant constraints), consistent system:
@@ -203,7 +202,12 @@ const ELIM_N: usize = 12;
 
 /// Gaussian elimination with complete pivoting (on the stack for n ≤ 12) into `out`; false
 /// when a pivot falls below `tol` of the largest (rank-deficient) or the result is not finite.
-pub(crate) fn eliminate_into(a: &DMatrix<f64>, b: &DVector<f64>, tol: f64, out: &mut [f64]) -> bool {
+pub(crate) fn eliminate_into(
+    a: &DMatrix<f64>,
+    b: &DVector<f64>,
+    tol: f64,
+    out: &mut [f64],
+) -> bool {
     // the smallest stack array that holds the system (the elimination is the same)
     match a.nrows() {
         0..=4 => eliminate_on::<4>(a, b, tol, out),

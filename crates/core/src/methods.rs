@@ -1,7 +1,6 @@
 //! The integration methods, in one registry: names, parsing, the knob a work–precision diagram
 //! sweeps for each, and chart letters (the dispatch of a scene to its method is [`crate::simulate`]).
 
-
 use std::fmt;
 
 /// How a scene is integrated.

@@ -1,7 +1,6 @@
 //! Modal analysis of any model at its initial state: K₀, modes (K₀ φ = ω² M φ) and Rayleigh
 //! damping. The `modes` command and the bridge's `[damping]` both use it.
 
-
 use crate::scene::{Attachment, MassDamping, Scene, spread};
 use nalgebra::{DMatrix, DVector};
 

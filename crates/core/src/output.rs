@@ -1,7 +1,6 @@
 //! Run results: time history (output grid plus every event instant), event log, energy ledger
 //! and summary; writers for `history.csv`, `events.csv` and `summary.json`.
 
-
 use crate::hysteresis::{Hysteretic, Law};
 use crate::scene::Scene;
 use serde::Serialize;

@@ -1,7 +1,6 @@
 //! The run API every method shares: why a run stopped ([`SolverError`]), observers of a run
 //! in progress, and the batching of what a run adds for them.
 
-
 use crate::lemke::LcpError;
 use crate::methods::Method;
 use crate::output::number::MAX_NUMBER_BYTES;

@@ -1,6 +1,5 @@
 //! Dispatch of a scene to the method its settings name.
 
-
 use crate::methods::Method;
 use crate::output::RunOutput;
 use crate::run::{Observer, Run, SolverError, Stop};

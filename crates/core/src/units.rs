@@ -2,7 +2,6 @@
 //! `"SI"` (kg, N, m, s) or `"kip-in"` (kip·s²/in, kip, in, s). The engine is unit-free (any
 //! consistent set); the system names each quantity's unit and converts records, which are in g.
 
-
 use std::fmt;
 
 /// A consistent set of units: mass = force · s² / length.

@@ -182,7 +182,9 @@ pub(crate) fn write_rows(
 }
 
 /// The table of the rows after the header ((line, record) pairs); Err: (line, reason).
-pub(crate) fn read_rows(body: &[(u64, csv::StringRecord)]) -> Result<PrecisionTable, (u64, String)> {
+pub(crate) fn read_rows(
+    body: &[(u64, csv::StringRecord)],
+) -> Result<PrecisionTable, (u64, String)> {
     let mut t = PrecisionTable {
         planned: Vec::new(),
         points: Vec::new(),

@@ -374,7 +374,11 @@ impl BridgeSequence {
 
     /// The runs `runs` in one sequence with extra overrides, without observers (`keep_history`
     /// false: the summaries only).
-    pub(crate) fn run_silent(&self, runs: &[usize], set: &[String]) -> (Sequence, Option<SequenceError>) {
+    pub(crate) fn run_silent(
+        &self,
+        runs: &[usize],
+        set: &[String],
+    ) -> (Sequence, Option<SequenceError>) {
         let mut seq = Sequence::new();
         for &k in runs {
             let r = self.stage(k, set).and_then(|mut stage| {

@@ -5,9 +5,11 @@
 use crate::FrictionFork;
 use crate::model::{self, ModelError};
 use crate::output::RunOutput;
-pub use crate::output::deck::{DeckPeaks, deck_bodies, free_body_rotation, largest_rotation_dof, rotation_dof};
-pub use csv::{csv_fields, csv_header, csv_text, row_from_csv, write_csv};
+pub use crate::output::deck::{
+    DeckPeaks, deck_bodies, free_body_rotation, largest_rotation_dof, rotation_dof,
+};
 use crate::progress::{Progress, Unwatched};
+pub use csv::{csv_fields, csv_header, csv_text, row_from_csv, write_csv};
 
 mod csv;
 use crate::run::SolverError;

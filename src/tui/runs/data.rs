@@ -1,10 +1,10 @@
 //! The charted history of one run, in columns, with the engine's running summary
 //! ([`Tally`]) of its samples.
 
-use crate::tui::runs::results::RunResults;
 use crate::output::{ContactState, EventKind, EventRecord, RunOutput, Sample, Summary, Tally};
 use crate::run::SolverError;
 use crate::scene::Scene;
+use crate::tui::runs::results::RunResults;
 use std::sync::Arc;
 
 /// A token for a run's data read back from disk: above any a worker is started with.

@@ -1,11 +1,11 @@
 //! CSV export of the charted data in the window, of the whole run and of the event log, into
 //! the model's output folder ([`crate::tui::runs::out_folder`]) under a new number each time.
 
-use crate::tui::chart;
-use crate::tui::runs::out_folder::EXPORT_PREFIX;
-use crate::tui::runs::data::RunData;
 use crate::output::files::write_new;
 use crate::output::series::{Column, columns_csv};
+use crate::tui::chart;
+use crate::tui::runs::data::RunData;
+use crate::tui::runs::out_folder::EXPORT_PREFIX;
 use std::path::{Path, PathBuf};
 
 /// CSV of what is charted (full resolution, in the time window) and of the event log (the

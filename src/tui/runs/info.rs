@@ -21,7 +21,9 @@ pub fn lines(info: &Info, width: usize) -> Vec<String> {
     let mut out = Vec::new();
     for (label, text) in &info.rows {
         // a panic's message holds line breaks: each line wrapped
-        let chunks = text.lines().flat_map(|l| crate::tui::messages::wrap(l, room));
+        let chunks = text
+            .lines()
+            .flat_map(|l| crate::tui::messages::wrap(l, room));
         for (i, chunk) in chunks.enumerate() {
             let head = if i == 0 { label.as_str() } else { "" };
             out.push(format!("{head:<LABEL$}{chunk}"));

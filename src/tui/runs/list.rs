@@ -159,10 +159,9 @@ impl Results {
         // a run outside its accuracy bounds ran to its end: its summary is whole
         let bounds = match &r.status {
             RunStatus::Failed(e) => match e.as_ref() {
-                crate::tui::runs::data::RunFailure::Solver(crate::run::SolverError::Inaccurate {
-                    bounds,
-                    ..
-                }) => Some(bounds.as_slice()),
+                crate::tui::runs::data::RunFailure::Solver(
+                    crate::run::SolverError::Inaccurate { bounds, .. },
+                ) => Some(bounds.as_slice()),
                 _ => None,
             },
             _ => None,

@@ -2,11 +2,11 @@
 //! instant, what happened at an instant, the state of each contact at the cursor and the last
 //! impact before it. Used by `]`/`[`, the event list and the readouts.
 
+use crate::output::{ContactState, EventKind, EventRecord};
 use crate::tui::app::App;
 use crate::tui::chart;
 use crate::tui::eng;
 use crate::tui::runs::data::RunData;
-use crate::output::{ContactState, EventKind, EventRecord};
 use crate::units::Quantity;
 
 /// The events' indices in time order (events of one instant keep their order).

@@ -9,10 +9,10 @@
 //! from then on it is not listed), then removing its other files and that one; a deletion cut
 //! short is finished at the next opening.
 
-use crate::tui::runs::data::{RunData, RunStatus, fresh_token};
-use crate::tui::runs::list::{Change, Ended, Entry, KEEP, Results, Runs, Series};
 use crate::output::series::{Column, columns_csv, read_columns};
+use crate::tui::runs::data::{RunData, RunStatus, fresh_token};
 use crate::tui::runs::export::series_columns;
+use crate::tui::runs::list::{Change, Ended, Entry, KEEP, Results, Runs, Series};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::io::Write;
@@ -250,7 +250,10 @@ fn read_series(text: &str, n: u64, t_end: f64) -> Result<RunData, String> {
     d.gap = gap;
     for (j, (a, b)) in el.into_iter().enumerate() {
         let (x, y) = (&a, &b);
-        let finite = x.iter().zip(y).filter(|(x, y)| x.is_finite() && y.is_finite());
+        let finite = x
+            .iter()
+            .zip(y)
+            .filter(|(x, y)| x.is_finite() && y.is_finite());
         d.el_range[j] = finite.fold(d.el_range[j], |e, (&x, &y)| {
             [e[0].min(x), e[1].max(x), e[2].min(y), e[3].max(y)]
         });

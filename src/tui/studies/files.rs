@@ -3,10 +3,10 @@
 //! output folder, [`crate::tui::runs::out_folder`]), listed newest first (the exports beside them left
 //! out), read back.
 
-use crate::tui::runs::out_folder::is_export;
 use crate::output::files::write_new;
 use crate::study_csv::{read_file, to_csv};
 use crate::study_table::StudyTable;
+use crate::tui::runs::out_folder::is_export;
 use std::path::{Path, PathBuf};
 
 /// Writes `table` into the first of `dirs` that accepts it (the folder created if need be).

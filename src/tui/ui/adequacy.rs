@@ -8,9 +8,9 @@
 
 use super::common::{Theme, fit, fit_lines};
 use super::line_plot::{Look, draw_line_plot};
-use crate::plot::Chart;
 use crate::design::adequacy::{Adequacy, Outcome};
 use crate::design::adequacy_report::{chart, percent, short};
+use crate::plot::Chart;
 use crate::tui::studies::design_rows::variant_of_row;
 use ratatui::Frame;
 use ratatui::layout::Rect;
@@ -85,7 +85,13 @@ pub(super) fn draw_adequacy(
         let x = body.x + tw + 2;
         let cw = (body.x + body.width).saturating_sub(x);
         let (chart, look) = plot(a, cursor);
-        draw_line_plot(frame, Rect::new(x, body.y, cw, body.height), &chart, &look, th);
+        draw_line_plot(
+            frame,
+            Rect::new(x, body.y, cw, body.height),
+            &chart,
+            &look,
+            th,
+        );
     }
 }
 

@@ -5,8 +5,8 @@
 use super::common::{Theme, shown_run};
 use super::timeline::{kind_mark, row_names};
 use crate::tui::app::App;
-use crate::tui::runs::nav;
 use crate::tui::runs::data::RunData;
+use crate::tui::runs::nav;
 use ratatui::Frame;
 use ratatui::layout::Rect;
 use ratatui::text::Line;

@@ -153,7 +153,10 @@ fn legend(c: &Chart, look: &Look, width: usize, lines: usize, th: &Theme) -> Vec
     for (i, s) in c.series.iter().enumerate().filter(|_| look.legend) {
         let name = th.text(&s.label);
         let w = 4 + name.chars().count();
-        let mark = Span::styled(s.glyph.to_string(), style_of(c, look, i, th).patch(th.bold()));
+        let mark = Span::styled(
+            s.glyph.to_string(),
+            style_of(c, look, i, th).patch(th.bold()),
+        );
         let name = Span::raw(format!(" {name}"));
         let last = out.last_mut().expect("a first line");
         if last.1 + w <= width {
@@ -276,7 +279,10 @@ fn segment(
 fn paint(ctx: &mut Context, c: &Chart, look: &Look, b: [f64; 4], size: (f64, f64), th: &Theme) {
     let (log_x, log_y) = logs(c);
     // cells per unit along x and y
-    let scale = ((size.0 - 1.0) / (b[1] - b[0]), (size.1 - 1.0) / (b[3] - b[2]));
+    let scale = (
+        (size.0 - 1.0) / (b[1] - b[0]),
+        (size.1 - 1.0) / (b[3] - b[2]),
+    );
     for l in &c.lines {
         let Some(v) = on(l.at, if l.vertical { log_x } else { log_y }) else {
             continue;
@@ -307,7 +313,9 @@ fn paint(ctx: &mut Context, c: &Chart, look: &Look, b: [f64; 4], size: (f64, f64
         }
     }
     let points = |i: usize| -> Vec<(f64, f64)> {
-        (c.series[i].points.iter()).filter_map(|&(x, y)| pt(x, y)).collect()
+        (c.series[i].points.iter())
+            .filter_map(|&(x, y)| pt(x, y))
+            .collect()
     };
     for (i, s) in c.series.iter().enumerate() {
         if s.stroke == crate::plot::Stroke::None {

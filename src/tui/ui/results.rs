@@ -4,9 +4,9 @@
 
 use super::common::{Theme, fit, shown_run};
 use super::line_plot::{Look, draw_line_plot};
-use crate::plot::{Axis, Chart, RefLine, Series};
 use super::results_model::{draw_modes, draw_records, note};
 use crate::output::EventKind;
+use crate::plot::{Axis, Chart, RefLine, Series};
 use crate::tui::app::App;
 use crate::tui::chart::{downsample_minmax, fmt_sig};
 use crate::tui::results::{JobState, Page};

@@ -6,8 +6,8 @@
 
 use super::common::Theme;
 use super::line_plot::{Look, draw_line_plot};
-use crate::plot::{Axis, Chart, RefLine, Series};
 use super::plan::draw_mode_plan;
+use crate::plot::{Axis, Chart, RefLine, Series};
 use crate::tui::app::App;
 use crate::tui::chart::{downsample_minmax, fmt_sig};
 use crate::tui::results::{Component, JobState, ModesData, Page, RecordsData};

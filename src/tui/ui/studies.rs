@@ -5,17 +5,17 @@
 //! CSVs to reopen.
 
 use super::common::{Theme, fit};
+use super::line_plot::{Look, draw_line_plot};
 use super::screen_map::draw_screen;
 use super::study_numbers::{draw_table, readout, split};
-use super::line_plot::{Look, draw_line_plot};
-use crate::plot::{Axis, Chart, Marker, Series};
 use crate::figures::{FIG7_WITH_CONTACT, FIG7_WITHOUT_CONTACT};
+use crate::plot::{Axis, Chart, Marker, Series};
 use crate::study_table::{RunTable, StudyKind, StudyTable};
 use crate::tui::app::{App, StatusKind};
 use crate::tui::chart::bounds;
 use crate::tui::results::Page;
-use crate::tui::studies::{Entry, Phase, Source, Studies, title, what};
 use crate::tui::studies::points::{points, run_mark};
+use crate::tui::studies::{Entry, Phase, Source, Studies, title, what};
 use ratatui::Frame;
 use ratatui::layout::{Constraint, Layout, Rect};
 use ratatui::text::{Line, Span};
@@ -458,7 +458,11 @@ fn fig8(t: &RunTable) -> Chart {
     let mus = t.mus();
     let lo = mus.iter().copied().fold(f64::INFINITY, f64::min);
     let hi = mus.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-    let xb = if hi > lo { [lo, hi] } else { range(mus.into_iter()) };
+    let xb = if hi > lo {
+        [lo, hi]
+    } else {
+        range(mus.into_iter())
+    };
     let mut c = Chart::new(
         "",
         Axis::linear("μ [-]", "").with_range(xb[0], xb[1]),

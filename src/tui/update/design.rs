@@ -6,9 +6,9 @@
 use crate::design::swings::Sensitivity;
 use crate::study_table::{StudyKind, StudyTable};
 use crate::tui::app::{App, StatusKind};
-use crate::tui::studies::design_rows::{order, quantity, rows, variant_of_row};
 use crate::tui::form;
 use crate::tui::keymap::Action;
+use crate::tui::studies::design_rows::{order, quantity, rows, variant_of_row};
 use crate::tui::studies::{Applied, Studies};
 
 /// The keys of the design studies (`a`, `n`, `u`).

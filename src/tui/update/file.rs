@@ -166,8 +166,8 @@ pub(super) fn export(app: &mut App) -> Vec<Effect> {
 /// The answer to the swap file found at the start: its edits as the draft (`r`), kept in a
 /// recovery file with the model opened as on disk (`k`), or deleted (`d`).
 pub(super) fn answer_swap(app: &mut App, a: crate::tui::keymap::Action) -> Vec<Effect> {
-    use crate::tui::keymap::Action as A;
     use crate::tui::form::swap;
+    use crate::tui::keymap::Action as A;
     let Mode::Confirm(Confirm::Recover { found, differences }) =
         std::mem::replace(&mut app.mode, Mode::Normal)
     else {

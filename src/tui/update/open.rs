@@ -2,8 +2,8 @@
 //! chosen (asking first when there are unsaved edits), read and opened by [`App::open_model`].
 
 use crate::tui::app::{App, Confirm, Mode, StatusKind};
-use crate::tui::keymap::Action;
 use crate::tui::form::model_files::folder_of;
+use crate::tui::keymap::Action;
 use crate::tui::msg::Effect;
 use std::path::{Path, PathBuf};
 

@@ -7,8 +7,8 @@ use crate::tui::app::{App, Mode, StatusKind, View};
 use crate::tui::keymap::Action;
 use crate::tui::msg::{Effect, StudyOutcome};
 use crate::tui::runs::out_folder::{out_dirs, reopen_dirs};
-use crate::tui::studies::{self as study, Entry, Phase, Source, Studies, StudySpec, title};
 use crate::tui::studies::points::points;
+use crate::tui::studies::{self as study, Entry, Phase, Source, Studies, StudySpec, title};
 use std::path::PathBuf;
 
 /// The most record pairs the workbench's suite takes (the far-field set has 19).

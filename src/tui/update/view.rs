@@ -3,8 +3,8 @@
 
 use crate::tui::app::{App, StatusKind, View};
 use crate::tui::keymap::Action;
-use crate::tui::runs::nav;
 use crate::tui::runs::data::RunData;
+use crate::tui::runs::nav;
 
 /// `Tab`, `S-Tab`, `m`, `o`.
 pub(super) fn toggle(app: &mut App, a: Action) {

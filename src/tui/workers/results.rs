@@ -2,14 +2,14 @@
 //! response spectrum (a period at a time, with progress, stopped by a cancel flag). The end
 //! is a [`Msg::ResultDone`]; a panic is reported as a failure, the terminal left alone.
 
+use crate::excitation::G;
+use crate::scene::Scene;
+use crate::suite::intensity::pseudo_acceleration;
 use crate::tui::msg::{Msg, ResultData, ResultOutcome};
 use crate::tui::results::{
     Component, RecordsData, ResultSpec, modes_data, record_supports, spectrum, spectrum_periods,
 };
 use crate::tui::workers::run::{JobBody, panic_text, spawn_job};
-use crate::excitation::G;
-use crate::scene::Scene;
-use crate::suite::intensity::pseudo_acceleration;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::Sender;

@@ -3,11 +3,11 @@
 //! as a [`Msg::Batch`]; the end of the run is a [`Msg::RunDone`]. A run is cancelled through a
 //! flag the observer checks at every batch.
 
-use crate::tui::msg::{Msg, RunOutcome};
-use crate::tui::runs::data::RunFailure;
 use crate::output::{EventRecord, Sample};
 use crate::run::{Observer, Run, Stop};
 use crate::scene::Scene;
+use crate::tui::msg::{Msg, RunOutcome};
+use crate::tui::runs::data::RunFailure;
 use std::cell::RefCell;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};

@@ -5,14 +5,14 @@
 //! at its end (the ladder, the swings) counts its runs in [`Msg::StudyProgress`] instead. A
 //! cancel flag, read before each run starts, skips the runs not started.
 
-use crate::tui::form::shown_error;
-use crate::tui::msg::{Msg, StudyOutcome};
-use crate::tui::studies::StudySpec;
-use crate::tui::workers::run::{JobBody, THREAD_PREFIX, panic_text, spawn_job};
 use crate::precision_study::run_precision;
 use crate::progress::Progress;
 use crate::studies::{Row, Study, Watch};
 use crate::study_table::{StudyKind, StudyTable, run_study};
+use crate::tui::form::shown_error;
+use crate::tui::msg::{Msg, StudyOutcome};
+use crate::tui::studies::StudySpec;
+use crate::tui::workers::run::{JobBody, THREAD_PREFIX, panic_text, spawn_job};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::mpsc::Sender;
 use std::sync::{Arc, Mutex};

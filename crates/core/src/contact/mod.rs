@@ -1,7 +1,6 @@
 //! The two LCPs of the paper (§3.2): frictional impact at velocity level (eq. 5–7) and
 //! continuous contact / detachment at acceleration level (eq. 8–10), both solved by Lemke.
 
-
 pub mod law;
 
 pub use law::coulomb;

@@ -16,7 +16,6 @@
 //! - [`islands`]: islands of bodies on their own steps while their contacts are open;
 //!   [`groups`]: islands joined while a contact between them may close or is closed.
 
-
 mod driver;
 mod dynamics;
 mod engine;

@@ -29,7 +29,6 @@
 //! Soil Dyn. Earthq. Eng. 25, 93–115; A. Arias (1970); M. D. Trifunac & A. G. Brady (1975),
 //! BSSA 65(3) 581–626 (5–95 % significant duration); PEER NGA AT2 format.
 
-
 mod error;
 mod motion;
 mod processing;

@@ -51,7 +51,6 @@
 //!     `f = 0` for ever. The force drops there (the one branch change that is not continuous
 //!     in force); the work `∫f de` is continuous.
 
-
 mod bilinear;
 mod branch;
 mod gap;

@@ -123,7 +123,10 @@ impl LimitState {
 /// The limit states of a model file's `[[limit_state]]` tables: names not empty and distinct,
 /// expressions parsed; errors name `limit_state.K.name` or `limit_state.K.expression` and its
 /// line.
-pub(crate) fn check_specs(specs: &[LimitStateSpec], ck: &Check) -> Result<Vec<LimitState>, ModelError> {
+pub(crate) fn check_specs(
+    specs: &[LimitStateSpec],
+    ck: &Check,
+) -> Result<Vec<LimitState>, ModelError> {
     let mut out: Vec<LimitState> = Vec::with_capacity(specs.len());
     for (k, s) in specs.iter().enumerate() {
         let name = s.name.trim();

@@ -5,7 +5,6 @@
 //! [`load_str_with`] is the one entry: the text is read once, `--set` overrides applied, the
 //! TOML parsed once, and the file compiled as a bridge or a general scene.
 
-
 pub mod bridge;
 pub mod check;
 pub mod limit_state;
@@ -19,8 +18,8 @@ pub mod uncertain;
 pub mod warnings;
 
 pub use check::{Applied, Check, ModelError, locate};
-pub use limits::{FREE_VIBRATION_TAIL, event_limit, step_limit};
 pub(crate) use limits::StepLimit;
+pub use limits::{FREE_VIBRATION_TAIL, event_limit, step_limit};
 pub use overrides::apply_overrides;
 pub(crate) use overrides::apply_overrides_traced;
 pub use records::Motions;

@@ -75,7 +75,12 @@ pub fn columns_csv(columns: &[Column]) -> String {
 /// them numbers): (name, values) in the file's order; the first is `t`.
 pub fn read_columns(text: &str) -> Result<Vec<(String, Vec<f64>)>, SeriesError> {
     let mut lines = text.lines();
-    let head: Vec<&str> = lines.next().unwrap_or("").split(',').map(str::trim).collect();
+    let head: Vec<&str> = lines
+        .next()
+        .unwrap_or("")
+        .split(',')
+        .map(str::trim)
+        .collect();
     if head.first() != Some(&"t") {
         return Err(SeriesError::NoTime);
     }
@@ -116,11 +121,26 @@ mod tests {
         let q = [1e-300, -2.5e-7, f64::NAN];
         let g = [0.012345678901234, 7.0, -1e9];
         let text = columns_csv(&[
-            Column { name: "t", values: &t, single: false },
-            Column { name: "deck.theta", values: &q, single: false },
-            Column { name: "left_top.gap", values: &g, single: true },
+            Column {
+                name: "t",
+                values: &t,
+                single: false,
+            },
+            Column {
+                name: "deck.theta",
+                values: &q,
+                single: false,
+            },
+            Column {
+                name: "left_top.gap",
+                values: &g,
+                single: true,
+            },
         ]);
-        assert!(text.starts_with("t,deck.theta,left_top.gap\n0.0,1e-300,0.012345679\n"), "{text}");
+        assert!(
+            text.starts_with("t,deck.theta,left_top.gap\n0.0,1e-300,0.012345679\n"),
+            "{text}"
+        );
         let back = read_columns(&text).unwrap();
         assert_eq!(back[0].1, t);
         assert_eq!(back[1].1[..2], q[..2]);
@@ -136,7 +156,10 @@ mod tests {
     fn a_bad_table_names_its_line_and_column() {
         assert_eq!(read_columns("x,y\n"), Err(SeriesError::NoTime));
         let e = read_columns("t,deck.theta\n0,1\n0.1,abc\n").unwrap_err();
-        assert_eq!(e.to_string(), "line 3: `abc` is not a number (column deck.theta)");
+        assert_eq!(
+            e.to_string(),
+            "line 3: `abc` is not a number (column deck.theta)"
+        );
         let e = read_columns("t,deck.theta\n0\n").unwrap_err();
         assert_eq!(e.to_string(), "line 2: 1 values, the header names 2");
     }

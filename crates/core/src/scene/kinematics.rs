@@ -314,7 +314,12 @@ impl Scene {
     /// [`Scene::contact_kinematics`] written into `out`, reusing its Jacobian storage. A body
     /// driven by the ground adds its velocity to ∂g/∂t and its acceleration a to ŵ:
     /// ŵ_N ∋ n·(a_A − a_B), ŵ_T ∋ t·(a_A − a_B).
-    pub(crate) fn contact_kinematics_into(&self, fr: &Frame, c: &Contact, out: &mut ContactKinematics) {
+    pub(crate) fn contact_kinematics_into(
+        &self,
+        fr: &Frame,
+        c: &Contact,
+        out: &mut ContactKinematics,
+    ) {
         self.contact_kinematics_fill(c, fr.pose(c.point_body), fr.pose(c.face_body), out);
         if !fr.drive.is_empty() {
             let ((va, aa), (vb, ab)) = (fr.drive(c.point_body), fr.drive(c.face_body));

@@ -8,7 +8,6 @@
 //! - [`kinematics`]: poses, exact contact kinematics (gap, Jacobians), element deformations;
 //! - [`forces`]: the smooth forces h(t, q, q̇) of eq. 1 and the energy ledger's power terms.
 
-
 mod force_runs;
 mod forces;
 mod key;
@@ -17,8 +16,8 @@ mod restrict;
 mod settings;
 
 pub use crate::methods::Method;
-pub use forces::{ForceModel, PowerTerms, smooth_forces, smooth_forces_in};
 pub(crate) use forces::LEDGER_TERMS;
+pub use forces::{ForceModel, PowerTerms, smooth_forces, smooth_forces_in};
 pub use key::SceneKey;
 pub use kinematics::{BodyState, ContactKinematics, Deformation, Frame, spread};
 pub use restrict::Restricted;

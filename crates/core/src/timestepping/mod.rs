@@ -7,7 +7,6 @@
 //! This module holds what they share: the committed state, the hysteretic laws, the energy
 //! ledger and the output recording ([`Stepper`]).
 
-
 mod gap_elements;
 mod moreau;
 mod newmark;
