@@ -61,14 +61,15 @@ pub fn series_columns(run: &RunData) -> Vec<(String, &[f64])> {
     cols
 }
 
-/// CSV of the whole run: every sample (not only the window), [`series_columns`] exactly.
-pub fn history_csv(run: &RunData) -> String {
+/// CSV of the whole run: every sample (not only the window), [`series_columns`]; the time
+/// exactly, the rest exactly or (`single`) in single precision.
+pub fn series_csv(run: &RunData, single: bool) -> String {
     let cols = series_columns(run);
-    let columns: Vec<Column> = (cols.iter())
-        .map(|(name, values)| Column {
+    let columns: Vec<Column> = (cols.iter().enumerate())
+        .map(|(j, (name, values))| Column {
             name,
             values,
-            single: false,
+            single: single && j > 0,
         })
         .collect();
     columns_csv(&columns)
@@ -81,7 +82,7 @@ pub fn export_files(run: &RunData, window: (f64, f64), element: usize) -> Vec<(S
     let (chart, events) = export_csv(run, window, element);
     vec![
         ("chart".into(), chart),
-        ("history".into(), history_csv(run)),
+        ("history".into(), series_csv(run, false)),
         ("events".into(), events),
     ]
 }

@@ -9,9 +9,9 @@
 //! from then on it is not listed), then removing its other files and that one; a deletion cut
 //! short is finished at the next opening.
 
-use crate::output::series::{Column, columns_csv, read_columns};
+use crate::output::series::read_columns;
 use crate::tui::runs::data::{RunData, RunStatus, fresh_token};
-use crate::tui::runs::export::series_columns;
+use crate::tui::runs::export::series_csv;
 use crate::tui::runs::list::{Change, Ended, Entry, KEEP, Results, Runs, Series};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -91,18 +91,10 @@ pub fn meta_text(e: &Entry, baseline: bool) -> String {
 }
 
 /// The series file: the run's columns by the names of `history.csv`
-/// ([`crate::tui::runs::export::series_columns`]), the time exactly and the rest in single
+/// ([`crate::tui::runs::export::series_columns`], [`series_csv`]), the time exactly and the rest in single
 /// precision ([`crate::output::series`]).
 pub fn series_text(d: &RunData) -> String {
-    let cols = series_columns(d);
-    let columns: Vec<Column> = (cols.iter().enumerate())
-        .map(|(j, (name, values))| Column {
-            name,
-            values,
-            single: j > 0,
-        })
-        .collect();
-    columns_csv(&columns)
+    series_csv(d, true)
 }
 
 /// Writes `text` to `path` through a temporary file in the same folder and a rename.
