@@ -15,9 +15,7 @@ use crate::tui::runs::export::series_csv;
 use crate::tui::runs::list::{Change, Ended, Entry, KEEP, Results, Runs, Series};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
-use std::io::Write;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicU64, Ordering};
 
 /// The time charts' preferences, kept in the same folder ([`crate::tui::chart_prefs`]): not a
 /// run's file.
@@ -97,28 +95,10 @@ pub fn series_text(d: &RunData) -> String {
     series_csv(d, true)
 }
 
-/// Writes `text` to `path` through a temporary file in the same folder and a rename.
+/// Writes `text` to `path` as one transaction ([`crate::output::files::write_atomic`]: a new
+/// temporary file beside it, flushed, renamed over), the error naming the path.
 pub fn write_atomic(path: &Path, text: &str) -> Result<(), String> {
-    static N: AtomicU64 = AtomicU64::new(0);
-    let dir = path.parent().unwrap_or(Path::new("."));
-    let name = path
-        .file_name()
-        .map_or("run".into(), |n| n.to_string_lossy());
-    let tmp = dir.join(format!(
-        ".{name}.{}-{}.tmp",
-        std::process::id(),
-        N.fetch_add(1, Ordering::Relaxed)
-    ));
-    let r = (|| {
-        let mut f = std::fs::File::create(&tmp)?;
-        f.write_all(text.as_bytes())?;
-        f.sync_all()?;
-        std::fs::rename(&tmp, path)
-    })();
-    if r.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    r.map_err(|e| format!("{}: {e}", path.display()))
+    crate::output::files::write_atomic(path, text).map_err(|e| format!("{}: {e}", path.display()))
 }
 
 /// Writes the jobs' files into `dir` (created if need be) and removes the files of the runs
