@@ -46,7 +46,11 @@ pub(crate) fn solve_small_into(
         *x = DVector::zeros(k);
     }
     let done = match k {
-        0..=4 => solve_on::<4>(a, b, x.as_mut_slice(), singular),
+        // the same arithmetic on arrays of the order itself for one and two rows (a closed
+        // contact, a sticking one): the loops unrolled, nothing zeroed that is not read
+        0..=1 => solve_on::<1>(a, b, x.as_mut_slice(), singular),
+        2 => solve_on::<2>(a, b, x.as_mut_slice(), singular),
+        3..=4 => solve_on::<4>(a, b, x.as_mut_slice(), singular),
         5..=8 => solve_on::<8>(a, b, x.as_mut_slice(), singular),
         9..=ELIM_N => solve_on::<ELIM_N>(a, b, x.as_mut_slice(), singular),
         _ => {
