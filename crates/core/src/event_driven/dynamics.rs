@@ -227,16 +227,18 @@ impl Scratch {
             self.b = DVector::zeros(k);
         }
         let forces = &self.forces.as_slice()[..k * n];
-        for r in 0..k {
-            let (w, bias) = row(&self.kin, self.slots[r]);
-            self.b[r] = -(w.dot(&self.qdd) + bias);
+        let (a, b) = (self.a.as_mut_slice(), self.b.as_mut_slice());
+        for (r, (&slot, br)) in self.slots.iter().zip(b.iter_mut()).enumerate() {
+            let (w, bias) = row(&self.kin, slot);
+            *br = -(w.dot(&self.qdd) + bias);
             let w = &w.as_slice()[..n];
-            for (c, f) in forces.chunks_exact(n).enumerate() {
+            // A is column-major: A[r, c] at c k + r
+            for (f, arc) in forces.chunks_exact(n).zip(a[r..].iter_mut().step_by(k)) {
                 let mut acc = 0.0;
                 for ((wj, mj), fj) in w.iter().zip(minv).zip(f) {
                     acc += wj * mj * fj;
                 }
-                self.a[(r, c)] = acc;
+                *arc = acc;
             }
         }
     }
