@@ -203,6 +203,7 @@ impl Runs {
 
     /// Adds −Σ J f of every run to `h`, writes (e, ė) of the hysteretic elements into
     /// `elements` and accumulates the sums.
+    #[inline(never)]
     pub(super) fn eval(
         &self,
         fr: &Frame,
