@@ -243,26 +243,96 @@ pub(super) fn draw_line_plot(frame: &mut Frame, area: Rect, c: &Chart, look: &Lo
     frame.render_widget(canvas_widget, canvas);
 }
 
-/// A segment: Braille line, or in ASCII mode `mark` in each cell it crosses.
+/// The canvas's cells over the bounds [x lo, x hi, y lo, y hi]: `size` (columns, rows), `dots`
+/// of its marker per cell (2 × 4 Braille dots, 1 × 1 in ASCII mode).
+#[derive(Clone, Copy)]
+struct Cells {
+    b: [f64; 4],
+    size: (f64, f64),
+    dots: (f64, f64),
+}
+
+impl Cells {
+    /// Cells per unit along x and y.
+    fn scale(&self) -> (f64, f64) {
+        (
+            (self.size.0 - 1.0) / (self.b[1] - self.b[0]),
+            (self.size.1 - 1.0) / (self.b[3] - self.b[2]),
+        )
+    }
+
+    /// Prints `span` in the cell of (x, y) as the canvas rounds it: to its dots when `dots`
+    /// (a mark on a line the canvas draws), to cells otherwise (a line printed cell by cell);
+    /// nothing outside the bounds. The canvas truncates a printed label's position: the point
+    /// is moved into its cell first.
+    fn print(&self, ctx: &mut Context, (x, y): (f64, f64), span: Span<'static>, dots: bool) {
+        let [l, r, lo, hi] = self.b;
+        if !(l..=r).contains(&x) || !(lo..=hi).contains(&y) {
+            return;
+        }
+        let (gx, gy) = if dots { self.dots } else { (1.0, 1.0) };
+        // the cell of a fraction `f` of `n` cells of `g` dots
+        let cell = |f: f64, n: f64, g: f64| ((f * (n * g - 1.0)).round() / g).floor();
+        let cx = cell((x - l) / (r - l), self.size.0, gx);
+        let cy = cell((hi - y) / (hi - lo), self.size.1, gy);
+        let (sx, sy) = self.scale();
+        let x = if sx > 0.0 { l + (cx + 1e-6) / sx } else { x };
+        let y = if sy > 0.0 { hi - (cy + 1e-6) / sy } else { y };
+        ctx.print(x.clamp(l, r), y.clamp(lo, hi), span);
+    }
+
+    /// The part of segment (a, e) inside the bounds (Liang–Barsky), if any.
+    fn clip(&self, a: (f64, f64), e: (f64, f64)) -> Option<((f64, f64), (f64, f64))> {
+        let [l, r, lo, hi] = self.b;
+        let (dx, dy) = (e.0 - a.0, e.1 - a.1);
+        let (mut t0, mut t1) = (0.0f64, 1.0f64);
+        for (p, q) in [
+            (-dx, a.0 - l),
+            (dx, r - a.0),
+            (-dy, a.1 - lo),
+            (dy, hi - a.1),
+        ] {
+            if p == 0.0 {
+                if q < 0.0 {
+                    return None;
+                }
+            } else {
+                let t = q / p;
+                if p < 0.0 {
+                    t0 = t0.max(t);
+                } else {
+                    t1 = t1.min(t);
+                }
+            }
+        }
+        (t0 <= t1).then(|| {
+            let at = |t: f64| (a.0 + t * dx, a.1 + t * dy);
+            (at(t0), at(t1))
+        })
+    }
+}
+
+/// A segment: a Braille line, or `mark` printed in each cell it crosses within the bounds (in
+/// ASCII mode).
 fn segment(
     ctx: &mut Context,
     (a, e): ((f64, f64), (f64, f64)),
-    mark: &'static str,
+    mark: Option<&str>,
     style: Style,
-    scale: (f64, f64),
-    th: &Theme,
+    cells: Cells,
 ) {
-    if th.ascii {
-        let cells = (((e.0 - a.0) * scale.0).abs())
+    if let Some(mark) = mark {
+        let Some((a, e)) = cells.clip(a, e) else {
+            return;
+        };
+        let scale = cells.scale();
+        let n = (((e.0 - a.0) * scale.0).abs())
             .max(((e.1 - a.1) * scale.1).abs())
             .ceil() as usize;
-        for k in 0..=cells {
-            let f = k as f64 / cells.max(1) as f64;
-            ctx.print(
-                a.0 + f * (e.0 - a.0),
-                a.1 + f * (e.1 - a.1),
-                Span::styled(mark, style),
-            );
+        for k in 0..=n {
+            let f = k as f64 / n.max(1) as f64;
+            let p = (a.0 + f * (e.0 - a.0), a.1 + f * (e.1 - a.1));
+            cells.print(ctx, p, Span::styled(mark.to_string(), style), false);
         }
     } else {
         let color = style.fg.unwrap_or(Color::Reset);
@@ -278,11 +348,9 @@ fn segment(
 
 fn paint(ctx: &mut Context, c: &Chart, look: &Look, b: [f64; 4], size: (f64, f64), th: &Theme) {
     let (log_x, log_y) = logs(c);
-    // cells per unit along x and y
-    let scale = (
-        (size.0 - 1.0) / (b[1] - b[0]),
-        (size.1 - 1.0) / (b[3] - b[2]),
-    );
+    let dots = if th.ascii { (1.0, 1.0) } else { (2.0, 4.0) };
+    let cells = Cells { b, size, dots };
+    let ascii = |mark: &'static str| th.ascii.then_some(mark);
     for l in &c.lines {
         let Some(v) = on(l.at, if l.vertical { log_x } else { log_y }) else {
             continue;
@@ -295,21 +363,26 @@ fn paint(ctx: &mut Context, c: &Chart, look: &Look, b: [f64; 4], size: (f64, f64
         // in ASCII mode a horizontal line (the zero line) as `-`, a vertical one as `:`: neither
         // is a curve's line (`.`) nor its mark
         let mark = if l.vertical { ":" } else { "-" };
-        segment(ctx, (a, e), mark, th.dim(), scale, th);
+        segment(ctx, (a, e), ascii(mark), th.dim(), cells);
         let at = if l.vertical { (v, b[3]) } else { (b[0], v) };
-        ctx.print(at.0, at.1, Span::styled(th.text(&l.label), th.dim()));
+        cells.print(ctx, at, Span::styled(th.text(&l.label), th.dim()), true);
     }
     if let Some(x) = look.cursor.and_then(|x| on(x, log_x)) {
-        segment(ctx, ((x, b[2]), (x, b[3])), ":", th.dim(), scale, th);
+        segment(ctx, ((x, b[2]), (x, b[3])), ascii(":"), th.dim(), cells);
     }
     ctx.layer();
     let pt = |x: f64, y: f64| Some((on(x, log_x)?, on(y, log_y)?));
     let y0 = on(0.0, log_y).unwrap_or(b[2]);
     for &(x, y) in &look.stems {
         if let Some((x, y)) = pt(x, y) {
-            segment(ctx, ((x, y0), (x, y)), ".", th.series(5), scale, th);
+            segment(ctx, ((x, y0), (x, y)), ascii("."), th.series(5), cells);
             let mark = look.stem_mark.to_string();
-            ctx.print(x, y, Span::styled(mark, th.series(5).patch(th.bold())));
+            cells.print(
+                ctx,
+                (x, y),
+                Span::styled(mark, th.series(5).patch(th.bold())),
+                true,
+            );
         }
     }
     let points = |i: usize| -> Vec<(f64, f64)> {
@@ -322,7 +395,13 @@ fn paint(ctx: &mut Context, c: &Chart, look: &Look, b: [f64; 4], size: (f64, f64
             continue;
         }
         for w in points(i).windows(2) {
-            segment(ctx, (w[0], w[1]), ".", style_of(c, look, i, th), scale, th);
+            segment(
+                ctx,
+                (w[0], w[1]),
+                ascii("."),
+                style_of(c, look, i, th),
+                cells,
+            );
         }
     }
     ctx.layer();
@@ -339,7 +418,7 @@ fn paint(ctx: &mut Context, c: &Chart, look: &Look, b: [f64; 4], size: (f64, f64
         let mark = Span::styled(s.glyph.to_string(), style);
         for (k, q) in pts.iter().enumerate() {
             if every == 1 || k % every == every / 2 {
-                ctx.print(q.0, q.1, mark.clone());
+                cells.print(ctx, *q, mark.clone(), true);
             }
         }
     }
