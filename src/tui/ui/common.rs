@@ -176,12 +176,18 @@ pub(super) fn overlay_run(app: &App) -> Option<&RunData> {
 }
 
 /// The data marks of the series of one chart in ASCII mode or without colour (see
-/// [`Theme::marks`]), the previous run's and the cursor's.
+/// [`Theme::marks`]; each series' line is drawn in its mark), the previous run's and the
+/// cursor's.
 const MARKS: [char; 8] = ['.', '+', 'o', 'x', '%', '@', '&', '$'];
-const PREVIOUS_MARK: char = ':';
-const CURSOR_MARK: char = '|';
-/// The zero line's character in ASCII mode: none of the series' marks.
-pub(super) const ZERO_MARK: char = '-';
+/// The mark of an overlaid run's series (the previous run's loop).
+pub(super) const PREVIOUS_MARK: char = ':';
+/// The mark of the time cursor's line.
+pub(super) const CURSOR_MARK: char = '|';
+
+/// The glyph of the `k`-th series of a chart: its mark where series are told apart by marks.
+pub(super) fn series_glyph(k: usize) -> char {
+    MARKS[k % MARKS.len()]
+}
 
 impl Theme {
     /// Series are told apart by their marks, not by colour: in ASCII mode and without colour
@@ -198,7 +204,7 @@ impl Theme {
     }
     /// The mark of the `k`-th series of a chart, when series are told apart by marks.
     pub(super) fn series_mark(&self, k: usize) -> Option<char> {
-        self.marks().then_some(MARKS[k % MARKS.len()])
+        self.marks().then_some(series_glyph(k))
     }
     /// The marker of the previous run's series.
     pub(super) fn previous_marker(&self) -> Marker {
@@ -218,23 +224,6 @@ impl Theme {
             PREVIOUS_MARK.to_string()
         } else {
             "┈".into()
-        }
-    }
-    /// The marker of the time cursor's line.
-    pub(super) fn cursor_marker(&self) -> Marker {
-        if self.marks() {
-            Marker::Custom(CURSOR_MARK)
-        } else {
-            Marker::Braille
-        }
-    }
-    /// The marker of a chart's zero line: Braille, in ASCII mode [`ZERO_MARK`] (a dot would
-    /// read as the first series).
-    pub(super) fn zero_marker(&self) -> Marker {
-        if self.ascii {
-            Marker::Custom(ZERO_MARK)
-        } else {
-            Marker::Braille
         }
     }
     /// In ASCII mode, the ASCII stand-in ([`super::ascii_symbol`]) of every cell of `area`

@@ -1,12 +1,14 @@
 //! The workbench's renderer of the library's charts ([`crate::plot::Chart`], the same data the
 //! CLI draws as SVG and text): series over linear or log axes (time histories, the response
-//! spectrum, work-precision, the model ladder's cost and error), with reference lines (the zero
-//! line, a period, the 1 % error) and, from the [`Look`], stems (impulses) and a study's
-//! cursor; the studies' figures (Fig. 7, Fig. 8, a record suite) too. Each series carries
-//! its own glyph, printed along it and in the legend, so series differ without colour; the y
-//! labels are the data's own extremes.
+//! spectrum, work-precision, the model ladder's cost and error, the live time charts), with
+//! reference lines (the zero line, a period, the 1 % error) and, from the [`Look`], stems
+//! (impulses), a study's cursor or the time cursor, the header, the labels and the styles a
+//! panel gives; the studies' figures (Fig. 7, Fig. 8, a record suite) too. Each series carries
+//! its own glyph, printed along it and in the legend (or, in the time charts without colour,
+//! drawn as its line), so series differ without colour; the y labels are the data's own
+//! extremes unless the panel gives its own.
 
-use super::common::Theme;
+use super::common::{CURSOR_MARK, Theme};
 use crate::plot::{Chart, Marker, Scale};
 use crate::tui::chart::fmt_sig;
 use ratatui::Frame;
@@ -16,19 +18,49 @@ use ratatui::text::{Line, Span};
 use ratatui::widgets::Paragraph;
 use ratatui::widgets::canvas::{Canvas, Context, Line as CLine};
 
-/// Width of the y labels.
+/// Width of the y labels unless the [`Look`] says.
 const LABEL_W: u16 = 9;
 
+/// The line above the plot.
+#[derive(Clone, Debug, Default)]
+pub(super) enum Head {
+    /// The y axis's title and the legend.
+    #[default]
+    Legend,
+    /// The panel's own (a time chart's: its title and the values at the cursor).
+    Line(Line<'static>),
+}
+
 /// What the workbench adds to a chart: the legend (off where a table beside the plot names
-/// the series), the series drawn as selected, and stems from 0 (impulses) with their mark.
+/// the series), the series drawn as selected, stems from 0 (impulses) with their mark, a
+/// cursor, and what a panel draws its own way (header, label width and labels, the x axis,
+/// the series' styles, lines drawn in their glyphs).
 #[derive(Clone, Debug)]
 pub(super) struct Look {
     pub legend: bool,
     pub selected: Option<usize>,
     pub stems: Vec<(f64, f64)>,
     pub stem_mark: char,
-    /// The x of a study's cursor: a dim vertical line.
+    /// The x of a cursor: a study's, a dim vertical line under the series.
     pub cursor: Option<f64>,
+    /// The cursor is the time cursor, which the readouts follow: drawn over the series in the
+    /// cursor's style (`|` where series are told apart by marks).
+    pub time_cursor: bool,
+    pub head: Head,
+    /// The x axis's line and labels (off where the panel below gives the time axis: the time
+    /// charts over the event strip).
+    pub x_axis: bool,
+    /// Width of the y labels.
+    pub label_w: u16,
+    /// The y labels as (value, text), each on the row its value is drawn on (the first one
+    /// given keeps a row two fall on); empty: the extremes with 3 significant digits.
+    pub y_labels: Vec<(f64, String)>,
+    /// The styles of the first series, in place of their palette colours (the overlaid runs').
+    pub styles: Vec<Style>,
+    /// Where series are told apart by marks (ASCII mode, no colour), each series' line drawn
+    /// in its glyph; and no glyphs spread along lines in any mode (the time charts, whose
+    /// headers name the marks).
+    pub glyph_lines: bool,
 }
 
 impl Default for Look {
@@ -39,8 +71,37 @@ impl Default for Look {
             stems: Vec::new(),
             stem_mark: '|',
             cursor: None,
+            time_cursor: false,
+            head: Head::Legend,
+            x_axis: true,
+            label_w: LABEL_W,
+            y_labels: Vec::new(),
+            styles: Vec::new(),
+            glyph_lines: false,
         }
     }
+}
+
+/// Labels spread evenly from `bounds[0]` (the first) to `bounds[1]` (the last) as (value,
+/// text) for [`Look::y_labels`], the empty ones left out; `value` maps a bound to the data's
+/// value (10^b of a log axis's bound).
+pub(super) fn spread_labels(
+    bounds: [f64; 2],
+    labels: &[String],
+    value: impl Fn(f64) -> f64,
+) -> Vec<(f64, String)> {
+    let n = labels.len();
+    (labels.iter().enumerate())
+        .filter(|(_, l)| !l.is_empty())
+        .map(|(i, l)| {
+            let f = if n > 1 {
+                i as f64 / (n - 1) as f64
+            } else {
+                0.5
+            };
+            (value(bounds[0] + f * (bounds[1] - bounds[0])), l.clone())
+        })
+        .collect()
 }
 
 /// A value on an axis: its log10 on a log axis (None for values a log axis cannot show).
@@ -58,8 +119,8 @@ fn logs(c: &Chart) -> (bool, bool) {
     (c.x.scale == Scale::Log, c.y.scale == Scale::Log)
 }
 
-/// The data's bounds on the axes [x lo, x hi, y lo, y hi] (a linear y range holds 0; a flat
-/// range is widened; a fixed x range of the chart is kept).
+/// The data's bounds on the axes [x lo, x hi, y lo, y hi] (a linear y range of the data holds
+/// 0; a flat range is widened; a fixed range of the chart is kept as it is).
 fn extent(c: &Chart, look: &Look) -> [f64; 4] {
     let (log_x, log_y) = logs(c);
     let mut b = [
@@ -106,7 +167,7 @@ fn extent(c: &Chart, look: &Look) -> [f64; 4] {
     {
         (b[2], b[3]) = (a, e);
     }
-    if !log_y && b[2] <= b[3] {
+    if !log_y && c.y.range.is_none() && b[2] <= b[3] {
         b[2] = b[2].min(0.0);
         b[3] = b[3].max(0.0);
     }
@@ -121,10 +182,12 @@ fn extent(c: &Chart, look: &Look) -> [f64; 4] {
     b
 }
 
-/// The style of series `i`: its palette colour, or the selection's.
+/// The style of series `i`: its palette colour, the look's, or the selection's.
 fn style_of(c: &Chart, look: &Look, i: usize, th: &Theme) -> Style {
     if look.selected == Some(i) {
         th.selected().patch(th.bold())
+    } else if let Some(s) = look.styles.get(i) {
+        *s
     } else {
         th.series(c.series[i].color)
     }
@@ -178,44 +241,29 @@ fn legend(c: &Chart, look: &Look, width: usize, lines: usize, th: &Theme) -> Vec
     out.into_iter().map(|(s, _)| Line::from(s)).collect()
 }
 
-/// Draws the chart in `area` (nothing below 5 rows or 24 columns).
-pub(super) fn draw_line_plot(frame: &mut Frame, area: Rect, c: &Chart, look: &Look, th: &Theme) {
-    if area.height < 5 || area.width < LABEL_W + 15 {
-        return;
-    }
-    let (log_x, log_y) = logs(c);
-    let legend_rows = if area.height >= 10 { 2 } else { 1 };
-    let head = legend(c, look, area.width as usize, legend_rows, th);
-    let hh = head.len() as u16;
-    frame.render_widget(Paragraph::new(head), Rect { height: hh, ..area });
-    let rows = area.height - hh - 2;
-    if rows < 2 {
-        return;
-    }
-    let b = extent(c, look);
-    let top = area.y + hh;
-    let cw = area.width - LABEL_W - 1;
-    let (vbar, corner, hbar) = if th.ascii {
-        ("|", "+", "-")
+/// The row (0 at the top, `rows` of them) a y value `a` on the axis is drawn on, as the canvas
+/// draws a horizontal line there: Braille dots rounded, 4 to a row, or (in ASCII mode, where
+/// lines are printed) rows rounded.
+fn row_of(a: f64, b: [f64; 4], rows: u16, th: &Theme) -> usize {
+    let f = ((b[3] - a) / (b[3] - b[2])).clamp(0.0, 1.0);
+    let rows = rows as usize;
+    if th.ascii {
+        ((f * (rows - 1) as f64).round() as usize).min(rows - 1)
     } else {
-        ("│", "└", "─")
-    };
-    let w = LABEL_W as usize;
-    let mut labels: Vec<Line> = (0..rows)
-        .map(|_| Line::styled(format!("{:>w$}{vbar}", ""), th.dim()))
-        .collect();
-    let lab = |v: f64| Line::styled(format!("{:>w$}{vbar}", label(v, log_y)), th.dim());
-    labels[0] = lab(b[3]);
-    labels[rows as usize - 1] = lab(b[2]);
-    labels.push(Line::styled(
-        format!("{:>w$}{corner}{}", "", hbar.repeat(cw as usize)),
-        th.dim(),
-    ));
-    let (xa, xb) = (label(b[0], log_x), label(b[1], log_x));
-    let title = th.text(&c.x.label());
-    let room = cw as usize;
-    let (na, nb, nt) = (xa.len(), xb.len(), title.chars().count());
-    let row = if na + nt + nb + 2 <= room {
+        let dots = 4 * rows;
+        (((f * (dots - 1) as f64).round() as usize) / 4).min(rows - 1)
+    }
+}
+
+/// The row of x labels in `room` columns: the first label at the left, the last at the right,
+/// the axis's title between them where it fits.
+fn x_row([xa, xb]: &[String; 2], title: &str, room: usize) -> String {
+    let (na, nb, nt) = (
+        xa.chars().count(),
+        xb.chars().count(),
+        title.chars().count(),
+    );
+    if na + nt + nb + 2 <= room {
         let gap = room - na - nt - nb;
         format!(
             "{xa}{}{title}{}{xb}",
@@ -226,13 +274,76 @@ pub(super) fn draw_line_plot(frame: &mut Frame, area: Rect, c: &Chart, look: &Lo
         format!("{xa}{}{xb}", " ".repeat(room - na - nb))
     } else {
         String::new()
+    }
+}
+
+/// Draws the chart in `area` (nothing below 5 rows, 2 without the x axis, or below the labels
+/// and 15 columns).
+pub(super) fn draw_line_plot(frame: &mut Frame, area: Rect, c: &Chart, look: &Look, th: &Theme) {
+    let lw = look.label_w;
+    let (min_h, min_rows, axis_rows) = if look.x_axis { (5, 2, 2) } else { (2, 1, 0) };
+    if area.height < min_h || area.width < lw + 15 {
+        return;
+    }
+    let (log_x, log_y) = logs(c);
+    let head = match &look.head {
+        Head::Legend => {
+            let legend_rows = if area.height >= 10 { 2 } else { 1 };
+            legend(c, look, area.width as usize, legend_rows, th)
+        }
+        Head::Line(l) => vec![l.clone()],
     };
-    labels.push(Line::styled(format!("{:>w$} {row}", ""), th.dim()));
+    let hh = head.len() as u16;
+    if hh > 0 {
+        frame.render_widget(Paragraph::new(head), Rect { height: hh, ..area });
+    }
+    let rows = area.height.saturating_sub(hh + axis_rows);
+    if rows < min_rows {
+        return;
+    }
+    let b = extent(c, look);
+    let top = area.y + hh;
+    let cw = area.width - lw - 1;
+    let (vbar, corner, hbar) = if th.ascii {
+        ("|", "+", "-")
+    } else {
+        ("│", "└", "─")
+    };
+    let w = lw as usize;
+    let mut labels: Vec<Line> = (0..rows)
+        .map(|_| Line::styled(format!("{:>w$}{vbar}", ""), th.dim()))
+        .collect();
+    let mut taken = vec![false; rows as usize];
+    let mut put = |row: usize, text: &str| {
+        if !taken[row] {
+            taken[row] = true;
+            labels[row] = Line::styled(format!("{text:>w$}{vbar}"), th.dim());
+        }
+    };
+    if look.y_labels.is_empty() {
+        put(0, &label(b[3], log_y));
+        put(rows as usize - 1, &label(b[2], log_y));
+    }
+    let tol = 1e-9 * (b[3] - b[2]);
+    for (v, text) in &look.y_labels {
+        if let Some(a) = on(*v, log_y).filter(|a| *a >= b[2] - tol && *a <= b[3] + tol) {
+            put(row_of(a, b, rows, th), text);
+        }
+    }
+    if look.x_axis {
+        labels.push(Line::styled(
+            format!("{:>w$}{corner}{}", "", hbar.repeat(cw as usize)),
+            th.dim(),
+        ));
+        let xl = [label(b[0], log_x), label(b[1], log_x)];
+        let row = x_row(&xl, &th.text(&c.x.label()), cw as usize);
+        labels.push(Line::styled(format!("{:>w$} {row}", ""), th.dim()));
+    }
     frame.render_widget(
         Paragraph::new(labels),
-        Rect::new(area.x, top, area.width, rows + 2),
+        Rect::new(area.x, top, area.width, rows + axis_rows),
     );
-    let canvas = Rect::new(area.x + LABEL_W + 1, top, cw, rows);
+    let canvas = Rect::new(area.x + lw + 1, top, cw, rows);
     let marker = th.marker();
     let size = (cw as f64, rows as f64);
     let canvas_widget = Canvas::default()
@@ -313,7 +424,7 @@ impl Cells {
 }
 
 /// A segment: a Braille line, or `mark` printed in each cell it crosses within the bounds (in
-/// ASCII mode).
+/// ASCII mode, and for a line drawn in its glyph).
 fn segment(
     ctx: &mut Context,
     (a, e): ((f64, f64), (f64, f64)),
@@ -350,6 +461,8 @@ fn paint(ctx: &mut Context, c: &Chart, look: &Look, b: [f64; 4], size: (f64, f64
     let (log_x, log_y) = logs(c);
     let dots = if th.ascii { (1.0, 1.0) } else { (2.0, 4.0) };
     let cells = Cells { b, size, dots };
+    // in ASCII mode a horizontal line (the zero line) as `-`, a vertical one as `:`: neither
+    // is a curve's line (`.`) nor its mark
     let ascii = |mark: &'static str| th.ascii.then_some(mark);
     for l in &c.lines {
         let Some(v) = on(l.at, if l.vertical { log_x } else { log_y }) else {
@@ -360,15 +473,17 @@ fn paint(ctx: &mut Context, c: &Chart, look: &Look, b: [f64; 4], size: (f64, f64
         } else {
             ((b[0], v), (b[1], v))
         };
-        // in ASCII mode a horizontal line (the zero line) as `-`, a vertical one as `:`: neither
-        // is a curve's line (`.`) nor its mark
         let mark = if l.vertical { ":" } else { "-" };
         segment(ctx, (a, e), ascii(mark), th.dim(), cells);
-        let at = if l.vertical { (v, b[3]) } else { (b[0], v) };
-        cells.print(ctx, at, Span::styled(th.text(&l.label), th.dim()), true);
+        if !l.label.is_empty() {
+            let at = if l.vertical { (v, b[3]) } else { (b[0], v) };
+            cells.print(ctx, at, Span::styled(th.text(&l.label), th.dim()), true);
+        }
     }
-    if let Some(x) = look.cursor.and_then(|x| on(x, log_x)) {
-        segment(ctx, ((x, b[2]), (x, b[3])), ascii(":"), th.dim(), cells);
+    let cursor = look.cursor.and_then(|x| on(x, log_x));
+    let across = |x: f64| ((x, b[2]), (x, b[3]));
+    if let Some(x) = cursor.filter(|_| !look.time_cursor) {
+        segment(ctx, across(x), ascii(":"), th.dim(), cells);
     }
     ctx.layer();
     let pt = |x: f64, y: f64| Some((on(x, log_x)?, on(y, log_y)?));
@@ -394,20 +509,28 @@ fn paint(ctx: &mut Context, c: &Chart, look: &Look, b: [f64; 4], size: (f64, f64
         if s.stroke == crate::plot::Stroke::None {
             continue;
         }
+        let glyph = s.glyph.to_string();
+        let mark = if look.glyph_lines && th.marks() {
+            Some(glyph.as_str())
+        } else {
+            ascii(".")
+        };
+        let style = style_of(c, look, i, th);
         for w in points(i).windows(2) {
-            segment(
-                ctx,
-                (w[0], w[1]),
-                ascii("."),
-                style_of(c, look, i, th),
-                cells,
-            );
+            segment(ctx, (w[0], w[1]), mark, style, cells);
+        }
+        // each series over the ones before it, not mixed into their cells
+        if look.glyph_lines {
+            ctx.layer();
         }
     }
     ctx.layer();
     // a series with markers has its glyph at every point; a line without, at a few spread
-    // along it
+    // along it (unless its line is drawn in it, or names no mark)
     for (i, s) in c.series.iter().enumerate() {
+        if look.glyph_lines && s.marker == Marker::None {
+            continue;
+        }
         let pts = points(i);
         let every = if s.marker == Marker::None {
             (pts.len() / 5).max(1)
@@ -421,5 +544,17 @@ fn paint(ctx: &mut Context, c: &Chart, look: &Look, b: [f64; 4], size: (f64, f64
                 cells.print(ctx, *q, mark.clone(), true);
             }
         }
+    }
+    // the time cursor over everything
+    if let Some(x) = cursor.filter(|_| look.time_cursor) {
+        ctx.layer();
+        let mark = CURSOR_MARK.to_string();
+        segment(
+            ctx,
+            across(x),
+            th.marks().then_some(&mark),
+            th.cursor(),
+            cells,
+        );
     }
 }

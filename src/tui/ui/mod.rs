@@ -1,7 +1,7 @@
 //! Drawing: `draw(frame, app, cache)` renders the whole screen from the state, one file per
-//! panel. Charts are decimated per screen column before datasets are built, and the decimated
-//! series and event strips are cached ([`Cache`]) per run length, time window and plot size,
-//! so a frame stays light with 10⁵-sample histories.
+//! panel. Charts are decimated per screen column before their series are built, and the
+//! decimated series and event strips are cached ([`Cache`]) per run length, time window and
+//! plot size, so a frame stays light with 10⁵-sample histories.
 
 mod adequacy;
 mod ascii;

@@ -2,12 +2,18 @@
 //! strip: three charts of any series a run records (by default the rotation, the gaps, x and
 //! y; [`crate::tui::chart_prefs`]), each with its y zoom and log scale, θ in the unit chosen;
 //! the y axis is the shown run's, the overlaid runs' extremes beyond it are in the header.
+//! Each is a [`crate::plot::Chart`] of the decimated series ([`Cache::decimated`]) drawn by
+//! [`super::line_plot`] under the chart's header ([`chart_header`]).
 
 use super::cache::Cache;
 use super::chart_head::{Series, chart_header};
-use super::common::{LABEL_W, Overlay, Theme, overlay_runs, shown_run};
+use super::common::{
+    LABEL_W, Overlay, PREVIOUS_MARK, Theme, overlay_runs, series_glyph, shown_run,
+};
+use super::line_plot::{Head, Look, draw_line_plot, spread_labels};
 use super::timeline::draw_timeline;
 use crate::output::EventKind;
+use crate::plot;
 use crate::tui::app::App;
 use crate::tui::chart;
 use crate::tui::chart_prefs::{self, ChartSpec, ThetaUnit, Units};
@@ -18,9 +24,7 @@ use crate::tui::runs::series::{self, SeriesId};
 use ratatui::Frame;
 use ratatui::layout::{Constraint, Layout, Rect};
 use ratatui::style::Style;
-use ratatui::symbols::Marker;
-use ratatui::text::Line;
-use ratatui::widgets::{Axis, Chart, Dataset, GraphType, Paragraph};
+use ratatui::widgets::Paragraph;
 
 /// What the series of one panel are drawn from: the runs, the time window, the columns, the
 /// units.
@@ -321,13 +325,100 @@ fn beyond(series: &[Series], yb: [f64; 2], log: bool) -> Vec<(u64, [f64; 2])> {
     out
 }
 
-/// Draws one time chart: header (title, legend, values at the cursor, the overlaid runs'
-/// extremes beyond the axis), series, zero line, cursor. `spec`: its y zoom and log scale;
-/// `focused`: the chart the keys `p`, `Y`, `y`, `g` act on (its title in reverse video).
+/// The values the y axis spans: the shown run's, or the overlaid runs' while it shows nothing.
+fn axis_values(series: &[Series]) -> Vec<f64> {
+    let values = |all: bool| -> Vec<f64> {
+        (series.iter().filter(|s| all || s.overlay.is_none()))
+            .flat_map(|s| s.data.iter().map(|p| p.1))
+            .collect()
+    };
+    let raw = values(false);
+    if extremes(&raw).is_some() {
+        raw
+    } else {
+        values(true)
+    }
+}
+
+/// The chart a time chart is drawn from, and what the workbench adds to it: the library's
+/// [`plot::Chart`] of the series over the window `t0..t1` (a log scale's of their magnitudes),
+/// the y axis's range (the y zoom around the first series' value at the cursor) and the zero
+/// line; the look: the time cursor at `tc`, the y labels in the chart's unit, the series'
+/// styles and marks. Also the y axis's bounds on the axis (log₁₀ on a log scale).
+fn time_plot(
+    c: &TimeChart,
+    (t0, t1, tc): (f64, f64, f64),
+    spec: &ChartSpec,
+    th: &Theme,
+) -> (plot::Chart, Look, [f64; 2]) {
+    let log = spec.log;
+    let on: Vec<f64> = (axis_values(&c.series).into_iter())
+        .filter_map(|v| on_axis(v, log))
+        .collect();
+    let centre = (c.series.iter().find(|s| s.overlay.is_none()))
+        .and_then(|s| s.now)
+        .and_then(|v| on_axis(v, log));
+    let axis = (centre, spec.y_zoom, log);
+    let (yb, labels) = y_axis(extremes(&on), axis, (&c.unit, c.fixed), th.ascii);
+    // a bound on the axis as a value of the data
+    let value = |a: f64| if log { 10f64.powf(a) } else { a };
+    let title = if log {
+        format!("log|{}|", c.title)
+    } else {
+        c.title.clone()
+    };
+    let y = if log {
+        plot::Axis::log(&title, &c.unit)
+    } else {
+        plot::Axis::linear(&title, &c.unit)
+    };
+    let x = plot::Axis::linear("t", "s").with_range(t0, t1);
+    let mut chart = plot::Chart::new(&title, x, y.with_range(value(yb[0]), value(yb[1])));
+    let mut y_labels = spread_labels(yb, &labels, value);
+    if !log && yb[0] < 0.0 && yb[1] > 0.0 {
+        chart.lines.push(plot::RefLine::horizontal(0.0, "", 7));
+        y_labels.push((0.0, "0".into()));
+    }
+    // without colour, each series by its own mark (the overlaid runs', the k-th current one's)
+    let mut k = 0;
+    for s in &c.series {
+        let glyph = if s.overlay.is_some() {
+            PREVIOUS_MARK
+        } else {
+            k += 1;
+            series_glyph(k - 1)
+        };
+        let points = if log {
+            s.data.iter().map(|&(t, y)| (t, y.abs())).collect()
+        } else {
+            s.data.clone()
+        };
+        chart
+            .series
+            .push(plot::Series::line(&s.name, points).glyph(glyph));
+    }
+    let look = Look {
+        legend: false,
+        cursor: (t0..=t1).contains(&tc).then_some(tc),
+        time_cursor: true,
+        x_axis: false,
+        label_w: LABEL_W,
+        y_labels,
+        styles: c.series.iter().map(|s| s.style).collect(),
+        glyph_lines: true,
+        ..Look::default()
+    };
+    (chart, look, yb)
+}
+
+/// Draws one time chart from its [`time_plot`]: header (title, legend, values at the cursor,
+/// the overlaid runs' extremes beyond the axis), series, zero line, cursor. `spec`: its y
+/// zoom and log scale; `focused`: the chart the keys `p`, `Y`, `y`, `g` act on (its title in
+/// reverse video).
 fn draw_time_chart(
     frame: &mut Frame,
     area: Rect,
-    (t0, t1, tc): (f64, f64, f64),
+    window: (f64, f64, f64),
     c: TimeChart,
     (spec, focused): (&ChartSpec, bool),
     th: &Theme,
@@ -335,124 +426,155 @@ fn draw_time_chart(
     if area.height < 2 {
         return;
     }
-    let (log, unit, series) = (spec.log, c.unit.as_str(), c.series);
-    let [head, body] = Layout::vertical([Constraint::Length(1), Constraint::Min(0)]).areas(area);
-    // the axis is the shown run's (the overlaid runs' when it shows nothing yet)
-    let shown = |s: &&Series| s.overlay.is_none();
-    let values = |all: bool| -> Vec<f64> {
-        (series.iter().filter(|s| all || shown(s)))
-            .flat_map(|s| s.data.iter().map(|p| p.1))
-            .collect()
-    };
-    let mut raw = values(false);
-    if extremes(&raw).is_none() {
-        raw = values(true);
-    }
-    let ext = extremes(&raw);
+    let (chart, mut look, yb) = time_plot(&c, window, spec, th);
+    // the readouts' unit and precision from the shown run's largest magnitude
+    let ext = extremes(&axis_values(&c.series));
     let big = ext.map_or(0.0, |[a, b]| a.abs().max(b.abs()));
     let scale = if c.fixed {
-        Scale::fixed(big, unit)
+        Scale::fixed(big, &c.unit)
     } else {
-        Scale::new(big, unit, th.ascii)
-    };
-    let on: Vec<f64> = raw.iter().filter_map(|&v| on_axis(v, log)).collect();
-    let centre = (series.iter().find(shown))
-        .and_then(|s| s.now)
-        .and_then(|v| on_axis(v, log));
-    let axis = (centre, spec.y_zoom, log);
-    let (yb, labels) = y_axis(extremes(&on), axis, (unit, c.fixed), th.ascii);
-    let title = if log {
-        format!("log|{}|", c.title)
-    } else {
-        c.title.clone()
+        Scale::new(big, &c.unit, th.ascii)
     };
     let style = if focused {
         th.bold().patch(th.selected())
     } else {
         th.bold()
     };
-    let far = beyond(&series, yb, log);
-    let line = chart_header(
-        (&title, style),
+    let far = beyond(&c.series, yb, spec.log);
+    let head = chart_header(
+        (&chart.title, style),
         &scale,
-        &series,
+        &c.series,
         &far,
-        head.width as usize,
+        area.width as usize,
         th,
     );
-    frame.render_widget(Paragraph::new(line), head);
-    if body.height == 0 {
-        return;
-    }
-    let data: Vec<Vec<(f64, f64)>> = (series.iter())
-        .map(|s| {
-            (s.data.iter())
-                .filter_map(|&(t, y)| on_axis(y, log).map(|y| (t, y)))
-                .collect()
-        })
-        .collect();
-    let zero = [(t0, 0.0), (t1, 0.0)];
-    let cursor = [(tc, yb[0]), (tc, yb[1])];
-    let marker = th.marker();
-    let line = |data| {
-        Dataset::default()
-            .marker(marker)
-            .graph_type(GraphType::Line)
-            .data(data)
-    };
-    let has_zero = !log && yb[0] < 0.0 && yb[1] > 0.0;
-    let mut ds: Vec<Dataset> = Vec::new();
-    if has_zero {
-        ds.push(line(&zero).marker(th.zero_marker()).style(th.dim()));
-    }
-    // without colour, each series by its own mark (the overlaid runs', the k-th current one's)
-    let mut k = 0;
-    ds.extend(series.iter().zip(&data).map(|(s, d)| {
-        let marker = if s.overlay.is_some() {
-            th.previous_marker()
-        } else {
-            k += 1;
-            th.series_marker(k - 1)
-        };
-        line(d).marker(marker).style(s.style)
-    }));
-    if tc >= t0 && tc <= t1 {
-        ds.push(line(&cursor).marker(th.cursor_marker()).style(th.cursor()));
-    }
-    let w = LABEL_W as usize;
-    let labels: Vec<Line> = labels
-        .iter()
-        .map(|l| Line::from(format!("{l:>w$}")))
-        .collect();
-    let chart = Chart::new(ds)
-        .x_axis(Axis::default().bounds([t0, t1]))
-        .y_axis(Axis::default().bounds(yb).labels(labels).style(th.dim()))
-        .legend_position(None);
-    frame.render_widget(chart, body);
-    th.own_ascii(frame.buffer_mut(), body);
-    if has_zero {
-        zero_label(frame, body, yb, th);
-    }
+    look.head = Head::Line(head);
+    draw_line_plot(frame, area, &chart, &look, th);
 }
 
-/// `0` in the label column at the row of the zero line (unless that is the top or bottom row,
-/// which carry the extremes).
-fn zero_label(frame: &mut Frame, body: Rect, yb: [f64; 2], th: &Theme) {
-    let dots = match th.marker() {
-        Marker::Braille => 4.0,
-        Marker::HalfBlock => 2.0,
-        _ => 1.0,
-    };
-    let res = f64::from(body.height) * dots;
-    // the canvas rounds to its dots, as it drew the line
-    let dot = (yb[1] * (res - 1.0) / (yb[1] - yb[0])).round();
-    let row = (dot / dots).floor() as u16;
-    if row == 0 || row + 1 >= body.height || body.width <= LABEL_W {
-        return;
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::tui::chart_prefs::Units;
+    use crate::tui::runs::series::Kind;
+
+    /// A run of θ over 0 … 1 s (values of both signs, one 0) and another one to overlay.
+    fn runs() -> (RunData, RunData) {
+        let names = || vec!["deck.theta".to_string(), "deck.x".to_string()];
+        let mut a = RunData::new(2, "#2".into(), names(), vec![], vec![], 1.0);
+        a.t = vec![0.0, 0.25, 0.5, 0.75, 1.0];
+        a.q[0] = vec![0.0, 2e-3, -1e-3, 4e-3, 3e-3];
+        a.q[1] = vec![0.0; 5];
+        let mut b = RunData::new(1, "#1".into(), names(), vec![], vec![], 1.0);
+        b.token = 1;
+        b.t = a.t.clone();
+        b.q[0] = vec![0.0, 9e-3, -5e-3, 1e-3, 0.0];
+        b.q[1] = vec![0.0; 5];
+        (a, b)
     }
-    let w = LABEL_W as usize;
-    frame.render_widget(
-        Paragraph::new(Line::styled(format!("{:>w$}", "0"), th.dim())),
-        Rect::new(body.x, body.y + row, LABEL_W, 1),
-    );
+
+    /// The chart of θ of run `a` with run `b` overlaid, the cursor at 0.5 s.
+    fn theta_chart(a: &RunData, b: &RunData, spec: &ChartSpec, th: &Theme) -> (plot::Chart, Look) {
+        let sp = Window {
+            run: a,
+            overlays: vec![Overlay {
+                data: b,
+                number: 1,
+                style: th.previous(),
+            }],
+            t0: 0.0,
+            t1: 1.0,
+            rt: 0.5,
+            cols: 80,
+            units: Units {
+                length: "m",
+                force: "N",
+                energy: "J",
+            },
+            theta: ThetaUnit::Rad,
+        };
+        let ids = [SeriesId::new(Kind::Q, "deck.theta")];
+        let c = chart_of(&sp, &mut Cache::default(), th, 0, &ids).expect("a chart");
+        let (chart, look, _) = time_plot(&c, (0.0, 1.0, 0.5), spec, th);
+        (chart, look)
+    }
+
+    #[test]
+    fn a_time_chart_is_a_plot_chart_of_the_runs_over_the_window() {
+        let (a, b) = runs();
+        let th = Theme {
+            color: true,
+            ascii: false,
+        };
+        let (c, look) = theta_chart(&a, &b, &ChartSpec::default(), &th);
+        // the overlaid run's series under the shown run's, each point a sample
+        assert_eq!(c.series.len(), 2);
+        let pts = |r: &RunData| -> Vec<(f64, f64)> {
+            r.t.iter().copied().zip(r.q[0].iter().copied()).collect()
+        };
+        assert_eq!(c.series[0].points, pts(&b));
+        assert_eq!(c.series[1].points, pts(&a));
+        assert_eq!(c.series[0].glyph, PREVIOUS_MARK);
+        assert_eq!(look.styles, vec![th.previous(), th.series(0)]);
+        // the window on x; on y the shown run's extremes, not the overlaid run's
+        assert_eq!(c.x.range, Some((0.0, 1.0)));
+        assert_eq!(c.y.scale, plot::Scale::Linear);
+        assert_eq!(c.y.range, Some((-1e-3, 4e-3)));
+        assert_eq!(c.title, "deck.theta");
+        // the zero line and its label, the time cursor, no x axis (the event strip's)
+        assert_eq!(c.lines, vec![plot::RefLine::horizontal(0.0, "", 7)]);
+        assert!(look.y_labels.iter().any(|l| *l == (0.0, "0".to_string())));
+        assert_eq!((look.cursor, look.time_cursor), (Some(0.5), true));
+        assert!(!look.x_axis && look.glyph_lines);
+    }
+
+    #[test]
+    fn a_log_time_chart_plots_the_magnitudes_on_a_log_axis() {
+        let (a, b) = runs();
+        let th = Theme {
+            color: false,
+            ascii: true,
+        };
+        let spec = ChartSpec {
+            log: true,
+            ..ChartSpec::default()
+        };
+        let (c, look) = theta_chart(&a, &b, &spec, &th);
+        assert_eq!(c.y.scale, plot::Scale::Log);
+        assert_eq!(c.title, "log|deck.theta|");
+        // |θ| of the shown run (its 0 left to the axis, which leaves it out)
+        let mags: Vec<f64> = a.q[0].iter().map(|v| v.abs()).collect();
+        let ys: Vec<f64> = c.series[1].points.iter().map(|p| p.1).collect();
+        assert_eq!(ys, mags);
+        let (lo, hi) = c.y.range.expect("a fixed range");
+        assert!(
+            (lo - 1e-3).abs() < 1e-12 && (hi - 4e-3).abs() < 1e-12,
+            "{lo} {hi}"
+        );
+        // no zero line on a log axis; each series by its mark
+        assert!(c.lines.is_empty());
+        assert_eq!((c.series[0].glyph, c.series[1].glyph), (':', '.'));
+        assert_eq!(look.y_labels.len(), 2);
+    }
+
+    #[test]
+    fn a_y_zoom_narrows_the_charts_range_around_the_cursors_value() {
+        let (a, b) = runs();
+        let th = Theme {
+            color: true,
+            ascii: false,
+        };
+        let spec = ChartSpec {
+            y_zoom: 1,
+            ..ChartSpec::default()
+        };
+        let (c, _) = theta_chart(&a, &b, &spec, &th);
+        // half the range, centred on θ at 0.5 s (-1e-3)
+        let (lo, hi) = c.y.range.expect("a fixed range");
+        assert!(
+            (lo - -2.25e-3).abs() < 1e-12 && (hi - 0.25e-3).abs() < 1e-12,
+            "{lo} {hi}"
+        );
+    }
 }
