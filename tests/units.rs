@@ -240,7 +240,7 @@ fn the_workbench_charts_are_in_the_models_units() {
     assert!(s.contains("deck.theta [µrad]"), "{s}");
     assert!(s.contains("min gap [in]"), "{s}");
     assert!(
-        s.contains(" kip │") && s.contains(" kip ───"),
+        s.contains(" kip│") && s.contains(" kip ───"),
         "the column loop's force: {s}"
     );
     assert!(

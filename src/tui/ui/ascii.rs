@@ -1,9 +1,8 @@
 //! The last pass of a frame in ASCII mode: any cell still holding a character above 0x7E
-//! (one the panels did not spell out, or one drawn by a ratatui widget itself, such as a
-//! chart's axis lines) gets an ASCII stand-in, so that nothing but ASCII reaches the terminal.
+//! (one the panels did not spell out) gets an ASCII stand-in, so that nothing but ASCII
+//! reaches the terminal.
 
 use ratatui::buffer::Buffer;
-use ratatui::layout::Rect;
 
 /// The ASCII stand-in of a cell's symbol: box drawing as `-`, `|` or `+`, Braille dots as `.`,
 /// blocks and shades as `#`, a few common signs by their look, anything else `?`. An empty
@@ -50,12 +49,6 @@ pub fn ascii_symbol(sym: &str) -> char {
 /// Replaces every cell symbol above 0x7E in `buf` by its [`ascii_symbol`].
 pub fn ascii_only(buf: &mut Buffer) {
     let area = buf.area;
-    ascii_only_in(buf, area);
-}
-
-/// Replaces every cell symbol above 0x7E in `area` of `buf` by its [`ascii_symbol`].
-pub fn ascii_only_in(buf: &mut Buffer, area: Rect) {
-    let area = area.intersection(buf.area);
     for y in area.top()..area.bottom() {
         for x in area.left()..area.right() {
             let Some(cell) = buf.cell_mut((x, y)) else {

@@ -3,8 +3,6 @@
 
 use crate::tui::app::{App, StatusKind};
 use crate::tui::runs::data::RunData;
-use ratatui::buffer::Buffer;
-use ratatui::layout::Rect;
 use ratatui::style::{Color, Modifier, Style};
 use ratatui::symbols::{Marker, border};
 use ratatui::text::Line;
@@ -195,24 +193,9 @@ impl Theme {
     pub(super) fn marks(&self) -> bool {
         self.ascii || !self.color
     }
-    /// The marker of the `k`-th series of a chart (Braille, or its own mark).
-    pub(super) fn series_marker(&self, k: usize) -> Marker {
-        match self.series_mark(k) {
-            Some(c) => Marker::Custom(c),
-            None => Marker::Braille,
-        }
-    }
     /// The mark of the `k`-th series of a chart, when series are told apart by marks.
     pub(super) fn series_mark(&self, k: usize) -> Option<char> {
         self.marks().then_some(series_glyph(k))
-    }
-    /// The marker of the previous run's series.
-    pub(super) fn previous_marker(&self) -> Marker {
-        if self.marks() {
-            Marker::Custom(PREVIOUS_MARK)
-        } else {
-            Marker::Braille
-        }
     }
     /// The legend's sample of the `k`-th series (`━`, or its mark).
     pub(super) fn legend_mark(&self, k: usize) -> String {
@@ -224,21 +207,6 @@ impl Theme {
             PREVIOUS_MARK.to_string()
         } else {
             "┈".into()
-        }
-    }
-    /// In ASCII mode, the ASCII stand-in ([`super::ascii_symbol`]) of every cell of `area`
-    /// above 0x7E: after a ratatui widget that draws its own lines (a chart's axes).
-    pub(super) fn own_ascii(&self, buf: &mut Buffer, area: Rect) {
-        if self.ascii {
-            super::ascii::ascii_only_in(buf, area);
-        }
-    }
-    /// The marker of one point shown alone (the loop's point at the cursor).
-    pub(super) fn point_marker(&self) -> Marker {
-        if self.ascii {
-            Marker::Custom('@')
-        } else {
-            Marker::Block
         }
     }
 }

@@ -1,12 +1,12 @@
 //! The workbench's renderer of the library's charts ([`crate::plot::Chart`], the same data the
 //! CLI draws as SVG and text): series over linear or log axes (time histories, the response
-//! spectrum, work-precision, the model ladder's cost and error, the live time charts), with
-//! reference lines (the zero line, a period, the 1 % error) and, from the [`Look`], stems
-//! (impulses), a study's cursor or the time cursor, the header, the labels and the styles a
-//! panel gives; the studies' figures (Fig. 7, Fig. 8, a record suite) too. Each series carries
-//! its own glyph, printed along it and in the legend (or, in the time charts without colour,
-//! drawn as its line), so series differ without colour; the y labels are the data's own
-//! extremes unless the panel gives its own.
+//! spectrum, work-precision, the model ladder's cost and error, the live time charts, the
+//! column loop), with reference lines (the zero line, a period, the 1 % error) and, from the
+//! [`Look`], stems (impulses), a study's cursor or the time cursor, the header, the labels and
+//! the styles a panel gives; the studies' figures (Fig. 7, Fig. 8, a record suite) too. Each
+//! series carries its own glyph, printed along it and in the legend (or, in the time charts
+//! without colour, drawn as its line), so series differ without colour; the y labels are the
+//! data's own extremes unless the panel gives its own.
 
 use super::common::{CURSOR_MARK, Theme};
 use crate::plot::{Chart, Marker, Scale};
@@ -29,6 +29,8 @@ pub(super) enum Head {
     Legend,
     /// The panel's own (a time chart's: its title and the values at the cursor).
     Line(Line<'static>),
+    /// Nothing (the column loop, named by its block).
+    None,
 }
 
 /// What the workbench adds to a chart: the legend (off where a table beside the plot names
@@ -55,11 +57,16 @@ pub(super) struct Look {
     /// The y labels as (value, text), each on the row its value is drawn on (the first one
     /// given keeps a row two fall on); empty: the extremes with 3 significant digits.
     pub y_labels: Vec<(f64, String)>,
-    /// The styles of the first series, in place of their palette colours (the overlaid runs').
+    /// The x labels, spread evenly from the left end of the axis to its right end, with their
+    /// unit (the axis's title shown without it); empty: the extremes with 3 significant
+    /// digits.
+    pub x_labels: Vec<String>,
+    /// The styles of the first series, in place of their palette colours (the overlaid runs',
+    /// the loop's point at the cursor).
     pub styles: Vec<Style>,
     /// Where series are told apart by marks (ASCII mode, no colour), each series' line drawn
     /// in its glyph; and no glyphs spread along lines in any mode (the time charts, whose
-    /// headers name the marks).
+    /// headers name the marks, and the column loop).
     pub glyph_lines: bool,
 }
 
@@ -76,6 +83,7 @@ impl Default for Look {
             x_axis: true,
             label_w: LABEL_W,
             y_labels: Vec::new(),
+            x_labels: Vec::new(),
             styles: Vec::new(),
             glyph_lines: false,
         }
@@ -256,8 +264,20 @@ fn row_of(a: f64, b: [f64; 4], rows: u16, th: &Theme) -> usize {
 }
 
 /// The row of x labels in `room` columns: the first label at the left, the last at the right,
-/// the axis's title between them where it fits.
-fn x_row([xa, xb]: &[String; 2], title: &str, room: usize) -> String {
+/// the axis's title between them where it fits; a lone middle label (a flat range's)
+/// centred.
+fn x_row(labels: &[String], title: &str, room: usize) -> String {
+    if let [a, mid, e] = labels
+        && a.is_empty()
+        && e.is_empty()
+    {
+        return format!("{mid:^room$}");
+    }
+    let (xa, xb) = match labels {
+        [] => ("", ""),
+        [a] => (a.as_str(), ""),
+        [a, .., e] => (a.as_str(), e.as_str()),
+    };
     let (na, nb, nt) = (
         xa.chars().count(),
         xb.chars().count(),
@@ -292,6 +312,7 @@ pub(super) fn draw_line_plot(frame: &mut Frame, area: Rect, c: &Chart, look: &Lo
             legend(c, look, area.width as usize, legend_rows, th)
         }
         Head::Line(l) => vec![l.clone()],
+        Head::None => Vec::new(),
     };
     let hh = head.len() as u16;
     if hh > 0 {
@@ -335,8 +356,18 @@ pub(super) fn draw_line_plot(frame: &mut Frame, area: Rect, c: &Chart, look: &Lo
             format!("{:>w$}{corner}{}", "", hbar.repeat(cw as usize)),
             th.dim(),
         ));
-        let xl = [label(b[0], log_x), label(b[1], log_x)];
-        let row = x_row(&xl, &th.text(&c.x.label()), cw as usize);
+        let xl = if look.x_labels.is_empty() {
+            vec![label(b[0], log_x), label(b[1], log_x)]
+        } else {
+            look.x_labels.clone()
+        };
+        // the panel's own labels carry their unit: the axis's title alone beside them
+        let title = if look.x_labels.is_empty() {
+            c.x.label()
+        } else {
+            c.x.title.clone()
+        };
+        let row = x_row(&xl, &th.text(&title), cw as usize);
         labels.push(Line::styled(format!("{:>w$} {row}", ""), th.dim()));
     }
     frame.render_widget(
