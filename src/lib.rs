@@ -30,7 +30,7 @@ pub mod tui;
 
 pub use deckspin_studies::{
     FrictionFork, ModelError, Observer, Run, RunOutput, Silent, SolverError, Stop, clock, contact,
-    design, dopri, event_driven, excitation, figures, hysteresis, input, lemke, linalg, load,
-    methods, modal, model, output, plot, precision, precision_study, progress, run, scene,
+    csv_error, design, dopri, event_driven, excitation, figures, hysteresis, input, lemke, linalg,
+    load, methods, modal, model, output, plot, precision, precision_study, progress, run, scene,
     sequence, shard, simulate, stress, studies, study_csv, study_table, suite, timestepping, units,
 };

@@ -6,11 +6,13 @@
 //!   [`precision_study`]: work–precision; [`stress`]: the stress test of real records;
 //!   [`sequence`]: runs from the final state of the one before.
 //! - [`suite`]: record suites (incremental dynamic analysis); [`shard`]: jobs cut into parts
-//!   and merged, and their journal; [`progress`]: how far a job has come.
+//!   and merged, and their journal; [`progress`]: how far a job has come; [`csv_error`]: a
+//!   suite's or a sensitivity study's runs CSV that cannot be read back.
 //! - [`design`]: fragility curves of a record suite, screening by the impact law, model
 //!   adequacy and sensitivity.
 //! - [`plot`]: charts as data, drawn as SVG or ASCII text; [`figures`]: the studies' charts.
 
+pub mod csv_error;
 pub mod design;
 pub mod figures;
 pub mod plot;

@@ -8,6 +8,7 @@
 //! runs, every group in case order. Numbers are their shortest round-trip text, counts whole
 //! numbers, a value that does not apply an empty field.
 
+use crate::csv_error::CsvError;
 use crate::output::number::Numbers;
 use crate::shard::csv_line;
 use crate::suite::row::{COUNTS, Status};
@@ -125,21 +126,13 @@ pub fn runs_csv(quantities: &[String], rows: &[RunRow]) -> String {
     out
 }
 
-/// A runs CSV that cannot be read back.
-#[derive(Debug, thiserror::Error)]
-#[error("sensitivity runs CSV line {line}: {reason}")]
-pub struct CsvError {
-    pub line: usize,
-    pub reason: String,
-}
-
 /// The quantities and rows of a runs CSV ([`runs_csv`]'s inverse).
 pub fn read_runs(text: &str) -> Result<(Vec<String>, Vec<RunRow>), CsvError> {
     let mut rd = csv::ReaderBuilder::new()
         .has_headers(false)
         .from_reader(text.as_bytes());
     let mut records = rd.records();
-    let err = |line: usize, reason: String| CsvError { line, reason };
+    let err = |line: usize, reason: String| CsvError::new("sensitivity runs", line, reason);
     let head = match records.next() {
         Some(h) => h.map_err(|e| err(1, e.to_string()))?,
         None => return Err(err(1, "empty".into())),

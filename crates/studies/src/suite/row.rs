@@ -4,6 +4,7 @@
 //! (no seats, no keys, no columns) an empty field; nothing depends on the machine or the
 //! clock, so that shards merge byte for byte.
 
+use crate::csv_error::CsvError;
 use crate::output::number::Numbers;
 use crate::shard::csv_line;
 
@@ -153,21 +154,13 @@ pub fn csv_text(keys: &[String], rows: &[SuiteRow]) -> String {
     out
 }
 
-/// A suite CSV that cannot be read back.
-#[derive(Debug, thiserror::Error)]
-#[error("suite CSV line {line}: {reason}")]
-pub struct CsvError {
-    pub line: usize,
-    pub reason: String,
-}
-
 /// The swept keys and rows of a suite CSV ([`csv_text`]'s inverse).
 pub fn read_csv(text: &str) -> Result<(Vec<String>, Vec<SuiteRow>), CsvError> {
     let mut rd = csv::ReaderBuilder::new()
         .has_headers(false)
         .from_reader(text.as_bytes());
     let mut records = rd.records();
-    let err = |line: usize, reason: String| CsvError { line, reason };
+    let err = |line: usize, reason: String| CsvError::new("suite", line, reason);
     let head = match records.next() {
         Some(h) => h.map_err(|e| err(1, e.to_string()))?,
         None => return Err(err(1, "empty".into())),
