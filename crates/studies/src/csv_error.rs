@@ -9,10 +9,12 @@ pub struct CsvError {
     pub what: &'static str,
     /// The line, from 1 (the header).
     pub line: usize,
+    /// Why the line cannot be read.
     pub reason: String,
 }
 
 impl CsvError {
+    /// The error of line `line` of the `what` CSV.
     pub fn new(what: &'static str, line: usize, reason: impl Into<String>) -> Self {
         Self {
             what,
