@@ -14,25 +14,19 @@ use std::path::{Path, PathBuf};
 pub fn export_csv(run: &RunData, window: (f64, f64), element: usize) -> (String, String) {
     let (t0, t1) = window;
     let rows = chart::window(&run.t, t0, t1);
-    let mut cols: Vec<(String, &[f64])> = vec![("t".into(), &run.t)];
-    if let Some(r) = run.rot {
-        cols.push((run.dof_names[r].clone(), &run.q[r]));
-    }
-    for (i, n) in run.contact_names.iter().enumerate() {
-        cols.push((format!("{n}.gap"), &run.gap[i]));
-    }
-    for &k in &run.xy {
-        cols.push((run.dof_names[k].clone(), &run.q[k]));
-    }
+    // the charted columns, picked from the run's series by their place in it: t, the dofs,
+    // the gaps, then (deformation, force) per element
+    let all = series_columns(run);
+    let (nd, ng) = (run.dof_names.len(), run.contact_names.len());
+    let mut pick = vec![0];
+    pick.extend(run.rot.map(|r| 1 + r));
+    pick.extend((0..ng).map(|i| 1 + nd + i));
+    pick.extend(run.xy.iter().map(|&k| 1 + k));
     if !run.element_names.is_empty() {
         let j = element % run.element_names.len();
-        cols.push((
-            format!("{}.deformation", run.element_names[j]),
-            &run.el[j].0,
-        ));
-        cols.push((format!("{}.force", run.element_names[j]), &run.el[j].1));
+        pick.extend([1 + nd + ng + 2 * j, 2 + nd + ng + 2 * j]);
     }
-    let columns: Vec<Column> = (cols.iter())
+    let columns: Vec<Column> = (pick.iter().filter_map(|&p| all.get(p)))
         .map(|(name, v)| Column {
             name,
             values: v.get(rows.clone()).unwrap_or(&[]),
@@ -123,4 +117,53 @@ fn write_in(d: &Path, files: &[(String, String)]) -> Result<Vec<PathBuf>, String
         return Ok(paths);
     }
     Err(format!("{}: no free export number", d.display()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_chart_export_is_the_charted_columns_of_the_runs_series() {
+        let dofs = ["deck.x", "deck.y", "deck.theta", "abut.x"]
+            .map(String::from)
+            .to_vec();
+        let mut r = RunData::new(
+            1,
+            "#1".into(),
+            dofs,
+            vec!["lt".into(), "rb".into()],
+            vec!["c1.x".into(), "c2.y".into()],
+            1.0,
+        );
+        r.t = vec![0.0, 0.5, 1.0];
+        for (k, q) in r.q.iter_mut().enumerate() {
+            *q = vec![k as f64, 10.0 + k as f64, 20.0 + k as f64];
+        }
+        for (i, g) in r.gap.iter_mut().enumerate() {
+            *g = vec![0.1 * i as f64; 3];
+        }
+        for (j, e) in r.el.iter_mut().enumerate() {
+            *e = (vec![j as f64; 3], vec![-(j as f64); 3]);
+        }
+        // the second element selected; the window holds the last two samples
+        let (chart, _) = export_csv(&r, (0.5, 1.0), 1);
+        let mut lines = chart.lines();
+        assert_eq!(
+            lines.next().unwrap(),
+            "t,deck.theta,lt.gap,rb.gap,deck.x,deck.y,c2.y.deformation,c2.y.force"
+        );
+        assert_eq!(lines.next().unwrap(), "0.5,12.0,0.0,0.1,10.0,11.0,1.0,-1.0");
+        assert_eq!(lines.count(), 1);
+        // every name is one of the whole series' names
+        let all: Vec<String> = series_columns(&r).into_iter().map(|(n, _)| n).collect();
+        assert!(
+            chart
+                .lines()
+                .next()
+                .unwrap()
+                .split(',')
+                .all(|n| all.iter().any(|a| a == n))
+        );
+    }
 }
