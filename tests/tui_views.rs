@@ -118,7 +118,7 @@ fn the_energy_page_carries_the_ledger_and_its_closure_is_the_summarys() {
         tui::chart::fmt_sig(summary.energy_closure_abs, 3)
     );
     assert!(s.contains(&shown), "{shown}\n{s}");
-    for term in tui::runs::results::TERMS {
+    for term in tui::results::run::TERMS {
         assert!(s.contains(term), "{term}\n{s}");
     }
 }

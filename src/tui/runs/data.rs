@@ -4,7 +4,7 @@
 use crate::output::{ContactState, EventKind, EventRecord, RunOutput, Sample, Summary, Tally};
 use crate::run::SolverError;
 use crate::scene::Scene;
-use crate::tui::runs::results::RunResults;
+use crate::tui::results::run::RunResults;
 use std::sync::Arc;
 
 /// A token for a run's data read back from disk: above any a worker is started with.

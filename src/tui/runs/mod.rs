@@ -9,6 +9,5 @@ pub mod info;
 pub mod list;
 pub mod nav;
 pub mod out_folder;
-pub mod results;
 pub mod series;
 pub mod store;

@@ -4,8 +4,8 @@
 //! terms and each seat's margin. A series is named by a key (`q:deck.theta`, `gap:left_top`,
 //! `force:col1`, `energy:kinetic`) that survives reruns and model edits.
 
+use crate::tui::results::run::TERMS;
 use crate::tui::runs::data::RunData;
-use crate::tui::runs::results::TERMS;
 use std::borrow::Cow;
 
 /// What a series is of.

@@ -1,8 +1,10 @@
 //! The results pages of the studies view (after the studies in its list, reached with h/l):
 //! the energy ledger and the contact forces of the current run (carried by the run's worker,
-//! [`crate::tui::runs::results`]), the modes of the form's model and its input records with their
+//! [`crate::tui::results::run`]), the modes of the form's model and its input records with their
 //! 5 %-damped response spectrum (each computed by [`crate::tui::workers::results`]). Here: which
 //! page is shown, what is selected on it, and the computed data with its state.
+
+pub mod run;
 
 use crate::excitation::G;
 use crate::modal;
