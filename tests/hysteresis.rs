@@ -903,3 +903,41 @@ proptest! {
         prop_assert!(check_against_formula(&law, &p) <= 1e-12);
     }
 }
+
+/// A law's state copied over another's (`clone_from`, which reuses the target's storage)
+/// continues exactly as the source and as a fresh clone: every field of the state is copied,
+/// whatever law the target held before.
+#[test]
+fn a_law_copied_over_another_continues_as_its_source() {
+    let (history, ahead) = (
+        [0.004, -0.03, 0.025, -0.012, 0.018],
+        [-0.02, 0.03, -0.001, 0.009],
+    );
+    let laws = [takeda(0.4), trilinear(), bilinear(), backfill(), key()];
+    for source_law in &laws {
+        let mut source = Hysteretic::new(source_law.clone()).unwrap();
+        source.drive(&history);
+        let expected = source.clone().drive(&ahead);
+        for target_law in &laws {
+            // the target is on another path, and possibly another law
+            let mut target = Hysteretic::new(target_law.clone()).unwrap();
+            target.drive(&[-0.05, 0.05, 0.0]);
+            target.clone_from(&source);
+            assert_eq!(
+                target.branch(),
+                source.branch(),
+                "{source_law:?} over {target_law:?}"
+            );
+            assert_eq!(target.displacement(), source.displacement());
+            assert_eq!(
+                target.drive(&ahead),
+                expected,
+                "{source_law:?} over {target_law:?}"
+            );
+        }
+        assert!(
+            expected.len() > ahead.len(),
+            "the path ahead crosses branches"
+        );
+    }
+}

@@ -59,7 +59,7 @@ const D: [f64; 7] = [
 pub(crate) type Rhs<'a, E> = dyn FnMut(f64, &DVector<f64>, &mut DVector<f64>) -> Result<(), E> + 'a;
 
 /// One attempted step with its dense output.
-#[derive(Clone, Debug)]
+#[derive(Debug)]
 pub struct Step {
     /// Start time.
     pub t0: f64,
@@ -77,6 +77,41 @@ pub struct Step {
     /// (`usize::MAX` without error control).
     pub worst: usize,
     cont: [DVector<f64>; 3],
+}
+
+impl Clone for Step {
+    fn clone(&self) -> Self {
+        Self {
+            t0: self.t0,
+            h: self.h,
+            y0: self.y0.clone(),
+            y1: self.y1.clone(),
+            f1: self.f1.clone(),
+            error: self.error,
+            worst: self.worst,
+            cont: self.cont.clone(),
+        }
+    }
+
+    /// Into the vectors already there when they have the sizes (an island keeps every step
+    /// of its window: no allocation per step).
+    fn clone_from(&mut self, source: &Self) {
+        (self.t0, self.h, self.error, self.worst) =
+            (source.t0, source.h, source.error, source.worst);
+        let pairs = [
+            (&mut self.y0, &source.y0),
+            (&mut self.y1, &source.y1),
+            (&mut self.f1, &source.f1),
+        ];
+        let conts = self.cont.iter_mut().zip(&source.cont);
+        for (to, from) in pairs.into_iter().chain(conts) {
+            if to.len() == from.len() {
+                to.as_mut_slice().copy_from_slice(from.as_slice());
+            } else {
+                *to = from.clone();
+            }
+        }
+    }
 }
 
 impl Step {
@@ -353,5 +388,58 @@ pub(crate) fn initial_h(
         1e-6
     } else {
         0.01 * d0 / d1
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A step of y' = A y (a damped oscillator and a decay) from y0 over h.
+    fn oscillator_step(y0: &[f64], h: f64) -> Step {
+        let mut rhs = |_t: f64, y: &DVector<f64>, out: &mut DVector<f64>| -> Result<(), ()> {
+            out[0] = y[1];
+            out[1] = -4.0 * y[0] - 0.1 * y[1];
+            for i in 2..y.len() {
+                out[i] = -y[i];
+            }
+            Ok(())
+        };
+        let y0 = DVector::from_column_slice(y0);
+        let mut f0 = y0.clone();
+        rhs(0.3, &y0, &mut f0).unwrap();
+        step(&mut rhs, 0.3, &y0, &f0, h, 1e-6, 1e-9, y0.len()).unwrap()
+    }
+
+    /// `clone_from` into a step of the same size (storage reused) or another size gives the
+    /// source's step: its fields and its dense output, bit for bit.
+    #[test]
+    fn a_step_copied_over_another_is_its_source() {
+        let source = oscillator_step(&[1.0, -0.5, 2.0], 0.2);
+        for target_y0 in [
+            &[0.1, 0.2, 0.3][..],
+            &[0.1, 0.2][..],
+            &[0.1, 0.2, 0.3, 0.4][..],
+        ] {
+            let mut target = oscillator_step(target_y0, 0.05);
+            target.clone_from(&source);
+            assert_eq!((target.t0, target.h), (source.t0, source.h));
+            assert_eq!((target.error, target.worst), (source.error, source.worst));
+            assert_eq!(
+                (&target.y0, &target.y1, &target.f1),
+                (&source.y0, &source.y1, &source.f1)
+            );
+            for theta in [0.0, 0.25, 0.5, 0.9, 1.0] {
+                let (mut a, mut b) = (source.y0.clone(), source.y0.clone());
+                source.dense_into(theta, &mut a);
+                target.dense_into(theta, &mut b);
+                assert_eq!(a, b, "θ = {theta}");
+            }
+            assert_ne!(
+                source.dense_component(0.5, 0),
+                source.y0[0],
+                "the dense output moves"
+            );
+        }
     }
 }

@@ -67,7 +67,7 @@ use branch::sgn;
 use gap::Gap;
 use takeda::Takeda;
 
-#[derive(Clone, Debug)]
+#[derive(Debug)]
 enum Model {
     Linear,
     /// Elastic slope, post-yield slope, half band `f_y·(1 − r)`.
@@ -80,13 +80,51 @@ enum Model {
     Gap(Gap),
 }
 
+impl Clone for Model {
+    fn clone(&self) -> Self {
+        match self {
+            Model::Linear => Model::Linear,
+            &Model::Bilinear { k, kp, c } => Model::Bilinear { k, kp, c },
+            Model::Takeda(t) => Model::Takeda(t.clone()),
+            Model::Gap(g) => Model::Gap(g.clone()),
+        }
+    }
+
+    /// A Takeda state copied into the box it replaces (laws are copied at every sample of a
+    /// run by islands and at every event of a kept step: no allocation there).
+    fn clone_from(&mut self, source: &Self) {
+        match (self, source) {
+            (Model::Takeda(to), Model::Takeda(from)) => (**to).clone_from(from),
+            (to, from) => *to = from.clone(),
+        }
+    }
+}
+
 /// A hysteretic element: a [`Law`] and its state (current branch and memory).
-#[derive(Clone, Debug)]
+#[derive(Debug)]
 pub struct Hysteretic {
     law: Law,
     branch: Branch,
     u: f64,
     model: Model,
+}
+
+impl Clone for Hysteretic {
+    fn clone(&self) -> Self {
+        Self {
+            law: self.law.clone(),
+            branch: self.branch,
+            u: self.u,
+            model: self.model.clone(),
+        }
+    }
+
+    fn clone_from(&mut self, source: &Self) {
+        self.law.clone_from(&source.law);
+        self.branch = source.branch;
+        self.u = source.u;
+        self.model.clone_from(&source.model);
+    }
 }
 
 /// Most branch changes allowed at one instant (zero-length branches are skipped).
