@@ -18,7 +18,8 @@ pub(super) struct Group<'s> {
     /// The islands (indices into [`super::islands::Split`]'s), sorted.
     pub(super) islands: Vec<usize>,
     pub(super) r: &'s Restricted,
-    pub(super) it: Integration<'s>,
+    /// Boxed: a group leaves the list of groups (joined, parted) without moving its storage.
+    pub(super) it: Box<Integration<'s>>,
     /// Per whole-scene DOF, its index in the group (`usize::MAX`: not in the group).
     pub(super) local: Vec<usize>,
 }
@@ -37,7 +38,7 @@ impl<'s> Group<'s> {
         Self {
             islands,
             r,
-            it,
+            it: Box::new(it),
             local,
         }
     }

@@ -415,7 +415,7 @@ impl<'s> Pool<'s> {
     fn take_back(&mut self, mut groups: Vec<Group<'s>>, n: usize) {
         groups.sort_by_key(|g| g.islands[0]);
         if groups.len() == n && groups.iter().all(|g| g.islands.len() == 1) {
-            self.islands = groups.into_iter().map(|g| g.it).collect();
+            self.islands = groups.into_iter().map(|g| *g.it).collect();
         }
     }
 
