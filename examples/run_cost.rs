@@ -1,7 +1,7 @@
 //! The cost of one run without history, the figure `docs/results.md` (speed) reports: loads
 //! MODEL with `--set`-style overrides, runs it with `solver.keep_history = false`, and prints
 //! steps, events, right-hand sides and every peak to 15 digits. Run it under
-//! `valgrind --tool=callgrind --toggle-collect='deckspin_core::simulate::integrate*'` for the
+//! `valgrind --tool=callgrind --toggle-collect='deckspin_core::simulate::integrate'` for the
 //! instruction count of the integration alone.
 //!
 //!     cargo run --release --example run_cost -- [MODEL] [key=value …]

@@ -27,7 +27,7 @@ peaks() { "$frames" "$@" | awk 'NR > 1 { print $1, $2 }'; }
 count() {
     if command -v valgrind >/dev/null 2>&1; then
         valgrind --tool=callgrind --callgrind-out-file="$tmp/cg" \
-            --toggle-collect='deckspin_core::simulate::integrate*' "$frames" "$@" 2>&1 >/dev/null \
+            --toggle-collect='deckspin_core::simulate::integrate' "$frames" "$@" 2>&1 >/dev/null \
             | sed -n 's/.*Collected : \([0-9]*\).*/\1/p' | awk '{printf "%.1f M", $1 / 1e6}'
     else
         echo "-"

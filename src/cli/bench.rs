@@ -127,11 +127,10 @@ fn instructions(model: &Path) -> CliResult {
         collected(&err)
             .ok_or_else(|| format!("no instruction count in valgrind's output: {err}").into())
     };
-    // the function's path as the compiler names it (its crate's, not this one's)
-    let toggle = format!(
-        "{}*",
-        std::any::type_name_of_val(&deckspin::simulate::integrate)
-    );
+    // the function's path as the compiler names it (its crate's, not this one's), exactly: a
+    // pattern ending in `*` also matches a closure inside it (`integrate::{{closure}}`), on
+    // whose entry callgrind toggles collection off, so that its instructions go uncounted
+    let toggle = std::any::type_name_of_val(&deckspin::simulate::integrate).to_string();
     let counts = count(None).and_then(|all| Ok((all, count(Some(&toggle))?)));
     let _ = std::fs::remove_dir_all(&dir);
     let (all, integration) = counts?;
