@@ -194,7 +194,17 @@ def test_failed_run_raises_with_its_partial_history(tmp_path):
     assert m.run(check=False).history_csv() == r.history_csv()
 
 
-def test_ctrl_c_cancels_a_long_run_and_keeps_what_it_computed():
+@pytest.fixture
+def ctrl_c():
+    """Python's Ctrl-C handler for the test, whatever the process inherited: a process started
+    with SIGINT ignored (a background job of a non-interactive shell, as some CI runners start
+    their steps) gets no KeyboardInterrupt from the signal, and Python installs no handler then."""
+    old = signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, old)
+
+
+def test_ctrl_c_cancels_a_long_run_and_keeps_what_it_computed(ctrl_c):
     # a long run: Moreau–Jean at a step far below the one it would choose
     m = deckspin.Model(MODEL, set={"solver.step": 1e-5, "solver.method": "moreau"})
     seen = []
@@ -227,7 +237,7 @@ def test_ctrl_c_cancels_a_long_run_and_keeps_what_it_computed():
     assert r.summary["status"] == "cancelled" and r.summary["cancelled_at"] == stopped
 
 
-def test_ctrl_c_stops_a_sweep_and_keeps_its_finished_rows():
+def test_ctrl_c_stops_a_sweep_and_keeps_its_finished_rows(ctrl_c):
     # 12 long runs (Moreau-Jean at a step far below its own, seconds each): the signal comes
     # while the first ones run
     sent = []
